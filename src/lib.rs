@@ -1,0 +1,3 @@
+//! flexflight: flight simulation and stability analysis of flexible rockets.
+
+pub mod structure;
