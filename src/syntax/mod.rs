@@ -1,0 +1,12 @@
+//! Stage 1, syntax: source text to an untyped tree with spans, and back (`print`).
+//!
+//! Architecture invariant: this stage knows nothing about vehicles; it accepts any
+//! well-formed file, never panics and always returns every syntax error it can find.
+
+pub mod ast;
+pub mod parser;
+pub mod print;
+pub mod span;
+
+pub use parser::{parse_file, ParseError};
+pub use span::{FileId, SourceMap, Span, Spanned};
