@@ -18,7 +18,13 @@ pub struct Dim {
 }
 
 const fn dim(mass: i8, length: i8, time: i8, angle: i8) -> Dim {
-    Dim { mass, length, time, angle, temperature: 0 }
+    Dim {
+        mass,
+        length,
+        time,
+        angle,
+        temperature: 0,
+    }
 }
 
 impl Dim {
@@ -38,7 +44,13 @@ impl Dim {
     pub const IMPULSE: Dim = dim(1, 1, -1, 0);
     pub const INERTIA: Dim = dim(1, 2, 0, 0);
     pub const LINEAR_DENSITY: Dim = dim(1, -1, 0, 0);
-    pub const TEMPERATURE: Dim = Dim { mass: 0, length: 0, time: 0, angle: 0, temperature: 1 };
+    pub const TEMPERATURE: Dim = Dim {
+        mass: 0,
+        length: 0,
+        time: 0,
+        angle: 0,
+        temperature: 1,
+    };
 
     pub fn mul(self, o: Dim) -> Dim {
         Dim {
@@ -129,14 +141,23 @@ pub struct Unit {
 }
 
 impl Unit {
-    pub const ONE: Unit = Unit { scale: 1.0, dim: Dim::NONE };
+    pub const ONE: Unit = Unit {
+        scale: 1.0,
+        dim: Dim::NONE,
+    };
 
     pub fn mul(self, o: Unit) -> Unit {
-        Unit { scale: self.scale * o.scale, dim: self.dim.mul(o.dim) }
+        Unit {
+            scale: self.scale * o.scale,
+            dim: self.dim.mul(o.dim),
+        }
     }
 
     pub fn powi(self, p: i8) -> Unit {
-        Unit { scale: self.scale.powi(i32::from(p)), dim: self.dim.powi(p) }
+        Unit {
+            scale: self.scale.powi(i32::from(p)),
+            dim: self.dim.powi(p),
+        }
     }
 }
 

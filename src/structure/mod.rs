@@ -3,4 +3,4 @@
 
 pub mod fe_model;
 
-pub use fe_model::{Component, Element, ElementKind, FeModel, Node, DOF_PER_NODE};
+pub use fe_model::{Component, DOF_PER_NODE, Element, ElementKind, FeModel, Node};

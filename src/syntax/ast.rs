@@ -89,7 +89,10 @@ impl Assign {
 
 /// Join a dotted path for messages.
 pub fn path_string(path: &[Ident]) -> String {
-    path.iter().map(|i| i.name.as_str()).collect::<Vec<_>>().join(".")
+    path.iter()
+        .map(|i| i.name.as_str())
+        .collect::<Vec<_>>()
+        .join(".")
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -132,9 +135,15 @@ pub struct Value {
 #[derive(Clone, Debug, PartialEq)]
 pub enum ValueKind {
     /// `12`, `0.6 mm`, `-3e2 N`.
-    Quantity { number: Number, unit: Option<UnitExpr> },
+    Quantity {
+        number: Number,
+        unit: Option<UnitExpr>,
+    },
     /// `(x, y, z) unit`: components share the unit.
-    Vector { components: Vec<Number>, unit: Option<UnitExpr> },
+    Vector {
+        components: Vec<Number>,
+        unit: Option<UnitExpr>,
+    },
     /// `"path/to/file"`.
     Str(String),
     /// `true` / `false`.

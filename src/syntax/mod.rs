@@ -8,5 +8,5 @@ pub mod parser;
 pub mod print;
 pub mod span;
 
-pub use parser::{parse_file, ParseError};
+pub use parser::{ParseError, parse_file};
 pub use span::{FileId, SourceMap, Span, Spanned};

@@ -38,19 +38,28 @@ pub struct ParseError {
 
 /// Parse a whole file. Always returns a tree (possibly partial) and every syntax error found.
 pub fn parse_file(file: FileId, text: &str) -> (SourceTree, Vec<ParseError>) {
-    let mut p = Parser_ { errors: Vec::new(), depth: 0 };
+    let mut p = Parser_ {
+        errors: Vec::new(),
+        depth: 0,
+    };
     let input = In::new_extra(text, file);
     let (rest, body) = p.parse_body(input, None);
     if !rest.fragment().is_empty() {
         // A stray `}` at top level: report and stop (the body parser stops at it).
-        p.errors.push(error_at(rest, "an entry (`name = value`, `kind name { ... }` or `import`)"));
+        p.errors.push(error_at(
+            rest,
+            "an entry (`name = value`, `kind name { ... }` or `import`)",
+        ));
     }
     (SourceTree { file, body }, p.errors)
 }
 
 /// Parse a single value written outside a file (used by `--set PATH=VALUE`).
 pub fn parse_standalone_value(file: FileId, text: &str) -> Result<Value, ParseError> {
-    let mut p = Parser_ { errors: Vec::new(), depth: 0 };
+    let mut p = Parser_ {
+        errors: Vec::new(),
+        depth: 0,
+    };
     let input = In::new_extra(text, file);
     let (rest, _) = skip_ws_nl(input);
     let (rest, value) = p.parse_value(rest)?;
@@ -170,7 +179,13 @@ fn maybe_comment(i: In) -> Option<(In, Comment)> {
     let r: Lex<In> = recognize((char('#'), take_while(|c| c != '\n'))).parse(i);
     let (rest, c) = r.ok()?;
     let text = c.fragment()[1..].trim_end_matches('\r').to_string();
-    Some((rest, Comment { text, span: span_of(i, rest) }))
+    Some((
+        rest,
+        Comment {
+            text,
+            span: span_of(i, rest),
+        },
+    ))
 }
 
 // ---------------------------------------------------------------------------------------
@@ -186,7 +201,13 @@ fn lex_ident(i: In) -> Lex<In> {
 
 fn maybe_ident(i: In) -> Option<(In, Ident)> {
     let (rest, s) = lex_ident(i).ok()?;
-    Some((rest, Ident { name: s.fragment().to_string(), span: span_of(i, rest) }))
+    Some((
+        rest,
+        Ident {
+            name: s.fragment().to_string(),
+            span: span_of(i, rest),
+        },
+    ))
 }
 
 fn parse_ident<'a>(i: In<'a>, what: &str) -> Result<(In<'a>, Ident), ParseError> {
@@ -208,7 +229,10 @@ fn maybe_number(i: In) -> Option<Result<(In, Number), ParseError>> {
     // A number glued to a name (`3x`) is not a number followed by a unit written `x`
     // only when the name starts right after a digit: `5mm` is allowed, `1.2.3` is not.
     if rest.fragment().starts_with('.') {
-        return Some(Err(error_at(rest, "a digit, a unit or the end of the number")));
+        return Some(Err(error_at(
+            rest,
+            "a digit, a unit or the end of the number",
+        )));
     }
     let text = s.fragment().to_string();
     let value = match text.parse::<f64>() {
@@ -222,7 +246,14 @@ fn maybe_number(i: In) -> Option<Result<(In, Number), ParseError>> {
             }));
         }
     };
-    Some(Ok((rest, Number { value, text, span: span_of(i, rest) })))
+    Some(Ok((
+        rest,
+        Number {
+            value,
+            text,
+            span: span_of(i, rest),
+        },
+    )))
 }
 
 fn lex_string(i: In) -> Lex<In> {
@@ -303,7 +334,10 @@ fn maybe_unit(i: In) -> Option<Result<(In, UnitExpr), ParseError>> {
                 Err(_) => return Some(Err(error_at(after, "an integer exponent after `^`"))),
             }
         }
-        factors.push(UnitFactor { name, exponent: exponent.saturating_mul(sign) });
+        factors.push(UnitFactor {
+            name,
+            exponent: exponent.saturating_mul(sign),
+        });
         let op = rest.fragment().chars().next();
         match op {
             Some('*') | Some('/') => {
@@ -320,7 +354,13 @@ fn maybe_unit(i: In) -> Option<Result<(In, UnitExpr), ParseError>> {
             _ => break,
         }
     }
-    Some(Ok((rest, UnitExpr { factors, span: span_of(i, rest) })))
+    Some(Ok((
+        rest,
+        UnitExpr {
+            factors,
+            span: span_of(i, rest),
+        },
+    )))
 }
 
 /// `a.b.c`
@@ -422,7 +462,8 @@ impl Parser_ {
                     if at_entry_end(rest) {
                         i = rest;
                     } else {
-                        self.errors.push(error_at(rest, "the end of the line (one entry per line)"));
+                        self.errors
+                            .push(error_at(rest, "the end of the line (one entry per line)"));
                         i = recover(rest);
                     }
                 }
@@ -449,7 +490,13 @@ impl Parser_ {
                 return Err(error_at(after_ws, "a quoted file path"));
             };
             let (rest, path) = r?;
-            return Ok((rest, EntryKind::Import { path, path_span: span_of(after_ws, rest) }));
+            return Ok((
+                rest,
+                EntryKind::Import {
+                    path,
+                    path_span: span_of(after_ws, rest),
+                },
+            ));
         }
         // Assignment: path `=` value.
         let (after_path, path) = parse_path(i)?;
@@ -470,7 +517,11 @@ impl Parser_ {
             rest = skip_inline(r).0;
         }
         if !rest.fragment().starts_with('{') {
-            let expected = if name.is_some() { "`{` to open the block" } else { "`=` or `{`" };
+            let expected = if name.is_some() {
+                "`{` to open the block"
+            } else {
+                "`=` or `{`"
+            };
             return Err(error_at(rest, expected));
         }
         let open_span = span_of(rest, advance(rest, 1));
@@ -491,7 +542,15 @@ impl Parser_ {
         } else {
             after_body
         };
-        Ok((rest, EntryKind::Block(Block { kind: first, name, body, header })))
+        Ok((
+            rest,
+            EntryKind::Block(Block {
+                kind: first,
+                name,
+                body,
+                header,
+            }),
+        ))
     }
 
     fn parse_value<'a>(&mut self, i: In<'a>) -> Result<(In<'a>, Value), ParseError> {
@@ -513,14 +572,23 @@ impl Parser_ {
         let s = *i.fragment();
         if let Some(r) = maybe_string(i) {
             let (rest, text) = r?;
-            return Ok((rest, Value { kind: ValueKind::Str(text), span: span_of(i, rest) }));
+            return Ok((
+                rest,
+                Value {
+                    kind: ValueKind::Str(text),
+                    span: span_of(i, rest),
+                },
+            ));
         }
         if let Some(r) = maybe_number(i) {
             let (rest, number) = r?;
             let (rest, unit) = self.maybe_trailing_unit(rest)?;
             return Ok((
                 rest,
-                Value { kind: ValueKind::Quantity { number, unit }, span: span_of(i, rest) },
+                Value {
+                    kind: ValueKind::Quantity { number, unit },
+                    span: span_of(i, rest),
+                },
             ));
         }
         if s.starts_with('(') {
@@ -548,7 +616,10 @@ impl Parser_ {
             let (rest, unit) = self.maybe_trailing_unit(rest)?;
             return Ok((
                 rest,
-                Value { kind: ValueKind::Vector { components, unit }, span: span_of(i, rest) },
+                Value {
+                    kind: ValueKind::Vector { components, unit },
+                    span: span_of(i, rest),
+                },
             ));
         }
         if s.starts_with('[') {
@@ -568,14 +639,23 @@ impl Parser_ {
                     return Err(error_at(rest, "`,` or `]` in a list"));
                 }
             }
-            return Ok((rest, Value { kind: ValueKind::List(items), span: span_of(i, rest) }));
+            return Ok((
+                rest,
+                Value {
+                    kind: ValueKind::List(items),
+                    span: span_of(i, rest),
+                },
+            ));
         }
         if let Some((rest, name)) = maybe_ident(i) {
             if rest.fragment().starts_with('(') {
                 let (rest, args) = self.parse_args(advance(rest, 1))?;
                 return Ok((
                     rest,
-                    Value { kind: ValueKind::Call { name, args }, span: span_of(i, rest) },
+                    Value {
+                        kind: ValueKind::Call { name, args },
+                        span: span_of(i, rest),
+                    },
                 ));
             }
             let kind = match name.name.as_str() {
@@ -583,7 +663,13 @@ impl Parser_ {
                 "false" => ValueKind::Bool(false),
                 _ => ValueKind::Name(name),
             };
-            return Ok((rest, Value { kind, span: span_of(i, rest) }));
+            return Ok((
+                rest,
+                Value {
+                    kind,
+                    span: span_of(i, rest),
+                },
+            ));
         }
         Err(error_at(
             i,
@@ -707,17 +793,26 @@ mod tests {
              vehicle v {\n  fins { count = 4; span = 127.23 mm }\n  x = (0, 0, -1.5) m # c\n}\n",
         );
         assert_eq!(tree.body.entries.len(), 2);
-        let EntryKind::Block(b) = &tree.body.entries[1].kind else { panic!() };
+        let EntryKind::Block(b) = &tree.body.entries[1].kind else {
+            panic!()
+        };
         assert_eq!(b.kind.name, "vehicle");
         assert_eq!(b.body.entries.len(), 2);
-        assert_eq!(b.body.entries[1].trivia.trailing.as_ref().unwrap().text, " c");
+        assert_eq!(
+            b.body.entries[1].trivia.trailing.as_ref().unwrap().text,
+            " c"
+        );
     }
 
     #[test]
     fn units_with_exponents() {
         let tree = parse_ok("rho = 2710 kg/m^3\ng = 9.8 m*s^-2\n");
-        let EntryKind::Assign(a) = &tree.body.entries[0].kind else { panic!() };
-        let ValueKind::Quantity { unit: Some(u), .. } = &a.value.kind else { panic!() };
+        let EntryKind::Assign(a) = &tree.body.entries[0].kind else {
+            panic!()
+        };
+        let ValueKind::Quantity { unit: Some(u), .. } = &a.value.kind else {
+            panic!()
+        };
         assert_eq!(u.factors.len(), 2);
         assert_eq!(u.factors[1].exponent, -3);
     }

@@ -18,7 +18,11 @@ pub struct Span {
 
 impl Span {
     pub fn new(file: FileId, start: usize, end: usize) -> Span {
-        Span { file, start: clamp_u32(start), end: clamp_u32(end.max(start)) }
+        Span {
+            file,
+            start: clamp_u32(start),
+            end: clamp_u32(end.max(start)),
+        }
     }
 
     /// The smallest span covering both (same file assumed; otherwise `self`).
@@ -26,7 +30,11 @@ impl Span {
         if self.file != other.file {
             return self;
         }
-        Span { file: self.file, start: self.start.min(other.start), end: self.end.max(other.end) }
+        Span {
+            file: self.file,
+            start: self.start.min(other.start),
+            end: self.end.max(other.end),
+        }
     }
 
     pub fn len(self) -> usize {
@@ -42,11 +50,24 @@ fn clamp_u32(x: usize) -> u32 {
     u32::try_from(x).unwrap_or(u32::MAX)
 }
 
-/// A value with the span it was written at.
+impl serde::Serialize for Span {
+    /// Spans serialise as `[file, start, end]` (byte offsets).
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        (self.file.0, self.start, self.end).serialize(s)
+    }
+}
+
+/// A value with the span it was written at. Serialises as the bare value.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Spanned<T> {
     pub value: T,
     pub span: Span,
+}
+
+impl<T: serde::Serialize> serde::Serialize for Spanned<T> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.value.serialize(s)
+    }
 }
 
 impl<T> Spanned<T> {
@@ -78,7 +99,11 @@ impl SourceMap {
 
     pub fn add(&mut self, path: PathBuf, name: String, text: impl Into<Arc<str>>) -> FileId {
         let id = FileId(clamp_u32(self.files.len()));
-        self.files.push(SourceFile { path, name, text: text.into() });
+        self.files.push(SourceFile {
+            path,
+            name,
+            text: text.into(),
+        });
         id
     }
 
@@ -87,16 +112,24 @@ impl SourceMap {
     }
 
     pub fn find(&self, path: &Path) -> Option<FileId> {
-        self.files.iter().position(|f| f.path == path).map(|i| FileId(clamp_u32(i)))
+        self.files
+            .iter()
+            .position(|f| f.path == path)
+            .map(|i| FileId(clamp_u32(i)))
     }
 
     pub fn files(&self) -> impl Iterator<Item = (FileId, &SourceFile)> {
-        self.files.iter().enumerate().map(|(i, f)| (FileId(clamp_u32(i)), f))
+        self.files
+            .iter()
+            .enumerate()
+            .map(|(i, f)| (FileId(clamp_u32(i)), f))
     }
 
     /// 1-based line and column (in characters) of a byte offset.
     pub fn line_col(&self, file: FileId, offset: u32) -> (usize, usize) {
-        let Some(f) = self.get(file) else { return (0, 0) };
+        let Some(f) = self.get(file) else {
+            return (0, 0);
+        };
         let off = (offset as usize).min(f.text.len());
         let before = f.text.get(..off).unwrap_or("");
         let line = before.matches('\n').count() + 1;

@@ -1,0 +1,511 @@
+//! The typed intermediate representation produced by the checker.
+//!
+//! Everything is in SI units (lengths m, masses kg, times s, angles rad, pressures Pa);
+//! every value keeps the span it was written at, so later stages (structure, plan, runtime,
+//! analysis) can point their own errors at the vehicle file. Paths of referenced files are
+//! resolved (relative to the declaring file) and known to exist at check time.
+
+use std::path::PathBuf;
+
+use serde::Serialize;
+
+use crate::syntax::{Span, Spanned};
+
+/// A scalar in SI with its span.
+pub type Q = Spanned<f64>;
+/// A 3-vector in SI with its span.
+pub type V3 = Spanned<[f64; 3]>;
+
+/// Everything declared by the checked files (imports included).
+#[derive(Clone, Debug, Default)]
+pub struct Program {
+    pub materials: Vec<Material>,
+    pub vehicles: Vec<Vehicle>,
+    pub scenarios: Vec<Scenario>,
+    pub sweeps: Vec<Sweep>,
+}
+
+impl Program {
+    pub fn vehicle(&self, name: &str) -> Option<&Vehicle> {
+        self.vehicles.iter().find(|v| v.name.value == name)
+    }
+    pub fn scenario(&self, name: &str) -> Option<&Scenario> {
+        self.scenarios.iter().find(|s| s.name.value == name)
+    }
+    pub fn sweep(&self, name: &str) -> Option<&Sweep> {
+        self.sweeps.iter().find(|s| s.name.value == name)
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Material {
+    pub name: Spanned<String>,
+    /// Young's modulus E, Pa.
+    pub youngs_modulus: Q,
+    /// Poisson's ratio nu, 0 < nu < 0.5.
+    pub poisson: Q,
+    /// Density rho, kg/m^3.
+    pub density: Q,
+    /// Yield stress, Pa (optional: the fin stress monitor needs it).
+    pub yield_stress: Option<Q>,
+    /// Ultimate stress, Pa.
+    pub ultimate_stress: Option<Q>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Vehicle {
+    pub name: Spanned<String>,
+    /// Span of the whole `vehicle` header, for errors about the vehicle as a whole.
+    pub span: Span,
+    pub material: Material,
+    pub structure: Structure,
+    pub origin: NodeRef,
+    pub key_nodes: KeyNodes,
+    pub modes: ModeSelection,
+    pub fins: Option<Fins>,
+    pub aero: Aero,
+    pub forces: Forces,
+}
+
+/// Where the FE model comes from.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub enum Structure {
+    Generate(Generate),
+    Files(FeFiles),
+}
+
+/// The built-in FE generator's inputs (the fins come from the vehicle's `fins` block).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Generate {
+    pub span: Span,
+    pub body: BodyGeometry,
+    /// Fin mesh density (elements along the span and along the chord).
+    pub fin_span_elements: Spanned<usize>,
+    pub fin_chord_elements: Spanned<usize>,
+    pub point_masses: Vec<PointMass>,
+    pub distributed_masses: Vec<DistributedMass>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BodyGeometry {
+    pub length: Q,
+    pub diameter: Q,
+    pub wall: Q,
+    /// Conical nose length (0: a plain tube).
+    pub nose_length: Q,
+    pub elements: Spanned<usize>,
+    pub theory: Spanned<BeamTheory>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BeamTheory {
+    EulerBernoulli,
+    Timoshenko,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PointMass {
+    pub name: Spanned<String>,
+    pub position: V3,
+    pub mass: Q,
+    /// Principal moments of inertia about its own centre, body axes, kg m^2.
+    pub inertia: V3,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DistributedMass {
+    pub name: Spanned<String>,
+    /// Body-x stations (x <= 0) between which the mass is spread uniformly.
+    pub from: Q,
+    pub to: Q,
+    pub mass: Q,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FeFormat {
+    MatrixMarket,
+    Op4,
+    Dmig,
+}
+
+/// FE matrices exported from NASTRAN/ANSYS.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FeFiles {
+    pub span: Span,
+    pub format: Spanned<FeFormat>,
+    /// Matrix Market: the mass and stiffness files. OP4/DMIG: the file holding both.
+    pub mass: Spanned<PathBuf>,
+    pub stiffness: Spanned<PathBuf>,
+    /// Node coordinates: CSV (id,x,y,z) for Matrix Market, GRID bulk data otherwise.
+    pub nodes: Spanned<PathBuf>,
+    pub elements: Option<Spanned<PathBuf>>,
+    /// Matrix names inside OP4/DMIG files.
+    pub mass_matrix: Spanned<String>,
+    pub stiffness_matrix: Spanned<String>,
+    /// Position of u, v, w, theta_x, theta_y, theta_z within each node's 6 DOF in the file.
+    pub dof_order: Spanned<[u8; 6]>,
+    /// Multiply node coordinates by this to get metres.
+    pub length_scale: Q,
+}
+
+/// How a node is designated.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub enum NodeRef {
+    /// By the id in the FE model.
+    Id(Spanned<u64>),
+    /// The node nearest to a body-frame position.
+    Nearest(V3),
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct KeyNodes {
+    pub span: Span,
+    /// Body aerodynamics key node (5.3).
+    pub body: NodeRef,
+    /// Thrust key node (5.2); required when thrust is enabled.
+    pub nozzle: Option<NodeRef>,
+    /// Fin key nodes (5.4), one per fin.
+    pub fins: FinKeyNodes,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub enum FinKeyNodes {
+    /// None given (a vehicle with no fins).
+    None,
+    /// The fin node nearest to fractions of span (from the root) and chord (from the
+    /// leading edge), applied to every fin.
+    Fraction { span: Q, chord: Q },
+    /// One node per fin.
+    PerFin(Vec<NodeRef>),
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ModeSelection {
+    pub span: Span,
+    pub rules: Vec<ModeRule>,
+    /// Mode fixity adjustment about the origin node (3.3).
+    pub fixity_origin: bool,
+    /// Modal damping ratio (one for all, or one per selected mode).
+    pub damping: Vec<Q>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub enum ModeRule {
+    /// Elastic modes by 1-based index in frequency order.
+    Indices(Spanned<Vec<usize>>),
+    /// All elastic modes with frequency in [lo, hi], Hz converted to rad/s? No: stored in Hz.
+    BandHz { lo: Q, hi: Q },
+    /// Modes of a class.
+    Class {
+        class: Spanned<ModeClass>,
+        count: Spanned<ModeCount>,
+    },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ModeClass {
+    BodyBending,
+    FinFlap,
+    FinTwist,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ModeCount {
+    Count(usize),
+    PerFin,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Fins {
+    pub span_: Span,
+    pub count: Spanned<usize>,
+    pub span: Q,
+    pub root_chord: Q,
+    pub tip_chord: Q,
+    /// Leading-edge sweep angle, rad (derived when the trailing-edge sweep was given).
+    pub leading_edge_sweep: Q,
+    pub thickness: Q,
+    pub cant: Q,
+    /// Angular positions delta_i about body x, rad; default 2 pi (i-1)/n.
+    pub angles: Vec<Q>,
+    /// Body-x station of the root trailing edge (<= 0).
+    pub root_trailing_edge_x: Q,
+    pub material: Material,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Aero {
+    pub span: Span,
+    pub source: AeroSource,
+    pub reference_area: Q,
+    pub reference_length: Q,
+    /// Coefficient reference point (nominal c.g.), body frame.
+    pub reference_point: V3,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub enum AeroSource {
+    /// The built-in estimator (slender body + Barrowman/linear supersonic theory).
+    Builtin,
+    /// CSV coefficient tables.
+    Tables {
+        body: Spanned<PathBuf>,
+        fins: Spanned<PathBuf>,
+        out_of_range: Spanned<OutOfRange>,
+    },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum OutOfRange {
+    Stop,
+    Clamp,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Default)]
+pub struct Forces {
+    pub gravity: Option<Gravity>,
+    pub thrust: Option<Thrust>,
+    pub body_aero: Option<BodyAero>,
+    pub fin_aero: Option<FinAero>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Gravity {
+    pub span: Span,
+    /// Scale g by (R_E / (R_E + h))^2 (5.1.2).
+    pub altitude_correction: bool,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Thrust {
+    pub span: Span,
+    /// Thrust curve: RASP `.eng` or CSV (t, N).
+    pub curve: Spanned<PathBuf>,
+    /// delta_T: translation of the thrust line from the nozzle key node, m (5.2).
+    pub offset: V3,
+    /// alpha_T: small rotation of the thrust vector, rad (5.2.2).
+    pub misalignment: V3,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BodyAero {
+    pub span: Span,
+    /// Include the C_N and C_M rate terms (5.3.5-5.3.9).
+    pub rate_terms: bool,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Distribution {
+    /// Fourier sine series span load subsonic, linear wing theory supersonic (App. A).
+    Theory,
+    /// Uniform over the fin's nodes (a simple reference).
+    Uniform,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FinAero {
+    pub span: Span,
+    pub distribution: Spanned<Distribution>,
+    /// Leeward reduction due to flow blockage (5.4.24-5.4.31).
+    pub leeward_reduction: bool,
+    /// Stop the run when a fin root stress exceeds this fraction of yield (5.6).
+    pub stress_limit_fraction: Option<Q>,
+}
+
+// ------------------------------------------------------------------------------------------
+// Scenarios
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Scenario {
+    pub name: Spanned<String>,
+    pub span: Span,
+    /// The vehicle after the scenario's `with` overrides (the variant that flies).
+    pub vehicle: Vehicle,
+    /// The overrides applied, as written (path, canonical value text, span).
+    pub overrides: Vec<Override>,
+    pub initial: Initial,
+    pub stimuli: Vec<Stimulus>,
+    pub run: RunSettings,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Override {
+    pub path: String,
+    pub value: String,
+    pub span: Span,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Initial {
+    pub span: Span,
+    pub velocity: InitialVelocity,
+    /// omega_B, rad/s.
+    pub angular_velocity: V3,
+    pub attitude: Attitude,
+    pub position: InitialPosition,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub enum InitialVelocity {
+    /// V_B in the body frame, m/s.
+    Body(V3),
+    /// Along body x at this Mach number (speed of sound at the initial altitude).
+    Mach(Q),
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub enum Attitude {
+    /// Roll, pitch, yaw (4.4.1-4.4.5), rad.
+    Euler(V3),
+    /// Euler parameters (q0, q1, q2, q3), normalised (4.4.6).
+    Quaternion(Spanned<[f64; 4]>),
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub enum InitialPosition {
+    /// Altitude above sea level, m (inertial x = y = 0, z = -h).
+    Altitude(Q),
+    /// Inertial position, z down, m.
+    Inertial(V3),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Frame {
+    Body,
+    Inertial,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Stimulus {
+    pub name: Spanned<String>,
+    pub kind: StimulusKind,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub enum StimulusKind {
+    /// Rectangular gust pulse of wind velocity (4.5.2).
+    Gust {
+        start: Q,
+        duration: Q,
+        velocity: V3,
+        frame: Frame,
+    },
+    /// 1 - cos gust: v(t) = v/2 (1 - cos(2 pi (t - start)/duration)).
+    OneMinusCosine {
+        start: Q,
+        duration: Q,
+        velocity: V3,
+        frame: Frame,
+    },
+    /// Sinusoidal wind: v sin(2 pi f (t - start)) during [start, start + duration].
+    Sine {
+        start: Q,
+        duration: Q,
+        amplitude: V3,
+        frequency: Q,
+        frame: Frame,
+    },
+    /// Seeded continuous turbulence.
+    Turbulence {
+        model: Spanned<TurbulenceModel>,
+        intensity: Q,
+        scale_length: Q,
+        seed: Spanned<u64>,
+        start: Q,
+        duration: Q,
+    },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TurbulenceModel {
+    Dryden,
+    VonKarman,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Integrator {
+    /// Adaptive Dormand-Prince 5(4).
+    Dopri5,
+    /// Classical fixed-step Runge-Kutta 4.
+    Rk4,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RunSettings {
+    pub span: Span,
+    pub stop_time: Q,
+    pub integrator: Spanned<Integrator>,
+    pub rtol: Q,
+    pub atol: Q,
+    /// Fixed step (RK4) or initial step (Dopri5), s.
+    pub step: Q,
+    /// Minimum step before the run stops with "step size underflow", s.
+    pub min_step: Q,
+    pub output_interval: Q,
+    pub stop_on_ground: bool,
+    pub max_alpha: Option<Q>,
+    pub max_deformation: Option<Q>,
+}
+
+// ------------------------------------------------------------------------------------------
+// Sweeps
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Sweep {
+    pub name: Spanned<String>,
+    pub span: Span,
+    /// Index into `Program::scenarios`.
+    pub scenario: usize,
+    pub analysis: Spanned<SweepAnalysis>,
+    pub combine: Combine,
+    pub axes: Vec<SweepAxis>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SweepAnalysis {
+    /// Time-domain runs of the scenario.
+    Run,
+    PlanarPinned,
+    PlanarUnpinned,
+    Linear3d,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Combine {
+    /// Cartesian product of the axes.
+    Grid,
+    /// Axes advance together (equal lengths).
+    Zip,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SweepAxis {
+    /// Override path (`fins.thickness`, `initial.altitude`).
+    pub path: String,
+    pub span: Span,
+    /// The values as canonical VDL text, ready to apply as overrides.
+    pub values: Vec<String>,
+    /// The same values in SI, when scalar (for tables and plot axes).
+    pub si_values: Vec<Option<f64>>,
+}
+
+impl Sweep {
+    /// Number of cases.
+    pub fn case_count(&self) -> usize {
+        match self.combine {
+            Combine::Grid => self.axes.iter().map(|a| a.values.len()).product(),
+            Combine::Zip => self.axes.first().map_or(0, |a| a.values.len()),
+        }
+    }
+}

@@ -1,0 +1,526 @@
+//! Checking `scenario` blocks: the vehicle variant, initial conditions, stimuli, run settings.
+
+use crate::diagnostics::{Diagnostic, did_you_mean};
+use crate::syntax::Spanned;
+use crate::syntax::ast::{Block, EntryKind, ValueKind};
+use crate::syntax::print::value_text;
+use crate::units::Dim;
+
+use super::fields::{self as f, Fields};
+use super::ir::*;
+use super::overrides::{self, is_scenario_path};
+use super::{Cx, Decls, SetOverride, patch, vehicle};
+
+pub(crate) fn check_scenario(
+    cx: &mut Cx,
+    b: &Block,
+    decls: &Decls,
+    materials: &[Material],
+    sets: &[SetOverride],
+) -> Option<Scenario> {
+    let name = b.name.as_ref()?;
+    // Scenario-rooted `--set` paths patch the scenario itself.
+    let scenario_sets: Vec<&SetOverride> =
+        sets.iter().filter(|s| is_scenario_path(&s.path)).collect();
+    let b = &patch(cx, b, &scenario_sets);
+    let mut fl = Fields::new(cx, format!("scenario `{}`", name.name), b.header, &b.body);
+    let vehicle_v = fl.required(cx, "vehicle", "sphads1");
+    let with_b = fl.block("with");
+    let initial_b = fl.required_block(cx, "initial");
+    let stimuli_b = fl.block("stimuli");
+    let run_b = fl.required_block(cx, "run");
+    fl.finish(cx);
+
+    // Resolve the vehicle and build the variant: base AST + `with` + vehicle `--set`.
+    let vehicle_block = vehicle_v.and_then(|v| {
+        let ValueKind::Name(id) = &v.kind else {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::type::mismatch",
+                    format!("expected a vehicle name, found {}", v.describe()),
+                )
+                .label(v.span, "should name a `vehicle`"),
+            );
+            return None;
+        };
+        let found = decls
+            .vehicles
+            .iter()
+            .find(|vb| vb.name.as_ref().is_some_and(|n| n.name == id.name));
+        if found.is_none() {
+            let kind_elsewhere = [
+                ("material", &decls.materials),
+                ("scenario", &decls.scenarios),
+                ("sweep", &decls.sweeps),
+            ]
+            .into_iter()
+            .find(|(_, list)| {
+                list.iter()
+                    .any(|x| x.name.as_ref().is_some_and(|n| n.name == id.name))
+            })
+            .map(|(k, _)| k);
+            let mut d = Diagnostic::error(
+                "vdl::reference::unknown",
+                format!("no vehicle named `{}`", id.name),
+            )
+            .label(id.span, "unknown vehicle");
+            if let Some(k) = kind_elsewhere {
+                d = Diagnostic::error(
+                    "vdl::reference::kind",
+                    format!("`{}` is a {k}, not a vehicle", id.name),
+                )
+                .label(id.span, format!("this names a {k}"));
+            } else if let Some(s) = did_you_mean(
+                &id.name,
+                decls
+                    .vehicles
+                    .iter()
+                    .filter_map(|vb| vb.name.as_ref().map(|n| n.name.as_str())),
+            ) {
+                d = d.with_help(format!("did you mean `{s}`?"));
+            }
+            cx.push(d);
+        }
+        found.copied()
+    });
+    let mut overrides_applied = Vec::new();
+    let variant = vehicle_block.and_then(|vb| {
+        let mut patched = vb.clone();
+        if let Some(wb) = with_b {
+            for e in &wb.body.entries {
+                match &e.kind {
+                    EntryKind::Assign(a) => {
+                        if is_scenario_path(&a.path) {
+                            cx.push(
+                                Diagnostic::error("vdl::override::path", "`with` changes the vehicle; set initial conditions and run settings in their own blocks")
+                                    .label(a.path_span(), "a scenario field, not a vehicle field"),
+                            );
+                            continue;
+                        }
+                        overrides_applied.push(Override { path: a.path_string(), value: value_text(&a.value), span: e.span });
+                        if let Err(d) = overrides::apply(&mut patched.body, &a.path, &a.value) {
+                            cx.push(d);
+                        }
+                    }
+                    _ => cx.push(
+                        Diagnostic::error("vdl::override::syntax", "a `with` block holds only `path = value` lines")
+                            .label(e.span, "not an override"),
+                    ),
+                }
+            }
+        }
+        for s in sets.iter().filter(|s| !is_scenario_path(&s.path)) {
+            let span = s.path.first().map_or(s.value.span, |p| p.span.to(s.value.span));
+            overrides_applied.push(Override {
+                path: crate::syntax::ast::path_string(&s.path),
+                value: value_text(&s.value),
+                span,
+            });
+            if let Err(d) = overrides::apply(&mut patched.body, &s.path, &s.value) {
+                cx.push(d);
+            }
+        }
+        vehicle::check_vehicle(cx, &patched, materials)
+    });
+
+    let initial = initial_b.and_then(|ib| check_initial(cx, ib));
+    let stimuli = match stimuli_b {
+        Some(sb) => check_stimuli(cx, sb),
+        None => Some(Vec::new()),
+    };
+    let run = run_b.and_then(|rb| check_run(cx, rb));
+    Some(Scenario {
+        name: Spanned::new(name.name.clone(), name.span),
+        span: b.header,
+        vehicle: variant?,
+        overrides: overrides_applied,
+        initial: initial?,
+        stimuli: stimuli?,
+        run: run?,
+    })
+}
+
+fn check_initial(cx: &mut Cx, b: &Block) -> Option<Initial> {
+    let mut fl = Fields::new(cx, "the `initial` block", b.header, &b.body);
+    let vel = fl.value("velocity");
+    let mach = fl.value("mach");
+    let velocity = match (vel, mach) {
+        (Some(v), None) => f::vector3(cx, v, Dim::VELOCITY).map(InitialVelocity::Body),
+        (None, Some(m)) => f::check_range(
+            f::number(cx, m),
+            cx,
+            |x| (0.0..=10.0).contains(&x),
+            "0 <= Mach <= 10",
+        )
+        .map(InitialVelocity::Mach),
+        (Some(_), Some(m)) => {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::initial::velocity",
+                    "give either `velocity` or `mach`, not both",
+                )
+                .label(m.span, "second speed"),
+            );
+            None
+        }
+        (None, None) => {
+            fl.required(cx, "velocity", "(200, 0, 0) m/s");
+            None
+        }
+    };
+    let angular_velocity = match fl.value("angular_velocity") {
+        Some(v) => f::vector3(cx, v, Dim::ANGULAR_VELOCITY),
+        None => Some(Spanned::new([0.0; 3], b.header)),
+    };
+    let attitude = match fl.value("attitude") {
+        None => Some(Attitude::Euler(Spanned::new([0.0; 3], b.header))),
+        Some(v) => match &v.kind {
+            ValueKind::Call { name, args } if name.name == "euler" && args.len() == 3 => {
+                let a: Option<Vec<f64>> = args
+                    .iter()
+                    .map(|a| f::quantity(cx, &a.value, Dim::ANGLE).map(|q| q.value))
+                    .collect();
+                a.map(|a| Attitude::Euler(Spanned::new([a[0], a[1], a[2]], v.span)))
+            }
+            ValueKind::Call { name, args } if name.name == "quaternion" && args.len() == 4 => {
+                let q: Option<Vec<f64>> = args
+                    .iter()
+                    .map(|a| f::number(cx, &a.value).map(|q| q.value))
+                    .collect();
+                q.and_then(|q| {
+                    let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+                    if (n - 1.0).abs() > 1e-6 {
+                        cx.push(
+                            Diagnostic::error(
+                                "vdl::value::range",
+                                format!("a quaternion must have unit norm (this one has {n:.6})"),
+                            )
+                            .label(v.span, "not normalised"),
+                        );
+                        return None;
+                    }
+                    Some(Attitude::Quaternion(Spanned::new(
+                        [q[0] / n, q[1] / n, q[2] / n, q[3] / n],
+                        v.span,
+                    )))
+                })
+            }
+            _ => {
+                cx.push(
+                    Diagnostic::error("vdl::type::mismatch", format!("expected an attitude, found {}", v.describe()))
+                        .label(v.span, "not an attitude")
+                        .with_help("write `euler(ROLL deg, PITCH deg, YAW deg)` or `quaternion(q0, q1, q2, q3)`"),
+                );
+                None
+            }
+        },
+    };
+    let alt = fl.value("altitude");
+    let pos = fl.value("position");
+    let position = match (alt, pos) {
+        (Some(v), None) => f::check_range(
+            f::quantity(cx, v, Dim::LENGTH),
+            cx,
+            |h| (-500.0..=86_000.0).contains(&h),
+            "an altitude from -500 m to 86 km (the 1976 standard atmosphere)",
+        )
+        .map(InitialPosition::Altitude),
+        (None, Some(v)) => f::vector3(cx, v, Dim::LENGTH).map(InitialPosition::Inertial),
+        (Some(_), Some(p)) => {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::initial::position",
+                    "give either `altitude` or `position`, not both",
+                )
+                .label(p.span, "second position"),
+            );
+            None
+        }
+        (None, None) => {
+            fl.required(cx, "altitude", "5 km");
+            None
+        }
+    };
+    fl.finish(cx);
+    Some(Initial {
+        span: b.header,
+        velocity: velocity?,
+        angular_velocity: angular_velocity?,
+        attitude: attitude?,
+        position: position?,
+    })
+}
+
+fn frame(cx: &mut Cx, fl: &mut Fields) -> Option<Frame> {
+    match fl.value("frame") {
+        Some(v) => f::keyword(
+            cx,
+            v,
+            &[("body", Frame::Body), ("inertial", Frame::Inertial)],
+        ),
+        None => Some(Frame::Body),
+    }
+}
+
+fn check_stimuli(cx: &mut Cx, b: &Block) -> Option<Vec<Stimulus>> {
+    let mut fl = Fields::new(cx, "the `stimuli` block", b.header, &b.body);
+    let gusts = fl.blocks("gust");
+    let cosines = fl.blocks("one_minus_cosine");
+    let sines = fl.blocks("sine");
+    let turbs = fl.blocks("turbulence");
+    fl.finish(cx);
+    let mut out = Vec::new();
+    let mut ok = true;
+    let mut named = |cx: &mut Cx, sb: &Block| match &sb.name {
+        Some(n) => Some(Spanned::new(n.name.clone(), n.span)),
+        None => {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::name::missing",
+                    format!("a `{}` needs a name", sb.kind.name),
+                )
+                .label(sb.header, format!("write `{} NAME {{`", sb.kind.name)),
+            );
+            None
+        }
+    };
+    let time = |cx: &mut Cx, fl: &mut Fields, n: &'static str, ex: &str| {
+        f::non_negative(
+            fl.required(cx, n, ex)
+                .and_then(|v| f::quantity(cx, v, Dim::TIME)),
+            cx,
+        )
+    };
+    for (blocks, cosine) in [(&gusts, false), (&cosines, true)] {
+        for sb in blocks.iter() {
+            let name = named(cx, sb);
+            let mut fl = Fields::new(
+                cx,
+                format!(
+                    "gust `{}`",
+                    sb.name.as_ref().map_or("", |n| n.name.as_str())
+                ),
+                sb.header,
+                &sb.body,
+            );
+            let start = time(cx, &mut fl, "start", "1 s");
+            let duration = f::positive(
+                fl.required(cx, "duration", "0.1 s")
+                    .and_then(|v| f::quantity(cx, v, Dim::TIME)),
+                cx,
+            );
+            let velocity = fl
+                .required(cx, "velocity", "(0, 0, 5) m/s")
+                .and_then(|v| f::vector3(cx, v, Dim::VELOCITY));
+            let fr = frame(cx, &mut fl);
+            fl.finish(cx);
+            match (name, start, duration, velocity, fr) {
+                (Some(name), Some(start), Some(duration), Some(velocity), Some(frame)) => {
+                    out.push(Stimulus {
+                        name,
+                        kind: if cosine {
+                            StimulusKind::OneMinusCosine {
+                                start,
+                                duration,
+                                velocity,
+                                frame,
+                            }
+                        } else {
+                            StimulusKind::Gust {
+                                start,
+                                duration,
+                                velocity,
+                                frame,
+                            }
+                        },
+                    })
+                }
+                _ => ok = false,
+            }
+        }
+    }
+    for sb in &sines {
+        let name = named(cx, sb);
+        let mut fl = Fields::new(cx, "a `sine` stimulus", sb.header, &sb.body);
+        let start = time(cx, &mut fl, "start", "1 s");
+        let duration = f::positive(
+            fl.required(cx, "duration", "2 s")
+                .and_then(|v| f::quantity(cx, v, Dim::TIME)),
+            cx,
+        );
+        let amplitude = fl
+            .required(cx, "amplitude", "(0, 0, 2) m/s")
+            .and_then(|v| f::vector3(cx, v, Dim::VELOCITY));
+        let frequency = f::positive(
+            fl.required(cx, "frequency", "2 Hz")
+                .and_then(|v| f::quantity(cx, v, Dim::FREQUENCY)),
+            cx,
+        );
+        let fr = frame(cx, &mut fl);
+        fl.finish(cx);
+        match (name, start, duration, amplitude, frequency, fr) {
+            (
+                Some(name),
+                Some(start),
+                Some(duration),
+                Some(amplitude),
+                Some(frequency),
+                Some(frame),
+            ) => out.push(Stimulus {
+                name,
+                kind: StimulusKind::Sine {
+                    start,
+                    duration,
+                    amplitude,
+                    frequency,
+                    frame,
+                },
+            }),
+            _ => ok = false,
+        }
+    }
+    for sb in &turbs {
+        let name = named(cx, sb);
+        let mut fl = Fields::new(cx, "a `turbulence` stimulus", sb.header, &sb.body);
+        let model = fl.required(cx, "model", "dryden").and_then(|v| {
+            f::keyword(
+                cx,
+                v,
+                &[
+                    ("dryden", TurbulenceModel::Dryden),
+                    ("von_karman", TurbulenceModel::VonKarman),
+                ],
+            )
+            .map(|m| Spanned::new(m, v.span))
+        });
+        let intensity = f::positive(
+            fl.required(cx, "intensity", "1 m/s")
+                .and_then(|v| f::quantity(cx, v, Dim::VELOCITY)),
+            cx,
+        );
+        let scale = f::positive(
+            fl.required(cx, "scale_length", "533 m")
+                .and_then(|v| f::quantity(cx, v, Dim::LENGTH)),
+            cx,
+        );
+        let seed = fl
+            .required(cx, "seed", "1")
+            .and_then(|v| f::integer(cx, v).map(|s| Spanned::new(s, v.span)));
+        let start = time(cx, &mut fl, "start", "0 s");
+        let duration = f::positive(
+            fl.required(cx, "duration", "10 s")
+                .and_then(|v| f::quantity(cx, v, Dim::TIME)),
+            cx,
+        );
+        fl.finish(cx);
+        match (name, model, intensity, scale, seed, start, duration) {
+            (
+                Some(name),
+                Some(model),
+                Some(intensity),
+                Some(scale_length),
+                Some(seed),
+                Some(start),
+                Some(duration),
+            ) => out.push(Stimulus {
+                name,
+                kind: StimulusKind::Turbulence {
+                    model,
+                    intensity,
+                    scale_length,
+                    seed,
+                    start,
+                    duration,
+                },
+            }),
+            _ => ok = false,
+        }
+    }
+    ok.then_some(out)
+}
+
+fn check_run(cx: &mut Cx, b: &Block) -> Option<RunSettings> {
+    let mut fl = Fields::new(cx, "the `run` block", b.header, &b.body);
+    let stop = f::positive(
+        fl.required(cx, "stop_time", "10 s")
+            .and_then(|v| f::quantity(cx, v, Dim::TIME)),
+        cx,
+    );
+    let integrator = match fl.value("integrator") {
+        Some(v) => f::keyword(
+            cx,
+            v,
+            &[("dopri5", Integrator::Dopri5), ("rk4", Integrator::Rk4)],
+        )
+        .map(|i| Spanned::new(i, v.span)),
+        None => Some(Spanned::new(Integrator::Dopri5, b.header)),
+    };
+    let tol = |cx: &mut Cx, fl: &mut Fields, n: &'static str, default: f64| match fl.value(n) {
+        Some(v) => f::check_range(
+            f::number(cx, v),
+            cx,
+            |x| x > 0.0 && x < 1.0,
+            "a tolerance between 0 and 1",
+        ),
+        None => Some(Spanned::new(default, b.header)),
+    };
+    let rtol = tol(cx, &mut fl, "rtol", 1e-6);
+    let atol = tol(cx, &mut fl, "atol", 1e-9);
+    let dt = |cx: &mut Cx, fl: &mut Fields, n: &'static str, default: f64| match fl.value(n) {
+        Some(v) => f::positive(f::quantity(cx, v, Dim::TIME), cx),
+        None => Some(Spanned::new(default, b.header)),
+    };
+    let step = dt(cx, &mut fl, "step", 1e-4);
+    let min_step = dt(cx, &mut fl, "min_step", 1e-12);
+    let output = dt(cx, &mut fl, "output_interval", 1e-3);
+    let ground = fl
+        .value("stop_on_ground")
+        .and_then(|v| f::boolean(cx, v))
+        .unwrap_or(true);
+    let max_alpha = fl.value("max_alpha").map(|v| {
+        f::check_range(
+            f::quantity(cx, v, Dim::ANGLE),
+            cx,
+            |x| x > 0.0 && x <= std::f64::consts::PI,
+            "0 < alpha <= 180 deg",
+        )
+    });
+    let max_def = fl
+        .value("max_deformation")
+        .map(|v| f::positive(f::quantity(cx, v, Dim::LENGTH), cx));
+    fl.finish(cx);
+    let max_alpha = match max_alpha {
+        Some(q) => Some(q?),
+        None => None,
+    };
+    let max_deformation = match max_def {
+        Some(q) => Some(q?),
+        None => None,
+    };
+    if let (Some(o), Some(s)) = (&output, &stop) {
+        if o.value > s.value {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::value::range",
+                    "the output interval is longer than the run",
+                )
+                .label(o.span, "output interval")
+                .label(s.span, "stop time"),
+            );
+            return None;
+        }
+    }
+    Some(RunSettings {
+        span: b.header,
+        stop_time: stop?,
+        integrator: integrator?,
+        rtol: rtol?,
+        atol: atol?,
+        step: step?,
+        min_step: min_step?,
+        output_interval: output?,
+        stop_on_ground: ground,
+        max_alpha,
+        max_deformation,
+    })
+}

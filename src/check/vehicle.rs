@@ -1,0 +1,1250 @@
+//! Checking `material` and `vehicle` blocks.
+
+use std::f64::consts::PI;
+
+use crate::diagnostics::{Diagnostic, did_you_mean};
+use crate::syntax::ast::{Block, Value, ValueKind};
+use crate::syntax::{Span, Spanned};
+use crate::units::Dim;
+
+use super::Cx;
+use super::fields::{self as f, Fields};
+use super::ir::*;
+
+pub(crate) fn check_material(cx: &mut Cx, b: &Block) -> Option<Material> {
+    let name = b.name.as_ref()?;
+    let mut fl = Fields::new(cx, format!("material `{}`", name.name), b.header, &b.body);
+    let e = fl
+        .required(cx, "E", "70 GPa")
+        .and_then(|v| f::quantity(cx, v, Dim::PRESSURE));
+    let e = f::positive(e, cx);
+    let nu = fl.required(cx, "nu", "0.33").and_then(|v| f::number(cx, v));
+    let nu = f::check_range(nu, cx, |x| x > 0.0 && x < 0.5, "0 < nu < 0.5");
+    let rho = fl
+        .required(cx, "rho", "2710 kg/m^3")
+        .and_then(|v| f::quantity(cx, v, Dim::DENSITY));
+    let rho = f::positive(rho, cx);
+    let y = fl
+        .value("yield")
+        .and_then(|v| f::quantity(cx, v, Dim::PRESSURE));
+    let y = f::positive(y, cx);
+    let u = fl
+        .value("ultimate")
+        .and_then(|v| f::quantity(cx, v, Dim::PRESSURE));
+    let u = f::positive(u, cx);
+    fl.finish(cx);
+    if let (Some(y), Some(u)) = (y, u) {
+        if u.value < y.value {
+            cx.push(
+                Diagnostic::error("vdl::value::range", "ultimate stress is below yield stress")
+                    .label(u.span, "ultimate")
+                    .label(y.span, "yield"),
+            );
+        }
+    }
+    Some(Material {
+        name: Spanned::new(name.name.clone(), name.span),
+        youngs_modulus: e?,
+        poisson: nu?,
+        density: rho?,
+        yield_stress: y,
+        ultimate_stress: u,
+    })
+}
+
+/// Resolve `material = NAME`.
+fn material_ref(cx: &mut Cx, v: &Value, materials: &[Material]) -> Option<Material> {
+    let ValueKind::Name(id) = &v.kind else {
+        cx.push(
+            Diagnostic::error(
+                "vdl::type::mismatch",
+                format!("expected a material name, found {}", v.describe()),
+            )
+            .label(v.span, "should name a `material`"),
+        );
+        return None;
+    };
+    if let Some(m) = materials.iter().find(|m| m.name.value == id.name) {
+        return Some(m.clone());
+    }
+    let mut d = Diagnostic::error(
+        "vdl::reference::unknown",
+        format!("no material named `{}`", id.name),
+    )
+    .label(id.span, "unknown material");
+    d = match did_you_mean(&id.name, materials.iter().map(|m| m.name.value.as_str())) {
+        Some(s) => d.with_help(format!("did you mean `{s}`?")),
+        None => {
+            d.with_help("declare it with `material NAME { ... }` or `import \"std/materials.vdl\"`")
+        }
+    };
+    cx.push(d);
+    None
+}
+
+pub(crate) fn node_ref(cx: &mut Cx, v: &Value) -> Option<NodeRef> {
+    if let ValueKind::Call { name, args } = &v.kind {
+        match (name.name.as_str(), args.as_slice()) {
+            ("node", [a]) if a.name.is_none() => {
+                let id = f::integer(cx, &a.value)?;
+                return Some(NodeRef::Id(Spanned::new(id, v.span)));
+            }
+            ("nearest", [a]) if a.name.is_none() => {
+                return f::vector3(cx, &a.value, Dim::LENGTH).map(NodeRef::Nearest);
+            }
+            _ => {}
+        }
+    }
+    cx.push(
+        Diagnostic::error(
+            "vdl::type::mismatch",
+            format!("expected a node, found {}", v.describe()),
+        )
+        .label(v.span, "not a node designation")
+        .with_help("write `node(ID)` or `nearest((x, y, z) m)`"),
+    );
+    None
+}
+
+pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> Option<Vehicle> {
+    let name = b.name.as_ref()?;
+    let what = format!("vehicle `{}`", name.name);
+    let mut fl = Fields::new(cx, what.clone(), b.header, &b.body);
+    let material = fl
+        .required(cx, "material", "aluminium_6061_t6")
+        .and_then(|v| material_ref(cx, v, materials));
+    let origin = fl
+        .required(cx, "origin", "node(1)")
+        .and_then(|v| node_ref(cx, v));
+    let structure_block = fl.required_block(cx, "structure");
+    let fins_block = fl.block("fins");
+    let key_block = fl.required_block(cx, "key_nodes");
+    let modes_block = fl.required_block(cx, "modes");
+    let aero_block = fl.required_block(cx, "aero");
+    let forces_block = fl.required_block(cx, "forces");
+    fl.finish(cx);
+
+    let structure = structure_block.and_then(|sb| check_structure(cx, sb));
+    let body_length = match &structure {
+        Some(Structure::Generate(g)) => Some(g.body.length.value),
+        _ => None,
+    };
+    let fins =
+        fins_block.and_then(|fb| check_fins(cx, fb, material.as_ref(), materials, body_length));
+    // A fins block that failed its own checks has been reported: do not also report
+    // "no fins" wherever fins are referred to.
+    let fins_failed = fins_block.is_some() && fins.is_none();
+    let key_nodes = key_block.and_then(|kb| check_key_nodes(cx, kb, fins.as_ref(), fins_failed));
+    let modes = modes_block.and_then(|mb| check_modes(cx, mb, fins.as_ref(), fins_failed));
+    let diameter = match &structure {
+        Some(Structure::Generate(g)) => Some(Some(g.body.diameter.value)),
+        Some(Structure::Files(_)) => Some(None),
+        None => None,
+    };
+    let aero = aero_block.and_then(|ab| check_aero(cx, ab, diameter));
+    let forces = forces_block.and_then(|fb| check_forces(cx, fb));
+    if let (Some(k), Some(fo)) = (&key_nodes, &forces) {
+        if let (Some(t), None) = (&fo.thrust, &k.nozzle) {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::key_node::missing",
+                    "thrust is enabled but no `nozzle` key node is given",
+                )
+                .label(t.span, "thrust enabled here")
+                .label(k.span, "add `nozzle = ...` here"),
+            );
+            return None;
+        }
+    }
+    if let (Some(fo), None) = (&forces, &fins) {
+        if let Some(fa) = &fo.fin_aero {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::block::missing",
+                    "fin aerodynamics is enabled but the vehicle has no `fins` block",
+                )
+                .label(fa.span, "fin aerodynamics enabled here")
+                .label(b.header, "no `fins` block in this vehicle"),
+            );
+            return None;
+        }
+    }
+    Some(Vehicle {
+        name: Spanned::new(name.name.clone(), name.span),
+        span: b.header,
+        material: material?,
+        structure: structure?,
+        origin: origin?,
+        key_nodes: key_nodes?,
+        modes: modes?,
+        fins,
+        aero: aero?,
+        forces: forces?,
+    })
+}
+
+fn check_structure(cx: &mut Cx, b: &Block) -> Option<Structure> {
+    let mut fl = Fields::new(cx, "the `structure` block", b.header, &b.body);
+    let generate = fl.block("generate");
+    let files = fl.block("files");
+    fl.finish(cx);
+    match (generate, files) {
+        (Some(g), None) => check_generate(cx, g).map(Structure::Generate),
+        (None, Some(fb)) => check_fe_files(cx, fb).map(Structure::Files),
+        (Some(g), Some(fb)) => {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::structure::ambiguous",
+                    "a structure is either generated or read from files, not both",
+                )
+                .label(g.header, "generate")
+                .label(fb.header, "files"),
+            );
+            None
+        }
+        (None, None) => {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::block::missing",
+                    "the `structure` block needs `generate { ... }` or `files { ... }`",
+                )
+                .label(b.header, "empty structure"),
+            );
+            None
+        }
+    }
+}
+
+fn check_generate(cx: &mut Cx, b: &Block) -> Option<Generate> {
+    let mut fl = Fields::new(cx, "the `generate` block", b.header, &b.body);
+    let body_b = fl.required_block(cx, "body");
+    let mesh_b = fl.block("fin_mesh");
+    let pms = fl.blocks("point_mass");
+    let dms = fl.blocks("distributed_mass");
+    fl.finish(cx);
+
+    let body = body_b.and_then(|bb| {
+        let mut fl = Fields::new(cx, "the `body` block", bb.header, &bb.body);
+        let length = fl
+            .required(cx, "length", "2.75 m")
+            .and_then(|v| f::quantity(cx, v, Dim::LENGTH));
+        let length = f::positive(length, cx);
+        let diameter = fl
+            .required(cx, "diameter", "127 mm")
+            .and_then(|v| f::quantity(cx, v, Dim::LENGTH));
+        let diameter = f::positive(diameter, cx);
+        let wall = fl
+            .required(cx, "wall", "2 mm")
+            .and_then(|v| f::quantity(cx, v, Dim::LENGTH));
+        let wall = f::positive(wall, cx);
+        let nose = match fl.value("nose_length") {
+            Some(v) => f::non_negative(f::quantity(cx, v, Dim::LENGTH), cx),
+            None => Some(Spanned::new(0.0, bb.header)),
+        };
+        let elements = fl
+            .required(cx, "elements", "40")
+            .and_then(|v| f::count(cx, v, 1, 100_000));
+        let theory = match fl.value("theory") {
+            Some(v) => f::keyword(
+                cx,
+                v,
+                &[
+                    ("euler_bernoulli", BeamTheory::EulerBernoulli),
+                    ("timoshenko", BeamTheory::Timoshenko),
+                ],
+            )
+            .map(|t| Spanned::new(t, v.span)),
+            None => Some(Spanned::new(BeamTheory::EulerBernoulli, bb.header)),
+        };
+        fl.finish(cx);
+        if let (Some(d), Some(w)) = (diameter, wall) {
+            if w.value * 2.0 >= d.value {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::value::range",
+                        "the wall is as thick as the tube's radius or more",
+                    )
+                    .label(w.span, "wall thickness")
+                    .label(d.span, "outer diameter")
+                    .with_help("the wall must be thinner than half the diameter"),
+                );
+                return None;
+            }
+        }
+        if let (Some(l), Some(n)) = (length, nose) {
+            if n.value >= l.value {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::value::range",
+                        "the nose is as long as the body or longer",
+                    )
+                    .label(n.span, "nose length")
+                    .label(l.span, "body length"),
+                );
+                return None;
+            }
+        }
+        Some(BodyGeometry {
+            length: length?,
+            diameter: diameter?,
+            wall: wall?,
+            nose_length: nose?,
+            elements: Spanned::new(elements?, bb.header),
+            theory: theory?,
+        })
+    });
+
+    let (span_el, chord_el) = match mesh_b {
+        Some(mb) => {
+            let mut fl = Fields::new(cx, "the `fin_mesh` block", mb.header, &mb.body);
+            let s = fl
+                .required(cx, "span_elements", "6")
+                .and_then(|v| f::count(cx, v, 1, 2000));
+            let c = fl
+                .required(cx, "chord_elements", "12")
+                .and_then(|v| f::count(cx, v, 1, 2000));
+            fl.finish(cx);
+            (
+                s.map(|s| Spanned::new(s, mb.header)),
+                c.map(|c| Spanned::new(c, mb.header)),
+            )
+        }
+        None => (
+            Some(Spanned::new(6, b.header)),
+            Some(Spanned::new(12, b.header)),
+        ),
+    };
+
+    let length = body.as_ref().map(|b| b.length.value);
+    let mut point_masses = Vec::new();
+    for pb in pms {
+        let Some(pname) = block_name(cx, pb) else {
+            continue;
+        };
+        let mut fl = Fields::new(
+            cx,
+            format!("point mass `{}`", pname.value),
+            pb.header,
+            &pb.body,
+        );
+        let pos = fl
+            .required(cx, "position", "(-0.5, 0, 0) m")
+            .and_then(|v| f::vector3(cx, v, Dim::LENGTH));
+        let mass = fl
+            .required(cx, "mass", "1 kg")
+            .and_then(|v| f::quantity(cx, v, Dim::MASS));
+        let mass = f::positive(mass, cx);
+        let inertia = match fl.value("inertia") {
+            Some(v) => f::vector3(cx, v, Dim::INERTIA),
+            None => Some(Spanned::new([0.0; 3], pb.header)),
+        };
+        fl.finish(cx);
+        if let (Some(p), Some(l)) = (&pos, length) {
+            station_in_body(cx, p.value[0], p.span, l);
+        }
+        if let Some(i) = &inertia {
+            if i.value.iter().any(|x| *x < 0.0) {
+                cx.push(
+                    Diagnostic::error("vdl::value::range", "moments of inertia cannot be negative")
+                        .label(i.span, "negative moment"),
+                );
+            }
+        }
+        if let (Some(position), Some(mass), Some(inertia)) = (pos, mass, inertia) {
+            point_masses.push(PointMass {
+                name: pname,
+                position,
+                mass,
+                inertia,
+            });
+        }
+    }
+    let mut distributed_masses = Vec::new();
+    for db in dms {
+        let Some(dname) = block_name(cx, db) else {
+            continue;
+        };
+        let mut fl = Fields::new(
+            cx,
+            format!("distributed mass `{}`", dname.value),
+            db.header,
+            &db.body,
+        );
+        let from = fl
+            .required(cx, "from", "-1.6 m")
+            .and_then(|v| f::quantity(cx, v, Dim::LENGTH));
+        let to = fl
+            .required(cx, "to", "-2.7 m")
+            .and_then(|v| f::quantity(cx, v, Dim::LENGTH));
+        let mass = fl
+            .required(cx, "mass", "5 kg")
+            .and_then(|v| f::quantity(cx, v, Dim::MASS));
+        let mass = f::positive(mass, cx);
+        fl.finish(cx);
+        if let (Some(a), Some(z), Some(l)) = (from, to, length) {
+            station_in_body(cx, a.value, a.span, l);
+            station_in_body(cx, z.value, z.span, l);
+            if a.value == z.value {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::value::range",
+                        "a distributed mass needs `from` and `to` to differ",
+                    )
+                    .label(z.span, "same station as `from`"),
+                );
+            }
+        }
+        if let (Some(from), Some(to), Some(mass)) = (from, to, mass) {
+            distributed_masses.push(DistributedMass {
+                name: dname,
+                from,
+                to,
+                mass,
+            });
+        }
+    }
+    Some(Generate {
+        span: b.header,
+        body: body?,
+        fin_span_elements: span_el?,
+        fin_chord_elements: chord_el?,
+        point_masses,
+        distributed_masses,
+    })
+}
+
+fn station_in_body(cx: &mut Cx, x: f64, span: Span, length: f64) {
+    if x > 0.0 || x < -length {
+        cx.push(
+            Diagnostic::error(
+                "vdl::value::range",
+                format!("body station x = {x} m is outside the body (0 to -{length} m)"),
+            )
+            .label(span, "outside the body")
+            .with_help(
+                "the body frame's origin is the nose tip and x points forward: stations are <= 0",
+            ),
+        );
+    }
+}
+
+fn block_name(cx: &mut Cx, b: &Block) -> Option<Spanned<String>> {
+    match &b.name {
+        Some(n) => Some(Spanned::new(n.name.clone(), n.span)),
+        None => {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::name::missing",
+                    format!("a `{}` needs a name", b.kind.name),
+                )
+                .label(b.header, format!("write `{} NAME {{`", b.kind.name)),
+            );
+            None
+        }
+    }
+}
+
+fn check_fe_files(cx: &mut Cx, b: &Block) -> Option<FeFiles> {
+    let mut fl = Fields::new(cx, "the `files` block", b.header, &b.body);
+    let format = fl.required(cx, "format", "matrix_market").and_then(|v| {
+        f::keyword(
+            cx,
+            v,
+            &[
+                ("matrix_market", FeFormat::MatrixMarket),
+                ("op4", FeFormat::Op4),
+                ("dmig", FeFormat::Dmig),
+            ],
+        )
+        .map(|k| Spanned::new(k, v.span))
+    });
+    let mut file =
+        |cx: &mut Cx, fl: &mut Fields, name: &'static str, required: bool, what: &str| {
+            let v = if required {
+                fl.required(cx, name, "\"model/file\"")
+            } else {
+                fl.value(name)
+            };
+            let v = v?;
+            let s = f::string(cx, v)?;
+            cx.resolve_file(&s, v.span, what)
+                .map(|p| Spanned::new(p, v.span))
+        };
+    let (mass, stiffness, nodes) = match format.map(|f| f.value) {
+        Some(FeFormat::MatrixMarket) | None => (
+            file(cx, &mut fl, "mass", true, "mass matrix file"),
+            file(cx, &mut fl, "stiffness", true, "stiffness matrix file"),
+            file(cx, &mut fl, "nodes", true, "node table"),
+        ),
+        Some(FeFormat::Op4) => {
+            let m = file(cx, &mut fl, "matrices", true, "OP4 file");
+            let n = file(cx, &mut fl, "nodes", true, "GRID bulk data file");
+            (m.clone(), m, n)
+        }
+        Some(FeFormat::Dmig) => {
+            let m = file(cx, &mut fl, "matrices", true, "DMIG bulk data file");
+            let n = match fl.value("nodes") {
+                Some(_) => file(cx, &mut fl, "nodes", false, "GRID bulk data file"),
+                None => m.clone(),
+            };
+            (m.clone(), m, n)
+        }
+    };
+    let elements = file(cx, &mut fl, "elements", false, "element list");
+    let mut name =
+        |cx: &mut Cx, fl: &mut Fields, field: &'static str, default: &str| match fl.value(field) {
+            Some(v) => f::string(cx, v).map(|s| Spanned::new(s, v.span)),
+            None => Some(Spanned::new(default.to_string(), b.header)),
+        };
+    let mass_matrix = name(cx, &mut fl, "mass_matrix", "MAA");
+    let stiffness_matrix = name(cx, &mut fl, "stiffness_matrix", "KAA");
+    let dof_order = match fl.value("dof_order") {
+        Some(v) => dof_order(cx, v),
+        None => Some(Spanned::new([0, 1, 2, 3, 4, 5], b.header)),
+    };
+    let length_scale = match fl.value("coordinates_unit") {
+        Some(v) => match &v.kind {
+            ValueKind::Name(id) => match crate::units::lookup(&id.name) {
+                Some(u) if u.dim == Dim::LENGTH => Some(Spanned::new(u.scale, v.span)),
+                _ => {
+                    cx.push(
+                        Diagnostic::error(
+                            "vdl::unit::mismatch",
+                            format!("`{}` is not a unit of length", id.name),
+                        )
+                        .label(v.span, "expected m, mm, cm, in, ..."),
+                    );
+                    None
+                }
+            },
+            _ => {
+                cx.push(
+                    Diagnostic::error("vdl::type::mismatch", "expected a length unit such as `mm`")
+                        .label(v.span, "not a unit name"),
+                );
+                None
+            }
+        },
+        None => Some(Spanned::new(1.0, b.header)),
+    };
+    fl.finish(cx);
+    Some(FeFiles {
+        span: b.header,
+        format: format?,
+        mass: mass?,
+        stiffness: stiffness?,
+        nodes: nodes?,
+        elements,
+        mass_matrix: mass_matrix?,
+        stiffness_matrix: stiffness_matrix?,
+        dof_order: dof_order?,
+        length_scale: length_scale?,
+    })
+}
+
+/// `dof_order = [u, v, w, rx, ry, rz]`: the file's per-node order.
+fn dof_order(cx: &mut Cx, v: &Value) -> Option<Spanned<[u8; 6]>> {
+    const NAMES: [&str; 6] = ["u", "v", "w", "rx", "ry", "rz"];
+    let ValueKind::List(items) = &v.kind else {
+        cx.push(
+            Diagnostic::error(
+                "vdl::type::mismatch",
+                "expected a list of the six DOF names",
+            )
+            .label(v.span, "write e.g. `[u, v, w, rx, ry, rz]`"),
+        );
+        return None;
+    };
+    let mut order = [0u8; 6];
+    let mut seen = [false; 6];
+    if items.len() != 6 {
+        cx.push(
+            Diagnostic::error(
+                "vdl::vector::arity",
+                format!("a DOF order lists 6 names, found {}", items.len()),
+            )
+            .label(v.span, "expected u, v, w, rx, ry, rz in the file's order"),
+        );
+        return None;
+    }
+    for (k, it) in items.iter().enumerate() {
+        let opts: Vec<(&'static str, u8)> = NAMES
+            .iter()
+            .enumerate()
+            .map(|(i, n)| (*n, i as u8))
+            .collect();
+        let c = f::keyword(cx, it, &opts)?;
+        if seen[c as usize] {
+            cx.push(
+                Diagnostic::error("vdl::duplicate", "a DOF appears twice in `dof_order`")
+                    .label(it.span, "repeated"),
+            );
+            return None;
+        }
+        seen[c as usize] = true;
+        order[k] = c;
+    }
+    Some(Spanned::new(order, v.span))
+}
+
+fn check_fins(
+    cx: &mut Cx,
+    b: &Block,
+    vehicle_material: Option<&Material>,
+    materials: &[Material],
+    body_length: Option<f64>,
+) -> Option<Fins> {
+    let mut fl = Fields::new(cx, "the `fins` block", b.header, &b.body);
+    let count = fl
+        .required(cx, "count", "4")
+        .and_then(|v| f::count(cx, v, 1, 64).map(|n| Spanned::new(n, v.span)));
+    let len = |cx: &mut Cx, fl: &mut Fields, n: &'static str, ex: &str| {
+        let q = fl
+            .required(cx, n, ex)
+            .and_then(|v| f::quantity(cx, v, Dim::LENGTH));
+        f::positive(q, cx)
+    };
+    let span = len(cx, &mut fl, "span", "127.23 mm");
+    let root = len(cx, &mut fl, "root_chord", "324.68 mm");
+    let tip = fl
+        .required(cx, "tip_chord", "122.67 mm")
+        .and_then(|v| f::quantity(cx, v, Dim::LENGTH));
+    let tip = f::non_negative(tip, cx);
+    let thickness = len(cx, &mut fl, "thickness", "0.6 mm");
+    let le = fl
+        .value("leading_edge_sweep")
+        .map(|v| (v, f::quantity(cx, v, Dim::ANGLE)));
+    let te = fl
+        .value("trailing_edge_sweep")
+        .map(|v| (v, f::quantity(cx, v, Dim::ANGLE)));
+    let cant = match fl.value("cant") {
+        Some(v) => f::check_range(
+            f::quantity(cx, v, Dim::ANGLE),
+            cx,
+            |x| x.abs() < PI / 4.0,
+            "|cant| < 45 deg",
+        ),
+        None => Some(Spanned::new(0.0, b.header)),
+    };
+    let angles_v = fl.value("angles");
+    let station = fl
+        .value("root_trailing_edge")
+        .map(|v| f::quantity(cx, v, Dim::LENGTH));
+    let material = match fl.value("material") {
+        Some(v) => material_ref(cx, v, materials),
+        None => vehicle_material.cloned(),
+    };
+    fl.finish(cx);
+
+    if let (Some(r), Some(t)) = (root, tip) {
+        if t.value > r.value {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::value::range",
+                    "the tip chord is longer than the root chord",
+                )
+                .label(t.span, "tip chord")
+                .label(r.span, "root chord")
+                .with_help("flexflight models trapezoidal fins with tip chord <= root chord"),
+            );
+            return None;
+        }
+    }
+    let (span_q, root_q, tip_q) = (span?, root?, tip?);
+    // Leading-edge sweep: given, or from the trailing-edge sweep and the taper:
+    // x_LE(tip) - x_LE(root) = -(span tan(Lambda_LE)); the tip's trailing edge sits at
+    // span tan(Lambda_TE) behind the root's, so tan(Lambda_LE) = tan(Lambda_TE) + (c_r - c_t)/s.
+    let sweep = match (le, te) {
+        (Some(_), Some((tv, _))) => {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::fins::sweep",
+                    "give either `leading_edge_sweep` or `trailing_edge_sweep`, not both",
+                )
+                .label(tv.span, "second sweep"),
+            );
+            None
+        }
+        (Some((_, q)), None) => f::check_range(q, cx, |x| x.abs() < 1.4, "|sweep| < 80 deg"),
+        (None, Some((v, q))) => {
+            let q = f::check_range(q, cx, |x| x.abs() < 1.4, "|sweep| < 80 deg")?;
+            let tan_le = q.value.tan() + (root_q.value - tip_q.value) / span_q.value;
+            Some(Spanned::new(tan_le.atan(), v.span))
+        }
+        (None, None) => {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::field::missing",
+                    "the `fins` block needs `leading_edge_sweep` or `trailing_edge_sweep`",
+                )
+                .label(b.header, "sweep missing")
+                .with_help("SPHADS-1 has an unswept trailing edge: `trailing_edge_sweep = 0 deg`"),
+            );
+            None
+        }
+    };
+    let n = count?.value;
+    let angles = match angles_v {
+        Some(v) => match &v.kind {
+            ValueKind::List(items) => {
+                let qs: Vec<Option<Q>> = items
+                    .iter()
+                    .map(|it| f::quantity(cx, it, Dim::ANGLE))
+                    .collect();
+                if qs.len() != n {
+                    cx.push(
+                        Diagnostic::error(
+                            "vdl::fins::angles",
+                            format!("{} fin angles for {n} fins", qs.len()),
+                        )
+                        .label(v.span, format!("expected {n} angles")),
+                    );
+                    return None;
+                }
+                qs.into_iter().collect::<Option<Vec<_>>>()?
+            }
+            _ => {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::type::mismatch",
+                        format!("expected a list of angles, found {}", v.describe()),
+                    )
+                    .label(v.span, "write e.g. `[0 deg, 90 deg, 180 deg, 270 deg]`"),
+                );
+                return None;
+            }
+        },
+        // delta_i = 2 pi (i - 1) / n (REFERENCE-NOTES, fin frames).
+        None => (0..n)
+            .map(|i| Spanned::new(2.0 * PI * i as f64 / n as f64, b.header))
+            .collect(),
+    };
+    let station = match (station, body_length) {
+        (Some(q), l) => {
+            let q = q?;
+            if let Some(l) = l {
+                station_in_body(cx, q.value, q.span, l);
+                if q.value + root_q.value > 0.0 {
+                    cx.push(
+                        Diagnostic::error(
+                            "vdl::value::range",
+                            "the fin root extends forward of the nose",
+                        )
+                        .label(q.span, "root trailing edge station"),
+                    );
+                }
+            }
+            q
+        }
+        (None, Some(l)) => Spanned::new(-l, b.header),
+        (None, None) => {
+            cx.push(
+                Diagnostic::error("vdl::field::missing", "the `fins` block needs `root_trailing_edge` when the structure is read from files")
+                    .label(b.header, "add `root_trailing_edge = -2.75 m`"),
+            );
+            return None;
+        }
+    };
+    Some(Fins {
+        span_: b.header,
+        count: count?,
+        span: span_q,
+        root_chord: root_q,
+        tip_chord: tip_q,
+        leading_edge_sweep: sweep?,
+        thickness: thickness?,
+        cant: cant?,
+        angles,
+        root_trailing_edge_x: station,
+        material: material?,
+    })
+}
+
+fn check_key_nodes(
+    cx: &mut Cx,
+    b: &Block,
+    fins: Option<&Fins>,
+    fins_failed: bool,
+) -> Option<KeyNodes> {
+    let mut fl = Fields::new(cx, "the `key_nodes` block", b.header, &b.body);
+    let body = fl
+        .required(cx, "body", "nearest((-1.59, 0, 0) m)")
+        .and_then(|v| node_ref(cx, v));
+    let nozzle = fl.value("nozzle").map(|v| node_ref(cx, v));
+    let fins_v = fl.value("fins");
+    fl.finish(cx);
+    if fins_failed {
+        return None;
+    }
+    let fin_nodes = match (fins_v, fins) {
+        (None, None) => FinKeyNodes::None,
+        (None, Some(fi)) => {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::key_node::missing",
+                    "the vehicle has fins but no fin key nodes",
+                )
+                .label(b.header, "add `fins = fin_point(span = 0.5, chord = 0.5)`")
+                .label(fi.span_, "fins declared here"),
+            );
+            return None;
+        }
+        (Some(v), None) => {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::reference::kind",
+                    "fin key nodes are given but the vehicle has no `fins` block",
+                )
+                .label(v.span, "no fins to put these on"),
+            );
+            return None;
+        }
+        (Some(v), Some(fi)) => match &v.kind {
+            ValueKind::Call { name, args } if name.name == "fin_point" => {
+                let mut span = None;
+                let mut chord = None;
+                for a in args {
+                    let q = f::check_range(
+                        f::number(cx, &a.value),
+                        cx,
+                        |x| (0.0..=1.0).contains(&x),
+                        "a fraction from 0 to 1",
+                    );
+                    match a.name.as_ref().map(|n| n.name.as_str()) {
+                        Some("span") => span = q,
+                        Some("chord") => chord = q,
+                        _ => cx.push(
+                            Diagnostic::error(
+                                "vdl::argument",
+                                "`fin_point` takes `span = FRACTION, chord = FRACTION`",
+                            )
+                            .label(a.value.span, "unexpected argument"),
+                        ),
+                    }
+                }
+                match (span, chord) {
+                    (Some(span), Some(chord)) => FinKeyNodes::Fraction { span, chord },
+                    _ => {
+                        cx.push(
+                            Diagnostic::error(
+                                "vdl::argument",
+                                "`fin_point` needs both `span` and `chord`",
+                            )
+                            .label(v.span, "e.g. fin_point(span = 0.5, chord = 0.5)"),
+                        );
+                        return None;
+                    }
+                }
+            }
+            ValueKind::List(items) => {
+                if items.len() != fi.count.value {
+                    cx.push(
+                        Diagnostic::error(
+                            "vdl::key_node::count",
+                            format!("{} fin key nodes for {} fins", items.len(), fi.count.value),
+                        )
+                        .label(v.span, "one node per fin"),
+                    );
+                    return None;
+                }
+                let nodes: Option<Vec<NodeRef>> = items.iter().map(|it| node_ref(cx, it)).collect();
+                FinKeyNodes::PerFin(nodes?)
+            }
+            _ => {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::type::mismatch",
+                        format!(
+                            "expected `fin_point(...)` or a list of nodes, found {}",
+                            v.describe()
+                        ),
+                    )
+                    .label(v.span, "not a fin key-node designation"),
+                );
+                return None;
+            }
+        },
+    };
+    let nozzle = match nozzle {
+        Some(n) => Some(n?),
+        None => None,
+    };
+    Some(KeyNodes {
+        span: b.header,
+        body: body?,
+        nozzle,
+        fins: fin_nodes,
+    })
+}
+
+fn check_modes(
+    cx: &mut Cx,
+    b: &Block,
+    fins: Option<&Fins>,
+    fins_failed: bool,
+) -> Option<ModeSelection> {
+    let mut fl = Fields::new(cx, "the `modes` block", b.header, &b.body);
+    let mut rules = Vec::new();
+    let mut ok = true;
+    if let Some(v) = fl.value("indices") {
+        match &v.kind {
+            ValueKind::List(items) if !items.is_empty() => {
+                let idx: Option<Vec<usize>> = items
+                    .iter()
+                    .map(|it| f::count(cx, it, 1, 100_000))
+                    .collect();
+                match idx {
+                    Some(i) => rules.push(ModeRule::Indices(Spanned::new(i, v.span))),
+                    None => ok = false,
+                }
+            }
+            _ => {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::type::mismatch",
+                        "expected a non-empty list of mode indices",
+                    )
+                    .label(v.span, "write e.g. `[1, 2, 5]` (elastic modes, 1-based)"),
+                );
+                ok = false;
+            }
+        }
+    }
+    if let Some(v) = fl.value("band") {
+        match &v.kind {
+            ValueKind::List(items) if items.len() == 2 => {
+                let lo = f::non_negative(f::quantity(cx, &items[0], Dim::FREQUENCY), cx);
+                let hi = f::positive(f::quantity(cx, &items[1], Dim::FREQUENCY), cx);
+                match (lo, hi) {
+                    (Some(lo), Some(hi)) if lo.value < hi.value => {
+                        rules.push(ModeRule::BandHz { lo, hi })
+                    }
+                    (Some(_), Some(hi)) => {
+                        cx.push(
+                            Diagnostic::error(
+                                "vdl::value::range",
+                                "the band's upper frequency is not above its lower one",
+                            )
+                            .label(hi.span, "upper bound"),
+                        );
+                        ok = false;
+                    }
+                    _ => ok = false,
+                }
+            }
+            _ => {
+                cx.push(
+                    Diagnostic::error("vdl::type::mismatch", "expected `[LOW Hz, HIGH Hz]`")
+                        .label(v.span, "a frequency band is a list of two frequencies"),
+                );
+                ok = false;
+            }
+        }
+    }
+    for (field, class) in [
+        ("body_bending", ModeClass::BodyBending),
+        ("fin_flap", ModeClass::FinFlap),
+        ("fin_twist", ModeClass::FinTwist),
+    ] {
+        let Some(v) = fl.value(field) else { continue };
+        let count = match &v.kind {
+            ValueKind::Name(id) if id.name == "per_fin" => {
+                if fins_failed {
+                    ok = false;
+                    continue;
+                }
+                if fins.is_none() {
+                    cx.push(
+                        Diagnostic::error(
+                            "vdl::modes::no_fins",
+                            format!("`{field} = per_fin` but the vehicle has no fins"),
+                        )
+                        .label(v.span, "no fins"),
+                    );
+                    ok = false;
+                    continue;
+                }
+                ModeCount::PerFin
+            }
+            _ => match f::count(cx, v, 1, 1000) {
+                Some(n) => ModeCount::Count(n),
+                None => {
+                    ok = false;
+                    continue;
+                }
+            },
+        };
+        if class != ModeClass::BodyBending && fins.is_none() && !fins_failed {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::modes::no_fins",
+                    format!("`{field}` modes are asked for but the vehicle has no fins"),
+                )
+                .label(v.span, "no fins"),
+            );
+            ok = false;
+            continue;
+        }
+        rules.push(ModeRule::Class {
+            class: Spanned::new(class, v.span),
+            count: Spanned::new(count, v.span),
+        });
+    }
+    let fixity_origin = match fl.value("fixity") {
+        Some(v) => f::keyword(cx, v, &[("origin", true), ("none", false)]),
+        None => Some(true),
+    };
+    let damping = match fl.value("damping") {
+        None => Some(Vec::new()),
+        Some(v) => match &v.kind {
+            ValueKind::List(items) => items
+                .iter()
+                .map(|it| {
+                    f::check_range(
+                        f::number(cx, it),
+                        cx,
+                        |x| (0.0..1.0).contains(&x),
+                        "a damping ratio 0 <= zeta < 1",
+                    )
+                })
+                .collect(),
+            _ => f::check_range(
+                f::number(cx, v),
+                cx,
+                |x| (0.0..1.0).contains(&x),
+                "a damping ratio 0 <= zeta < 1",
+            )
+            .map(|q| vec![q]),
+        },
+    };
+    fl.finish(cx);
+    if rules.is_empty() && ok {
+        cx.push(
+            Diagnostic::error("vdl::modes::empty", "the `modes` block selects no modes")
+                .label(b.header, "nothing selected")
+                .with_help("use `indices = [...]`, `band = [lo Hz, hi Hz]`, or classes like `body_bending = 2`, `fin_flap = per_fin`"),
+        );
+        return None;
+    }
+    if !ok {
+        return None;
+    }
+    Some(ModeSelection {
+        span: b.header,
+        rules,
+        fixity_origin: fixity_origin?,
+        damping: damping?,
+    })
+}
+
+/// `diameter`: `Some(Some(d))` for a generated body, `Some(None)` for FE files (no default
+/// reference area), `None` when the structure failed (no cascade of "missing" errors).
+fn check_aero(cx: &mut Cx, b: &Block, diameter: Option<Option<f64>>) -> Option<Aero> {
+    let mut fl = Fields::new(cx, "the `aero` block", b.header, &b.body);
+    let source_v = fl.required(cx, "source", "builtin");
+    let source_kind =
+        source_v.and_then(|v| f::keyword(cx, v, &[("builtin", false), ("tables", true)]));
+    let source = match source_kind {
+        Some(false) => Some(AeroSource::Builtin),
+        Some(true) => {
+            let mut table = |cx: &mut Cx, fl: &mut Fields, name: &'static str| {
+                let v = fl.required(cx, name, "\"aero/table.csv\"")?;
+                let s = f::string(cx, v)?;
+                cx.resolve_file(&s, v.span, "coefficient table")
+                    .map(|p| Spanned::new(p, v.span))
+            };
+            let body = table(cx, &mut fl, "body_table");
+            let fins = table(cx, &mut fl, "fin_table");
+            let oor = match fl.value("out_of_range") {
+                Some(v) => f::keyword(
+                    cx,
+                    v,
+                    &[("stop", OutOfRange::Stop), ("clamp", OutOfRange::Clamp)],
+                )
+                .map(|k| Spanned::new(k, v.span)),
+                None => Some(Spanned::new(OutOfRange::Stop, b.header)),
+            };
+            match (body, fins, oor) {
+                (Some(body), Some(fins), Some(out_of_range)) => Some(AeroSource::Tables {
+                    body,
+                    fins,
+                    out_of_range,
+                }),
+                _ => None,
+            }
+        }
+        None => None,
+    };
+    let area = match (fl.value("reference_area"), diameter) {
+        (Some(v), _) => f::positive(f::quantity(cx, v, Dim::AREA), cx),
+        (None, Some(Some(d))) => Some(Spanned::new(PI * d * d / 4.0, b.header)),
+        (None, Some(None)) => {
+            fl.required(cx, "reference_area", "0.012668 m^2");
+            None
+        }
+        (None, None) => None,
+    };
+    let length = match (fl.value("reference_length"), diameter) {
+        (Some(v), _) => f::positive(f::quantity(cx, v, Dim::LENGTH), cx),
+        (None, Some(Some(d))) => Some(Spanned::new(d, b.header)),
+        (None, Some(None)) => {
+            fl.required(cx, "reference_length", "127 mm");
+            None
+        }
+        (None, None) => None,
+    };
+    let point = fl
+        .required(cx, "reference_point", "(-1.59, 0, 0) m")
+        .and_then(|v| f::vector3(cx, v, Dim::LENGTH));
+    fl.finish(cx);
+    if let Some(p) = &point {
+        if p.value[0] > 0.0 {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::value::range",
+                    "the reference point lies ahead of the nose (x > 0)",
+                )
+                .label(p.span, "x must be <= 0 in the body frame"),
+            );
+            return None;
+        }
+    }
+    Some(Aero {
+        span: b.header,
+        source: source?,
+        reference_area: area?,
+        reference_length: length?,
+        reference_point: point?,
+    })
+}
+
+/// `enabled = false` turns a force block off (useful in overrides).
+fn enabled(cx: &mut Cx, fl: &mut Fields) -> bool {
+    fl.value("enabled")
+        .and_then(|v| f::boolean(cx, v))
+        .unwrap_or(true)
+}
+
+fn check_forces(cx: &mut Cx, b: &Block) -> Option<Forces> {
+    let mut fl = Fields::new(cx, "the `forces` block", b.header, &b.body);
+    let g = fl.block("gravity");
+    let t = fl.block("thrust");
+    let ba = fl.block("body_aero");
+    let fa = fl.block("fin_aero");
+    fl.finish(cx);
+    let mut forces = Forces::default();
+    let mut ok = true;
+    if let Some(g) = g {
+        let mut fl = Fields::new(cx, "the `gravity` block", g.header, &g.body);
+        let on = enabled(cx, &mut fl);
+        let alt = fl
+            .value("altitude_correction")
+            .and_then(|v| f::boolean(cx, v))
+            .unwrap_or(true);
+        fl.finish(cx);
+        if on {
+            forces.gravity = Some(Gravity {
+                span: g.header,
+                altitude_correction: alt,
+            });
+        }
+    }
+    if let Some(t) = t {
+        let mut fl = Fields::new(cx, "the `thrust` block", t.header, &t.body);
+        let on = enabled(cx, &mut fl);
+        let curve = fl
+            .required(cx, "curve", "\"motors/motor.eng\"")
+            .and_then(|v| {
+                let s = f::string(cx, v)?;
+                cx.resolve_file(&s, v.span, "thrust curve")
+                    .map(|p| Spanned::new(p, v.span))
+            });
+        let offset = match fl.value("offset") {
+            Some(v) => f::vector3(cx, v, Dim::LENGTH),
+            None => Some(Spanned::new([0.0; 3], t.header)),
+        };
+        let mis = match fl.value("misalignment") {
+            Some(v) => f::vector3(cx, v, Dim::ANGLE),
+            None => Some(Spanned::new([0.0; 3], t.header)),
+        };
+        fl.finish(cx);
+        match (curve, offset, mis) {
+            (Some(curve), Some(offset), Some(misalignment)) => {
+                if on {
+                    forces.thrust = Some(Thrust {
+                        span: t.header,
+                        curve,
+                        offset,
+                        misalignment,
+                    });
+                }
+            }
+            _ => ok = false,
+        }
+    }
+    if let Some(ba) = ba {
+        let mut fl = Fields::new(cx, "the `body_aero` block", ba.header, &ba.body);
+        let on = enabled(cx, &mut fl);
+        let rate = fl
+            .value("rate_terms")
+            .and_then(|v| f::boolean(cx, v))
+            .unwrap_or(true);
+        fl.finish(cx);
+        if on {
+            forces.body_aero = Some(BodyAero {
+                span: ba.header,
+                rate_terms: rate,
+            });
+        }
+    }
+    if let Some(fa) = fa {
+        let mut fl = Fields::new(cx, "the `fin_aero` block", fa.header, &fa.body);
+        let on = enabled(cx, &mut fl);
+        let dist = match fl.value("distribution") {
+            Some(v) => f::keyword(
+                cx,
+                v,
+                &[
+                    ("theory", Distribution::Theory),
+                    ("uniform", Distribution::Uniform),
+                ],
+            )
+            .map(|d| Spanned::new(d, v.span)),
+            None => Some(Spanned::new(Distribution::Theory, fa.header)),
+        };
+        let lw = fl
+            .value("leeward_reduction")
+            .and_then(|v| f::boolean(cx, v))
+            .unwrap_or(true);
+        let stress = fl.value("stress_limit").map(|v| {
+            f::check_range(
+                f::number(cx, v),
+                cx,
+                |x| x > 0.0 && x <= 10.0,
+                "a fraction of yield in (0, 10]",
+            )
+        });
+        fl.finish(cx);
+        let stress = match stress {
+            Some(None) => {
+                ok = false;
+                None
+            }
+            Some(s) => s,
+            None => None,
+        };
+        match dist {
+            Some(distribution) if on => {
+                forces.fin_aero = Some(FinAero {
+                    span: fa.header,
+                    distribution,
+                    leeward_reduction: lw,
+                    stress_limit_fraction: stress,
+                })
+            }
+            Some(_) => {}
+            None => ok = false,
+        }
+    }
+    ok.then_some(forces)
+}

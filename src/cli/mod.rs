@@ -1,0 +1,170 @@
+//! The command-line front end: argument parsing, file IO, terminal output and exit codes.
+//!
+//! Exit codes: 0 clean, 1 diagnostics (the input is wrong), 2 usage or IO error.
+//! Architecture invariant: this is the only module that touches the terminal and the
+//! process; the stages it calls return data.
+
+mod fmt;
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use crate::check::{Checked, DiskLoader, check_files};
+use crate::diagnostics::{self, Diagnostic, RenderOptions};
+use crate::syntax::SourceMap;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "flexflight",
+    version,
+    about = "Flight simulation and stability analysis of flexible rockets"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Check vehicle files: syntax, units, references, ranges. Exit 0 clean, 1 with diagnostics.
+    Check {
+        /// Vehicle description files (.vdl).
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Format vehicle files canonically (in place, or report with --check).
+    Fmt {
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        /// Do not write; exit 1 if any file is not formatted.
+        #[arg(long)]
+        check: bool,
+        #[command(flatten)]
+        output: Output,
+    },
+}
+
+/// Options shared by commands that read a vehicle or scenario.
+#[derive(Args, Debug, Clone, Default)]
+pub struct Common {
+    /// Override a field: PATH=VALUE with the syntax of `with`, e.g. --set 'fins.thickness=0.6 mm'.
+    #[arg(long = "set", value_name = "PATH=VALUE")]
+    pub sets: Vec<String>,
+    #[command(flatten)]
+    pub output: Output,
+}
+
+#[derive(Args, Debug, Clone, Default)]
+pub struct Output {
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Human)]
+    pub format: Format,
+}
+
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    #[default]
+    Human,
+    Json,
+}
+
+/// How the terminal wants diagnostics drawn (decided by the binary).
+#[derive(Clone, Copy, Debug)]
+pub struct Terminal {
+    pub render: RenderOptions,
+}
+
+pub const EXIT_OK: u8 = 0;
+pub const EXIT_DIAGNOSTICS: u8 = 1;
+pub const EXIT_USAGE: u8 = 2;
+
+/// Run a parsed command line.
+pub fn run(cli: Cli, term: Terminal) -> ExitCode {
+    let code = match cli.command {
+        Command::Check { files, common } => cmd_check(&files, &common, term),
+        Command::Fmt {
+            files,
+            check,
+            output,
+        } => fmt::cmd_fmt(&files, check, output.format, term),
+    };
+    ExitCode::from(code)
+}
+
+/// Print diagnostics in the chosen format to stderr (human) or stdout (json).
+pub fn emit(diags: &[Diagnostic], sources: &SourceMap, format: Format, term: Terminal) {
+    match format {
+        Format::Human => {
+            let text = diagnostics::render(diags, sources, term.render);
+            let _ = std::io::stderr().write_all(text.as_bytes());
+        }
+        Format::Json => {
+            let json = serde_json::json!({ "diagnostics": diagnostics::to_json(diags, sources) });
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&json).unwrap_or_default()
+            );
+        }
+    }
+}
+
+/// Check files; print diagnostics; return the result if there were no errors.
+pub fn load_program(files: &[PathBuf], common: &Common, term: Terminal) -> Result<Checked, u8> {
+    for f in files {
+        if !f.is_file() {
+            eprintln!("error: cannot read `{}`: no such file", f.display());
+            return Err(EXIT_USAGE);
+        }
+    }
+    let checked = check_files(files, &common.sets, &DiskLoader);
+    if !checked.diagnostics.is_empty() {
+        emit(
+            &checked.diagnostics,
+            &checked.sources,
+            common.output.format,
+            term,
+        );
+    }
+    if checked.has_errors() {
+        Err(EXIT_DIAGNOSTICS)
+    } else {
+        Ok(checked)
+    }
+}
+
+fn cmd_check(files: &[PathBuf], common: &Common, term: Terminal) -> u8 {
+    match load_program(files, common, term) {
+        Err(code) => code,
+        Ok(checked) => {
+            let p = &checked.program;
+            match common.output.format {
+                Format::Human => eprintln!(
+                    "ok: {} material(s), {} vehicle(s), {} scenario(s), {} sweep(s)",
+                    p.materials.len(),
+                    p.vehicles.len(),
+                    p.scenarios.len(),
+                    p.sweeps.len()
+                ),
+                Format::Json => {
+                    let json = serde_json::json!({
+                        "diagnostics": [],
+                        "materials": p.materials.iter().map(|m| &m.name.value).collect::<Vec<_>>(),
+                        "vehicles": p.vehicles.iter().map(|v| &v.name.value).collect::<Vec<_>>(),
+                        "scenarios": p.scenarios.iter().map(|s| &s.name.value).collect::<Vec<_>>(),
+                        "sweeps": p.sweeps.iter().map(|s| &s.name.value).collect::<Vec<_>>(),
+                    });
+                    println!(
+                        "{}",
+                        serde_json::to_string_pretty(&json).unwrap_or_default()
+                    );
+                }
+            }
+            EXIT_OK
+        }
+    }
+}
