@@ -7,10 +7,10 @@ use std::path::{Path, PathBuf};
 
 use thiserror::Error;
 
-use super::container::{artifact_file_name, load, write_atomic, Artifact};
+use super::ArtifactPayload;
+use super::container::{Artifact, artifact_file_name, load, write_atomic};
 use super::error::ArtifactError;
 use super::key::CacheKey;
-use super::ArtifactPayload;
 
 /// Environment variable naming the cache directory (overridden by `--cache-dir`).
 pub const CACHE_DIR_ENV: &str = "FLEXFLIGHT_CACHE";

@@ -86,11 +86,7 @@ impl CacheKeyBuilder {
             "compiler version",
             env!("CARGO_PKG_VERSION").as_bytes(),
         );
-        builder.record(
-            tag::HEADER,
-            "format version",
-            &FORMAT_VERSION.to_le_bytes(),
-        );
+        builder.record(tag::HEADER, "format version", &FORMAT_VERSION.to_le_bytes());
         builder
     }
 

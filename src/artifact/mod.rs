@@ -23,8 +23,8 @@ pub mod container;
 pub mod error;
 pub mod key;
 
-pub use cache::{Cache, CacheOutcome, GetOrBuildError, CACHE_DIR_ENV};
-pub use container::{load, schema_hash, write_atomic, Artifact, HEADER_LEN, MAGIC};
+pub use cache::{CACHE_DIR_ENV, Cache, CacheOutcome, GetOrBuildError};
+pub use container::{Artifact, HEADER_LEN, MAGIC, load, schema_hash, write_atomic};
 pub use error::ArtifactError;
 pub use key::{CacheKey, CacheKeyBuilder};
 
