@@ -1,8 +1,27 @@
 //! flexflight: flight simulation and stability analysis of flexible rockets.
+//!
+//! A declarative model compiler, after K. Davidson (2005): a vehicle description file
+//! (`.vdl`) declares an FE model, key nodes, mode selections, fins, aerodynamics and force
+//! blocks; the compiler checks it, reduces the FE model to a few deformation modes with the
+//! constant inertia coefficients of the floating-frame equations, and caches the result.
+//!
+//! Pipeline stages, one module each (see ARCHITECTURE.md):
+//! - [`syntax`]: text to an untyped tree with spans, and the canonical printer;
+//! - [`check`]: names, imports, units, ranges, overrides; produces the typed IR in SI;
+//! - [`structure`]: FE models (read or generated), modal analysis, reduced coefficients;
+//! - [`artifact`]: the cached, memory-mapped binary artifact of a compiled vehicle;
+//! - [`cli`]: the command-line front end.
+//!
+//! Shared services: [`units`] (dimensions and unit table), [`diagnostics`] (the one place
+//! spans become miette reports).
 
+pub mod artifact;
 pub mod check;
 pub mod cli;
 pub mod diagnostics;
 pub mod structure;
 pub mod syntax;
 pub mod units;
+
+pub use check::ir::Program;
+pub use diagnostics::Diagnostic;
