@@ -2,9 +2,13 @@
 //! rigid-body identities, fixity, and consistency of `M_tot(η)` with the nodal kinetic
 //! energy of the deformed configuration.
 
-use faer::sparse::{SparseColMat, Triplet};
+#![allow(clippy::unwrap_used)] // tests may unwrap (STYLE/brief)
+
 use faer::Mat;
-use flexflight::structure::coefficients::{fix_modes_at_origin, reduce, CoefficientError, ReducedModel};
+use faer::sparse::{SparseColMat, Triplet};
+use flexflight::structure::coefficients::{
+    CoefficientError, ReducedModel, fix_modes_at_origin, reduce,
+};
 use flexflight::structure::{Component, FeModel, Node};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 
@@ -13,7 +17,10 @@ use nalgebra::{DMatrix, Matrix3, Vector3};
 struct Lcg(u64);
 impl Lcg {
     fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         ((self.0 >> 11) as f64) / ((1u64 << 53) as f64) * 2.0 - 1.0
     }
     fn vec3(&mut self) -> Vector3<f64> {
@@ -46,7 +53,11 @@ fn model(positions: &[[f64; 3]], mass: &DMatrix<f64>, stiffness: &DMatrix<f64>) 
         nodes: positions
             .iter()
             .enumerate()
-            .map(|(i, p)| Node { id: i as u64 + 1, position: *p, component: Component::Body })
+            .map(|(i, p)| Node {
+                id: i as u64 + 1,
+                position: *p,
+                component: Component::Body,
+            })
             .collect(),
         mass: sparse(mass),
         stiffness: sparse(stiffness),
@@ -60,12 +71,20 @@ fn rel_close(a: f64, b: f64, scale: f64, tol: f64) -> bool {
 
 fn assert_m3(a: &Matrix3<f64>, b: &Matrix3<f64>, scale: f64, tol: f64, what: &str) {
     let err = (a - b).norm();
-    assert!(err <= tol * scale, "{what}: |diff| = {err:e} > {:e}\n{a}\n{b}", tol * scale);
+    assert!(
+        err <= tol * scale,
+        "{what}: |diff| = {err:e} > {:e}\n{a}\n{b}",
+        tol * scale
+    );
 }
 
 fn assert_v3(a: &Vector3<f64>, b: &Vector3<f64>, scale: f64, tol: f64, what: &str) {
     let err = (a - b).norm();
-    assert!(err <= tol * scale, "{what}: |diff| = {err:e} > {:e}\n{a}\n{b}", tol * scale);
+    assert!(
+        err <= tol * scale,
+        "{what}: |diff| = {err:e} > {:e}\n{a}\n{b}",
+        tol * scale
+    );
 }
 
 /// Rigid body of mass `mu` at offset `rho` from its node: `R^T mu R`, `R = [1, -rho^×]`
@@ -96,7 +115,14 @@ fn add_block(m: &mut DMatrix<f64>, a: usize, b: usize, blk: &[[f64; 6]; 6]) {
 
 /// 12-DOF consistent mass and stiffness of a Euler-Bernoulli beam in its local frame
 /// (DOF u v w θx θy θz per node; θz = dv/dx, θy = -dw/dx).
-fn beam_local(mass: f64, l: f64, rx2: f64, ea: f64, gj: f64, ei: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+fn beam_local(
+    mass: f64,
+    l: f64,
+    rx2: f64,
+    ea: f64,
+    gj: f64,
+    ei: f64,
+) -> (DMatrix<f64>, DMatrix<f64>) {
     let mut m = DMatrix::zeros(12, 12);
     let mut k = DMatrix::zeros(12, 12);
     let pair = |mat: &mut DMatrix<f64>, i: usize, j: usize, a: f64, b: f64| {
@@ -151,7 +177,11 @@ fn add_beam(
     let pb = Vector3::from(pos[b]);
     let l = (pb - pa).norm();
     let lx = (pb - pa) / l;
-    let reference = if lx.z.abs() < 0.9 { Vector3::z() } else { Vector3::y() };
+    let reference = if lx.z.abs() < 0.9 {
+        Vector3::z()
+    } else {
+        Vector3::y()
+    };
     let ly = reference.cross(&lx).normalize();
     let lz = lx.cross(&ly);
     let mut t = DMatrix::zeros(12, 12);
@@ -165,7 +195,10 @@ fn add_beam(
     let (ml, kl) = beam_local(mass_per_length * l, l, rx2, stiff.0, stiff.1, stiff.2);
     let mg = t.transpose() * ml * &t;
     let kg = t.transpose() * kl * &t;
-    let dofs: Vec<usize> = (0..6).map(|i| 6 * a + i).chain((0..6).map(|i| 6 * b + i)).collect();
+    let dofs: Vec<usize> = (0..6)
+        .map(|i| 6 * a + i)
+        .chain((0..6).map(|i| 6 * b + i))
+        .collect();
     for i in 0..12 {
         for j in 0..12 {
             m[(dofs[i], dofs[j])] += mg[(i, j)];
@@ -209,12 +242,37 @@ fn beam_model() -> (FeModel, DMatrix<f64>) {
     (model(&pos, &m, &k), m)
 }
 
+/// The beam model with a symmetric translation-rotation coupling `S` added to `M_23` and
+/// removed from `M_33` (shell-like mass coupling): column sums unchanged, so (3.2.1) keeps its
+/// `c_tot^×` form, but the `sym(B)`/`sym(C)` terms of the discretisation are exercised.
+fn beam_model_with_symmetric_coupling() -> (FeModel, DMatrix<f64>) {
+    let (fe, mut m) = beam_model();
+    let s = Matrix3::new(0.01, 0.002, 0.0, 0.002, -0.005, 0.001, 0.0, 0.001, 0.003);
+    for i in 0..3 {
+        for j in 0..3 {
+            m[(12 + i, 18 + 3 + j)] += s[(i, j)];
+            m[(18 + 3 + j, 12 + i)] += s[(i, j)];
+            m[(18 + i, 18 + 3 + j)] -= s[(i, j)];
+            m[(18 + 3 + j, 18 + i)] -= s[(i, j)];
+        }
+    }
+    let pos: Vec<[f64; 3]> = fe.nodes.iter().map(|n| n.position).collect();
+    let k = DMatrix::identity(m.nrows(), m.ncols());
+    (model(&pos, &m, &k), m)
+}
+
 fn random_shapes(rng: &mut Lcg, rows: usize, n: usize, scale: f64) -> Mat<f64> {
     Mat::from_fn(rows, n, |_, _| scale * rng.next())
 }
 
 fn shape_at(s: &Mat<f64>, m: usize, a: usize) -> (Vector3<f64>, Vector3<f64>) {
-    let v = |o: usize| Vector3::new(s[(6 * a + o, m)], s[(6 * a + o + 1, m)], s[(6 * a + o + 2, m)]);
+    let v = |o: usize| {
+        Vector3::new(
+            s[(6 * a + o, m)],
+            s[(6 * a + o + 1, m)],
+            s[(6 * a + o + 2, m)],
+        )
+    };
     (v(0), v(3))
 }
 
@@ -228,7 +286,13 @@ struct Cloud {
 }
 
 fn cloud_model(rng: &mut Lcg) -> Cloud {
-    let pos = [[0.0, 0.0, 0.0], [-0.7, 0.1, 0.0], [-1.3, -0.2, 0.3], [-2.1, 0.0, -0.4], [-1.8, 0.5, 0.2]];
+    let pos = [
+        [0.0, 0.0, 0.0],
+        [-0.7, 0.1, 0.0],
+        [-1.3, -0.2, 0.3],
+        [-2.1, 0.0, -0.4],
+        [-1.8, 0.5, 0.2],
+    ];
     let n = pos.len() * 6;
     let mut m = DMatrix::zeros(n, n);
     let mut points = Vec::new();
@@ -241,7 +305,10 @@ fn cloud_model(rng: &mut Lcg) -> Cloud {
         }
     }
     let k = DMatrix::identity(n, n) * 1.0e3;
-    Cloud { model: model(&pos, &m, &k), points }
+    Cloud {
+        model: model(&pos, &m, &k),
+        points,
+    }
 }
 
 #[test]
@@ -284,13 +351,19 @@ fn lumped_point_clouds_every_coefficient_equals_its_point_sum() {
         assert_v3(&hb, &h_m, mass * 0.2, tol, "H");
         assert_m3(&m3(&red.j_ru[m]), &jru, mass * 0.2, tol, "J'_ru");
         for p in 0..nm {
-            let juu: Matrix3<f64> = pts.iter().map(|q| -q.1 * skew(&q.2[m]) * skew(&q.2[p])).sum();
+            let juu: Matrix3<f64> = pts
+                .iter()
+                .map(|q| -q.1 * skew(&q.2[m]) * skew(&q.2[p]))
+                .sum();
             assert_m3(&m3(&red.j_uu[m * n + p]), &juu, mass * 0.01, tol, "J''_uu");
             let hp: Vector3<f64> = pts.iter().map(|q| q.1 * q.2[m].cross(&q.2[p])).sum();
             let got = Vector3::from_fn(|i, _| red.h_prime[(m * 3 + i) * n + p]);
             assert_v3(&got, &hp, mass * 0.01, tol, "H'");
             let mmp: f64 = pts.iter().map(|q| q.1 * q.2[m].dot(&q.2[p])).sum();
-            assert!(rel_close(red.modal_mass[m * n + p], mmp, mass * 0.01, tol), "M-bar");
+            assert!(
+                rel_close(red.modal_mass[m * n + p], mmp, mass * 0.01, tol),
+                "M-bar"
+            );
         }
     }
     assert!(red.rigid_mass_residual < 1e-13);
@@ -306,7 +379,10 @@ fn lumped_point_clouds_kinetic_energy_equals_sum_over_points() {
     for _ in 0..10 {
         let eta: Vec<f64> = (0..nm).map(|_| rng.next()).collect();
         let v: Vec<f64> = (0..6 + nm).map(|_| 3.0 * rng.next()).collect();
-        let (vb, w) = (Vector3::new(v[0], v[1], v[2]), Vector3::new(v[3], v[4], v[5]));
+        let (vb, w) = (
+            Vector3::new(v[0], v[1], v[2]),
+            Vector3::new(v[3], v[4], v[5]),
+        );
         let mut t = 0.0;
         for (a, rho, mu) in &cloud.points {
             let r = Vector3::from(cloud.model.nodes[*a].position) + rho;
@@ -330,13 +406,27 @@ fn lumped_point_clouds_kinetic_energy_equals_sum_over_points() {
 /// of the dense mass matrix (the discretisation stated in `coefficients::moments`): node a
 /// moves with the affine field f_a + F_a rho, f_a = V + ω×(r_a+u_a) + u̇_a,
 /// F_a = (ω + θ̇_a)^× + ω^× θ_a^×.
-fn nodal_kinetic_energy(model: &FeModel, mdense: &DMatrix<f64>, s: &Mat<f64>, eta: &[f64], v: &[f64]) -> f64 {
+fn nodal_kinetic_energy(
+    model: &FeModel,
+    mdense: &DMatrix<f64>,
+    s: &Mat<f64>,
+    eta: &[f64],
+    v: &[f64],
+) -> f64 {
     let nn = model.nodes.len();
-    let (vb, w) = (Vector3::new(v[0], v[1], v[2]), Vector3::new(v[3], v[4], v[5]));
+    let (vb, w) = (
+        Vector3::new(v[0], v[1], v[2]),
+        Vector3::new(v[3], v[4], v[5]),
+    );
     let mut f = Vec::new();
     let mut fm = Vec::new();
     for a in 0..nn {
-        let (mut u, mut th, mut ud, mut thd) = (Vector3::zeros(), Vector3::zeros(), Vector3::zeros(), Vector3::zeros());
+        let (mut u, mut th, mut ud, mut thd) = (
+            Vector3::zeros(),
+            Vector3::zeros(),
+            Vector3::zeros(),
+            Vector3::zeros(),
+        );
         for m in 0..eta.len() {
             let (um, tm) = shape_at(s, m, a);
             u += eta[m] * um;
@@ -348,12 +438,20 @@ fn nodal_kinetic_energy(model: &FeModel, mdense: &DMatrix<f64>, s: &Mat<f64>, et
         f.push(vb + w.cross(&(r + u)) + ud);
         fm.push(skew(&(w + thd)) + skew(&w) * skew(&th));
     }
-    let wv = |x: &Matrix3<f64>| Vector3::new(x[(2, 1)] - x[(1, 2)], x[(0, 2)] - x[(2, 0)], x[(1, 0)] - x[(0, 1)]);
+    let wv = |x: &Matrix3<f64>| {
+        Vector3::new(
+            x[(2, 1)] - x[(1, 2)],
+            x[(0, 2)] - x[(2, 0)],
+            x[(1, 0)] - x[(0, 1)],
+        )
+    };
     let vs = |x: &Matrix3<f64>| 0.5 * wv(x);
     let mut e = 0.0;
     for a in 0..nn {
         for b in 0..nn {
-            let blk = |r0: usize, c0: usize| Matrix3::from_fn(|i, j| mdense[(6 * a + r0 + i, 6 * b + c0 + j)]);
+            let blk = |r0: usize, c0: usize| {
+                Matrix3::from_fn(|i, j| mdense[(6 * a + r0 + i, 6 * b + c0 + j)])
+            };
             let (am, bm, cm, dm) = (blk(0, 0), blk(0, 3), blk(3, 0), blk(3, 3));
             if am.norm() + bm.norm() + cm.norm() + dm.norm() == 0.0 {
                 continue;
@@ -362,7 +460,9 @@ fn nodal_kinetic_energy(model: &FeModel, mdense: &DMatrix<f64>, s: &Mat<f64>, et
             let k_ba = vs(&cm);
             let sigma = Matrix3::identity() * (0.5 * dm.trace()) - dm.transpose();
             let (fa, ffa, gb, ggb) = (&f[a], &fm[a], &f[b], &fm[b]);
-            e += fa.dot(&(am * gb)) + fa.dot(&(ggb * k_ab)) + gb.dot(&(ffa * k_ba))
+            e += fa.dot(&(am * gb))
+                + fa.dot(&(ggb * k_ab))
+                + gb.dot(&(ffa * k_ba))
                 + (ggb.transpose() * ffa * sigma).trace()
                 + 0.5 * fa.dot(&(0.5 * (bm + bm.transpose()) * wv(ggb)))
                 + 0.5 * gb.dot(&(0.5 * (cm + cm.transpose()) * wv(ffa)));
@@ -372,16 +472,27 @@ fn nodal_kinetic_energy(model: &FeModel, mdense: &DMatrix<f64>, s: &Mat<f64>, et
 }
 
 /// M_fp(η) by polarisation of the nodal kinetic energy.
-fn first_principles_mass_matrix(model: &FeModel, md: &DMatrix<f64>, s: &Mat<f64>, eta: &[f64]) -> DMatrix<f64> {
+fn first_principles_mass_matrix(
+    model: &FeModel,
+    md: &DMatrix<f64>,
+    s: &Mat<f64>,
+    eta: &[f64],
+) -> DMatrix<f64> {
     let d = 6 + eta.len();
-    let unit = |i: usize| (0..d).map(|k| if k == i { 1.0 } else { 0.0 }).collect::<Vec<f64>>();
+    let unit = |i: usize| {
+        (0..d)
+            .map(|k| if k == i { 1.0 } else { 0.0 })
+            .collect::<Vec<f64>>()
+    };
     let t = |v: &[f64]| nodal_kinetic_energy(model, md, s, eta, v);
     let diag: Vec<f64> = (0..d).map(|i| 2.0 * t(&unit(i))).collect();
     DMatrix::from_fn(d, d, |i, j| {
         if i == j {
             diag[i]
         } else {
-            let v: Vec<f64> = (0..d).map(|k| if k == i || k == j { 1.0 } else { 0.0 }).collect();
+            let v: Vec<f64> = (0..d)
+                .map(|k| if k == i || k == j { 1.0 } else { 0.0 })
+                .collect();
             t(&v) - 0.5 * diag[i] - 0.5 * diag[j]
         }
     })
@@ -395,12 +506,31 @@ fn dm(red: &ReducedModel, eta: &[f64]) -> DMatrix<f64> {
 #[test]
 fn beam_model_mass_matrix_equals_nodal_kinetic_energy_and_its_eta_derivatives() {
     let (fe, md) = beam_model();
+    mass_matrix_equals_nodal_kinetic_energy(&fe, &md);
+}
+
+#[test]
+fn symmetric_coupling_mass_matrix_equals_nodal_kinetic_energy_and_its_eta_derivatives() {
+    let (fe, md) = beam_model_with_symmetric_coupling();
+    assert!(
+        md.clone().cholesky().is_some(),
+        "test mass matrix must stay positive definite"
+    );
+    mass_matrix_equals_nodal_kinetic_energy(&fe, &md);
+}
+
+fn mass_matrix_equals_nodal_kinetic_energy(fe: &FeModel, md: &DMatrix<f64>) {
+    let (fe, md) = (fe.clone(), md.clone());
     let mut rng = Lcg(3);
     let nm = 3;
     let raw = random_shapes(&mut rng, fe.n_dof(), nm, 0.1);
     let s = fix_modes_at_origin(&fe, 0, raw.as_ref()).unwrap();
     let red = reduce(&fe, 0, s.as_ref(), &[1.0; 3], &[0.01; 3]).unwrap();
-    assert!(red.rigid_mass_residual < 1e-12, "residual {}", red.rigid_mass_residual);
+    assert!(
+        red.rigid_mass_residual < 1e-12,
+        "residual {}",
+        red.rigid_mass_residual
+    );
     let scale = red.mass * 4.0;
     for trial in 0..3 {
         // Large η so the second-order (J''_uu) terms are far above the tolerance.
@@ -408,14 +538,24 @@ fn beam_model_mass_matrix_equals_nodal_kinetic_energy_and_its_eta_derivatives() 
         let got = dm(&red, &eta);
         let want = first_principles_mass_matrix(&fe, &md, &s, &eta);
         let err = (&got - &want).norm();
-        assert!(err < 1e-11 * scale, "trial {trial}: |M_tot - M_fp| = {err:e}");
-        assert!((&got - got.transpose()).norm() < 1e-13 * scale, "M_tot not symmetric");
+        assert!(
+            err < 1e-11 * scale,
+            "trial {trial}: |M_tot - M_fp| = {err:e}"
+        );
+        assert!(
+            (&got - got.transpose()).norm() < 1e-13 * scale,
+            "M_tot not symmetric"
+        );
         // The quadratic part is present and matched: M(η) + M(-η) - 2 M(0) = 2 J_uu(η).
         let neg: Vec<f64> = eta.iter().map(|x| -x).collect();
         let quad = &got + dm(&red, &neg) - 2.0 * dm(&red, &vec![0.0; nm]);
         let quad_fp = &want + first_principles_mass_matrix(&fe, &md, &s, &neg)
             - 2.0 * first_principles_mass_matrix(&fe, &md, &s, &vec![0.0; nm]);
-        assert!(quad.norm() > 1e-4 * scale, "second-order part too small to test: {}", quad.norm());
+        assert!(
+            quad.norm() > 1e-4 * scale,
+            "second-order part too small to test: {}",
+            quad.norm()
+        );
         assert!((&quad - &quad_fp).norm() < 1e-11 * scale);
         // ∂M/∂η_m by central differences of the first-principles matrix.
         let h = 1e-3;
@@ -426,11 +566,17 @@ fn beam_model_mass_matrix_equals_nodal_kinetic_energy_and_its_eta_derivatives() 
             let mut en = eta.clone();
             ep[m] += h;
             en[m] -= h;
-            let fd = (first_principles_mass_matrix(&fe, &md, &s, &ep) - first_principles_mass_matrix(&fe, &md, &s, &en)) / (2.0 * h);
+            let fd = (first_principles_mass_matrix(&fe, &md, &s, &ep)
+                - first_principles_mass_matrix(&fe, &md, &s, &en))
+                / (2.0 * h);
             red.mass_matrix_derivative_into(&eta, m, &mut out).unwrap();
             let an = DMatrix::from_row_slice(d, d, &out);
             // Exact quadratic in η: the central difference has no truncation error.
-            assert!((&an - &fd).norm() < 1e-8 * scale, "dM/deta_{m}: {:e}", (&an - &fd).norm());
+            assert!(
+                (&an - &fd).norm() < 1e-8 * scale,
+                "dM/deta_{m}: {:e}",
+                (&an - &fd).norm()
+            );
         }
     }
 }
@@ -451,21 +597,31 @@ fn beam_model_j_tot_symmetric_positive_definite_and_j_uu_transposes() {
             assert_m3(&a, &b, red.mass, 1e-13, "J''_mp = J''_pm^T");
         }
     }
-    for eta in [vec![0.0; nm], (0..nm).map(|_| 0.5 * rng.next()).collect::<Vec<_>>()] {
+    for eta in [
+        vec![0.0; nm],
+        (0..nm).map(|_| 0.5 * rng.next()).collect::<Vec<_>>(),
+    ] {
         let j = m3(&red.j_tot(&eta).unwrap());
         assert_m3(&j, &j.transpose(), red.mass, 1e-13, "J_tot symmetric");
         let eig = j.symmetric_eigen().eigenvalues;
         assert!(eig.min() > 0.0, "J_tot eigenvalues {eig}");
         // The whole M_tot is positive definite for independent, origin-fixed shapes.
         let mt = dm(&red, &eta);
-        assert!(mt.clone().cholesky().is_some(), "M_tot not positive definite");
+        assert!(
+            mt.clone().cholesky().is_some(),
+            "M_tot not positive definite"
+        );
     }
     // Rigid mass properties against the element sums: m = Σ ρ A L + payloads,
     // c = Σ m_e (element centre) + payloads.
     let body = 2.1 * 2.0;
     let fins = 0.4 * 2.0 * (0.1f64.hypot(0.06) + 0.05f64.hypot(0.06));
     let mass = body + fins + 1.5 + 0.8;
-    assert!(rel_close(red.mass, mass, mass, 1e-12), "{} vs {mass}", red.mass);
+    assert!(
+        rel_close(red.mass, mass, mass, 1e-12),
+        "{} vs {mass}",
+        red.mass
+    );
 }
 
 // ---------------------------------------------------------------- rigid shape vectors
@@ -497,24 +653,65 @@ fn check_rigid_identities(red: &ReducedModel, exact_second_order: bool) {
         // Translation e_k: P s = m e_k, H s = c × e_k, s^T M s = m, J'_ru s = -c^× e_k^×,
         // J''_ss = -m e_k^× e_k^×, H'_s e_p = e_k × P e_p.
         assert_v3(&col(&red.p_bar, k), &(m * e), scale, 1e-12, "P translation");
-        assert_v3(&col(&red.h_bar, k), &c.cross(&e), scale, 1e-12, "H translation");
+        assert_v3(
+            &col(&red.h_bar, k),
+            &c.cross(&e),
+            scale,
+            1e-12,
+            "H translation",
+        );
         assert!(rel_close(red.modal_mass[k * n + k], m, m, 1e-12));
-        assert_m3(&m3(&red.j_ru[k]), &(-skew(&c) * skew(&e)), scale, 1e-12, "J'_ru translation");
-        assert_m3(&m3(&red.j_uu[k * n + k]), &(-m * skew(&e) * skew(&e)), scale, 1e-12, "J'' translation");
+        assert_m3(
+            &m3(&red.j_ru[k]),
+            &(-skew(&c) * skew(&e)),
+            scale,
+            1e-12,
+            "J'_ru translation",
+        );
+        assert_m3(
+            &m3(&red.j_uu[k * n + k]),
+            &(-m * skew(&e) * skew(&e)),
+            scale,
+            1e-12,
+            "J'' translation",
+        );
         for p in 0..n {
             let got = Vector3::from_fn(|i, _| red.h_prime[(k * 3 + i) * n + p]);
-            assert_v3(&got, &e.cross(&col(&red.p_bar, p)), scale, 1e-12, "H' translation");
+            assert_v3(
+                &got,
+                &e.cross(&col(&red.p_bar, p)),
+                scale,
+                1e-12,
+                "H' translation",
+            );
         }
         // Rotation about e_k: P s = e_k × c, H s = J e_k, s^T M s = e_k^T J e_k.
         let q = 3 + k;
-        assert_v3(&col(&red.p_bar, q), &e.cross(&c), scale, 1e-12, "P rotation");
+        assert_v3(
+            &col(&red.p_bar, q),
+            &e.cross(&c),
+            scale,
+            1e-12,
+            "P rotation",
+        );
         assert_v3(&col(&red.h_bar, q), &(j * e), scale, 1e-12, "H rotation");
-        assert!(rel_close(red.modal_mass[q * n + q], (j * e)[k], scale, 1e-12));
+        assert!(rel_close(
+            red.modal_mass[q * n + q],
+            (j * e)[k],
+            scale,
+            1e-12
+        ));
         if exact_second_order {
             // J'_ru s + (J'_ru s)^T is the first-order change of J under the rotation
             // r -> r + φ e_k × r: e_k^× J - J e_k^×.
             let jr = m3(&red.j_ru[q]);
-            assert_m3(&(jr + jr.transpose()), &(skew(&e) * j - j * skew(&e)), scale, 1e-12, "J' rotation");
+            assert_m3(
+                &(jr + jr.transpose()),
+                &(skew(&e) * j - j * skew(&e)),
+                scale,
+                1e-12,
+                "J' rotation",
+            );
         }
     }
 }
@@ -561,8 +758,12 @@ fn fixity_zeroes_origin_node_and_rigid_vectors_and_keeps_modal_stiffness() {
         let max = (0..fe.n_dof()).map(|i| z[(i, 0)].abs()).fold(0.0, f64::max);
         assert!(max < 1e-14, "rigid vector not removed: {max}");
         // K annihilates rigid motion, so K-bar is unchanged by the adjustment.
-        let k0 = reduce(&fe, 0, raw.as_ref(), &[1.0; 3], &[0.0; 3]).unwrap().modal_stiffness;
-        let k1 = reduce(&fe, 0, s.as_ref(), &[1.0; 3], &[0.0; 3]).unwrap().modal_stiffness;
+        let k0 = reduce(&fe, 0, raw.as_ref(), &[1.0; 3], &[0.0; 3])
+            .unwrap()
+            .modal_stiffness;
+        let k1 = reduce(&fe, 0, s.as_ref(), &[1.0; 3], &[0.0; 3])
+            .unwrap()
+            .modal_stiffness;
         let kmax = k0.iter().fold(0.0f64, |a, b| a.max(b.abs()));
         for (a, b) in k0.iter().zip(&k1) {
             assert!((a - b).abs() < 1e-9 * kmax, "K-bar changed: {a} vs {b}");
@@ -581,7 +782,13 @@ fn bad_inputs_are_typed_errors() {
         Err(CoefficientError::OriginOutOfRange { .. })
     ));
     assert!(matches!(
-        reduce(&fe, 0, Mat::<f64>::zeros(5, 2).as_ref(), &[1.0; 2], &[0.0; 2]),
+        reduce(
+            &fe,
+            0,
+            Mat::<f64>::zeros(5, 2).as_ref(),
+            &[1.0; 2],
+            &[0.0; 2]
+        ),
         Err(CoefficientError::LengthMismatch { .. })
     ));
     assert!(matches!(
@@ -598,26 +805,39 @@ fn bad_inputs_are_typed_errors() {
         m[(i, i)] = *v;
         m[(6 + i, 6 + i)] = *v;
     }
-    let bad = model(&[[0.0; 3], [-1.0, 0.0, 0.0]], &m, &DMatrix::identity(12, 12));
+    let bad = model(
+        &[[0.0; 3], [-1.0, 0.0, 0.0]],
+        &m,
+        &DMatrix::identity(12, 12),
+    );
     assert!(matches!(
         reduce(&bad, 0, Mat::<f64>::zeros(12, 1).as_ref(), &[1.0], &[0.0]),
         Err(CoefficientError::NonRigidMass { .. })
     ));
     let red = reduce(&fe, 0, s.as_ref(), &[1.0; 2], &[0.0; 2]).unwrap();
     assert!(red.kinetic_energy(&[0.0], &[0.0; 8]).is_err());
-    assert!(red.mass_matrix_derivative_into(&[0.0; 2], 2, &mut vec![0.0; 64]).is_err());
+    assert!(
+        red.mass_matrix_derivative_into(&[0.0; 2], 2, &mut vec![0.0; 64])
+            .is_err()
+    );
 }
 
 #[test]
 fn reduced_model_round_trips_through_rkyv() {
     let (fe, _) = beam_model();
     let mut rng = Lcg(1);
-    let s = fix_modes_at_origin(&fe, 0, random_shapes(&mut rng, fe.n_dof(), 2, 0.1).as_ref()).unwrap();
+    let s =
+        fix_modes_at_origin(&fe, 0, random_shapes(&mut rng, fe.n_dof(), 2, 0.1).as_ref()).unwrap();
     let red = reduce(&fe, 0, s.as_ref(), &[4.0, 9.0], &[0.02, 0.03]).unwrap();
     let bytes = rkyv::to_bytes::<rkyv::rancor::Error>(&red).unwrap();
     let back: ReducedModel = rkyv::from_bytes::<ReducedModel, rkyv::rancor::Error>(&bytes).unwrap();
     assert_eq!(back, red);
-    assert!(rel_close(red.modal_damping[0], 2.0 * 0.02 * 2.0 * red.modal_mass[0], red.modal_mass[0], 1e-14));
+    assert!(rel_close(
+        red.modal_damping[0],
+        2.0 * 0.02 * 2.0 * red.modal_mass[0],
+        red.modal_mass[0],
+        1e-14
+    ));
 }
 
 // ---------------------------------------------------------------- performance
@@ -635,7 +855,13 @@ fn performance_100k_dof_10_modes() {
     for e in 0..nodes - 1 {
         // Along -x: local x = -global x; reflect u and θ accordingly via a 180° turn about z.
         let t = DMatrix::from_fn(12, 12, |i, j| {
-            if i != j { 0.0 } else if i % 3 == 2 { 1.0 } else { -1.0 }
+            if i != j {
+                0.0
+            } else if i % 3 == 2 {
+                1.0
+            } else {
+                -1.0
+            }
         });
         let mg = t.transpose() * &ml * &t;
         let kg = t.transpose() * &kl * &t;
@@ -654,7 +880,11 @@ fn performance_100k_dof_10_modes() {
     let n = nodes * 6;
     let fe = FeModel {
         nodes: (0..nodes)
-            .map(|i| Node { id: i as u64 + 1, position: [-(i as f64) * l, 0.0, 0.0], component: Component::Body })
+            .map(|i| Node {
+                id: i as u64 + 1,
+                position: [-(i as f64) * l, 0.0, 0.0],
+                component: Component::Body,
+            })
             .collect(),
         mass: SparseColMat::try_new_from_triplets(n, n, &trip).unwrap(),
         stiffness: SparseColMat::try_new_from_triplets(n, n, &ktrip).unwrap(),

@@ -4,7 +4,7 @@ use faer::{Mat, MatRef};
 use nalgebra::Vector3;
 
 use super::CoefficientError;
-use crate::structure::{FeModel, DOF_PER_NODE};
+use crate::structure::{DOF_PER_NODE, FeModel};
 
 /// Mode fixity adjustment about the origin node, thesis 3.3 eqs. (3.3.1)-(3.3.2): every shape
 /// vector gets zero translation and rotation at the origin node.
@@ -39,7 +39,11 @@ pub fn fix_modes_at_origin(
     let o = origin * DOF_PER_NODE;
     for col in 0..shapes.ncols() {
         let u0 = Vector3::new(shapes[(o, col)], shapes[(o + 1, col)], shapes[(o + 2, col)]);
-        let t0 = Vector3::new(shapes[(o + 3, col)], shapes[(o + 4, col)], shapes[(o + 5, col)]);
+        let t0 = Vector3::new(
+            shapes[(o + 3, col)],
+            shapes[(o + 4, col)],
+            shapes[(o + 5, col)],
+        );
         for (k, node) in model.nodes.iter().enumerate() {
             let rigid = u0 + t0.cross(&(Vector3::from(node.position) - r0));
             let i = k * DOF_PER_NODE;

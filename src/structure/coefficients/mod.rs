@@ -24,7 +24,7 @@ mod reduce;
 mod reduced;
 
 pub use fixity::fix_modes_at_origin;
-pub use reduce::{reduce, RIGID_MASS_TOLERANCE};
+pub use reduce::{RIGID_MASS_TOLERANCE, reduce};
 
 /// What went wrong while computing the reduced coefficients.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -32,20 +32,41 @@ pub enum CoefficientError {
     #[error("origin node index {origin} is out of range: the model has {n_nodes} nodes")]
     OriginOutOfRange { origin: usize, n_nodes: usize },
     #[error("{what} matrix is {rows}x{cols}, expected {expected}x{expected} (6 DOF per node)")]
-    MatrixSize { what: &'static str, expected: usize, rows: usize, cols: usize },
+    MatrixSize {
+        what: &'static str,
+        expected: usize,
+        rows: usize,
+        cols: usize,
+    },
     #[error("{what} has length {found}, expected {expected}")]
-    LengthMismatch { what: &'static str, expected: usize, found: usize },
+    LengthMismatch {
+        what: &'static str,
+        expected: usize,
+        found: usize,
+    },
     #[error("{what} at row {row}, column {col} is not finite")]
-    NonFinite { what: &'static str, row: usize, col: usize },
+    NonFinite {
+        what: &'static str,
+        row: usize,
+        col: usize,
+    },
     #[error("{what} number {index} is {value}, expected a finite value >= 0")]
-    Negative { what: &'static str, index: usize, value: f64 },
+    Negative {
+        what: &'static str,
+        index: usize,
+        value: f64,
+    },
     #[error("the total mass from the mass matrix is {mass}, expected > 0")]
     NonPositiveMass { mass: f64 },
     #[error(
         "the mass matrix does not describe a rigid mass distribution: {what} has relative \
          residual {residual:.3e} (tolerance {tolerance:.1e})"
     )]
-    NonRigidMass { what: &'static str, residual: f64, tolerance: f64 },
+    NonRigidMass {
+        what: &'static str,
+        residual: f64,
+        tolerance: f64,
+    },
     #[error("flexible coordinate index {index} is out of range ({n_modes} modes)")]
     ModeOutOfRange { index: usize, n_modes: usize },
 }

@@ -53,17 +53,29 @@ pub(crate) fn skew(a: &Vector3<f64>) -> Matrix3<f64> {
 
 /// `vee(skew part of m)`: the axial vector of `½ (m - m^T)`.
 pub(crate) fn vee_skew(m: &Matrix3<f64>) -> Vector3<f64> {
-    0.5 * Vector3::new(m[(2, 1)] - m[(1, 2)], m[(0, 2)] - m[(2, 0)], m[(1, 0)] - m[(0, 1)])
+    0.5 * Vector3::new(
+        m[(2, 1)] - m[(1, 2)],
+        m[(0, 2)] - m[(2, 0)],
+        m[(1, 0)] - m[(0, 1)],
+    )
 }
 
 /// `w(X) = vee(X - X^T)`.
 fn w_of(x: &Matrix3<f64>) -> Vector3<f64> {
-    Vector3::new(x[(2, 1)] - x[(1, 2)], x[(0, 2)] - x[(2, 0)], x[(1, 0)] - x[(0, 1)])
+    Vector3::new(
+        x[(2, 1)] - x[(1, 2)],
+        x[(0, 2)] - x[(2, 0)],
+        x[(1, 0)] - x[(0, 1)],
+    )
 }
 
 /// `τ(X)` with `tr(a^× X) = a · τ(X)`: `τ(X) = vee(X^T - X)`.
 pub(crate) fn tau(x: &Matrix3<f64>) -> Vector3<f64> {
-    Vector3::new(x[(1, 2)] - x[(2, 1)], x[(2, 0)] - x[(0, 2)], x[(0, 1)] - x[(1, 0)])
+    Vector3::new(
+        x[(1, 2)] - x[(2, 1)],
+        x[(2, 0)] - x[(0, 2)],
+        x[(0, 1)] - x[(1, 0)],
+    )
 }
 
 /// The moments of one stored nodal block `M_ab` (see the module documentation).
@@ -82,6 +94,8 @@ pub(crate) struct PairMoments {
     pub half_c_sym: Matrix3<f64>,
     /// `Σ_ab = ½ tr(D_ab) 1 - D_ab^T`.
     pub sigma: Matrix3<f64>,
+    /// Whether `B_ab` or `C_ab` has a symmetric part (false for beams and rigid bodies).
+    pub has_sym: bool,
 }
 
 impl PairMoments {
@@ -91,14 +105,20 @@ impl PairMoments {
         let tr = sub(0, 3);
         let rt = sub(3, 0);
         let rr = sub(3, 3);
+        let half_b_sym = 0.25 * (tr + tr.transpose());
+        let half_c_sym = 0.25 * (rt + rt.transpose());
         Self {
             a,
             b,
             tt,
             k_ab: -vee_skew(&tr),
             k_ba: vee_skew(&rt),
-            half_b_sym: 0.25 * (tr + tr.transpose()),
-            half_c_sym: 0.25 * (rt + rt.transpose()),
+            has_sym: half_b_sym
+                .iter()
+                .chain(half_c_sym.iter())
+                .any(|v| *v != 0.0),
+            half_b_sym,
+            half_c_sym,
             sigma: Matrix3::identity() * (0.5 * rr.trace()) - rr.transpose(),
         }
     }
@@ -137,7 +157,11 @@ impl NodalBlocks {
                     let i = row_idx[idx];
                     let v = val[idx];
                     if !v.is_finite() {
-                        return Err(CoefficientError::NonFinite { what: "mass matrix entry", row: i, col: j });
+                        return Err(CoefficientError::NonFinite {
+                            what: "mass matrix entry",
+                            row: i,
+                            col: j,
+                        });
                     }
                     let a = i / DOF_PER_NODE;
                     let slot = if slot_of[a] == usize::MAX {
@@ -165,9 +189,12 @@ impl NodalBlocks {
         for p in &self.pairs {
             let gb = &g[p.b];
             let gmb = &gm[p.b];
-            dual.alpha[p.a] += p.tt * gb + gmb * p.k_ab + p.half_b_sym * w_of(gmb);
-            dual.x[p.a] += p.k_ba * gb.transpose() + p.sigma * gmb.transpose()
-                - skew(&(p.half_c_sym * gb));
+            dual.alpha[p.a] += p.tt * gb + gmb * p.k_ab;
+            dual.x[p.a] += p.k_ba * gb.transpose() + p.sigma * gmb.transpose();
+            if p.has_sym {
+                dual.alpha[p.a] += p.half_b_sym * w_of(gmb);
+                dual.x[p.a] -= skew(&(p.half_c_sym * gb));
+            }
         }
     }
 }
@@ -180,7 +207,10 @@ pub(crate) struct Dual {
 
 impl Dual {
     pub fn new(n_nodes: usize) -> Self {
-        Self { alpha: vec![Vector3::zeros(); n_nodes], x: vec![Matrix3::zeros(); n_nodes] }
+        Self {
+            alpha: vec![Vector3::zeros(); n_nodes],
+            x: vec![Matrix3::zeros(); n_nodes],
+        }
     }
 
     /// `E(V e_i, g)` for i = 1..3: the uniform translation field `f = e_i`, `F = 0`.

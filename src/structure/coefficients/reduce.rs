@@ -30,13 +30,13 @@
 //! The departure is measured and reported in [`ReducedModel::rigid_mass_residual`], and
 //! `reduce` fails if it exceeds [`RIGID_MASS_TOLERANCE`].
 
-use faer::sparse::SparseColMat;
 use faer::MatRef;
+use faer::sparse::SparseColMat;
 use nalgebra::{Matrix3, Vector3};
 
-use super::moments::{skew, vee_skew, Dual, NodalBlocks};
+use super::moments::{Dual, NodalBlocks, skew, vee_skew};
 use super::{CoefficientError, ReducedModel};
-use crate::structure::{FeModel, DOF_PER_NODE};
+use crate::structure::{DOF_PER_NODE, FeModel};
 
 /// Largest relative departure from a rigid mass distribution that `reduce` accepts (allows
 /// for the rounding of masses read from 8-character NASTRAN fields).
@@ -98,10 +98,16 @@ fn check_inputs(
     let n = shapes.ncols();
     for (what, list) in [("omega2", omega2), ("damping", damping)] {
         if list.len() != n {
-            return Err(CoefficientError::LengthMismatch { what, expected: n, found: list.len() });
+            return Err(CoefficientError::LengthMismatch {
+                what,
+                expected: n,
+                found: list.len(),
+            });
         }
-        if let Some((index, &value)) =
-            list.iter().enumerate().find(|(_, v)| !(v.is_finite() && **v >= 0.0))
+        if let Some((index, &value)) = list
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !(v.is_finite() && **v >= 0.0))
         {
             return Err(CoefficientError::Negative { what, index, value });
         }
@@ -109,7 +115,11 @@ fn check_inputs(
     for col in 0..n {
         for row in 0..n_dof {
             if !shapes[(row, col)].is_finite() {
-                return Err(CoefficientError::NonFinite { what: "shape vector entry", row, col });
+                return Err(CoefficientError::NonFinite {
+                    what: "shape vector entry",
+                    row,
+                    col,
+                });
             }
         }
     }
@@ -124,7 +134,11 @@ fn check_inputs(
     }
     for (n_pos, node) in model.nodes.iter().enumerate() {
         if node.position.iter().any(|x| !x.is_finite()) {
-            return Err(CoefficientError::NonFinite { what: "node position", row: n_pos, col: 0 });
+            return Err(CoefficientError::NonFinite {
+                what: "node position",
+                row: n_pos,
+                col: 0,
+            });
         }
     }
     Ok(())
@@ -150,15 +164,21 @@ pub fn reduce(
     let n_nodes = model.nodes.len();
     let n = shapes.ncols();
     let blocks = NodalBlocks::from_mass(&model.mass, n_nodes)?;
-    let r: Vec<Vector3<f64>> = model.nodes.iter().map(|nd| Vector3::from(nd.position)).collect();
+    let r: Vec<Vector3<f64>> = model
+        .nodes
+        .iter()
+        .map(|nd| Vector3::from(nd.position))
+        .collect();
     let node_vec = |m: usize, a: usize, k0: usize| {
         let i = a * DOF_PER_NODE + k0;
         Vector3::new(shapes[(i, m)], shapes[(i + 1, m)], shapes[(i + 2, m)])
     };
-    let u: Vec<Vec<Vector3<f64>>> =
-        (0..n).map(|m| (0..n_nodes).map(|a| node_vec(m, a, 0)).collect()).collect();
-    let theta: Vec<Vec<Vector3<f64>>> =
-        (0..n).map(|m| (0..n_nodes).map(|a| node_vec(m, a, 3)).collect()).collect();
+    let u: Vec<Vec<Vector3<f64>>> = (0..n)
+        .map(|m| (0..n_nodes).map(|a| node_vec(m, a, 0)).collect())
+        .collect();
+    let theta: Vec<Vec<Vector3<f64>>> = (0..n)
+        .map(|m| (0..n_nodes).map(|a| node_vec(m, a, 3)).collect())
+        .collect();
     let theta_x: Vec<Vec<Matrix3<f64>>> =
         theta.iter().map(|t| t.iter().map(skew).collect()).collect();
 
@@ -187,7 +207,11 @@ pub fn reduce(
     if !(mass > 0.0 && mass.is_finite()) {
         return Err(CoefficientError::NonPositiveMass { mass });
     }
-    let length = r.iter().map(|x| x.norm()).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
+    let length = r
+        .iter()
+        .map(|x| x.norm())
+        .fold(0.0, f64::max)
+        .max(f64::MIN_POSITIVE);
     let c = -vee_skew(&tc);
     let mut residual = (tm - Matrix3::identity() * mass).norm() / mass;
     residual = residual.max((tc + skew(&c)).norm() / (mass * length));
@@ -200,10 +224,8 @@ pub fn reduce(
     let mut j_uu = vec![[[0.0; 3]; 3]; n * n];
     for p in 0..n {
         // Mode field φ_p: P̄, H̄, H̄'.
-        for a in 0..n_nodes {
-            g[a] = u[p][a];
-            gm[a] = theta_x[p][a];
-        }
+        g.copy_from_slice(&u[p]);
+        gm.copy_from_slice(&theta_x[p]);
         blocks.dual_into(&g, &gm, &mut dual);
         let pp = dual.contract_translation();
         let hp = dual.contract_rotation(|a| (r[a], None));
@@ -231,7 +253,10 @@ pub fn reduce(
             jp.set_column(j, &dual.contract_rotation(|a| (r[a], None)));
             cu.set_column(j, &dual.contract_translation());
             for (m, jmp) in jpp.iter_mut().enumerate() {
-                jmp.set_column(j, &dual.contract_rotation(|a| (u[m][a], Some(theta_x[m][a]))));
+                jmp.set_column(
+                    j,
+                    &dual.contract_rotation(|a| (u[m][a], Some(theta_x[m][a]))),
+                );
             }
         }
         j_ru[p] = to_array(&jp);

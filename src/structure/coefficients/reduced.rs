@@ -1,5 +1,8 @@
 //! Evaluation of the eta-dependent inertia of (3.2.1) from the constant coefficients.
 
+// Index loops mirror the matrix formulas (3.2.8)-(3.2.12) entry by entry.
+#![allow(clippy::needless_range_loop)]
+
 use super::{CoefficientError, ReducedModel};
 
 type M3 = [[f64; 3]; 3];
@@ -68,8 +71,9 @@ impl ReducedModel {
         let mut h = self.h_bar.clone();
         for i in 0..3 {
             for p in 0..n {
-                h[i * n + p] +=
-                    (0..n).map(|m| eta[m] * self.h_prime[(m * 3 + i) * n + p]).sum::<f64>();
+                h[i * n + p] += (0..n)
+                    .map(|m| eta[m] * self.h_prime[(m * 3 + i) * n + p])
+                    .sum::<f64>();
             }
         }
         Ok(h)
@@ -140,7 +144,10 @@ impl ReducedModel {
         let n = self.n();
         let d = self.dim();
         if m >= n {
-            return Err(CoefficientError::ModeOutOfRange { index: m, n_modes: n });
+            return Err(CoefficientError::ModeOutOfRange {
+                index: m,
+                n_modes: n,
+            });
         }
         if out.len() != d * d {
             return Err(CoefficientError::LengthMismatch {
@@ -174,7 +181,11 @@ impl ReducedModel {
     pub fn kinetic_energy(&self, eta: &[f64], v: &[f64]) -> Result<f64, CoefficientError> {
         let d = self.dim();
         if v.len() != d {
-            return Err(CoefficientError::LengthMismatch { what: "v", expected: d, found: v.len() });
+            return Err(CoefficientError::LengthMismatch {
+                what: "v",
+                expected: d,
+                found: v.len(),
+            });
         }
         let mm = self.mass_matrix(eta)?;
         let mut t = 0.0;
