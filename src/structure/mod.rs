@@ -1,6 +1,7 @@
 //! Stage 3, structure: FE models (read or generated), modal analysis, mode selection and
 //! the reduced-order coefficients of the floating-frame equations.
 
+pub mod coefficients;
 pub mod fe_model;
 
 pub use fe_model::{Component, DOF_PER_NODE, Element, ElementKind, FeModel, Node};
