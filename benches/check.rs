@@ -4,8 +4,8 @@
 use std::hint::black_box;
 use std::path::PathBuf;
 
-use criterion::{criterion_group, criterion_main, Criterion};
-use flexflight::check::{check_files, check_source, DiskLoader, MemoryLoader};
+use criterion::{Criterion, criterion_group, criterion_main};
+use flexflight::check::{DiskLoader, MemoryLoader, check_files, check_source};
 
 const TRAILER: &str = "    }\n  }\n  key_nodes {\n    body = nearest((-1.59, 0, 0) m)\n  }\n  modes {\n    body_bending = 2\n  }\n  aero {\n    source = builtin\n    reference_point = (-1.59, 0, 0) m\n  }\n  forces {\n    gravity {}\n  }\n}\n";
 
@@ -32,7 +32,7 @@ fn bench_check(c: &mut Criterion) {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("vehicles/sphads1.vdl");
     c.bench_function("check sphads1 with imports", |b| {
         b.iter(|| {
-            let checked = check_files(black_box(&[root.clone()]), &[], &DiskLoader);
+            let checked = check_files(black_box(std::slice::from_ref(&root)), &[], &DiskLoader);
             assert!(!checked.has_errors());
             checked
         })

@@ -81,7 +81,6 @@ impl Diagnostic {
 /// primary file are shown on its snippet; labels in other files become related reports.
 struct Bound<'a> {
     diag: &'a Diagnostic,
-    sources: &'a SourceMap,
     /// Which labels this report shows (indices into `diag.labels`).
     labels: Vec<usize>,
     source: Option<NamedSource<String>>,
@@ -111,7 +110,6 @@ impl<'a> Bound<'a> {
                 let f = sources.get(diag.labels[k].span.file);
                 Bound {
                     diag,
-                    sources,
                     labels: vec![k],
                     source: f.map(|f| NamedSource::new(f.name.clone(), f.text.to_string())),
                     related: Vec::new(),
@@ -121,7 +119,6 @@ impl<'a> Bound<'a> {
             .collect();
         Bound {
             diag,
-            sources,
             labels,
             source,
             related,
@@ -183,9 +180,7 @@ impl miette::Diagnostic for Bound<'_> {
     }
 
     fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
-        if self.source.is_none() {
-            return None;
-        }
+        self.source.as_ref()?;
         let it = self.labels.iter().enumerate().map(move |(n, &k)| {
             let l = &self.diag.labels[k];
             let span = SourceSpan::new((l.span.start as usize).into(), l.span.len());

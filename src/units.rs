@@ -52,7 +52,7 @@ impl Dim {
         temperature: 1,
     };
 
-    pub fn mul(self, o: Dim) -> Dim {
+    pub fn times(self, o: Dim) -> Dim {
         Dim {
             mass: self.mass.saturating_add(o.mass),
             length: self.length.saturating_add(o.length),
@@ -146,10 +146,10 @@ impl Unit {
         dim: Dim::NONE,
     };
 
-    pub fn mul(self, o: Unit) -> Unit {
+    pub fn times(self, o: Unit) -> Unit {
         Unit {
             scale: self.scale * o.scale,
-            dim: self.dim.mul(o.dim),
+            dim: self.dim.times(o.dim),
         }
     }
 
@@ -221,11 +221,11 @@ mod tests {
         let kg = lookup("kg").unwrap();
         let m = lookup("m").unwrap();
         let s = lookup("s").unwrap();
-        let density = kg.mul(m.powi(-3));
+        let density = kg.times(m.powi(-3));
         assert_eq!(density.dim, Dim::DENSITY);
-        let n_s = lookup("N").unwrap().mul(s);
+        let n_s = lookup("N").unwrap().times(s);
         assert_eq!(n_s.dim, Dim::IMPULSE);
-        let deg_s = lookup("deg").unwrap().mul(s.powi(-1));
+        let deg_s = lookup("deg").unwrap().times(s.powi(-1));
         assert_eq!(deg_s.dim, Dim::ANGULAR_VELOCITY);
         assert!((deg_s.scale - std::f64::consts::PI / 180.0).abs() < 1e-15);
         assert_eq!(lookup("mm").unwrap().powi(2).scale, 1e-6);

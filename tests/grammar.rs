@@ -1,7 +1,7 @@
 //! grammar/vdl.ebnf agrees with the parser: every `@example` parses without error, every
 //! `@reject` fails, and every nonterminal used on a right-hand side is defined.
 
-use flexflight::syntax::{parse_file, FileId};
+use flexflight::syntax::{FileId, parse_file};
 
 const GRAMMAR: &str = include_str!("../grammar/vdl.ebnf");
 
@@ -24,7 +24,10 @@ fn every_example_parses() {
     assert!(examples.len() >= 5);
     for ex in examples {
         let (_, errors) = parse_file(FileId(0), &ex);
-        assert!(errors.is_empty(), "example does not parse:\n{ex}\n{errors:?}");
+        assert!(
+            errors.is_empty(),
+            "example does not parse:\n{ex}\n{errors:?}"
+        );
     }
 }
 
@@ -52,7 +55,9 @@ fn every_nonterminal_is_defined() {
     let mut defined = Vec::new();
     let mut used = Vec::new();
     for rule in text.split(';') {
-        let Some((lhs, rhs)) = rule.split_once('=') else { continue };
+        let Some((lhs, rhs)) = rule.split_once('=') else {
+            continue;
+        };
         defined.push(lhs.trim().to_string());
         // Drop quoted terminals, then take identifiers.
         let mut unquoted = String::new();
@@ -71,7 +76,14 @@ fn every_nonterminal_is_defined() {
             }
         }
     }
-    let informal = ["letter", "digit", "string_char", "any_char_but_newline", "newline", "end_of_file"];
+    let informal = [
+        "letter",
+        "digit",
+        "string_char",
+        "any_char_but_newline",
+        "newline",
+        "end_of_file",
+    ];
     for u in used {
         assert!(
             defined.contains(&u) || informal.contains(&u.as_str()),

@@ -233,7 +233,7 @@ pub fn resolve_unit(cx: &mut Cx, u: &crate::syntax::ast::UnitExpr) -> Option<Uni
     let mut ok = true;
     for f in &u.factors {
         match units::lookup(&f.name.name) {
-            Some(base) => unit = unit.mul(base.powi(f.exponent)),
+            Some(base) => unit = unit.times(base.powi(f.exponent)),
             None => {
                 let mut d = Diagnostic::error(
                     "vdl::unit::unknown",

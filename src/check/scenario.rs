@@ -271,7 +271,7 @@ fn check_stimuli(cx: &mut Cx, b: &Block) -> Option<Vec<Stimulus>> {
     fl.finish(cx);
     let mut out = Vec::new();
     let mut ok = true;
-    let mut named = |cx: &mut Cx, sb: &Block| match &sb.name {
+    let named = |cx: &mut Cx, sb: &Block| match &sb.name {
         Some(n) => Some(Spanned::new(n.name.clone(), n.span)),
         None => {
             cx.push(

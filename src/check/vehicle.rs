@@ -458,18 +458,17 @@ fn check_fe_files(cx: &mut Cx, b: &Block) -> Option<FeFiles> {
         )
         .map(|k| Spanned::new(k, v.span))
     });
-    let mut file =
-        |cx: &mut Cx, fl: &mut Fields, name: &'static str, required: bool, what: &str| {
-            let v = if required {
-                fl.required(cx, name, "\"model/file\"")
-            } else {
-                fl.value(name)
-            };
-            let v = v?;
-            let s = f::string(cx, v)?;
-            cx.resolve_file(&s, v.span, what)
-                .map(|p| Spanned::new(p, v.span))
+    let file = |cx: &mut Cx, fl: &mut Fields, name: &'static str, required: bool, what: &str| {
+        let v = if required {
+            fl.required(cx, name, "\"model/file\"")
+        } else {
+            fl.value(name)
         };
+        let v = v?;
+        let s = f::string(cx, v)?;
+        cx.resolve_file(&s, v.span, what)
+            .map(|p| Spanned::new(p, v.span))
+    };
     let (mass, stiffness, nodes) = match format.map(|f| f.value) {
         Some(FeFormat::MatrixMarket) | None => (
             file(cx, &mut fl, "mass", true, "mass matrix file"),
@@ -491,7 +490,7 @@ fn check_fe_files(cx: &mut Cx, b: &Block) -> Option<FeFiles> {
         }
     };
     let elements = file(cx, &mut fl, "elements", false, "element list");
-    let mut name =
+    let name =
         |cx: &mut Cx, fl: &mut Fields, field: &'static str, default: &str| match fl.value(field) {
             Some(v) => f::string(cx, v).map(|s| Spanned::new(s, v.span)),
             None => Some(Spanned::new(default.to_string(), b.header)),
@@ -1047,7 +1046,7 @@ fn check_aero(cx: &mut Cx, b: &Block, diameter: Option<Option<f64>>) -> Option<A
     let source = match source_kind {
         Some(false) => Some(AeroSource::Builtin),
         Some(true) => {
-            let mut table = |cx: &mut Cx, fl: &mut Fields, name: &'static str| {
+            let table = |cx: &mut Cx, fl: &mut Fields, name: &'static str| {
                 let v = fl.required(cx, name, "\"aero/table.csv\"")?;
                 let s = f::string(cx, v)?;
                 cx.resolve_file(&s, v.span, "coefficient table")
