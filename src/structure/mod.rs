@@ -3,5 +3,6 @@
 
 pub mod coefficients;
 pub mod fe_model;
+pub mod selection;
 
 pub use fe_model::{Component, DOF_PER_NODE, Element, ElementKind, FeModel, Node};
