@@ -4,6 +4,7 @@
 //! Architecture invariant: this is the only module that touches the terminal and the
 //! process; the stages it calls return data.
 
+pub mod compile;
 mod fmt;
 
 use std::io::Write;
@@ -37,6 +38,37 @@ pub enum Command {
         #[command(flatten)]
         common: Common,
     },
+    /// Compile a vehicle's structure (FE model, modes, reduced coefficients) into the cache.
+    Compile {
+        /// Vehicle description file.
+        file: PathBuf,
+        /// The vehicle to compile (needed when the file declares several).
+        #[arg(long)]
+        vehicle: Option<String>,
+        #[command(flatten)]
+        common: Common,
+        #[command(flatten)]
+        cache: CacheArgs,
+    },
+    /// Print every coefficient of a compiled artifact (.ffa).
+    Inspect {
+        artifact: PathBuf,
+        #[command(flatten)]
+        output: Output,
+    },
+    /// Compile (through the cache) and write the selected mode shapes as CSV, node by node.
+    Modes {
+        file: PathBuf,
+        #[arg(long)]
+        vehicle: Option<String>,
+        /// Directory to write mode_NN_NAME.csv files into.
+        #[arg(long)]
+        export: PathBuf,
+        #[command(flatten)]
+        common: Common,
+        #[command(flatten)]
+        cache: CacheArgs,
+    },
     /// Format vehicle files canonically (in place, or report with --check).
     Fmt {
         #[arg(required = true)]
@@ -57,6 +89,13 @@ pub struct Common {
     pub sets: Vec<String>,
     #[command(flatten)]
     pub output: Output,
+}
+
+#[derive(Args, Debug, Clone, Default)]
+pub struct CacheArgs {
+    /// Cache directory (default: $FLEXFLIGHT_CACHE, else target/flexflight-cache).
+    #[arg(long)]
+    pub cache_dir: Option<PathBuf>,
 }
 
 #[derive(Args, Debug, Clone, Default)]
@@ -166,5 +205,49 @@ fn cmd_check(files: &[PathBuf], common: &Common, term: Terminal) -> u8 {
             }
             EXIT_OK
         }
+    }
+}
+
+fn cmd_compile(
+    file: &std::path::Path,
+    vehicle: Option<&str>,
+    common: &Common,
+    cache_dir: Option<&std::path::Path>,
+    export: Option<&std::path::Path>,
+    term: Terminal,
+) -> u8 {
+    let mut checked = match load_program(&[file.to_path_buf()], common, term) {
+        Ok(c) => c,
+        Err(code) => return code,
+    };
+    let v = match compile::pick_vehicle(&checked, vehicle) {
+        Ok(v) => v.clone(),
+        Err(msg) => {
+            eprintln!("error: {msg}");
+            return EXIT_USAGE;
+        }
+    };
+    let format = common.output.format;
+    let outcome = match compile::compile_cached(&mut checked, &v, cache_dir, format, term) {
+        Ok(o) => o,
+        Err(code) => return code,
+    };
+    match export {
+        None => {
+            compile::print_outcome(&outcome, format);
+            EXIT_OK
+        }
+        Some(dir) => match compile::export_modes(&outcome.compiled, dir) {
+            Ok(files) => {
+                for f in files {
+                    println!("{}", f.display());
+                }
+                EXIT_OK
+            }
+            Err(e) => {
+                eprintln!("error: cannot write mode shapes to `{}`: {e}", dir.display());
+                EXIT_USAGE
+            }
+        },
     }
 }

@@ -2,6 +2,7 @@
 //! the reduced-order coefficients of the floating-frame equations.
 
 pub mod coefficients;
+pub mod compile;
 pub mod fe_model;
 pub mod selection;
 

@@ -1,0 +1,430 @@
+//! The structural compiler: a checked vehicle (IR) to a [`CompiledVehicle`]: build or read
+//! the FE model, solve the modes, select and localise them as the vehicle file asks, adjust
+//! their fixity about the origin node (3.3), and compute the reduced coefficients (ch. 2-3).
+//!
+//! Architecture invariant: this module is pure (no cache, no terminal); reading FE files is
+//! the only IO, and every failure is a [`StructureError`] that points at the vehicle file.
+
+use std::path::Path;
+
+use faer::Mat;
+use serde::Serialize;
+
+use super::coefficients::{fix_modes_at_origin, reduce, CoefficientError, ReducedModel};
+use super::fe_io::{self, DofOrder, FeReadError, ReadOptions};
+use super::fe_model::{Component, FeModel, DOF_PER_NODE};
+use super::generate::{self, GenerateError, GeneratorSpec};
+use super::modal::{self, ModalError};
+use super::selection::{select, FinLayout, ModeInfo, SelectionError};
+use crate::check::ir::{self, FinKeyNodes, NodeRef, Structure, Vehicle};
+use crate::syntax::Span;
+
+/// Everything later stages need from the structure, as plain archivable data.
+#[derive(Clone, Debug, Serialize, rkyv::Archive, rkyv::Serialize, rkyv::Deserialize)]
+pub struct CompiledVehicle {
+    pub vehicle: String,
+    pub reduced: ReducedModel,
+    /// One entry per selected (flexible) mode, in the order of eta.
+    pub modes: Vec<CompiledMode>,
+    /// Frequencies (Hz) of all elastic modes computed, for reports.
+    pub candidate_frequencies_hz: Vec<f64>,
+    pub n_rigid: u32,
+    /// Undeformed node positions, body frame, m.
+    pub node_positions: Vec<[f64; 3]>,
+    pub node_ids: Vec<u64>,
+    /// -1 body, i >= 0 fin i.
+    pub node_components: Vec<i32>,
+    /// Selected shapes after fixity: row-major, `6 * n_nodes` rows by `modes.len()` columns.
+    pub shapes: Vec<f64>,
+    pub origin_node: u32,
+    pub key_body: u32,
+    /// -1 when there is no nozzle key node.
+    pub key_nozzle: i64,
+    pub key_fins: Vec<u32>,
+    /// Centre of mass (c / m), m.
+    pub centre_of_mass: [f64; 3],
+    /// Inertia about the centre of mass, kg m^2.
+    pub inertia_cm: [[f64; 3]; 3],
+}
+
+#[derive(Clone, Debug, Serialize, rkyv::Archive, rkyv::Serialize, rkyv::Deserialize)]
+pub struct CompiledMode {
+    pub name: String,
+    /// body_bending | fin_flap | fin_twist | other
+    pub class: String,
+    /// Fin index (0-based) or -1.
+    pub fin: i32,
+    pub frequency_hz: f64,
+    pub generalised_mass: f64,
+    pub body_fraction: f64,
+}
+
+impl crate::artifact::ArtifactPayload for CompiledVehicle {
+    const SCHEMA: &'static str = "CompiledVehicle v1: vehicle, reduced(ReducedModel v1), modes[name,class,fin,frequency_hz,generalised_mass,body_fraction], candidate_frequencies_hz, n_rigid, node_positions, node_ids, node_components, shapes(row-major), origin_node, key_body, key_nozzle, key_fins, centre_of_mass, inertia_cm";
+}
+
+/// Why a vehicle's structure could not be compiled.
+#[derive(Debug, thiserror::Error)]
+pub enum StructureError {
+    #[error("{0}")]
+    Read(#[from] FeReadError),
+    #[error("the FE generator refused the vehicle: {error}")]
+    Generate { error: GenerateError, span: Span },
+    #[error("modal analysis failed: {error}")]
+    Modal { error: ModalError, span: Span },
+    #[error("mode selection cannot be met: {error}")]
+    Selection { error: SelectionError, span: Span },
+    #[error("reduced coefficients: {error}")]
+    Coefficients { error: CoefficientError, span: Span },
+    #[error("{message}")]
+    Node { message: String, span: Span },
+    #[error("{message}")]
+    Damping { message: String, span: Span },
+}
+
+impl StructureError {
+    pub fn code(&self) -> &'static str {
+        match self {
+            StructureError::Read(e) => e.code(),
+            StructureError::Generate { error, .. } => error.code(),
+            StructureError::Modal { error, .. } => error.code(),
+            StructureError::Selection { error, .. } => error.code(),
+            StructureError::Coefficients { .. } => "structure::coefficients",
+            StructureError::Node { .. } => "structure::key_node",
+            StructureError::Damping { .. } => "structure::damping",
+        }
+    }
+
+    /// The span in the vehicle file the error belongs to (reader errors point into the FE
+    /// file instead: see [`StructureError::Read`]).
+    pub fn span(&self) -> Option<Span> {
+        match self {
+            StructureError::Read(_) => None,
+            StructureError::Generate { span, .. }
+            | StructureError::Modal { span, .. }
+            | StructureError::Selection { span, .. }
+            | StructureError::Coefficients { span, .. }
+            | StructureError::Node { span, .. }
+            | StructureError::Damping { span, .. } => Some(*span),
+        }
+    }
+}
+
+/// The generator's input for a vehicle whose structure is `generate`.
+pub fn generator_spec(v: &Vehicle, g: &ir::Generate) -> GeneratorSpec {
+    let mat = |m: &ir::Material| generate::MaterialProps {
+        youngs_modulus: m.youngs_modulus.value,
+        poisson: m.poisson.value,
+        density: m.density.value,
+    };
+    GeneratorSpec {
+        body: generate::BodySpec {
+            length: g.body.length.value,
+            outer_diameter: g.body.diameter.value,
+            wall_thickness: g.body.wall.value,
+            nose_length: g.body.nose_length.value,
+            elements: g.body.elements.value,
+            theory: match g.body.theory.value {
+                ir::BeamTheory::EulerBernoulli => generate::BeamTheory::EulerBernoulli,
+                ir::BeamTheory::Timoshenko => generate::BeamTheory::Timoshenko,
+            },
+            material: mat(&v.material),
+        },
+        fins: v.fins.as_ref().map(|f| generate::FinSpec {
+            count: f.count.value,
+            span: f.span.value,
+            root_chord: f.root_chord.value,
+            tip_chord: f.tip_chord.value,
+            sweep: f.leading_edge_sweep.value,
+            thickness: f.thickness.value,
+            cant: f.cant.value,
+            angles: f.angles.iter().map(|a| a.value).collect(),
+            root_trailing_edge_x: f.root_trailing_edge_x.value,
+            span_elements: g.fin_span_elements.value,
+            chord_elements: g.fin_chord_elements.value,
+            material: mat(&f.material),
+        }),
+        point_masses: g
+            .point_masses
+            .iter()
+            .map(|p| generate::PointMass {
+                name: p.name.value.clone(),
+                position: p.position.value,
+                mass: p.mass.value,
+                inertia: p.inertia.value,
+            })
+            .collect(),
+        distributed_masses: g
+            .distributed_masses
+            .iter()
+            .map(|d| generate::DistributedMass {
+                name: d.name.value.clone(),
+                x_from: d.from.value,
+                x_to: d.to.value,
+                mass: d.mass.value,
+            })
+            .collect(),
+    }
+}
+
+/// Build (generate) or read the FE model of a vehicle.
+pub fn build_model(v: &Vehicle) -> Result<FeModel, StructureError> {
+    match &v.structure {
+        Structure::Generate(g) => {
+            let spec = generator_spec(v, g);
+            generate::generate(&spec).map_err(|error| StructureError::Generate { error, span: g.span })
+        }
+        Structure::Files(f) => {
+            let order = f.dof_order.value.map(usize::from);
+            let opts = ReadOptions {
+                dof_order: DofOrder::new(order)?,
+                mass_name: f.mass_matrix.value.clone(),
+                stiffness_name: f.stiffness_matrix.value.clone(),
+                ..ReadOptions::default()
+            };
+            let mut model = match f.format.value {
+                ir::FeFormat::MatrixMarket => fe_io::read_matrix_market_model(
+                    &f.mass.value,
+                    &f.stiffness.value,
+                    &f.nodes.value,
+                    f.elements.as_ref().map(|e| e.value.as_path()),
+                    &opts,
+                )?,
+                ir::FeFormat::Op4 => fe_io::read_op4_model(&f.mass.value, &f.nodes.value, &opts)?,
+                ir::FeFormat::Dmig => fe_io::read_bulk_model(&f.mass.value, &opts)?,
+            };
+            for n in &mut model.nodes {
+                n.position = n.position.map(|c| c * f.length_scale.value);
+            }
+            fe_io::validate(&model)?;
+            Ok(model)
+        }
+    }
+}
+
+fn node_index(model: &FeModel, r: &NodeRef, what: &str) -> Result<usize, StructureError> {
+    match r {
+        NodeRef::Id(id) => model.node_index(id.value).ok_or_else(|| StructureError::Node {
+            message: format!("{what}: the FE model has no node with id {}", id.value),
+            span: id.span,
+        }),
+        NodeRef::Nearest(p) => nearest(model, p.value, |_| true).ok_or_else(|| StructureError::Node {
+            message: format!("{what}: the FE model has no nodes"),
+            span: p.span,
+        }),
+    }
+}
+
+fn nearest(model: &FeModel, p: [f64; 3], keep: impl Fn(usize) -> bool) -> Option<usize> {
+    let d2 = |q: [f64; 3]| (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2) + (q[2] - p[2]).powi(2);
+    (0..model.nodes.len())
+        .filter(|&i| keep(i))
+        .min_by(|&a, &b| d2(model.nodes[a].position).total_cmp(&d2(model.nodes[b].position)))
+}
+
+/// Fin key nodes: for `fin_point(span = s, chord = c)` the fin-j node nearest to the point
+/// at fraction s of the span from the root and fraction c of the local chord aft of the
+/// leading edge (5.4.17-5.4.18 use the same non-dimensional positions).
+fn fin_key_nodes(model: &FeModel, comps: &[Component], v: &Vehicle) -> Result<Vec<usize>, StructureError> {
+    let Some(f) = &v.fins else { return Ok(Vec::new()) };
+    match &v.key_nodes.fins {
+        FinKeyNodes::None => Ok(Vec::new()),
+        FinKeyNodes::PerFin(refs) => refs.iter().enumerate().map(|(j, r)| node_index(model, r, &format!("fin {} key node", j + 1))).collect(),
+        FinKeyNodes::Fraction { span, chord } => {
+            let mut out = Vec::new();
+            for (j, delta) in f.angles.iter().enumerate() {
+                let on_fin = |i: usize| comps[i] == Component::Fin(j as u16);
+                let (c, s) = (delta.value.cos(), delta.value.sin());
+                let radial = |i: usize| {
+                    let q = model.nodes[i].position;
+                    q[1] * c + q[2] * s
+                };
+                let r_root = (0..model.nodes.len()).filter(|&i| on_fin(i)).map(radial).fold(f64::INFINITY, f64::min);
+                if !r_root.is_finite() {
+                    return Err(StructureError::Node {
+                        message: format!("fin {}: the FE model has no nodes on this fin", j + 1),
+                        span: v.key_nodes.span,
+                    });
+                }
+                let eta = span.value * f.span.value;
+                let local_chord = f.root_chord.value + (f.tip_chord.value - f.root_chord.value) * span.value;
+                let x_le = f.root_trailing_edge_x.value + f.root_chord.value - eta * f.leading_edge_sweep.value.tan();
+                let x = x_le - chord.value * local_chord;
+                let r = r_root + eta;
+                let target = [x, r * c, r * s];
+                out.push(nearest(model, target, on_fin).unwrap_or(0));
+            }
+            Ok(out)
+        }
+    }
+}
+
+/// How many elastic modes to compute so the selection can be met.
+fn modes_wanted(v: &Vehicle, n_fins: usize) -> usize {
+    let mut n = 0;
+    for r in &v.modes.rules {
+        n += match r {
+            ir::ModeRule::Indices(i) => i.value.iter().copied().max().unwrap_or(0),
+            ir::ModeRule::BandHz { .. } => 60,
+            ir::ModeRule::Class { count, .. } => match count.value {
+                ir::ModeCount::Count(k) => 4 * k,
+                ir::ModeCount::PerFin => 4 * n_fins,
+            },
+        };
+    }
+    n.clamp(24, 400)
+}
+
+/// Compile a checked vehicle.
+pub fn compile(v: &Vehicle) -> Result<(CompiledVehicle, FeModel), StructureError> {
+    let model = build_model(v)?;
+    compile_model(v, model)
+}
+
+/// Compile a vehicle from an FE model already built.
+pub fn compile_model(v: &Vehicle, model: FeModel) -> Result<(CompiledVehicle, FeModel), StructureError> {
+    let fins = v.fins.as_ref().map(|f| FinLayout { angles: f.angles.iter().map(|a| a.value).collect() });
+    let comps = super::selection::components(&model, fins.as_ref());
+    let origin = node_index(&model, &v.origin, "origin")?;
+    let origin_span = match &v.origin {
+        NodeRef::Id(s) => s.span,
+        NodeRef::Nearest(p) => p.span,
+    };
+    // The origin node carries the body frame (2.5.2): it must carry translational mass.
+    let o = origin * DOF_PER_NODE;
+    let diag: f64 = (0..3)
+        .map(|k| {
+            let col = o + k;
+            let sym = model.mass.symbolic();
+            sym.col_range(col)
+                .find(|&idx| sym.row_idx()[idx] == col)
+                .map_or(0.0, |idx| model.mass.val()[idx])
+        })
+        .fold(f64::INFINITY, f64::min);
+    if diag.is_nan() || diag <= 0.0 {
+        return Err(StructureError::Node {
+            message: format!("the origin node (id {}) carries no mass: it cannot hold the body frame", model.nodes[origin].id),
+            span: origin_span,
+        });
+    }
+    let key_body = node_index(&model, &v.key_nodes.body, "body key node")?;
+    let key_nozzle = v.key_nodes.nozzle.as_ref().map(|r| node_index(&model, r, "nozzle key node")).transpose()?;
+    let key_fins = fin_key_nodes(&model, &comps, v)?;
+
+    let n_fins = fins.as_ref().map_or(0, |f| f.angles.len());
+    let modes = modal::solve(&model, modes_wanted(v, n_fins))
+        .map_err(|error| StructureError::Modal { error, span: structure_span(v) })?;
+    let n_rigid = modes.n_rigid;
+    let elastic = modes.shapes.as_ref().subcols(n_rigid, modes.shapes.ncols() - n_rigid);
+    let selection = select(&model, &modes.omega2[n_rigid..], elastic, fins.as_ref(), &v.modes.rules)
+        .map_err(|error| StructureError::Selection { error, span: v.modes.span })?;
+    let n = selection.info.len();
+    let damping: Vec<f64> = match v.modes.damping.len() {
+        0 => vec![0.0; n],
+        1 => vec![v.modes.damping[0].value; n],
+        k if k == n => v.modes.damping.iter().map(|d| d.value).collect(),
+        k => {
+            return Err(StructureError::Damping {
+                message: format!("{k} damping ratios for {n} selected modes: give one, or one per mode"),
+                span: v.modes.damping[0].span,
+            });
+        }
+    };
+    let shapes: Mat<f64> = if v.modes.fixity_origin {
+        fix_modes_at_origin(&model, origin, selection.shapes.as_ref())
+            .map_err(|error| StructureError::Coefficients { error, span: v.modes.span })?
+    } else {
+        selection.shapes.clone()
+    };
+    let reduced = reduce(&model, origin, shapes.as_ref(), &selection.omega2, &damping)
+        .map_err(|error| StructureError::Coefficients { error, span: structure_span(v) })?;
+
+    let m = reduced.mass;
+    let c = reduced.first_moment;
+    let com = [c[0] / m, c[1] / m, c[2] / m];
+    // Parallel-axis theorem: J_cm = J_o - m (|r|^2 1 - r r^T) with r the centre of mass.
+    let r2 = com.iter().map(|x| x * x).sum::<f64>();
+    let mut inertia_cm = reduced.inertia;
+    for a in 0..3 {
+        for b in 0..3 {
+            let delta = if a == b { 1.0 } else { 0.0 };
+            inertia_cm[a][b] -= m * (r2 * delta - com[a] * com[b]);
+        }
+    }
+    let n_dof = model.n_dof();
+    let mut flat = Vec::with_capacity(n_dof * n);
+    for i in 0..n_dof {
+        for j in 0..n {
+            flat.push(shapes[(i, j)]);
+        }
+    }
+    let compiled = CompiledVehicle {
+        vehicle: v.name.value.clone(),
+        modes: selection
+            .info
+            .iter()
+            .enumerate()
+            .map(|(j, info)| compiled_mode(info, reduced.modal_mass.get(j * n + j).copied().unwrap_or(0.0)))
+            .collect(),
+        reduced,
+        candidate_frequencies_hz: selection.candidates.iter().map(|c| c.frequency_hz).collect(),
+        n_rigid: n_rigid as u32,
+        node_positions: model.nodes.iter().map(|n| n.position).collect(),
+        node_ids: model.nodes.iter().map(|n| n.id).collect(),
+        node_components: comps
+            .iter()
+            .map(|c| match c {
+                Component::Fin(i) => i32::from(*i),
+                _ => -1,
+            })
+            .collect(),
+        shapes: flat,
+        origin_node: origin as u32,
+        key_body: key_body as u32,
+        key_nozzle: key_nozzle.map_or(-1, |k| k as i64),
+        key_fins: key_fins.iter().map(|&k| k as u32).collect(),
+        centre_of_mass: com,
+        inertia_cm,
+    };
+    Ok((compiled, model))
+}
+
+fn compiled_mode(info: &ModeInfo, generalised_mass: f64) -> CompiledMode {
+    CompiledMode {
+        name: info.name.clone(),
+        class: match info.kind {
+            super::selection::Kind::BodyBending => "body_bending",
+            super::selection::Kind::FinFlap => "fin_flap",
+            super::selection::Kind::FinTwist => "fin_twist",
+            super::selection::Kind::Other => "other",
+        }
+        .to_string(),
+        fin: info.fin.map_or(-1, |f| f as i32),
+        frequency_hz: info.frequency_hz,
+        generalised_mass,
+        body_fraction: info.body_fraction,
+    }
+}
+
+fn structure_span(v: &Vehicle) -> Span {
+    match &v.structure {
+        Structure::Generate(g) => g.span,
+        Structure::Files(f) => f.span,
+    }
+}
+
+/// Files whose bytes enter the cache key.
+pub fn referenced_files(v: &Vehicle) -> Vec<&Path> {
+    match &v.structure {
+        Structure::Generate(_) => Vec::new(),
+        Structure::Files(f) => {
+            let mut out = vec![f.mass.value.as_path(), f.stiffness.value.as_path(), f.nodes.value.as_path()];
+            if let Some(e) = &f.elements {
+                out.push(e.value.as_path());
+            }
+            out.sort();
+            out.dedup();
+            out
+        }
+    }
+}
