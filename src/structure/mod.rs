@@ -4,3 +4,5 @@
 pub mod fe_model;
 
 pub use fe_model::{Component, Element, ElementKind, FeModel, Node, DOF_PER_NODE};
+pub mod fe_io;
+pub mod modal;
