@@ -141,7 +141,7 @@ fn parse_matrix(lines: &mut Lines<'_>, hl: usize, header: &str, path: &Path) -> 
         let (icol, irow, nw) = (r[0], r[1], r[2]);
         if icol as usize > ncols {
             // Terminator: skip its dummy value line(s).
-            read_values(lines, per_line, width, path)?;
+            read_values(lines, per_line, width, nw.max(0) as usize, path)?;
             break;
         }
         if icol < 1 || irow < 0 || nw < 0 {
@@ -149,7 +149,7 @@ fn parse_matrix(lines: &mut Lines<'_>, hl: usize, header: &str, path: &Path) -> 
         }
         let col = icol as usize - 1;
         if irow > 0 {
-            let values = read_values(lines, per_line, width, path)?;
+            let values = read_values(lines, per_line, width, nw as usize, path)?;
             check_count(nw, values.len(), typ, rl, path, lines)?;
             for (k, (v, line)) in values.into_iter().enumerate() {
                 entries.push((irow as usize - 1 + k, col, v, line));
@@ -172,7 +172,7 @@ fn parse_matrix(lines: &mut Lines<'_>, hl: usize, header: &str, path: &Path) -> 
                 if start_row < 1 {
                     return Err(FeReadError::BadRecord(SourceLocation::line(path, sl), format!("bad string header '{s}'")));
                 }
-                let values = read_values(lines, per_line, width, path)?;
+                let values = read_values(lines, per_line, width, usize::MAX, path)?;
                 if values.is_empty() {
                     return Err(truncated(lines, format!("string at line {sl} has no values")));
                 }
@@ -220,11 +220,12 @@ fn parse_format(fmt: &str) -> Option<(usize, usize)> {
     (per_line > 0 && width > 0).then_some((per_line, width))
 }
 
-/// Reads consecutive value lines (fixed-width fields); stops at an integer line or EOF.
-fn read_values(lines: &mut Lines<'_>, per_line: usize, width: usize, path: &Path) -> Result<Vec<(f64, usize)>, FeReadError> {
+/// Reads consecutive value lines (fixed-width fields); stops at an integer line, at EOF, or
+/// once `limit` values are read.
+fn read_values(lines: &mut Lines<'_>, per_line: usize, width: usize, limit: usize, path: &Path) -> Result<Vec<(f64, usize)>, FeReadError> {
     let mut out = Vec::new();
     while let Some((ln, line)) = lines.peek() {
-        if integers(line).is_some() {
+        if integers(line).is_some() || out.len() >= limit {
             break;
         }
         lines.advance();
