@@ -191,16 +191,11 @@ pub(crate) fn finish(
             .ok_or_else(|| ModalError::Eigensolver("rigid-body modes are linearly dependent".into()))?;
     }
     let n_el = n_elastic_wanted.min(order.len() - n_zero);
-    let mut shapes = Mat::<f64>::zeros(n, n_zero + n_el);
-    let mut omega2 = Vec::with_capacity(n_zero + n_el);
-    for (k, r) in rigid.iter().enumerate() {
-        shapes.col_mut(k).copy_from(r);
-        omega2.push(quad(&model.stiffness, r.as_ref(), r.as_ref()).max(0.0));
-    }
     let mut mr: Vec<faer::Col<f64>> = Vec::new();
     for r in &rigid {
         mr.push(rigid::sparse_matvec(&model.mass, r.as_ref()));
     }
+    let mut elastic: Vec<(f64, faer::Col<f64>)> = Vec::with_capacity(n_el);
     for (k, &i) in order[n_zero..n_zero + n_el].iter().enumerate() {
         let mut phi = vecs.col(i).to_owned();
         for (r, m_r) in rigid.iter().zip(&mr) {
@@ -212,7 +207,18 @@ pub(crate) fn finish(
             return Err(ModalError::Eigensolver(format!("elastic mode {k} has modal mass {mass}")));
         }
         phi *= faer::Scale(1.0 / mass.sqrt());
-        omega2.push(quad(&model.stiffness, phi.as_ref(), phi.as_ref()));
+        elastic.push((quad(&model.stiffness, phi.as_ref(), phi.as_ref()), phi));
+    }
+    // Sort by the refined eigenvalue (degenerate pairs may swap at round-off level).
+    elastic.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut shapes = Mat::<f64>::zeros(n, n_zero + n_el);
+    let mut omega2 = Vec::with_capacity(n_zero + n_el);
+    for (k, r) in rigid.iter().enumerate() {
+        shapes.col_mut(k).copy_from(r);
+        omega2.push(quad(&model.stiffness, r.as_ref(), r.as_ref()).max(0.0));
+    }
+    for (k, (w2, phi)) in elastic.into_iter().enumerate() {
+        omega2.push(w2);
         shapes.col_mut(n_zero + k).copy_from(&phi);
     }
     Ok(Modes { omega2, shapes, n_rigid: n_zero })
