@@ -1,12 +1,15 @@
 //! FE readers: the tube21 sample in every format gives the same model, and every kind of bad
 //! input is rejected with its code and the right line.
 
+#![allow(clippy::unwrap_used)] // tests may unwrap (STYLE: library code only)
+
 use std::path::{Path, PathBuf};
 
 use faer::sparse::SparseColMat;
 use flexflight::structure::FeModel;
 use flexflight::structure::fe_io::{
-    DofOrder, FeReadError, ReadOptions, parse_bulk, read_bulk_model, read_matrix_market_model, read_op4_model, validate,
+    DofOrder, FeReadError, ReadOptions, parse_bulk, read_bulk_model, read_matrix_market_model,
+    read_op4_model, validate,
 };
 use flexflight::structure::modal;
 
@@ -19,7 +22,12 @@ fn sample(name: &str) -> PathBuf {
 fn reference_hz() -> Vec<f64> {
     let text = std::fs::read_to_string(sample("reference.json")).unwrap();
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
-    v["fe_frequencies_hz"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
+    v["fe_frequencies_hz"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
 }
 
 /// The shared `mass.mtx` / `stiffness.mtx` of tube21 hold only the 126 diagonal entries (the
@@ -55,10 +63,20 @@ fn write_mtx_upper(m: &SparseColMat<usize, f64>, path: &Path) {
 fn from_mtx() -> FeModel {
     let op4 = from_op4();
     let dir = tempfile::tempdir().unwrap();
-    let (mp, kp) = (dir.path().join("mass.mtx"), dir.path().join("stiffness.mtx"));
+    let (mp, kp) = (
+        dir.path().join("mass.mtx"),
+        dir.path().join("stiffness.mtx"),
+    );
     write_mtx_upper(&op4.mass, &mp);
     write_mtx_upper(&op4.stiffness, &kp);
-    read_matrix_market_model(&mp, &kp, &sample("nodes.csv"), None, &ReadOptions::default()).unwrap()
+    read_matrix_market_model(
+        &mp,
+        &kp,
+        &sample("nodes.csv"),
+        None,
+        &ReadOptions::default(),
+    )
+    .unwrap()
 }
 
 #[test]
@@ -83,7 +101,12 @@ fn tube21_shared_matrix_market_sample_is_read_as_written() {
 }
 
 fn from_op4() -> FeModel {
-    read_op4_model(&sample("beam_ascii.op4"), &sample("beam.bdf"), &ReadOptions::default()).unwrap()
+    read_op4_model(
+        &sample("beam_ascii.op4"),
+        &sample("beam.bdf"),
+        &ReadOptions::default(),
+    )
+    .unwrap()
 }
 
 fn from_bdf() -> FeModel {
@@ -111,7 +134,10 @@ fn same_nodes(a: &FeModel, b: &FeModel) {
     for (p, q) in a.nodes.iter().zip(&b.nodes) {
         assert_eq!(p.id, q.id);
         for k in 0..3 {
-            assert!((p.position[k] - q.position[k]).abs() < 1e-12, "{p:?} vs {q:?}");
+            assert!(
+                (p.position[k] - q.position[k]).abs() < 1e-12,
+                "{p:?} vs {q:?}"
+            );
         }
     }
 }
@@ -127,11 +153,17 @@ fn tube21_all_formats_give_the_same_model() {
     same_nodes(&mtx, &op4);
     same_nodes(&mtx, &bdf);
     // OP4 and Matrix Market carry 17 significant digits: equal to the last bits.
-    let (dm, dk) = (max_rel_diff(&mtx.mass, &op4.mass), max_rel_diff(&mtx.stiffness, &op4.stiffness));
+    let (dm, dk) = (
+        max_rel_diff(&mtx.mass, &op4.mass),
+        max_rel_diff(&mtx.stiffness, &op4.stiffness),
+    );
     println!("mtx vs op4: mass {dm:e} stiffness {dk:e}");
     assert!(dm <= 1e-15 && dk <= 1e-15);
     // DMIG in large field keeps 10 significant digits (e.g. -4.992800582D+07).
-    let (dm, dk) = (max_rel_diff(&mtx.mass, &bdf.mass), max_rel_diff(&mtx.stiffness, &bdf.stiffness));
+    let (dm, dk) = (
+        max_rel_diff(&mtx.mass, &bdf.mass),
+        max_rel_diff(&mtx.stiffness, &bdf.stiffness),
+    );
     println!("mtx vs bdf: mass {dm:e} stiffness {dk:e}");
     assert!(dm <= 1e-9 && dk <= 1e-9);
     // Same sparsity pattern.
@@ -153,7 +185,11 @@ fn tube21_all_formats_give_the_same_model() {
 #[test]
 fn tube21_frequencies_from_every_format() {
     let reference = reference_hz();
-    for (name, model, tol) in [("mtx", from_mtx(), 1e-8), ("op4", from_op4(), 1e-8), ("bdf", from_bdf(), 1e-6)] {
+    for (name, model, tol) in [
+        ("mtx", from_mtx(), 1e-8),
+        ("op4", from_op4(), 1e-8),
+        ("bdf", from_bdf(), 1e-6),
+    ] {
         let modes = modal::solve(&model, reference.len()).unwrap();
         assert_eq!(modes.n_rigid, 6, "{name}");
         let f = modes.elastic_frequencies_hz();
@@ -181,7 +217,12 @@ fn dof_order_option_restores_canonical_order() {
                 let k = file_to_canon.iter().position(|&c| c == d % 6).unwrap();
                 6 * (d / 6) + k
             };
-            lines.push(format!("{} {} {:.17e}", to_file(t.row) + 1, to_file(t.col) + 1, t.val));
+            lines.push(format!(
+                "{} {} {:.17e}",
+                to_file(t.row) + 1,
+                to_file(t.col) + 1,
+                t.val
+            ));
         }
         s += &format!("{} {} {}\n", m.nrows(), m.ncols(), lines.len());
         s += &lines.join("\n");
@@ -191,14 +232,27 @@ fn dof_order_option_restores_canonical_order() {
     };
     let mp = write(&canonical.mass, "m.mtx");
     let kp = write(&canonical.stiffness, "k.mtx");
-    let opts = ReadOptions { dof_order: DofOrder::new(file_to_canon).unwrap(), ..Default::default() };
+    let opts = ReadOptions {
+        dof_order: DofOrder::new(file_to_canon).unwrap(),
+        ..Default::default()
+    };
     let back = read_matrix_market_model(&mp, &kp, &sample("nodes.csv"), None, &opts).unwrap();
     assert_eq!(max_rel_diff(&back.mass, &canonical.mass), 0.0);
     assert_eq!(max_rel_diff(&back.stiffness, &canonical.stiffness), 0.0);
     // Reading them without the option gives a different (wrong) matrix.
-    let wrong = read_matrix_market_model(&mp, &kp, &sample("nodes.csv"), None, &ReadOptions::default()).unwrap();
+    let wrong = read_matrix_market_model(
+        &mp,
+        &kp,
+        &sample("nodes.csv"),
+        None,
+        &ReadOptions::default(),
+    )
+    .unwrap();
     assert!(max_rel_diff(&wrong.mass, &canonical.mass) > 0.5);
-    assert_eq!(DofOrder::new([0, 1, 2, 3, 4, 4]).unwrap_err().code(), "fe::read::bad_dof_order");
+    assert_eq!(
+        DofOrder::new([0, 1, 2, 3, 4, 4]).unwrap_err().code(),
+        "fe::read::bad_dof_order"
+    );
 }
 
 // ---------------------------------------------------------------------------------------
@@ -210,7 +264,9 @@ struct Files {
 
 impl Files {
     fn new() -> Self {
-        Self { dir: tempfile::tempdir().unwrap() }
+        Self {
+            dir: tempfile::tempdir().unwrap(),
+        }
     }
     fn put(&self, name: &str, text: &str) -> PathBuf {
         let p = self.dir.path().join(name);
@@ -230,7 +286,11 @@ fn diag_mtx(values: [f64; 6]) -> String {
 }
 
 fn read_mtx(f: &Files, mass: &str, stiffness: &str, nodes: &str) -> Result<FeModel, FeReadError> {
-    let (m, k, n) = (f.put("m.mtx", mass), f.put("k.mtx", stiffness), f.put("n.csv", nodes));
+    let (m, k, n) = (
+        f.put("m.mtx", mass),
+        f.put("k.mtx", stiffness),
+        f.put("n.csv", nodes),
+    );
     read_matrix_market_model(&m, &k, &n, None, &ReadOptions::default())
 }
 
@@ -284,7 +344,13 @@ fn mtx_size_mismatch_between_m_and_k() {
 #[test]
 fn mtx_size_not_six_per_node() {
     let f = Files::new();
-    let e = read_mtx(&f, &diag_mtx([1.0; 6]), &diag_mtx([1.0; 6]), "id,x,y,z\n1,0,0,0\n2,1,0,0\n").unwrap_err();
+    let e = read_mtx(
+        &f,
+        &diag_mtx([1.0; 6]),
+        &diag_mtx([1.0; 6]),
+        "id,x,y,z\n1,0,0,0\n2,1,0,0\n",
+    )
+    .unwrap_err();
     expect(e, "fe::read::size_not_6_per_node", 3, "m.mtx");
 }
 
@@ -300,7 +366,12 @@ fn mtx_asymmetric_general() {
     read_mtx(&f, &diag_mtx([1.0; 6]), k, NODE1).unwrap();
     // An entry without its transpose in general storage.
     let k = "%%MatrixMarket matrix coordinate real general\n6 6 2\n1 1 2.0\n3 2 0.5\n";
-    expect(read_mtx(&f, &diag_mtx([1.0; 6]), k, NODE1).unwrap_err(), "fe::read::asymmetric", 4, "k.mtx");
+    expect(
+        read_mtx(&f, &diag_mtx([1.0; 6]), k, NODE1).unwrap_err(),
+        "fe::read::asymmetric",
+        4,
+        "k.mtx",
+    );
 }
 
 #[test]
@@ -311,13 +382,24 @@ fn mtx_nan_and_infinity() {
     expect(e.clone(), "fe::read::non_finite", 4, "k.mtx");
     assert_eq!(e.column(), 5);
     let k = "%%MatrixMarket matrix coordinate real symmetric\n6 6 1\n1 1 -inf\n";
-    expect(read_mtx(&f, &diag_mtx([1.0; 6]), k, NODE1).unwrap_err(), "fe::read::non_finite", 3, "k.mtx");
+    expect(
+        read_mtx(&f, &diag_mtx([1.0; 6]), k, NODE1).unwrap_err(),
+        "fe::read::non_finite",
+        3,
+        "k.mtx",
+    );
 }
 
 #[test]
 fn mtx_negative_diagonal() {
     let f = Files::new();
-    let e = read_mtx(&f, &diag_mtx([1.0, 1.0, -1.0, 1.0, 1.0, 1.0]), &diag_mtx([0.0; 6]), NODE1).unwrap_err();
+    let e = read_mtx(
+        &f,
+        &diag_mtx([1.0, 1.0, -1.0, 1.0, 1.0, 1.0]),
+        &diag_mtx([0.0; 6]),
+        NODE1,
+    )
+    .unwrap_err();
     expect(e, "fe::read::negative_diagonal", 6, "m.mtx");
 }
 
@@ -325,43 +407,79 @@ fn mtx_negative_diagonal() {
 fn mtx_truncated_and_unparsable() {
     let f = Files::new();
     let k = "%%MatrixMarket matrix coordinate real symmetric\n6 6 3\n1 1 2.0\n2 2 1.0\n";
-    expect(read_mtx(&f, &diag_mtx([1.0; 6]), k, NODE1).unwrap_err(), "fe::read::truncated", 5, "k.mtx");
+    expect(
+        read_mtx(&f, &diag_mtx([1.0; 6]), k, NODE1).unwrap_err(),
+        "fe::read::truncated",
+        5,
+        "k.mtx",
+    );
     let k = "%%MatrixMarket matrix coordinate real symmetric\n6 6 2\n1 1 2.0\n2 2 1.0x\n";
     let e = read_mtx(&f, &diag_mtx([1.0; 6]), k, NODE1).unwrap_err();
     expect(e.clone(), "fe::read::bad_number", 4, "k.mtx");
     assert_eq!(e.column(), 5);
     let k = "%%MatrixMarket matrix coordinate real symmetric\n6 6 1\n1 7 2.0\n";
-    expect(read_mtx(&f, &diag_mtx([1.0; 6]), k, NODE1).unwrap_err(), "fe::read::index_out_of_range", 3, "k.mtx");
+    expect(
+        read_mtx(&f, &diag_mtx([1.0; 6]), k, NODE1).unwrap_err(),
+        "fe::read::index_out_of_range",
+        3,
+        "k.mtx",
+    );
     let k = "%%MatrixMarket matrix coordinate real symmetric\n6 6 2\n1 1 2.0\n1 1 2.0\n";
-    expect(read_mtx(&f, &diag_mtx([1.0; 6]), k, NODE1).unwrap_err(), "fe::read::duplicate_entry", 4, "k.mtx");
+    expect(
+        read_mtx(&f, &diag_mtx([1.0; 6]), k, NODE1).unwrap_err(),
+        "fe::read::duplicate_entry",
+        4,
+        "k.mtx",
+    );
 }
 
 #[test]
 fn node_table_errors() {
     let f = Files::new();
     let (m, k) = (diag_mtx([1.0; 6]), diag_mtx([0.0; 6]));
-    expect(read_mtx(&f, &m, &k, "node,x,y,z\n1,0,0,0\n").unwrap_err(), "fe::read::unknown_header", 1, "n.csv");
-    expect(read_mtx(&f, &m, &k, "id,x,y,z\n1,0,0,0\n1,1,0,0\n").unwrap_err(), "fe::read::duplicate_node", 3, "n.csv");
+    expect(
+        read_mtx(&f, &m, &k, "node,x,y,z\n1,0,0,0\n").unwrap_err(),
+        "fe::read::unknown_header",
+        1,
+        "n.csv",
+    );
+    expect(
+        read_mtx(&f, &m, &k, "id,x,y,z\n1,0,0,0\n1,1,0,0\n").unwrap_err(),
+        "fe::read::duplicate_node",
+        3,
+        "n.csv",
+    );
     let e = read_mtx(&f, &m, &k, "id,x,y,z\n1,0,zero,0\n").unwrap_err();
     expect(e.clone(), "fe::read::bad_number", 2, "n.csv");
     assert_eq!(e.column(), 5);
-    expect(read_mtx(&f, &m, &k, "id,x,y,z\n1,0,0\n").unwrap_err(), "fe::read::bad_record", 2, "n.csv");
+    expect(
+        read_mtx(&f, &m, &k, "id,x,y,z\n1,0,0\n").unwrap_err(),
+        "fe::read::bad_record",
+        2,
+        "n.csv",
+    );
 }
 
 #[test]
 fn element_list_missing_node() {
     let f = Files::new();
-    let m = f.put("m.mtx", &diag_mtx([1.0; 12].first_chunk::<6>().copied().unwrap()));
+    let m = f.put(
+        "m.mtx",
+        &diag_mtx([1.0; 12].first_chunk::<6>().copied().unwrap()),
+    );
     let nodes = f.put("n.csv", NODE1);
     let el = f.put("e.csv", "id,kind,n1,n2\n1,beam,1,7\n");
-    let e = read_matrix_market_model(&m, &m, &nodes, Some(&el), &ReadOptions::default()).unwrap_err();
+    let e =
+        read_matrix_market_model(&m, &m, &nodes, Some(&el), &ReadOptions::default()).unwrap_err();
     expect(e.clone(), "fe::read::missing_node", 2, "e.csv");
     assert_eq!(e.column(), 10);
     let el = f.put("e.csv", "id,kind,n1,n2\n1,spring,1,1\n");
-    let e = read_matrix_market_model(&m, &m, &nodes, Some(&el), &ReadOptions::default()).unwrap_err();
+    let e =
+        read_matrix_market_model(&m, &m, &nodes, Some(&el), &ReadOptions::default()).unwrap_err();
     expect(e, "fe::read::bad_record", 2, "e.csv");
     let el = f.put("e.csv", "id,kind,n1,n2,n3\n1,shell,1,1,1\n2,link,1,1,\n");
-    let model = read_matrix_market_model(&m, &m, &nodes, Some(&el), &ReadOptions::default()).unwrap();
+    let model =
+        read_matrix_market_model(&m, &m, &nodes, Some(&el), &ReadOptions::default()).unwrap();
     assert_eq!(model.elements.len(), 2);
 }
 
@@ -373,7 +491,13 @@ fn mass_not_positive_semi_definite() {
     let e = read_mtx(&f, m, &diag_mtx([0.0; 6]), NODE1).unwrap_err();
     expect(e, "fe::read::mass_not_psd", 0, "m.mtx");
     // A massless rotational DOF is PSD and passes.
-    read_mtx(&f, &diag_mtx([1.0, 1.0, 1.0, 0.0, 1.0, 1.0]), &diag_mtx([0.0; 6]), NODE1).unwrap();
+    read_mtx(
+        &f,
+        &diag_mtx([1.0, 1.0, 1.0, 0.0, 1.0, 1.0]),
+        &diag_mtx([0.0; 6]),
+        NODE1,
+    )
+    .unwrap();
 }
 
 // ---------------------------------------------------------------------------------------
@@ -393,7 +517,12 @@ fn op4_truncated() {
     let f = Files::new();
     let text = op4_text();
     let cut: String = text.lines().take(500).collect::<Vec<_>>().join("\n");
-    expect(read_op4_text(&f, &cut).unwrap_err(), "fe::read::truncated", 501, "x.op4");
+    expect(
+        read_op4_text(&f, &cut).unwrap_err(),
+        "fe::read::truncated",
+        501,
+        "x.op4",
+    );
 }
 
 #[test]
@@ -406,9 +535,19 @@ fn op4_bad_number_and_header() {
     assert_eq!(e.column(), 24);
     let mut lines: Vec<String> = op4_text().lines().map(String::from).collect();
     lines[0] = "     126     126       6       2MAA     garbage".into();
-    expect(read_op4_text(&f, &lines.join("\n")).unwrap_err(), "fe::read::unknown_header", 1, "x.op4");
+    expect(
+        read_op4_text(&f, &lines.join("\n")).unwrap_err(),
+        "fe::read::unknown_header",
+        1,
+        "x.op4",
+    );
     let renamed = op4_text().replace("2KAA ", "2KXX ");
-    expect(read_op4_text(&f, &renamed).unwrap_err(), "fe::read::missing_matrix", 0, "x.op4");
+    expect(
+        read_op4_text(&f, &renamed).unwrap_err(),
+        "fe::read::missing_matrix",
+        0,
+        "x.op4",
+    );
 }
 
 #[test]
@@ -421,8 +560,18 @@ fn op4_sparse_strings_and_nastran_word_count() {
     let a = flexflight::structure::fe_io::parse_op4_ascii(sparse, Path::new("s.op4")).unwrap();
     let b = flexflight::structure::fe_io::parse_op4_ascii(dense, Path::new("d.op4")).unwrap();
     let opts = ReadOptions::default();
-    let a = a[0].matrix.clone().into_symmetric(&opts).unwrap().to_dense();
-    let b = b[0].matrix.clone().into_symmetric(&opts).unwrap().to_dense();
+    let a = a[0]
+        .matrix
+        .clone()
+        .into_symmetric(&opts)
+        .unwrap()
+        .to_dense();
+    let b = b[0]
+        .matrix
+        .clone()
+        .into_symmetric(&opts)
+        .unwrap()
+        .to_dense();
     for i in 0..6 {
         assert_eq!(a[(i, i)], (i + 1) as f64);
         for j in 0..6 {
@@ -457,7 +606,10 @@ fn dmig_small(name: &str, diag: f64) -> String {
 
 /// Small-field DMIG column card GJ = 2, CJ = 1 with one entry (GI, 1) = -0.25.
 fn coupling(name: &str, gi: u64) -> String {
-    format!("DMIG    {name:<8}{:>8}{:>8}{:>8}{gi:>8}{:>8}{:>8}\n", 2, 1, "", 1, "-0.25")
+    format!(
+        "DMIG    {name:<8}{:>8}{:>8}{:>8}{gi:>8}{:>8}{:>8}\n",
+        2, 1, "", 1, "-0.25"
+    )
 }
 
 fn dmig_free(name: &str, diag: f64) -> String {
@@ -509,28 +661,59 @@ fn bulk_errors() {
     assert_eq!(e.column(), 41);
     // Duplicate grid.
     let dup = format!("{GRIDS_SMALL}GRID           1              0.      0.      0.\n");
-    expect(read_bulk_text(&f, &bulk_small(&dup, &good)).unwrap_err(), "fe::read::duplicate_node", 5, "x.bdf");
+    expect(
+        read_bulk_text(&f, &bulk_small(&dup, &good)).unwrap_err(),
+        "fe::read::duplicate_node",
+        5,
+        "x.bdf",
+    );
     // Unparsable coordinate, with its column.
     let bad = GRIDS_SMALL.replace("2.5D0", "2.5Q0");
     let e = read_bulk_text(&f, &bulk_small(&bad, &good)).unwrap_err();
     expect(e.clone(), "fe::read::bad_number", 4, "x.bdf");
     assert_eq!(e.column(), 41);
     // Truncated: a large-field DMIG card cut after its first line.
-    let text = bulk_small(GRIDS_SMALL, &good).replace("ENDDATA\n", "") + "DMIG*                KAA               1               1\n";
-    expect(read_bulk_text(&f, &text).unwrap_err(), "fe::read::truncated", 34, "x.bdf");
+    let text = bulk_small(GRIDS_SMALL, &good).replace("ENDDATA\n", "")
+        + "DMIG*                KAA               1               1\n";
+    expect(
+        read_bulk_text(&f, &text).unwrap_err(),
+        "fe::read::truncated",
+        34,
+        "x.bdf",
+    );
     // Asymmetric square DMIG (IFO 1).
-    let sq = dmig_small("MAA", 2.0) + &dmig_small("KAA", 3.0).replacen("       6       2\n", "       1       2\n", 1);
+    let sq = dmig_small("MAA", 2.0)
+        + &dmig_small("KAA", 3.0).replacen("       6       2\n", "       1       2\n", 1);
     let e = read_bulk_text(&f, &bulk_small(GRIDS_SMALL, &sq)).unwrap_err();
     expect(e, "fe::read::asymmetric", 32, "x.bdf");
     // Missing matrix.
     let only_m = dmig_small("MAA", 2.0);
-    expect(read_bulk_text(&f, &bulk_small(GRIDS_SMALL, &only_m)).unwrap_err(), "fe::read::missing_matrix", 0, "x.bdf");
+    expect(
+        read_bulk_text(&f, &bulk_small(GRIDS_SMALL, &only_m)).unwrap_err(),
+        "fe::read::missing_matrix",
+        0,
+        "x.bdf",
+    );
     // NaN value.
     let nan = good.replacen("       1       1     2.0", "       1       1     NaN", 1);
-    expect(read_bulk_text(&f, &bulk_small(GRIDS_SMALL, &nan)).unwrap_err(), "fe::read::non_finite", 6, "x.bdf");
+    expect(
+        read_bulk_text(&f, &bulk_small(GRIDS_SMALL, &nan)).unwrap_err(),
+        "fe::read::non_finite",
+        6,
+        "x.bdf",
+    );
     // Non-basic coordinate system.
-    let cp = GRIDS_SMALL.replacen("GRID           1              0.", "GRID           1       5      0.", 1);
-    expect(read_bulk_text(&f, &bulk_small(&cp, &good)).unwrap_err(), "fe::read::unsupported", 3, "x.bdf");
+    let cp = GRIDS_SMALL.replacen(
+        "GRID           1              0.",
+        "GRID           1       5      0.",
+        1,
+    );
+    expect(
+        read_bulk_text(&f, &bulk_small(&cp, &good)).unwrap_err(),
+        "fe::read::unsupported",
+        3,
+        "x.bdf",
+    );
 }
 
 #[test]

@@ -1,6 +1,8 @@
 //! Modal analysis: dense and sparse paths agree with the reference and with each other, rigid
 //! modes are exact and M-orthonormal, mechanisms and a singular M are reported.
 
+#![allow(clippy::unwrap_used)] // tests may unwrap (STYLE: library code only)
+
 use std::path::Path;
 use std::time::Instant;
 
@@ -14,13 +16,23 @@ const TUBE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/fe-samples/tu
 
 fn tube21() -> FeModel {
     let d = Path::new(TUBE);
-    read_op4_model(&d.join("beam_ascii.op4"), &d.join("beam.bdf"), &ReadOptions::default()).unwrap()
+    read_op4_model(
+        &d.join("beam_ascii.op4"),
+        &d.join("beam.bdf"),
+        &ReadOptions::default(),
+    )
+    .unwrap()
 }
 
 fn reference_hz() -> Vec<f64> {
     let text = std::fs::read_to_string(Path::new(TUBE).join("reference.json")).unwrap();
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
-    v["fe_frequencies_hz"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
+    v["fe_frequencies_hz"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
 }
 
 /// The 12 x 12 element matrix of the tube21 sample, recovered from the assembled matrix: all
@@ -38,7 +50,11 @@ fn element_matrix(a: &SparseColMat<usize, f64>) -> Mat<f64> {
 
 /// G E G^T with G = blockdiag(Q, Q, Q, Q): the element rotated by Q (vectors v' = Q v).
 fn rotated(e: &Mat<f64>, q: [[f64; 3]; 3]) -> Mat<f64> {
-    let g = Mat::from_fn(12, 12, |i, j| if i / 3 == j / 3 { q[i % 3][j % 3] } else { 0.0 });
+    let g = Mat::from_fn(
+        12,
+        12,
+        |i, j| if i / 3 == j / 3 { q[i % 3][j % 3] } else { 0.0 },
+    );
     &g * e * g.transpose()
 }
 
@@ -57,7 +73,11 @@ fn grillage(nx: usize, ny: usize) -> FeModel {
     let id = |i: usize, j: usize| j * nx + i;
     let nodes: Vec<Node> = (0..ny)
         .flat_map(|j| (0..nx).map(move |i| (i, j)))
-        .map(|(i, j)| Node { id: (id(i, j) + 1) as u64, position: [i as f64 * h, j as f64 * h, 0.0], component: Component::Unknown })
+        .map(|(i, j)| Node {
+            id: (id(i, j) + 1) as u64,
+            position: [i as f64 * h, j as f64 * h, 0.0],
+            component: Component::Unknown,
+        })
         .collect();
     let mut kt = Vec::new();
     let mut mt = Vec::new();
@@ -94,7 +114,10 @@ fn grillage(nx: usize, ny: usize) -> FeModel {
 }
 
 fn max_rel(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| (x - y).abs() / y.abs()).fold(0.0, f64::max)
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs() / y.abs())
+        .fold(0.0, f64::max)
 }
 
 /// max |Phi^T M Phi - I|.
@@ -119,7 +142,11 @@ fn residual(model: &FeModel, modes: &Modes) -> f64 {
         let phi = modes.shapes.col(c);
         let kp = &k * phi;
         let r = &kp - faer::Scale(modes.omega2[c]) * (&m * phi);
-        let scale = if c < modes.n_rigid { knorm } else { kp.norm_l2() };
+        let scale = if c < modes.n_rigid {
+            knorm
+        } else {
+            kp.norm_l2()
+        };
         worst = worst.max(r.norm_l2() / scale);
     }
     worst
@@ -133,8 +160,14 @@ fn element_extraction_reassembles_the_sample() {
     let (am, bm) = (t.mass.to_dense(), g.mass.to_dense());
     for i in 0..126 {
         for j in 0..126 {
-            assert!((a[(i, j)] - b[(i, j)]).abs() <= 1e-15 * a[(i, j)].abs().max(1.0), "K ({i}, {j})");
-            assert!((am[(i, j)] - bm[(i, j)]).abs() <= 1e-15 * am[(i, j)].abs().max(1e-3), "M ({i}, {j})");
+            assert!(
+                (a[(i, j)] - b[(i, j)]).abs() <= 1e-15 * a[(i, j)].abs().max(1.0),
+                "K ({i}, {j})"
+            );
+            assert!(
+                (am[(i, j)] - bm[(i, j)]).abs() <= 1e-15 * am[(i, j)].abs().max(1e-3),
+                "M ({i}, {j})"
+            );
         }
     }
 }
@@ -165,7 +198,10 @@ fn tube21_dense_reproduces_reference_with_exact_rigid_modes() {
     let r = modes.shapes.get(.., 0..6);
     let coeff = r.transpose() * (&m * &tx);
     let outside = &tx - r * &coeff;
-    println!("x translation outside the rigid span: {:.2e}", outside.norm_l2() / tx.norm_l2());
+    println!(
+        "x translation outside the rigid span: {:.2e}",
+        outside.norm_l2() / tx.norm_l2()
+    );
     assert!(outside.norm_l2() < 1e-8 * tx.norm_l2());
     assert!(modes.frequencies_hz()[..6].iter().all(|&f| f < 1e-2));
 }
@@ -179,7 +215,10 @@ fn tube21_rigid_modes_replaced_by_exact_vectors_when_consistent() {
     let mut model = tube21();
     let k = model.stiffness.to_dense();
     let rot_z = &modal::rigid_body_vectors(&model)[5];
-    assert!((&k * rot_z).norm_l2() > 1e6, "sample geometry and K now agree: update this test");
+    assert!(
+        (&k * rot_z).norm_l2() > 1e6,
+        "sample geometry and K now agree: update this test"
+    );
     for node in &mut model.nodes {
         node.position[0] = -node.position[0];
     }
@@ -190,7 +229,13 @@ fn tube21_rigid_modes_replaced_by_exact_vectors_when_consistent() {
     assert_eq!(modes.n_rigid, 6);
     // Gram-Schmidt in the order translations x, y, z then rotations x, y, z.
     let c0 = modes.shapes.col(0);
-    let total_mass: f64 = (0..21).map(|i| (0..126).map(|j| model.mass.to_dense()[(6 * i, j)] * if j % 6 == 0 { 1.0 } else { 0.0 }).sum::<f64>()).sum();
+    let total_mass: f64 = (0..21)
+        .map(|i| {
+            (0..126)
+                .map(|j| model.mass.to_dense()[(6 * i, j)] * if j % 6 == 0 { 1.0 } else { 0.0 })
+                .sum::<f64>()
+        })
+        .sum();
     for i in 0..21 {
         assert!((c0[6 * i] - 1.0 / total_mass.sqrt()).abs() < 1e-12);
         for d in 1..6 {
@@ -209,7 +254,10 @@ fn tube21_sparse_agrees_with_dense() {
     let dense = modal::solve_dense(&model, 12).unwrap();
     let sparse = modal::solve_sparse(&model, 12).unwrap();
     assert_eq!(sparse.n_rigid, 6);
-    let (fd, fs) = (dense.elastic_frequencies_hz(), sparse.elastic_frequencies_hz());
+    let (fd, fs) = (
+        dense.elastic_frequencies_hz(),
+        sparse.elastic_frequencies_hz(),
+    );
     assert_eq!(fs.len(), 12);
     let rel = max_rel(&fs, &fd);
     println!("tube21 sparse vs dense, 12 elastic modes: max rel {rel:.2e}");
@@ -229,7 +277,10 @@ fn grillage_sparse_agrees_with_dense() {
     let sparse = modal::solve_sparse(&model, 12).unwrap();
     let ts = t.elapsed();
     assert_eq!((dense.n_rigid, sparse.n_rigid), (6, 6));
-    let (fd, fs) = (dense.elastic_frequencies_hz(), sparse.elastic_frequencies_hz());
+    let (fd, fs) = (
+        dense.elastic_frequencies_hz(),
+        sparse.elastic_frequencies_hz(),
+    );
     let rel = max_rel(&fs, &fd);
     println!("grillage 504 DOF: dense {td:?}, sparse {ts:?}, max rel {rel:.2e}; f = {fs:.4?}");
     assert_eq!(fs.len(), 12);
@@ -268,8 +319,14 @@ fn disconnected_model_has_mechanisms() {
     let t = tube21();
     let n = model.n_dof();
     let keep = |m: &SparseColMat<usize, f64>, src: &SparseColMat<usize, f64>| {
-        let mut tr: Vec<Triplet<usize, usize, f64>> = src.triplet_iter().map(|x| Triplet::new(x.row, x.col, *x.val)).collect();
-        tr.extend(src.triplet_iter().map(|x| Triplet::new(x.row + 126, x.col + 126, *x.val)));
+        let mut tr: Vec<Triplet<usize, usize, f64>> = src
+            .triplet_iter()
+            .map(|x| Triplet::new(x.row, x.col, *x.val))
+            .collect();
+        tr.extend(
+            src.triplet_iter()
+                .map(|x| Triplet::new(x.row + 126, x.col + 126, *x.val)),
+        );
         let _ = m;
         SparseColMat::try_new_from_triplets(n, n, &tr).unwrap()
     };
@@ -302,7 +359,10 @@ fn massless_rotations() {
     let modes = modal::solve_sparse(&model, 4).unwrap();
     assert_eq!(modes.n_rigid, 6);
     assert!(residual(&model, &modes) < 1e-8);
-    println!("lumped, massless rotations: {:.3?} Hz", modes.elastic_frequencies_hz());
+    println!(
+        "lumped, massless rotations: {:.3?} Hz",
+        modes.elastic_frequencies_hz()
+    );
 }
 
 /// Timing of the sparse path on ~20k and ~100k DOF grillages (run once in release mode:
@@ -328,7 +388,12 @@ fn sparse_timing_large_grillages() {
             for x in model.mass.triplet_iter() {
                 mp[x.row] += x.val * phi[x.col];
             }
-            let r: f64 = kp.iter().zip(&mp).map(|(k, m)| (k - modes.omega2[c] * m).powi(2)).sum::<f64>().sqrt();
+            let r: f64 = kp
+                .iter()
+                .zip(&mp)
+                .map(|(k, m)| (k - modes.omega2[c] * m).powi(2))
+                .sum::<f64>()
+                .sqrt();
             let s: f64 = kp.iter().map(|k| k * k).sum::<f64>().sqrt();
             worst = worst.max(r / s);
         }
@@ -340,5 +405,3 @@ fn sparse_timing_large_grillages() {
         assert!(worst < 1e-8);
     }
 }
-
-

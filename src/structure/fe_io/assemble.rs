@@ -122,7 +122,10 @@ impl RawMatrix {
         for &(i, j, v, line) in &self.entries {
             let loc = SourceLocation::line(&self.path, line);
             if !v.is_finite() {
-                return Err(FeReadError::NonFinite(loc, format!("entry ({}, {}) = {v}", i + 1, j + 1)));
+                return Err(FeReadError::NonFinite(
+                    loc,
+                    format!("entry ({}, {}) = {v}", i + 1, j + 1),
+                ));
             }
             if i >= n || j >= n {
                 return Err(FeReadError::IndexOutOfRange(
@@ -131,7 +134,10 @@ impl RawMatrix {
                 ));
             }
             if map.insert((i, j), (v, line)).is_some() {
-                return Err(FeReadError::DuplicateEntry(loc, format!("entry ({}, {})", i + 1, j + 1)));
+                return Err(FeReadError::DuplicateEntry(
+                    loc,
+                    format!("entry ({}, {})", i + 1, j + 1),
+                ));
             }
             max_abs = max_abs.max(v.abs());
         }
@@ -141,7 +147,10 @@ impl RawMatrix {
             let loc = SourceLocation::line(&self.path, line);
             if i == j {
                 if v < 0.0 {
-                    return Err(FeReadError::NegativeDiagonal(loc, format!("entry ({0}, {0}) = {v:e}", i + 1)));
+                    return Err(FeReadError::NegativeDiagonal(
+                        loc,
+                        format!("entry ({0}, {0}) = {v:e}", i + 1),
+                    ));
                 }
             } else {
                 match (map.get(&(j, i)), self.storage) {
@@ -151,7 +160,10 @@ impl RawMatrix {
                                 loc,
                                 format!(
                                     "entry ({}, {}) = {v:e} but ({}, {}) = {w:e}; tolerance {tol:e}",
-                                    i + 1, j + 1, j + 1, i + 1
+                                    i + 1,
+                                    j + 1,
+                                    j + 1,
+                                    i + 1
                                 ),
                             ));
                         }
@@ -162,7 +174,8 @@ impl RawMatrix {
                                 loc,
                                 format!(
                                     "entry ({}, {}) = {v:e} has no transposed entry; tolerance {tol:e}",
-                                    i + 1, j + 1
+                                    i + 1,
+                                    j + 1
                                 ),
                             ));
                         }
@@ -173,7 +186,10 @@ impl RawMatrix {
             if v == 0.0 {
                 continue;
             }
-            let (ci, cj) = (opts.dof_order.canonical_dof(i), opts.dof_order.canonical_dof(j));
+            let (ci, cj) = (
+                opts.dof_order.canonical_dof(i),
+                opts.dof_order.canonical_dof(j),
+            );
             if i == j || map.contains_key(&(j, i)) {
                 // Both triangles present (or diagonal): take the mean of the pair once per entry.
                 let w = map.get(&(j, i)).map_or(v, |p| p.0);
@@ -183,9 +199,8 @@ impl RawMatrix {
                 triplets.push(Triplet::new(cj, ci, v));
             }
         }
-        SparseColMat::try_new_from_triplets(n, n, &triplets).map_err(|e| {
-            FeReadError::BadRecord(hdr, format!("cannot build sparse matrix: {e:?}"))
-        })
+        SparseColMat::try_new_from_triplets(n, n, &triplets)
+            .map_err(|e| FeReadError::BadRecord(hdr, format!("cannot build sparse matrix: {e:?}")))
     }
 }
 

@@ -59,29 +59,62 @@ impl BulkData {
     pub fn nodes(&self) -> Vec<Node> {
         self.grids
             .iter()
-            .map(|g| Node { id: g.id, position: g.position, component: Component::Unknown })
+            .map(|g| Node {
+                id: g.id,
+                position: g.position,
+                component: Component::Unknown,
+            })
             .collect()
     }
 
     /// The DMIG matrix `name` as raw entries on the `6 * grids` DOFs.
     pub fn dmig_matrix(&self, name: &str) -> Result<RawMatrix, FeReadError> {
-        let d = self.dmigs.iter().find(|d| d.name.eq_ignore_ascii_case(name)).ok_or_else(|| {
-            let found: Vec<&str> = self.dmigs.iter().map(|d| d.name.as_str()).collect();
-            FeReadError::MissingMatrix(SourceLocation::line(&self.path, 0), format!("no DMIG '{name}' (found {found:?})"))
-        })?;
-        let index: HashMap<u64, usize> = self.grids.iter().enumerate().map(|(i, g)| (g.id, i)).collect();
+        let d = self
+            .dmigs
+            .iter()
+            .find(|d| d.name.eq_ignore_ascii_case(name))
+            .ok_or_else(|| {
+                let found: Vec<&str> = self.dmigs.iter().map(|d| d.name.as_str()).collect();
+                FeReadError::MissingMatrix(
+                    SourceLocation::line(&self.path, 0),
+                    format!("no DMIG '{name}' (found {found:?})"),
+                )
+            })?;
+        let index: HashMap<u64, usize> = self
+            .grids
+            .iter()
+            .enumerate()
+            .map(|(i, g)| (g.id, i))
+            .collect();
         let n = DOF_PER_NODE * self.grids.len();
         let mut entries = Vec::with_capacity(d.entries.len());
         for &(gj, cj, gi, ci, v, line, col) in &d.entries {
             let dof = |g: u64, c: usize| {
-                index.get(&g).map(|&i| DOF_PER_NODE * i + c - 1).ok_or_else(|| {
-                    FeReadError::MissingNode(SourceLocation::at(&self.path, line, col), format!("DMIG {} refers to grid {g}, which has no GRID card", d.name))
-                })
+                index
+                    .get(&g)
+                    .map(|&i| DOF_PER_NODE * i + c - 1)
+                    .ok_or_else(|| {
+                        FeReadError::MissingNode(
+                            SourceLocation::at(&self.path, line, col),
+                            format!("DMIG {} refers to grid {g}, which has no GRID card", d.name),
+                        )
+                    })
             };
             entries.push((dof(gi, ci)?, dof(gj, cj)?, v, line));
         }
-        let storage = if d.ifo == 6 { Storage::Symmetric } else { Storage::General };
-        Ok(RawMatrix { path: self.path.clone(), header_line: d.header_line, nrows: n, ncols: n, storage, entries })
+        let storage = if d.ifo == 6 {
+            Storage::Symmetric
+        } else {
+            Storage::General
+        };
+        Ok(RawMatrix {
+            path: self.path.clone(),
+            header_line: d.header_line,
+            nrows: n,
+            ncols: n,
+            storage,
+            entries,
+        })
     }
 }
 
@@ -92,6 +125,9 @@ pub fn read_bulk_model(path: &Path, opts: &ReadOptions) -> Result<FeModel, FeRea
     let k = bulk.dmig_matrix(&opts.stiffness_name)?;
     build_model(bulk.nodes(), bulk.elements.clone(), m, k, opts)
 }
+
+/// An element card before node ids are resolved: (id, kind, [(grid id, column)], line).
+type RawElement = (u64, ElementKind, Vec<(u64, usize)>, usize);
 
 /// A data field with its location.
 #[derive(Clone, Debug)]
@@ -140,19 +176,47 @@ fn split_line(line: &str, ln: usize) -> (String, Vec<Field>) {
         let first = parts[0].0.clone();
         let large = first.ends_with('*');
         let per = if large { 4 } else { 8 };
-        let mut fields: Vec<Field> =
-            parts.into_iter().skip(1).take(per).map(|(text, column)| Field { text, line: ln, column }).collect();
+        let mut fields: Vec<Field> = parts
+            .into_iter()
+            .skip(1)
+            .take(per)
+            .map(|(text, column)| Field {
+                text,
+                line: ln,
+                column,
+            })
+            .collect();
         while fields.len() < per {
-            fields.push(Field { text: String::new(), line: ln, column: line.len() + 1 });
+            fields.push(Field {
+                text: String::new(),
+                line: ln,
+                column: line.len() + 1,
+            });
         }
         return (first, fields);
     }
     let chars: Vec<char> = line.chars().collect();
-    let slice = |a: usize, b: usize| -> String { chars.iter().skip(a).take(b.saturating_sub(a)).collect::<String>().trim().to_string() };
+    let slice = |a: usize, b: usize| -> String {
+        chars
+            .iter()
+            .skip(a)
+            .take(b.saturating_sub(a))
+            .collect::<String>()
+            .trim()
+            .to_string()
+    };
     let first = slice(0, 8);
-    let (per, width) = if first.ends_with('*') { (4, 16) } else { (8, 8) };
+    let (per, width) = if first.ends_with('*') {
+        (4, 16)
+    } else {
+        (8, 8)
+    };
     let fields = (0..per)
-        .map(|k| Field { text: slice(8 + k * width, 8 + (k + 1) * width), line: ln, column: 9 + k * width })
+        .map(|k| Field {
+            text: slice(8 + k * width, 8 + (k + 1) * width),
+            line: ln,
+            column: 9 + k * width,
+        })
         .collect();
     (first, fields)
 }
@@ -166,7 +230,10 @@ fn cards(text: &str, path: &Path) -> Result<Vec<Card>, FeReadError> {
     let all: Vec<&str> = text.lines().collect();
     let begin = all
         .iter()
-        .position(|l| l.trim().to_ascii_uppercase().starts_with("BEGIN") && l.to_ascii_uppercase().contains("BULK"))
+        .position(|l| {
+            l.trim().to_ascii_uppercase().starts_with("BEGIN")
+                && l.to_ascii_uppercase().contains("BULK")
+        })
         .map_or(0, |p| p + 1);
     let mut out: Vec<Card> = Vec::new();
     for (k, raw) in all.iter().enumerate().skip(begin) {
@@ -181,12 +248,19 @@ fn cards(text: &str, path: &Path) -> Result<Vec<Card>, FeReadError> {
         let (first, fields) = split_line(&line, ln);
         if is_continuation(&line) {
             let Some(card) = out.last_mut() else {
-                return Err(FeReadError::BadRecord(SourceLocation::line(path, ln), "continuation line without a card"));
+                return Err(FeReadError::BadRecord(
+                    SourceLocation::line(path, ln),
+                    "continuation line without a card",
+                ));
             };
             card.fields.extend(fields);
         } else {
             let name = first.trim_end_matches('*').to_ascii_uppercase();
-            out.push(Card { name, line: ln, fields });
+            out.push(Card {
+                name,
+                line: ln,
+                fields,
+            });
         }
     }
     Ok(out)
@@ -204,21 +278,36 @@ impl Card {
     }
     fn int(&self, path: &Path, k: usize, what: &str) -> Result<i64, FeReadError> {
         let t = self.text(k);
-        t.parse::<i64>()
-            .map_err(|_| FeReadError::BadNumber(self.loc(path, k), format!("{} {what} '{t}' is not an integer", self.name)))
+        t.parse::<i64>().map_err(|_| {
+            FeReadError::BadNumber(
+                self.loc(path, k),
+                format!("{} {what} '{t}' is not an integer", self.name),
+            )
+        })
     }
     fn int_or(&self, path: &Path, k: usize, what: &str, default: i64) -> Result<i64, FeReadError> {
-        if self.text(k).is_empty() { Ok(default) } else { self.int(path, k, what) }
+        if self.text(k).is_empty() {
+            Ok(default)
+        } else {
+            self.int(path, k, what)
+        }
     }
     fn real_or_zero(&self, path: &Path, k: usize, what: &str) -> Result<f64, FeReadError> {
         let t = self.text(k);
         if t.is_empty() {
             return Ok(0.0);
         }
-        let v = super::numbers::parse_nastran_real(t)
-            .ok_or_else(|| FeReadError::BadNumber(self.loc(path, k), format!("{} {what} '{t}' is not a number", self.name)))?;
+        let v = super::numbers::parse_nastran_real(t).ok_or_else(|| {
+            FeReadError::BadNumber(
+                self.loc(path, k),
+                format!("{} {what} '{t}' is not a number", self.name),
+            )
+        })?;
         if !v.is_finite() {
-            return Err(FeReadError::NonFinite(self.loc(path, k), format!("{} {what} '{t}'", self.name)));
+            return Err(FeReadError::NonFinite(
+                self.loc(path, k),
+                format!("{} {what} '{t}'", self.name),
+            ));
         }
         Ok(v)
     }
@@ -228,18 +317,27 @@ impl Card {
 pub fn parse_bulk(text: &str, path: &Path) -> Result<BulkData, FeReadError> {
     let mut grids = Vec::new();
     let mut dmigs: Vec<Dmig> = Vec::new();
-    let mut raw_elements: Vec<(u64, ElementKind, Vec<(u64, usize)>, usize)> = Vec::new();
+    let mut raw_elements: Vec<RawElement> = Vec::new();
     let n_text_lines = text.lines().count();
     for card in cards(text, path)? {
         match card.name.as_str() {
             "GRID" => {
                 let id = card.int(path, 0, "ID")?;
                 if id < 1 {
-                    return Err(FeReadError::BadRecord(card.loc(path, 0), format!("GRID id {id}")));
+                    return Err(FeReadError::BadRecord(
+                        card.loc(path, 0),
+                        format!("GRID id {id}"),
+                    ));
                 }
                 for (k, what) in [(1, "CP"), (5, "CD")] {
                     if card.int_or(path, k, what, 0)? != 0 {
-                        return Err(FeReadError::Unsupported(card.loc(path, k), format!("GRID {id}: {what} {} (only the basic system is supported)", card.text(k))));
+                        return Err(FeReadError::Unsupported(
+                            card.loc(path, k),
+                            format!(
+                                "GRID {id}: {what} {} (only the basic system is supported)",
+                                card.text(k)
+                            ),
+                        ));
                     }
                 }
                 let position = [
@@ -247,7 +345,11 @@ pub fn parse_bulk(text: &str, path: &Path) -> Result<BulkData, FeReadError> {
                     card.real_or_zero(path, 3, "X2")?,
                     card.real_or_zero(path, 4, "X3")?,
                 ];
-                grids.push(GridCard { id: id as u64, position, line: card.line });
+                grids.push(GridCard {
+                    id: id as u64,
+                    position,
+                    line: card.line,
+                });
             }
             "DMIG" => parse_dmig(&card, path, &mut dmigs, n_text_lines)?,
             "CBAR" | "CBEAM" | "CROD" | "CQUAD4" | "CTRIA3" | "RBAR" => {
@@ -268,7 +370,14 @@ pub fn parse_bulk(text: &str, path: &Path) -> Result<BulkData, FeReadError> {
         }
     }
     grids.sort_by_key(|g| g.id);
-    let nodes: Vec<Node> = grids.iter().map(|g| Node { id: g.id, position: g.position, component: Component::Unknown }).collect();
+    let nodes: Vec<Node> = grids
+        .iter()
+        .map(|g| Node {
+            id: g.id,
+            position: g.position,
+            component: Component::Unknown,
+        })
+        .collect();
     let lines: Vec<usize> = grids.iter().map(|g| g.line).collect();
     check_unique_ids(&nodes, &lines, path)?;
     let index: HashMap<u64, usize> = grids.iter().enumerate().map(|(i, g)| (g.id, i)).collect();
@@ -277,50 +386,96 @@ pub fn parse_bulk(text: &str, path: &Path) -> Result<BulkData, FeReadError> {
         let mut idx = Vec::with_capacity(g.len());
         for (gid, col) in g {
             idx.push(*index.get(&gid).ok_or_else(|| {
-                FeReadError::MissingNode(SourceLocation::at(path, line, col), format!("element {eid} uses grid {gid}, which has no GRID card"))
+                FeReadError::MissingNode(
+                    SourceLocation::at(path, line, col),
+                    format!("element {eid} uses grid {gid}, which has no GRID card"),
+                )
             })?);
         }
-        elements.push(Element { id: eid, kind, nodes: idx });
+        elements.push(Element {
+            id: eid,
+            kind,
+            nodes: idx,
+        });
     }
-    Ok(BulkData { path: path.to_path_buf(), grids, dmigs, elements })
+    Ok(BulkData {
+        path: path.to_path_buf(),
+        grids,
+        dmigs,
+        elements,
+    })
 }
 
-fn parse_dmig(card: &Card, path: &Path, dmigs: &mut Vec<Dmig>, n_text_lines: usize) -> Result<(), FeReadError> {
+fn parse_dmig(
+    card: &Card,
+    path: &Path,
+    dmigs: &mut Vec<Dmig>,
+    n_text_lines: usize,
+) -> Result<(), FeReadError> {
     let name = card.text(0).to_ascii_uppercase();
     if name.is_empty() {
-        return Err(FeReadError::BadRecord(card.loc(path, 0), "DMIG without a matrix name"));
+        return Err(FeReadError::BadRecord(
+            card.loc(path, 0),
+            "DMIG without a matrix name",
+        ));
     }
     let second = card.int(path, 1, "GJ")?;
     if second == 0 {
         let ifo = card.int(path, 2, "IFO")?;
         let tin = card.int(path, 3, "TIN")?;
         if !matches!(ifo, 1 | 6) {
-            return Err(FeReadError::Unsupported(card.loc(path, 2), format!("DMIG {name}: IFO {ifo} (1 square or 6 symmetric are read)")));
+            return Err(FeReadError::Unsupported(
+                card.loc(path, 2),
+                format!("DMIG {name}: IFO {ifo} (1 square or 6 symmetric are read)"),
+            ));
         }
         if !matches!(tin, 1 | 2) {
-            return Err(FeReadError::Unsupported(card.loc(path, 3), format!("DMIG {name}: TIN {tin} (only real matrices are read)")));
+            return Err(FeReadError::Unsupported(
+                card.loc(path, 3),
+                format!("DMIG {name}: TIN {tin} (only real matrices are read)"),
+            ));
         }
         if dmigs.iter().any(|d| d.name == name) {
-            return Err(FeReadError::BadRecord(SourceLocation::line(path, card.line), format!("second header for DMIG {name}")));
+            return Err(FeReadError::BadRecord(
+                SourceLocation::line(path, card.line),
+                format!("second header for DMIG {name}"),
+            ));
         }
-        dmigs.push(Dmig { name, ifo, header_line: card.line, entries: Vec::new() });
+        dmigs.push(Dmig {
+            name,
+            ifo,
+            header_line: card.line,
+            entries: Vec::new(),
+        });
         return Ok(());
     }
     let Some(d) = dmigs.iter_mut().find(|d| d.name == name) else {
-        return Err(FeReadError::BadRecord(SourceLocation::line(path, card.line), format!("DMIG {name} column before its header card")));
+        return Err(FeReadError::BadRecord(
+            SourceLocation::line(path, card.line),
+            format!("DMIG {name} column before its header card"),
+        ));
     };
     let gj = second;
     let cj = card.int(path, 2, "CJ")?;
     let comp = |c: i64, k: usize| -> Result<usize, FeReadError> {
         match c {
             1..=6 => Ok(c as usize),
-            0 => Err(FeReadError::Unsupported(card.loc(path, k), format!("DMIG {name}: scalar point (component 0)"))),
-            _ => Err(FeReadError::BadRecord(card.loc(path, k), format!("DMIG {name}: component {c} (expected 1..6)"))),
+            0 => Err(FeReadError::Unsupported(
+                card.loc(path, k),
+                format!("DMIG {name}: scalar point (component 0)"),
+            )),
+            _ => Err(FeReadError::BadRecord(
+                card.loc(path, k),
+                format!("DMIG {name}: component {c} (expected 1..6)"),
+            )),
         }
     };
     let cj = comp(cj, 2)?;
     if gj < 1 {
-        return Err(FeReadError::BadRecord(card.loc(path, 1), format!("DMIG {name}: grid {gj}")));
+        return Err(FeReadError::BadRecord(
+            card.loc(path, 1),
+            format!("DMIG {name}: grid {gj}"),
+        ));
     }
     let mut n_entries = 0;
     let mut k = 4;
@@ -331,24 +486,40 @@ fn parse_dmig(card: &Card, path: &Path, dmigs: &mut Vec<Dmig>, n_text_lines: usi
         }
         let gi = card.int(path, k, "GI")?;
         if gi < 1 {
-            return Err(FeReadError::BadRecord(card.loc(path, k), format!("DMIG {name}: grid {gi}")));
+            return Err(FeReadError::BadRecord(
+                card.loc(path, k),
+                format!("DMIG {name}: grid {gi}"),
+            ));
         }
         let ci = comp(card.int(path, k + 1, "CI")?, k + 1)?;
         if card.text(k + 2).is_empty() {
-            return Err(FeReadError::BadRecord(card.loc(path, k + 2), format!("DMIG {name}: missing value")));
+            return Err(FeReadError::BadRecord(
+                card.loc(path, k + 2),
+                format!("DMIG {name}: missing value"),
+            ));
         }
         let v = card.real_or_zero(path, k + 2, "value")?;
         let loc = card.loc(path, k);
-        d.entries.push((gj as u64, cj, gi as u64, ci, v, loc.line, loc.column));
+        d.entries
+            .push((gj as u64, cj, gi as u64, ci, v, loc.line, loc.column));
         n_entries += 1;
         k += 4;
     }
     if n_entries == 0 {
         let last_line = card.fields.last().map_or(card.line, |f| f.line);
         return Err(if last_line >= n_text_lines {
-            FeReadError::Truncated(SourceLocation::line(path, n_text_lines + 1), format!("DMIG {name} column card at line {} has no entries", card.line))
+            FeReadError::Truncated(
+                SourceLocation::line(path, n_text_lines + 1),
+                format!(
+                    "DMIG {name} column card at line {} has no entries",
+                    card.line
+                ),
+            )
         } else {
-            FeReadError::BadRecord(SourceLocation::line(path, card.line), format!("DMIG {name} column card has no entries"))
+            FeReadError::BadRecord(
+                SourceLocation::line(path, card.line),
+                format!("DMIG {name} column card has no entries"),
+            )
         });
     }
     Ok(())

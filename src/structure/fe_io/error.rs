@@ -19,12 +19,20 @@ pub struct SourceLocation {
 impl SourceLocation {
     /// A location in `path` at `line` (1-based), no column.
     pub fn line(path: &Path, line: usize) -> Self {
-        Self { path: path.to_path_buf(), line, column: 0 }
+        Self {
+            path: path.to_path_buf(),
+            line,
+            column: 0,
+        }
     }
 
     /// A location in `path` at `line` and `column` (both 1-based).
     pub fn at(path: &Path, line: usize, column: usize) -> Self {
-        Self { path: path.to_path_buf(), line, column }
+        Self {
+            path: path.to_path_buf(),
+            line,
+            column,
+        }
     }
 }
 

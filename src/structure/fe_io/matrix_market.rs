@@ -51,12 +51,17 @@ pub fn parse_matrix_market(text: &str, path: &Path) -> Result<RawMatrix, FeReadE
     let (hl, header) = lines
         .next()
         .ok_or_else(|| FeReadError::Truncated(SourceLocation::line(path, 1), "empty file"))?;
-    let words: Vec<String> = header.split_whitespace().map(str::to_ascii_lowercase).collect();
+    let words: Vec<String> = header
+        .split_whitespace()
+        .map(str::to_ascii_lowercase)
+        .collect();
     let w = |k: usize| words.get(k).map(String::as_str).unwrap_or("");
     if w(0) != "%%matrixmarket" || w(1) != "matrix" {
         return Err(FeReadError::UnknownHeader(
             SourceLocation::line(path, hl),
-            format!("expected '%%MatrixMarket matrix coordinate real symmetric|general', found '{header}'"),
+            format!(
+                "expected '%%MatrixMarket matrix coordinate real symmetric|general', found '{header}'"
+            ),
         ));
     }
     if w(2) != "coordinate" || !matches!(w(3), "real" | "double" | "integer") {
@@ -119,13 +124,28 @@ pub fn parse_matrix_market(text: &str, path: &Path) -> Result<RawMatrix, FeReadE
     if entries.len() < nnz {
         return Err(FeReadError::Truncated(
             SourceLocation::line(path, last_line + 1),
-            format!("{} of the {nnz} entries declared on line {sl}", entries.len()),
+            format!(
+                "{} of the {nnz} entries declared on line {sl}",
+                entries.len()
+            ),
         ));
     }
-    Ok(RawMatrix { path: path.to_path_buf(), header_line: sl, nrows, ncols, storage, entries })
+    Ok(RawMatrix {
+        path: path.to_path_buf(),
+        header_line: sl,
+        nrows,
+        ncols,
+        storage,
+        entries,
+    })
 }
 
-fn parse_usizes(line: &str, ln: usize, path: &Path, count: usize) -> Result<Vec<usize>, FeReadError> {
+fn parse_usizes(
+    line: &str,
+    ln: usize,
+    path: &Path,
+    count: usize,
+) -> Result<Vec<usize>, FeReadError> {
     let toks: Vec<&str> = line.split_whitespace().collect();
     if toks.len() != count {
         return Err(FeReadError::BadRecord(
@@ -136,7 +156,10 @@ fn parse_usizes(line: &str, ln: usize, path: &Path, count: usize) -> Result<Vec<
     toks.iter()
         .map(|t| {
             t.parse::<usize>().map_err(|_| {
-                FeReadError::BadNumber(SourceLocation::at(path, ln, column_of(line, t)), format!("'{t}' is not an integer"))
+                FeReadError::BadNumber(
+                    SourceLocation::at(path, ln, column_of(line, t)),
+                    format!("'{t}' is not an integer"),
+                )
             })
         })
         .collect()
@@ -144,8 +167,9 @@ fn parse_usizes(line: &str, ln: usize, path: &Path, count: usize) -> Result<Vec<
 
 fn parse_real(tok: &str, line: &str, ln: usize, path: &Path) -> Result<f64, FeReadError> {
     let loc = || SourceLocation::at(path, ln, column_of(line, tok));
-    let v = super::numbers::parse_nastran_real(tok)
-        .ok_or_else(|| FeReadError::BadNumber(loc(), format!("'{}' is not a number", tok.trim())))?;
+    let v = super::numbers::parse_nastran_real(tok).ok_or_else(|| {
+        FeReadError::BadNumber(loc(), format!("'{}' is not a number", tok.trim()))
+    })?;
     if !v.is_finite() {
         return Err(FeReadError::NonFinite(loc(), format!("'{}'", tok.trim())));
     }
@@ -176,7 +200,10 @@ pub fn parse_nodes_csv(text: &str, path: &Path) -> Result<(Vec<Node>, Vec<usize>
     let (hl, header) = rows
         .next()
         .ok_or_else(|| FeReadError::Truncated(SourceLocation::line(path, 1), "empty node table"))?;
-    let names: Vec<String> = csv_fields(header).iter().map(|(f, _)| f.to_ascii_lowercase()).collect();
+    let names: Vec<String> = csv_fields(header)
+        .iter()
+        .map(|(f, _)| f.to_ascii_lowercase())
+        .collect();
     if names != ["id", "x", "y", "z"] {
         return Err(FeReadError::UnknownHeader(
             SourceLocation::line(path, hl),
@@ -194,18 +221,32 @@ pub fn parse_nodes_csv(text: &str, path: &Path) -> Result<(Vec<Node>, Vec<usize>
             ));
         }
         let id = f[0].0.parse::<u64>().map_err(|_| {
-            FeReadError::BadNumber(SourceLocation::at(path, ln, f[0].1), format!("node id '{}'", f[0].0))
+            FeReadError::BadNumber(
+                SourceLocation::at(path, ln, f[0].1),
+                format!("node id '{}'", f[0].0),
+            )
         })?;
         let mut position = [0.0; 3];
         for (k, p) in position.iter_mut().enumerate() {
             let (t, col) = f[k + 1];
-            *p = super::numbers::parse_nastran_real(t)
-                .ok_or_else(|| FeReadError::BadNumber(SourceLocation::at(path, ln, col), format!("'{t}' is not a number")))?;
+            *p = super::numbers::parse_nastran_real(t).ok_or_else(|| {
+                FeReadError::BadNumber(
+                    SourceLocation::at(path, ln, col),
+                    format!("'{t}' is not a number"),
+                )
+            })?;
             if !p.is_finite() {
-                return Err(FeReadError::NonFinite(SourceLocation::at(path, ln, col), format!("'{t}'")));
+                return Err(FeReadError::NonFinite(
+                    SourceLocation::at(path, ln, col),
+                    format!("'{t}'"),
+                ));
             }
         }
-        nodes.push(Node { id, position, component: Component::Unknown });
+        nodes.push(Node {
+            id,
+            position,
+            component: Component::Unknown,
+        });
         lines.push(ln);
     }
     check_unique_ids(&nodes, &lines, path)?;
@@ -213,7 +254,11 @@ pub fn parse_nodes_csv(text: &str, path: &Path) -> Result<(Vec<Node>, Vec<usize>
 }
 
 /// Parses the element list (`id,kind,n1,n2,...`), mapping node ids to indices into `nodes`.
-pub fn parse_elements_csv(text: &str, path: &Path, nodes: &[Node]) -> Result<Vec<Element>, FeReadError> {
+pub fn parse_elements_csv(
+    text: &str,
+    path: &Path,
+    nodes: &[Node],
+) -> Result<Vec<Element>, FeReadError> {
     let index: std::collections::HashMap<u64, usize> =
         nodes.iter().enumerate().map(|(i, n)| (n.id, i)).collect();
     let mut rows = text
@@ -221,11 +266,18 @@ pub fn parse_elements_csv(text: &str, path: &Path, nodes: &[Node]) -> Result<Vec
         .enumerate()
         .map(|(i, l)| (i + 1, l))
         .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
-    let (hl, header) = rows
-        .next()
-        .ok_or_else(|| FeReadError::Truncated(SourceLocation::line(path, 1), "empty element list"))?;
-    let names: Vec<String> = csv_fields(header).iter().map(|(f, _)| f.to_ascii_lowercase()).collect();
-    let nodes_ok = names.len() > 2 && names[2..].iter().enumerate().all(|(k, n)| *n == format!("n{}", k + 1));
+    let (hl, header) = rows.next().ok_or_else(|| {
+        FeReadError::Truncated(SourceLocation::line(path, 1), "empty element list")
+    })?;
+    let names: Vec<String> = csv_fields(header)
+        .iter()
+        .map(|(f, _)| f.to_ascii_lowercase())
+        .collect();
+    let nodes_ok = names.len() > 2
+        && names[2..]
+            .iter()
+            .enumerate()
+            .all(|(k, n)| *n == format!("n{}", k + 1));
     if names.len() < 3 || names[0] != "id" || names[1] != "kind" || !nodes_ok {
         return Err(FeReadError::UnknownHeader(
             SourceLocation::line(path, hl),
@@ -237,13 +289,20 @@ pub fn parse_elements_csv(text: &str, path: &Path, nodes: &[Node]) -> Result<Vec
     for (ln, line) in rows {
         let f = csv_fields(line);
         let id = f[0].0.parse::<u64>().map_err(|_| {
-            FeReadError::BadNumber(SourceLocation::at(path, ln, f[0].1), format!("element id '{}'", f[0].0))
+            FeReadError::BadNumber(
+                SourceLocation::at(path, ln, f[0].1),
+                format!("element id '{}'", f[0].0),
+            )
         })?;
         if !seen.insert(id) {
-            return Err(FeReadError::BadRecord(SourceLocation::line(path, ln), format!("element {id} defined twice")));
+            return Err(FeReadError::BadRecord(
+                SourceLocation::line(path, ln),
+                format!("element {id} defined twice"),
+            ));
         }
         let (kind_text, kind_col) = f.get(1).copied().unwrap_or(("", line.len() + 1));
-        let (kind, allowed): (ElementKind, &[usize]) = match kind_text.to_ascii_lowercase().as_str() {
+        let (kind, allowed): (ElementKind, &[usize]) = match kind_text.to_ascii_lowercase().as_str()
+        {
             "beam" => (ElementKind::Beam, &[2]),
             "link" => (ElementKind::Link, &[2]),
             "shell" => (ElementKind::Shell, &[3, 4]),
@@ -260,17 +319,27 @@ pub fn parse_elements_csv(text: &str, path: &Path, nodes: &[Node]) -> Result<Vec
                 FeReadError::BadNumber(SourceLocation::at(path, ln, col), format!("node id '{t}'"))
             })?;
             let i = index.get(&nid).copied().ok_or_else(|| {
-                FeReadError::MissingNode(SourceLocation::at(path, ln, col), format!("element {id} uses node {nid}"))
+                FeReadError::MissingNode(
+                    SourceLocation::at(path, ln, col),
+                    format!("element {id} uses node {nid}"),
+                )
             })?;
             idx.push(i);
         }
         if !allowed.contains(&idx.len()) {
             return Err(FeReadError::BadRecord(
                 SourceLocation::line(path, ln),
-                format!("element {id} of kind {kind_text} has {} nodes, expected {allowed:?}", idx.len()),
+                format!(
+                    "element {id} of kind {kind_text} has {} nodes, expected {allowed:?}",
+                    idx.len()
+                ),
             ));
         }
-        out.push(Element { id, kind, nodes: idx });
+        out.push(Element {
+            id,
+            kind,
+            nodes: idx,
+        });
     }
     Ok(out)
 }

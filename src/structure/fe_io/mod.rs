@@ -58,9 +58,13 @@ pub(crate) fn sparse_axpy(
     alpha: f64,
     b: &SparseColMat<usize, f64>,
 ) -> Option<SparseColMat<usize, f64>> {
-    let mut t: Vec<Triplet<usize, usize, f64>> = Vec::with_capacity(a.compute_nnz() + b.compute_nnz());
+    let mut t: Vec<Triplet<usize, usize, f64>> =
+        Vec::with_capacity(a.compute_nnz() + b.compute_nnz());
     t.extend(a.triplet_iter().map(|x| Triplet::new(x.row, x.col, *x.val)));
-    t.extend(b.triplet_iter().map(|x| Triplet::new(x.row, x.col, alpha * *x.val)));
+    t.extend(
+        b.triplet_iter()
+            .map(|x| Triplet::new(x.row, x.col, alpha * *x.val)),
+    );
     SparseColMat::try_new_from_triplets(a.nrows(), a.ncols(), &t).ok()
 }
 
@@ -87,11 +91,19 @@ pub fn validate(model: &FeModel) -> Result<(), FeReadError> {
         if m.nrows() != n || m.ncols() != n {
             return Err(FeReadError::SizeNotSixPerNode(
                 loc(),
-                format!("{name} is {} x {}, {} nodes need {n}", m.nrows(), m.ncols(), n / DOF_PER_NODE),
+                format!(
+                    "{name} is {} x {}, {} nodes need {n}",
+                    m.nrows(),
+                    m.ncols(),
+                    n / DOF_PER_NODE
+                ),
             ));
         }
         if let Some(t) = m.triplet_iter().find(|t| !t.val.is_finite()) {
-            return Err(FeReadError::NonFinite(loc(), format!("{name} ({}, {})", t.row + 1, t.col + 1)));
+            return Err(FeReadError::NonFinite(
+                loc(),
+                format!("{name} ({}, {})", t.row + 1, t.col + 1),
+            ));
         }
     }
     let max_diag = model
@@ -100,10 +112,14 @@ pub fn validate(model: &FeModel) -> Result<(), FeReadError> {
         .filter(|t| t.row == t.col)
         .fold(0.0_f64, |acc, t| acc.max(*t.val));
     if max_diag <= 0.0 {
-        return Err(FeReadError::MassNotPositiveSemiDefinite(loc(), "the mass matrix has no positive diagonal entry"));
+        return Err(FeReadError::MassNotPositiveSemiDefinite(
+            loc(),
+            "the mass matrix has no positive diagonal entry",
+        ));
     }
     let delta = PSD_TEST_SHIFT * max_diag;
-    let identity: Vec<Triplet<usize, usize, f64>> = (0..n).map(|i| Triplet::new(i, i, 1.0)).collect();
+    let identity: Vec<Triplet<usize, usize, f64>> =
+        (0..n).map(|i| Triplet::new(i, i, 1.0)).collect();
     let eye = SparseColMat::try_new_from_triplets(n, n, &identity)
         .map_err(|e| FeReadError::BadRecord(loc(), format!("{e:?}")))?;
     let shifted = sparse_axpy(&model.mass, delta, &eye)
@@ -111,7 +127,9 @@ pub fn validate(model: &FeModel) -> Result<(), FeReadError> {
     shifted.sp_cholesky(Side::Lower).map(|_| ()).map_err(|e| {
         FeReadError::MassNotPositiveSemiDefinite(
             loc(),
-            format!("Cholesky of M + {delta:.3e} I failed ({e}): M has an eigenvalue below -{delta:.3e}"),
+            format!(
+                "Cholesky of M + {delta:.3e} I failed ({e}): M has an eigenvalue below -{delta:.3e}"
+            ),
         )
     })
 }

@@ -13,7 +13,8 @@ pub fn parse_nastran_real(text: &str) -> Option<f64> {
         // Implicit exponent: a sign after the first character that follows a digit or '.'.
         let bytes = t.as_bytes();
         if let Some(pos) = (1..bytes.len()).find(|&k| {
-            (bytes[k] == b'+' || bytes[k] == b'-') && (bytes[k - 1].is_ascii_digit() || bytes[k - 1] == b'.')
+            (bytes[k] == b'+' || bytes[k] == b'-')
+                && (bytes[k - 1].is_ascii_digit() || bytes[k - 1] == b'.')
         }) {
             t.insert(pos, 'E');
         }

@@ -32,7 +32,11 @@ pub struct Op4Matrix {
 /// Reads M and K (by the names in `opts`) from an ASCII OP4 file, and the node positions from
 /// the GRID cards of a bulk data file. Rows follow the grids in ascending id order, NASTRAN's
 /// internal order of the a-set without resequencing.
-pub fn read_op4_model(op4: &Path, grid_bulk: &Path, opts: &ReadOptions) -> Result<FeModel, FeReadError> {
+pub fn read_op4_model(
+    op4: &Path,
+    grid_bulk: &Path,
+    opts: &ReadOptions,
+) -> Result<FeModel, FeReadError> {
     let bulk = parse_bulk(&read_text(grid_bulk)?, grid_bulk)?;
     let matrices = parse_op4_ascii(&read_text(op4)?, op4)?;
     let take = |name: &str| {
@@ -42,7 +46,10 @@ pub fn read_op4_model(op4: &Path, grid_bulk: &Path, opts: &ReadOptions) -> Resul
             .map(|m| m.matrix.clone())
             .ok_or_else(|| {
                 let found: Vec<&str> = matrices.iter().map(|m| m.name.as_str()).collect();
-                FeReadError::MissingMatrix(SourceLocation::line(op4, 0), format!("no matrix '{name}' (found {found:?})"))
+                FeReadError::MissingMatrix(
+                    SourceLocation::line(op4, 0),
+                    format!("no matrix '{name}' (found {found:?})"),
+                )
             })
     };
     let m = take(&opts.mass_name)?;
@@ -73,12 +80,17 @@ fn integers(line: &str) -> Option<Vec<i64>> {
     if line.contains(['.', 'E', 'e', 'D', 'd']) {
         return None;
     }
-    line.split_whitespace().map(|t| t.parse::<i64>().ok()).collect()
+    line.split_whitespace()
+        .map(|t| t.parse::<i64>().ok())
+        .collect()
 }
 
 /// Parses every matrix of an ASCII OP4 file.
 pub fn parse_op4_ascii(text: &str, path: &Path) -> Result<Vec<Op4Matrix>, FeReadError> {
-    let mut lines = Lines { lines: text.lines().collect(), next: 0 };
+    let mut lines = Lines {
+        lines: text.lines().collect(),
+        next: 0,
+    };
     let mut out = Vec::new();
     while let Some((hl, header)) = lines.peek() {
         lines.advance();
@@ -88,12 +100,20 @@ pub fn parse_op4_ascii(text: &str, path: &Path) -> Result<Vec<Op4Matrix>, FeRead
         out.push(parse_matrix(&mut lines, hl, header, path)?);
     }
     if out.is_empty() {
-        return Err(FeReadError::Truncated(SourceLocation::line(path, 1), "no OP4 matrix header"));
+        return Err(FeReadError::Truncated(
+            SourceLocation::line(path, 1),
+            "no OP4 matrix header",
+        ));
     }
     Ok(out)
 }
 
-fn parse_matrix(lines: &mut Lines<'_>, hl: usize, header: &str, path: &Path) -> Result<Op4Matrix, FeReadError> {
+fn parse_matrix(
+    lines: &mut Lines<'_>,
+    hl: usize,
+    header: &str,
+    path: &Path,
+) -> Result<Op4Matrix, FeReadError> {
     let bad_header = |why: &str| {
         FeReadError::UnknownHeader(
             SourceLocation::line(path, hl),
@@ -101,10 +121,23 @@ fn parse_matrix(lines: &mut Lines<'_>, hl: usize, header: &str, path: &Path) -> 
         )
     };
     let head: String = header.chars().take(32).collect();
-    let ints = integers(&head).filter(|v| v.len() == 4).ok_or_else(|| bad_header("four integers expected"))?;
+    let ints = integers(&head)
+        .filter(|v| v.len() == 4)
+        .ok_or_else(|| bad_header("four integers expected"))?;
     let (ncols, nrows_signed, form, typ) = (ints[0], ints[1], ints[2], ints[3]);
-    let name: String = header.chars().skip(32).take(8).collect::<String>().trim().to_string();
-    let fmt: String = header.chars().skip(40).collect::<String>().trim().to_ascii_uppercase();
+    let name: String = header
+        .chars()
+        .skip(32)
+        .take(8)
+        .collect::<String>()
+        .trim()
+        .to_string();
+    let fmt: String = header
+        .chars()
+        .skip(40)
+        .collect::<String>()
+        .trim()
+        .to_ascii_uppercase();
     let (per_line, width) = parse_format(&fmt).ok_or_else(|| bad_header("unknown value format"))?;
     if name.is_empty() || ncols <= 0 || nrows_signed == 0 {
         return Err(bad_header("bad size or missing name"));
@@ -129,14 +162,22 @@ fn parse_matrix(lines: &mut Lines<'_>, hl: usize, header: &str, path: &Path) -> 
     let nrows = nrows_signed.unsigned_abs() as usize;
     let ncols = ncols as usize;
     let mut entries = Vec::new();
-    let truncated = |lines: &Lines<'_>, what: String| FeReadError::Truncated(SourceLocation::line(path, lines.eof_line()), what);
+    let truncated = |lines: &Lines<'_>, what: String| {
+        FeReadError::Truncated(SourceLocation::line(path, lines.eof_line()), what)
+    };
     loop {
-        let (rl, rec) = lines
-            .peek()
-            .ok_or_else(|| truncated(lines, format!("matrix {name} (header line {hl}) has no terminating column record")))?;
+        let (rl, rec) = lines.peek().ok_or_else(|| {
+            truncated(
+                lines,
+                format!("matrix {name} (header line {hl}) has no terminating column record"),
+            )
+        })?;
         lines.advance();
         let r = integers(rec).filter(|v| v.len() == 3).ok_or_else(|| {
-            FeReadError::BadRecord(SourceLocation::line(path, rl), format!("expected column record 'icol irow nw', found '{rec}'"))
+            FeReadError::BadRecord(
+                SourceLocation::line(path, rl),
+                format!("expected column record 'icol irow nw', found '{rec}'"),
+            )
         })?;
         let (icol, irow, nw) = (r[0], r[1], r[2]);
         if icol as usize > ncols {
@@ -145,7 +186,10 @@ fn parse_matrix(lines: &mut Lines<'_>, hl: usize, header: &str, path: &Path) -> 
             break;
         }
         if icol < 1 || irow < 0 || nw < 0 {
-            return Err(FeReadError::BadRecord(SourceLocation::line(path, rl), format!("bad column record '{rec}'")));
+            return Err(FeReadError::BadRecord(
+                SourceLocation::line(path, rl),
+                format!("bad column record '{rec}'"),
+            ));
         }
         let col = icol as usize - 1;
         if irow > 0 {
@@ -158,23 +202,35 @@ fn parse_matrix(lines: &mut Lines<'_>, hl: usize, header: &str, path: &Path) -> 
             // Sparse strings until the next 3-integer record.
             while let Some((sl, s)) = lines.peek() {
                 let Some(ints) = integers(s) else {
-                    return Err(FeReadError::BadRecord(SourceLocation::line(path, sl), "values without a string header"));
+                    return Err(FeReadError::BadRecord(
+                        SourceLocation::line(path, sl),
+                        "values without a string header",
+                    ));
                 };
                 let start_row = match (bigmat, ints.as_slice()) {
                     (_, [_, _, _]) => break,
                     (true, [_, row]) => *row,
                     (false, [is]) => is - 65536 * (is / 65536),
                     _ => {
-                        return Err(FeReadError::BadRecord(SourceLocation::line(path, sl), format!("bad string header '{s}'")));
+                        return Err(FeReadError::BadRecord(
+                            SourceLocation::line(path, sl),
+                            format!("bad string header '{s}'"),
+                        ));
                     }
                 };
                 lines.advance();
                 if start_row < 1 {
-                    return Err(FeReadError::BadRecord(SourceLocation::line(path, sl), format!("bad string header '{s}'")));
+                    return Err(FeReadError::BadRecord(
+                        SourceLocation::line(path, sl),
+                        format!("bad string header '{s}'"),
+                    ));
                 }
                 let values = read_values(lines, per_line, width, usize::MAX, path)?;
                 if values.is_empty() {
-                    return Err(truncated(lines, format!("string at line {sl} has no values")));
+                    return Err(truncated(
+                        lines,
+                        format!("string at line {sl} has no values"),
+                    ));
                 }
                 for (k, (v, line)) in values.into_iter().enumerate() {
                     entries.push((start_row as usize - 1 + k, col, v, line));
@@ -187,26 +243,50 @@ fn parse_matrix(lines: &mut Lines<'_>, hl: usize, header: &str, path: &Path) -> 
         if i >= nrows || j >= ncols {
             return Err(FeReadError::IndexOutOfRange(
                 SourceLocation::line(path, line),
-                format!("({}, {}) outside {nrows} x {ncols} matrix {name}", i + 1, j + 1),
+                format!(
+                    "({}, {}) outside {nrows} x {ncols} matrix {name}",
+                    i + 1,
+                    j + 1
+                ),
             ));
         }
     }
     Ok(Op4Matrix {
         name,
         form,
-        matrix: RawMatrix { path: path.to_path_buf(), header_line: hl, nrows, ncols, storage, entries },
+        matrix: RawMatrix {
+            path: path.to_path_buf(),
+            header_line: hl,
+            nrows,
+            ncols,
+            storage,
+            entries,
+        },
     })
 }
 
-fn check_count(nw: i64, got: usize, typ: i64, rl: usize, path: &Path, lines: &Lines<'_>) -> Result<(), FeReadError> {
+fn check_count(
+    nw: i64,
+    got: usize,
+    typ: i64,
+    rl: usize,
+    path: &Path,
+    lines: &Lines<'_>,
+) -> Result<(), FeReadError> {
     let nw = nw as usize;
     if got == nw || (typ == 2 && 2 * got == nw) {
         return Ok(());
     }
     let loc = if lines.peek().is_none() {
-        FeReadError::Truncated(SourceLocation::line(path, lines.eof_line()), format!("column record at line {rl} announces {nw} words, {got} values follow"))
+        FeReadError::Truncated(
+            SourceLocation::line(path, lines.eof_line()),
+            format!("column record at line {rl} announces {nw} words, {got} values follow"),
+        )
     } else {
-        FeReadError::BadRecord(SourceLocation::line(path, rl), format!("column record announces {nw} words, {got} values follow"))
+        FeReadError::BadRecord(
+            SourceLocation::line(path, rl),
+            format!("column record announces {nw} words, {got} values follow"),
+        )
     };
     Err(loc)
 }
@@ -222,7 +302,13 @@ fn parse_format(fmt: &str) -> Option<(usize, usize)> {
 
 /// Reads consecutive value lines (fixed-width fields); stops at an integer line, at EOF, or
 /// once `limit` values are read.
-fn read_values(lines: &mut Lines<'_>, per_line: usize, width: usize, limit: usize, path: &Path) -> Result<Vec<(f64, usize)>, FeReadError> {
+fn read_values(
+    lines: &mut Lines<'_>,
+    per_line: usize,
+    width: usize,
+    limit: usize,
+    path: &Path,
+) -> Result<Vec<(f64, usize)>, FeReadError> {
     let mut out = Vec::new();
     while let Some((ln, line)) = lines.peek() {
         if integers(line).is_some() || out.len() >= limit {
@@ -231,13 +317,17 @@ fn read_values(lines: &mut Lines<'_>, per_line: usize, width: usize, limit: usiz
         lines.advance();
         let chars: Vec<char> = line.trim_end().chars().collect();
         if chars.len() > per_line * width {
-            return Err(FeReadError::BadRecord(SourceLocation::line(path, ln), format!("more than {per_line} values of width {width}")));
+            return Err(FeReadError::BadRecord(
+                SourceLocation::line(path, ln),
+                format!("more than {per_line} values of width {width}"),
+            ));
         }
         for (k, chunk) in chars.chunks(width).enumerate() {
             let t: String = chunk.iter().collect();
             let loc = || SourceLocation::at(path, ln, 1 + k * width);
-            let v = super::numbers::parse_nastran_real(&t)
-                .ok_or_else(|| FeReadError::BadNumber(loc(), format!("'{}' is not a number", t.trim())))?;
+            let v = super::numbers::parse_nastran_real(&t).ok_or_else(|| {
+                FeReadError::BadNumber(loc(), format!("'{}' is not a number", t.trim()))
+            })?;
             if !v.is_finite() {
                 return Err(FeReadError::NonFinite(loc(), format!("'{}'", t.trim())));
             }

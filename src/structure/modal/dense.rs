@@ -1,6 +1,8 @@
 //! Dense path: Cholesky reduction of (K, M) and a full symmetric eigendecomposition.
 
-use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_upper_triangular_in_place};
+use faer::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+};
 use faer::{Mat, Par, Side};
 
 use super::{ModalError, ModalOptions, Modes, finish};
@@ -9,7 +11,11 @@ use crate::structure::fe_model::FeModel;
 /// Dense solve: M = L L^T, C = L^-1 K L^-T (symmetrised), C = U S U^T, Phi = L^-T U.
 /// The columns of Phi are M-orthonormal because U is orthogonal:
 /// Phi^T M Phi = U^T L^-1 L L^T L^-T U = I.
-pub fn solve_dense_with(model: &FeModel, n_elastic_wanted: usize, opts: &ModalOptions) -> Result<Modes, ModalError> {
+pub fn solve_dense_with(
+    model: &FeModel,
+    n_elastic_wanted: usize,
+    opts: &ModalOptions,
+) -> Result<Modes, ModalError> {
     let n = model.n_dof();
     if n == 0 {
         return Err(ModalError::EmptyModel("no DOF".into()));
@@ -33,10 +39,14 @@ pub fn solve_dense_with(model: &FeModel, n_elastic_wanted: usize, opts: &ModalOp
     // after scaling to ||C|| = 1 the residual is ~1e-14 (see tests/modal.rs).
     let c_norm = c.norm_l2();
     if !(c_norm.is_finite() && c_norm > 0.0) {
-        return Err(ModalError::Eigensolver(format!("L^-1 K L^-T has norm {c_norm}")));
+        return Err(ModalError::Eigensolver(format!(
+            "L^-1 K L^-T has norm {c_norm}"
+        )));
     }
     let c = Mat::from_fn(n, n, |i, j| 0.5 * (c[(i, j)] + c[(j, i)]) / c_norm);
-    let evd = c.self_adjoint_eigen(Side::Lower).map_err(|e| ModalError::Eigensolver(format!("{e:?}")))?;
+    let evd = c
+        .self_adjoint_eigen(Side::Lower)
+        .map_err(|e| ModalError::Eigensolver(format!("{e:?}")))?;
     let lambda: Vec<f64> = (0..n).map(|i| evd.S()[i] * c_norm).collect();
     let mut phi = evd.U().to_owned();
     solve_upper_triangular_in_place(l.transpose(), phi.as_mut(), par); // Phi = L^-T U

@@ -51,7 +51,9 @@ pub enum ModalError {
     #[error("K - sigma M is not positive definite for any shift tried: {0}")]
     ShiftedNotPositiveDefinite(String),
     /// More than 6 zero-frequency modes.
-    #[error("more than 6 zero-frequency modes: the model has mechanisms ({n_zero} zero-frequency modes found)")]
+    #[error(
+        "more than 6 zero-frequency modes: the model has mechanisms ({n_zero} zero-frequency modes found)"
+    )]
     Mechanisms { n_zero: usize },
     /// The eigensolver failed or did not converge.
     #[error("eigensolver failed: {0}")]
@@ -86,7 +88,10 @@ pub struct Modes {
 impl Modes {
     /// Natural frequencies f = sqrt(omega^2) / (2 pi) in Hz (negative round-off clamps to 0).
     pub fn frequencies_hz(&self) -> Vec<f64> {
-        self.omega2.iter().map(|&w2| w2.max(0.0).sqrt() / (2.0 * std::f64::consts::PI)).collect()
+        self.omega2
+            .iter()
+            .map(|&w2| w2.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
+            .collect()
     }
 
     /// Frequencies of the elastic modes only, in Hz.
@@ -111,7 +116,12 @@ pub struct ModalOptions {
 
 impl Default for ModalOptions {
     fn default() -> Self {
-        Self { rigid_rel_tol: 1e-10, dense_max_dof: 2000, shift_rel: 1e-9, lanczos_tol: 1e-13 }
+        Self {
+            rigid_rel_tol: 1e-10,
+            dense_max_dof: 2000,
+            shift_rel: 1e-9,
+            lanczos_tol: 1e-13,
+        }
     }
 }
 
@@ -146,15 +156,25 @@ pub(crate) fn lambda_scale(model: &FeModel) -> Result<f64, ModalError> {
     for t in model.mass.triplet_iter().filter(|t| t.row == t.col) {
         km[t.row].1 = *t.val;
     }
-    let s = km.iter().filter(|(_, m)| *m > 0.0).map(|(k, m)| k / m).fold(0.0_f64, f64::max);
+    let s = km
+        .iter()
+        .filter(|(_, m)| *m > 0.0)
+        .map(|(k, m)| k / m)
+        .fold(0.0_f64, f64::max);
     if n == 0 || s <= 0.0 || !s.is_finite() {
-        return Err(ModalError::EmptyModel(format!("{n} DOF, K_ii/M_ii scale {s}")));
+        return Err(ModalError::EmptyModel(format!(
+            "{n} DOF, K_ii/M_ii scale {s}"
+        )));
     }
     Ok(s)
 }
 
 /// `x^T A y` for a sparse symmetric A.
-pub(crate) fn quad(a: &faer::sparse::SparseColMat<usize, f64>, x: faer::ColRef<'_, f64>, y: faer::ColRef<'_, f64>) -> f64 {
+pub(crate) fn quad(
+    a: &faer::sparse::SparseColMat<usize, f64>,
+    x: faer::ColRef<'_, f64>,
+    y: faer::ColRef<'_, f64>,
+) -> f64 {
     a.triplet_iter().map(|t| x[t.row] * t.val * y[t.col]).sum()
 }
 
@@ -180,15 +200,22 @@ pub(crate) fn finish(
     let mut rigid: Vec<faer::Col<f64>> = Vec::new();
     if n_zero == 6 {
         if let Some(basis) = rigid::m_orthonormal(&model.mass, rigid::rigid_body_vectors(model)) {
-            if basis.iter().all(|r| quad(&model.stiffness, r.as_ref(), r.as_ref()) < tol) {
+            if basis
+                .iter()
+                .all(|r| quad(&model.stiffness, r.as_ref(), r.as_ref()) < tol)
+            {
                 rigid = basis;
             }
         }
     }
     if rigid.is_empty() {
-        let numerical: Vec<faer::Col<f64>> = order[..n_zero].iter().map(|&i| vecs.col(i).to_owned()).collect();
-        rigid = rigid::m_orthonormal(&model.mass, numerical)
-            .ok_or_else(|| ModalError::Eigensolver("rigid-body modes are linearly dependent".into()))?;
+        let numerical: Vec<faer::Col<f64>> = order[..n_zero]
+            .iter()
+            .map(|&i| vecs.col(i).to_owned())
+            .collect();
+        rigid = rigid::m_orthonormal(&model.mass, numerical).ok_or_else(|| {
+            ModalError::Eigensolver("rigid-body modes are linearly dependent".into())
+        })?;
     }
     let n_el = n_elastic_wanted.min(order.len() - n_zero);
     let mut mr: Vec<faer::Col<f64>> = Vec::new();
@@ -204,7 +231,9 @@ pub(crate) fn finish(
         }
         let mass = quad(&model.mass, phi.as_ref(), phi.as_ref());
         if mass <= 0.0 || !mass.is_finite() {
-            return Err(ModalError::Eigensolver(format!("elastic mode {k} has modal mass {mass}")));
+            return Err(ModalError::Eigensolver(format!(
+                "elastic mode {k} has modal mass {mass}"
+            )));
         }
         phi *= faer::Scale(1.0 / mass.sqrt());
         elastic.push((quad(&model.stiffness, phi.as_ref(), phi.as_ref()), phi));
@@ -221,5 +250,9 @@ pub(crate) fn finish(
         omega2.push(w2);
         shapes.col_mut(n_zero + k).copy_from(&phi);
     }
-    Ok(Modes { omega2, shapes, n_rigid: n_zero })
+    Ok(Modes {
+        omega2,
+        shapes,
+        n_rigid: n_zero,
+    })
 }

@@ -25,7 +25,11 @@ pub fn rigid_body_vectors(model: &FeModel) -> Vec<Col<f64>> {
         let mut v = Col::<f64>::zeros(n);
         for (i, node) in model.nodes.iter().enumerate() {
             let r = node.position;
-            let exr = [e[1] * r[2] - e[2] * r[1], e[2] * r[0] - e[0] * r[2], e[0] * r[1] - e[1] * r[0]];
+            let exr = [
+                e[1] * r[2] - e[2] * r[1],
+                e[2] * r[0] - e[0] * r[2],
+                e[0] * r[1] - e[1] * r[0],
+            ];
             for k in 0..3 {
                 v[DOF_PER_NODE * i + k] = exr[k];
                 v[DOF_PER_NODE * i + 3 + k] = e[k];
@@ -47,7 +51,10 @@ pub(crate) fn sparse_matvec(a: &SparseColMat<usize, f64>, x: ColRef<'_, f64>) ->
 
 /// Modified Gram-Schmidt in the M inner product (twice, for stability). `None` if the
 /// vectors are linearly dependent in that inner product.
-pub(crate) fn m_orthonormal(m: &SparseColMat<usize, f64>, vectors: Vec<Col<f64>>) -> Option<Vec<Col<f64>>> {
+pub(crate) fn m_orthonormal(
+    m: &SparseColMat<usize, f64>,
+    vectors: Vec<Col<f64>>,
+) -> Option<Vec<Col<f64>>> {
     let mut basis: Vec<(Col<f64>, Col<f64>)> = Vec::with_capacity(vectors.len());
     for mut v in vectors {
         let norm0 = {
@@ -62,7 +69,7 @@ pub(crate) fn m_orthonormal(m: &SparseColMat<usize, f64>, vectors: Vec<Col<f64>>
         }
         let mv = sparse_matvec(m, v.as_ref());
         let norm = dot(&mv, &v).max(0.0).sqrt();
-        if !(norm > 1e-10 * norm0) || norm == 0.0 {
+        if norm.is_nan() || norm <= 1e-10 * norm0 || norm == 0.0 {
             return None;
         }
         let s = faer::Scale(1.0 / norm);

@@ -13,14 +13,17 @@
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::matrix_free::LinOp;
-use faer::matrix_free::eigen::{PartialEigenParams, partial_self_adjoint_eigen, partial_self_adjoint_eigen_scratch};
+use faer::matrix_free::eigen::{
+    PartialEigenParams, partial_self_adjoint_eigen, partial_self_adjoint_eigen_scratch,
+};
 use faer::sparse::SparseColMat;
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::linalg::cholesky::supernodal::{SupernodalLltRef, SymbolicSupernodalCholesky};
 use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering, factorize_symbolic_cholesky,
+    CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky,
 };
-use faer::{Col, Conj, Mat, MatMut, MatRef, Par, Side};
+use faer::{Conj, Mat, MatMut, MatRef, Par, Side};
 
 use super::rigid::sparse_matvec;
 use super::{ModalError, ModalOptions, Modes, finish, lambda_scale, quad};
@@ -40,7 +43,12 @@ struct ShiftInvert<'a> {
 
 impl std::fmt::Debug for ShiftInvert<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "ShiftInvert(n = {}, deflated {})", self.fwd.len(), self.z.ncols())
+        write!(
+            f,
+            "ShiftInvert(n = {}, deflated {})",
+            self.fwd.len(),
+            self.z.ncols()
+        )
     }
 }
 
@@ -53,7 +61,8 @@ impl ShiftInvert<'_> {
     fn back_transform(&self, z: MatRef<'_, f64>, stack: &mut MemStack) -> Mat<f64> {
         let n = self.fwd.len();
         let mut y = z.to_owned();
-        self.factor().l_transpose_solve_with_conj(Conj::No, y.as_mut(), Par::Seq, stack);
+        self.factor()
+            .l_transpose_solve_with_conj(Conj::No, y.as_mut(), Par::Seq, stack);
         let mut phi = Mat::<f64>::zeros(n, z.ncols());
         for j in 0..z.ncols() {
             for i in 0..n {
@@ -67,7 +76,8 @@ impl ShiftInvert<'_> {
     fn forward_transform(&self, w: MatRef<'_, f64>, stack: &mut MemStack) -> Mat<f64> {
         let n = self.fwd.len();
         let mut out = Mat::<f64>::from_fn(n, w.ncols(), |i, j| w[(self.fwd[i], j)]);
-        self.factor().l_solve_with_conj(Conj::No, out.as_mut(), Par::Seq, stack);
+        self.factor()
+            .l_solve_with_conj(Conj::No, out.as_mut(), Par::Seq, stack);
         out
     }
 
@@ -106,7 +116,13 @@ impl LinOp<f64> for ShiftInvert<'_> {
         let mut out = out;
         out.copy_from(&y);
     }
-    fn conj_apply(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, par: Par, stack: &mut MemStack) {
+    fn conj_apply(
+        &self,
+        out: MatMut<'_, f64>,
+        rhs: MatRef<'_, f64>,
+        par: Par,
+        stack: &mut MemStack,
+    ) {
         self.apply(out, rhs, par, stack);
     }
 }
@@ -122,7 +138,9 @@ fn factorize(
     for _ in 0..9 {
         let a = sparse_axpy(&model.stiffness, shift, &model.mass)
             .ok_or_else(|| ModalError::Eigensolver("cannot form K - sigma M".into()))?;
-        let mut mem = MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()));
+        let mut mem = MemBuffer::new(
+            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+        );
         match symbolic.factorize_numeric_llt(
             values,
             a.as_ref(),
@@ -144,13 +162,21 @@ fn factorize(
 
 /// Runs Lanczos for the `n_ev` largest eigenvalues of `op`; returns (lambda, phi) with lambda
 /// the Rayleigh quotients phi^T K phi / phi^T M phi.
-fn lanczos(model: &FeModel, op: &ShiftInvert<'_>, n_ev: usize, opts: &ModalOptions) -> Result<(Vec<f64>, Mat<f64>), ModalError> {
+fn lanczos(
+    model: &FeModel,
+    op: &ShiftInvert<'_>,
+    n_ev: usize,
+    opts: &ModalOptions,
+) -> Result<(Vec<f64>, Mat<f64>), ModalError> {
     let n = model.n_dof();
     let mut eigvecs = Mat::<f64>::zeros(n, n_ev);
     let mut eigvals = vec![0.0; n_ev];
     let mut v0 = Mat::<f64>::from_fn(n, 1, |i, _| 1.0 + 0.5 * (0.7 * i as f64).sin());
     op.project(v0.as_mut());
-    let params = PartialEigenParams { max_restarts: 2000, ..Default::default() };
+    let params = PartialEigenParams {
+        max_restarts: 2000,
+        ..Default::default()
+    };
     let req = partial_self_adjoint_eigen_scratch(op, n_ev, Par::Seq, params);
     let mut mem = MemBuffer::new(req.or(op.apply_scratch(n_ev.max(8), Par::Seq)));
     let info = partial_self_adjoint_eigen(
@@ -164,14 +190,21 @@ fn lanczos(model: &FeModel, op: &ShiftInvert<'_>, n_ev: usize, opts: &ModalOptio
         params,
     );
     if info.n_converged_eigen < n_ev {
-        return Err(ModalError::Eigensolver(format!("Lanczos converged {} of {n_ev} eigenpairs", info.n_converged_eigen)));
+        return Err(ModalError::Eigensolver(format!(
+            "Lanczos converged {} of {n_ev} eigenpairs",
+            info.n_converged_eigen
+        )));
     }
     let phi = op.back_transform(eigvecs.as_ref(), MemStack::new(&mut mem));
     let lambda = (0..n_ev)
         .map(|j| {
             let c = phi.col(j);
             let mm = quad(&model.mass, c, c);
-            if mm > 0.0 { quad(&model.stiffness, c, c) / mm } else { f64::INFINITY }
+            if mm > 0.0 {
+                quad(&model.stiffness, c, c) / mm
+            } else {
+                f64::INFINITY
+            }
         })
         .collect();
     Ok((lambda, phi))
@@ -179,7 +212,11 @@ fn lanczos(model: &FeModel, op: &ShiftInvert<'_>, n_ev: usize, opts: &ModalOptio
 
 /// Sparse solve by shift-invert Lanczos (faer `partial_self_adjoint_eigen`), two passes as
 /// described in the module documentation.
-pub fn solve_sparse_with(model: &FeModel, n_elastic_wanted: usize, opts: &ModalOptions) -> Result<Modes, ModalError> {
+pub fn solve_sparse_with(
+    model: &FeModel,
+    n_elastic_wanted: usize,
+    opts: &ModalOptions,
+) -> Result<Modes, ModalError> {
     let n = model.n_dof();
     let scale = lambda_scale(model)?;
     let tol = opts.rigid_rel_tol * scale;
@@ -190,10 +227,13 @@ pub fn solve_sparse_with(model: &FeModel, n_elastic_wanted: usize, opts: &ModalO
     // The pattern of K + s M does not depend on s (the triplet sum keeps every position).
     let a0 = sparse_axpy(&model.stiffness, 1.0, &model.mass)
         .ok_or_else(|| ModalError::Eigensolver("cannot form K - sigma M".into()))?;
-    let symbolic = factorize_symbolic_cholesky(a0.symbolic(), Side::Lower, SymmetricOrdering::Amd, params)
-        .map_err(|e| ModalError::Eigensolver(format!("symbolic Cholesky: {e:?}")))?;
+    let symbolic =
+        factorize_symbolic_cholesky(a0.symbolic(), Side::Lower, SymmetricOrdering::Amd, params)
+            .map_err(|e| ModalError::Eigensolver(format!("symbolic Cholesky: {e:?}")))?;
     let SymbolicCholeskyRaw::Supernodal(sym_super) = symbolic.raw() else {
-        return Err(ModalError::Eigensolver("expected a supernodal factorisation".into()));
+        return Err(ModalError::Eigensolver(
+            "expected a supernodal factorisation".into(),
+        ));
     };
     let fwd: Vec<usize> = match symbolic.perm() {
         Some(p) => p.arrays().0.to_vec(),
@@ -203,33 +243,59 @@ pub fn solve_sparse_with(model: &FeModel, n_elastic_wanted: usize, opts: &ModalO
 
     // Pass 1: zero modes and an estimate of the first elastic eigenvalue.
     let shift1 = factorize(model, &symbolic, &mut values, opts.shift_rel * scale)?;
-    let op1 = ShiftInvert { symbolic: sym_super, values: &values, fwd: &fwd, mass: &model.mass, z: Mat::zeros(n, 0) };
+    let op1 = ShiftInvert {
+        symbolic: sym_super,
+        values: &values,
+        fwd: &fwd,
+        mass: &model.mass,
+        z: Mat::zeros(n, 0),
+    };
     let (lambda1, phi1) = lanczos(model, &op1, 8.min(n), opts)?;
     let zero: Vec<usize> = (0..lambda1.len()).filter(|&j| lambda1[j] < tol).collect();
     if zero.len() > 6 {
         return Err(ModalError::Mechanisms { n_zero: zero.len() });
     }
-    let first_elastic = lambda1.iter().copied().filter(|&l| l >= tol).fold(f64::INFINITY, f64::min);
+    let first_elastic = lambda1
+        .iter()
+        .copied()
+        .filter(|&l| l >= tol)
+        .fold(f64::INFINITY, f64::min);
     let rigid_phi = Mat::<f64>::from_fn(n, zero.len(), |i, k| phi1[(i, zero[k])]);
     let n_el = n_elastic_wanted.min(n - zero.len());
     if n_el == 0 {
-        return finish(model, zero.iter().map(|&j| lambda1[j]).collect(), rigid_phi, 0, opts);
+        return finish(
+            model,
+            zero.iter().map(|&j| lambda1[j]).collect(),
+            rigid_phi,
+            0,
+            opts,
+        );
     }
 
     // Pass 2: shift near the first elastic eigenvalue, deflate the zero modes.
-    let shift2 = if first_elastic.is_finite() { (0.5 * first_elastic).max(shift1) } else { shift1 };
+    let shift2 = if first_elastic.is_finite() {
+        (0.5 * first_elastic).max(shift1)
+    } else {
+        shift1
+    };
     let shift2 = factorize(model, &symbolic, &mut values, shift2)?;
-    let mut op2 = ShiftInvert { symbolic: sym_super, values: &values, fwd: &fwd, mass: &model.mass, z: Mat::zeros(n, 0) };
+    let mut op2 = ShiftInvert {
+        symbolic: sym_super,
+        values: &values,
+        fwd: &fwd,
+        mass: &model.mass,
+        z: Mat::zeros(n, 0),
+    };
     if !zero.is_empty() {
         // L^T P phi = L^-1 P (K + shift2 M) phi.
-        let w = Mat::<f64>::from_fn(n, 0, |_, _| 0.0);
-        let mut w = w;
+        let mut w = Mat::<f64>::zeros(n, zero.len());
         for k in 0..zero.len() {
             let c = rigid_phi.col(k);
             let kc = sparse_matvec(&model.stiffness, c);
             let mc = sparse_matvec(&model.mass, c);
-            let col = Col::<f64>::from_fn(n, |i| kc[i] + shift2 * mc[i]);
-            w = faer::concat![[w, col.as_mat()]];
+            for i in 0..n {
+                w[(i, k)] = kc[i] + shift2 * mc[i];
+            }
         }
         let mut mem = MemBuffer::new(op2.apply_scratch(zero.len(), Par::Seq));
         let z = op2.forward_transform(w.as_ref(), MemStack::new(&mut mem));
