@@ -3,7 +3,10 @@
 
 pub mod coefficients;
 pub mod compile;
+pub mod fe_io;
 pub mod fe_model;
+pub mod generate;
+pub mod modal;
 pub mod selection;
 
 pub use fe_model::{Component, DOF_PER_NODE, Element, ElementKind, FeModel, Node};
