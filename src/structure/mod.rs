@@ -2,5 +2,6 @@
 //! the reduced-order coefficients of the floating-frame equations.
 
 pub mod fe_model;
+pub mod generate;
 
 pub use fe_model::{Component, Element, ElementKind, FeModel, Node, DOF_PER_NODE};
