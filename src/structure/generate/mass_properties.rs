@@ -1,0 +1,274 @@
+//! Closed-form mass properties of the generated vehicle, computed from the geometry alone
+//! (an independent code path from the element matrices), and the rigid-body projection of
+//! an assembled mass matrix to compare with.
+//!
+//! The rigid-body mass matrix about the origin is
+//!   R^T M R = [[m I, -(m c)^x], [(m c)^x, J_O]],  J_O = int rho (|r|^2 I - r r^T) dV,
+//! where R stacks, for every node at r, the block [[I, -r^x], [0, I]] (u = V + omega x r).
+//! This is the rigid part of the thesis's mass matrix (2.5.1): P (mass), c (first moment)
+//! and J (inertia about the body origin), cf. (2.2.16)-(2.2.19).
+
+use faer::sparse::SparseColMat;
+use nalgebra::{Matrix3, Vector3};
+
+use super::assembly::skew;
+use super::mesh::fin_frame;
+use super::spec::{BodySpec, FinSpec, GeneratorSpec};
+use crate::structure::fe_model::FeModel;
+
+/// Mass, first moment and inertia tensor about the body-frame origin (the nose tip).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MassProperties {
+    /// Total mass m, kg.
+    pub mass: f64,
+    /// First moment m * r_cm, kg m.
+    pub first_moment: [f64; 3],
+    /// J_O = int rho (|r|^2 I - r r^T) dV, kg m^2.
+    pub inertia_about_origin: [[f64; 3]; 3],
+}
+
+impl MassProperties {
+    fn zero() -> Self {
+        Self {
+            mass: 0.0,
+            first_moment: [0.0; 3],
+            inertia_about_origin: [[0.0; 3]; 3],
+        }
+    }
+
+    /// Add a body given its mass, first moment and second moment tensor
+    /// S = int rho r r^T dV (then J = tr(S) I - S).
+    fn add_second_moment(&mut self, m: f64, first: Vector3<f64>, s: Matrix3<f64>) {
+        self.mass += m;
+        let j = Matrix3::identity() * s.trace() - s;
+        for a in 0..3 {
+            self.first_moment[a] += first[a];
+            for b in 0..3 {
+                self.inertia_about_origin[a][b] += j[(a, b)];
+            }
+        }
+    }
+
+    /// The 6 x 6 rigid-body mass matrix [[m I, -(m c)^x], [(m c)^x, J_O]].
+    pub fn rigid_mass_matrix(&self) -> [[f64; 6]; 6] {
+        let sx = skew(&self.first_moment);
+        let mut out = [[0.0; 6]; 6];
+        for a in 0..3 {
+            out[a][a] = self.mass;
+            for b in 0..3 {
+                out[a][3 + b] = -sx[(a, b)];
+                out[3 + a][b] = sx[(a, b)];
+                out[3 + a][3 + b] = self.inertia_about_origin[a][b];
+            }
+        }
+        out
+    }
+}
+
+/// Polynomial in s with coefficients c[k] s^k.
+#[derive(Clone, Debug)]
+struct Poly(Vec<f64>);
+
+impl Poly {
+    fn mul(&self, o: &Poly) -> Poly {
+        let mut c = vec![0.0; self.0.len() + o.0.len() - 1];
+        for (i, a) in self.0.iter().enumerate() {
+            for (j, b) in o.0.iter().enumerate() {
+                c[i + j] += a * b;
+            }
+        }
+        Poly(c)
+    }
+    fn sub(&self, o: &Poly) -> Poly {
+        let n = self.0.len().max(o.0.len());
+        Poly(
+            (0..n)
+                .map(|k| self.0.get(k).unwrap_or(&0.0) - o.0.get(k).unwrap_or(&0.0))
+                .collect(),
+        )
+    }
+    fn scale(&self, f: f64) -> Poly {
+        Poly(self.0.iter().map(|c| c * f).collect())
+    }
+    fn pow(&self, n: usize) -> Poly {
+        (0..n).fold(Poly(vec![1.0]), |acc, _| acc.mul(self))
+    }
+    /// int_a^b p(s) ds via the antiderivative.
+    fn integrate(&self, a: f64, b: f64) -> f64 {
+        self.0
+            .iter()
+            .enumerate()
+            .map(|(k, c)| c * (b.powi(k as i32 + 1) - a.powi(k as i32 + 1)) / (k as f64 + 1.0))
+            .sum()
+    }
+}
+
+/// Add a body-of-revolution segment s in [s0, s1] (x = -s) with outer and inner radius
+/// polynomials in s: mass int rho A, first moment -int rho A s e_x, second moments
+/// S_xx = int rho A s^2, S_yy = S_zz = int rho I (I = pi/4 (r_o^4 - r_i^4)).
+fn add_revolution(out: &mut MassProperties, rho: f64, ro: &Poly, ri: &Poly, s0: f64, s1: f64) {
+    let pi = std::f64::consts::PI;
+    let area = ro.pow(2).sub(&ri.pow(2)).scale(pi);
+    let inertia = ro.pow(4).sub(&ri.pow(4)).scale(0.25 * pi);
+    let s = Poly(vec![0.0, 1.0]);
+    let m = rho * area.integrate(s0, s1);
+    let sx = -rho * area.mul(&s).integrate(s0, s1);
+    let sxx = rho * area.mul(&s.pow(2)).integrate(s0, s1);
+    let syy = rho * inertia.integrate(s0, s1);
+    out.add_second_moment(
+        m,
+        Vector3::new(sx, 0.0, 0.0),
+        Matrix3::from_diagonal(&Vector3::new(sxx, syy, syy)),
+    );
+}
+
+fn add_body(out: &mut MassProperties, b: &BodySpec) {
+    let rho = b.material.density;
+    let r = 0.5 * b.outer_diameter;
+    let t = b.wall_thickness;
+    let ln = b.nose_length;
+    if ln > 0.0 {
+        let kappa = r / ln;
+        let s_solid = t / kappa; // r_o = t here; t < r so s_solid < l_n
+        add_revolution(out, rho, &Poly(vec![0.0, kappa]), &Poly(vec![0.0]), 0.0, s_solid);
+        add_revolution(out, rho, &Poly(vec![0.0, kappa]), &Poly(vec![-t, kappa]), s_solid, ln);
+    }
+    add_revolution(out, rho, &Poly(vec![r]), &Poly(vec![r - t]), ln, b.length);
+}
+
+/// Polygon area integrals (Green's theorem, counter-clockwise vertices):
+/// [A, int a, int b, int a^2, int b^2, int a b].
+fn polygon_moments(v: &[[f64; 2]]) -> [f64; 6] {
+    let mut m = [0.0; 6];
+    for i in 0..v.len() {
+        let (p, q) = (v[i], v[(i + 1) % v.len()]);
+        let cr = p[0] * q[1] - q[0] * p[1];
+        m[0] += cr / 2.0;
+        m[1] += cr * (p[0] + q[0]) / 6.0;
+        m[2] += cr * (p[1] + q[1]) / 6.0;
+        m[3] += cr * (p[0] * p[0] + p[0] * q[0] + q[0] * q[0]) / 12.0;
+        m[4] += cr * (p[1] * p[1] + p[1] * q[1] + q[1] * q[1]) / 12.0;
+        m[5] += cr * (2.0 * p[0] * p[1] + p[0] * q[1] + q[0] * p[1] + 2.0 * q[0] * q[1]) / 24.0;
+    }
+    m
+}
+
+/// One flat fin: r = p0 + a e_a + b e_b + z n over the planform, |z| <= t/2.
+fn add_fin(out: &mut MassProperties, f: &FinSpec, delta: f64, root_radius: f64) {
+    let frame = fin_frame(delta, f.cant);
+    let (ea, eb, n) = (
+        frame.row(0).transpose(),
+        frame.row(1).transpose(),
+        frame.row(2).transpose(),
+    );
+    let p0 = Vector3::new(f.pivot_x(), 0.0, 0.0) + root_radius * eb;
+    let corners = f.planform_corners().map(|(x, eta)| [x - f.pivot_x(), eta]);
+    let [area, sa, sb, saa, sbb, sab] = polygon_moments(&corners);
+    let rt = f.material.density * f.thickness;
+    let first_local = sa * ea + sb * eb;
+    let mut s = area * p0 * p0.transpose()
+        + p0 * first_local.transpose()
+        + first_local * p0.transpose()
+        + saa * ea * ea.transpose()
+        + sbb * eb * eb.transpose()
+        + sab * (ea * eb.transpose() + eb * ea.transpose());
+    s *= rt;
+    s += f.material.density * f.thickness.powi(3) / 12.0 * area * n * n.transpose();
+    out.add_second_moment(rt * area, rt * (area * p0 + first_local), s);
+}
+
+/// Closed-form mass properties of the vehicle `spec` describes (see the `generate` module
+/// doc for the geometry): tapered tube, trapezoidal plates, line masses, point masses.
+pub fn analytic_mass_properties(spec: &GeneratorSpec) -> MassProperties {
+    let mut out = MassProperties::zero();
+    add_body(&mut out, &spec.body);
+    if let Some(f) = &spec.fins {
+        for delta in f.fin_angles() {
+            add_fin(&mut out, f, delta, 0.5 * spec.body.outer_diameter);
+        }
+    }
+    for d in &spec.distributed_masses {
+        let (a, b) = (d.x_from.min(d.x_to), d.x_from.max(d.x_to));
+        let mu = d.mass / (b - a);
+        let sxx = mu * (b.powi(3) - a.powi(3)) / 3.0;
+        out.add_second_moment(
+            d.mass,
+            Vector3::new(d.mass * 0.5 * (a + b), 0.0, 0.0),
+            Matrix3::from_diagonal(&Vector3::new(sxx, 0.0, 0.0)),
+        );
+    }
+    for p in &spec.point_masses {
+        let r = Vector3::from(p.position);
+        // S = m r r^T + S_c, with S_c chosen so that tr(S_c) I - S_c = diag(I_c):
+        // S_c = tr(I_c)/2 I - diag(I_c).
+        let ic = Vector3::from(p.inertia);
+        let sc = Matrix3::identity() * (0.5 * ic.sum()) - Matrix3::from_diagonal(&ic);
+        out.add_second_moment(p.mass, p.mass * r, p.mass * r * r.transpose() + sc);
+    }
+    out
+}
+
+/// R^T M R for the six rigid-body vectors about the body origin (module doc), 6 x 6.
+pub fn rigid_body_projection(model: &FeModel) -> [[f64; 6]; 6] {
+    let r = rigid_body_vectors(model);
+    let m: &SparseColMat<usize, f64> = &model.mass;
+    let mut out = [[0.0; 6]; 6];
+    for t in m.triplet_iter() {
+        let (row, col, v) = (t.row, t.col, *t.val);
+        for a in 0..6 {
+            let ra = r[row][a];
+            if ra == 0.0 {
+                continue;
+            }
+            for b in 0..6 {
+                out[a][b] += ra * v * r[col][b];
+            }
+        }
+    }
+    out
+}
+
+/// The six rigid-body vectors about the origin, one row of 6 per DOF.
+pub fn rigid_body_vectors(model: &FeModel) -> Vec<[f64; 6]> {
+    let mut r = vec![[0.0; 6]; model.n_dof()];
+    for (i, node) in model.nodes.iter().enumerate() {
+        let px = skew(&node.position);
+        for d in 0..3 {
+            r[6 * i + d][d] = 1.0;
+            r[6 * i + 3 + d][3 + d] = 1.0;
+            for b in 0..3 {
+                r[6 * i + d][3 + b] = -px[(d, b)];
+            }
+        }
+    }
+    r
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn polygon_moments_of_unit_square() {
+        let m = polygon_moments(&[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]);
+        let want = [1.0, 0.5, 0.5, 1.0 / 3.0, 1.0 / 3.0, 0.25];
+        for k in 0..6 {
+            assert!((m[k] - want[k]).abs() < 1e-15, "{k}: {}", m[k]);
+        }
+    }
+
+    /// A thin tube of length L about its end: I_yy = m L^2 / 3 + m (r_o^2 + r_i^2) / 4.
+    #[test]
+    fn tube_inertia_closed_form() {
+        let mut out = MassProperties::zero();
+        let (ro, ri, l, rho) = (0.06, 0.05, 2.0, 1000.0);
+        add_revolution(&mut out, rho, &Poly(vec![ro]), &Poly(vec![ri]), 0.0, l);
+        let m = rho * std::f64::consts::PI * (ro * ro - ri * ri) * l;
+        assert!((out.mass - m).abs() < 1e-12 * m);
+        assert!((out.first_moment[0] + m * l / 2.0).abs() < 1e-12 * m);
+        let iyy = m * l * l / 3.0 + m * (ro * ro + ri * ri) / 4.0;
+        assert!((out.inertia_about_origin[1][1] - iyy).abs() < 1e-12 * iyy);
+        let ixx = m * (ro * ro + ri * ri) / 2.0;
+        assert!((out.inertia_about_origin[0][0] - ixx).abs() < 1e-12 * ixx);
+    }
+}

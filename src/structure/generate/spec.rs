@@ -1,0 +1,359 @@
+//! Input of the built-in FE generator and its validation.
+//!
+//! Conventions (REFERENCE-NOTES.md): body frame origin at the nose tip, the body line along
+//! -x (every point of the vehicle has x <= 0), fin i in the plane spanned by body x and the
+//! span direction (0, cos delta_i, sin delta_i).
+
+use super::GenerateError;
+
+/// Isotropic linear-elastic material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MaterialProps {
+    /// Young's modulus E, Pa.
+    pub youngs_modulus: f64,
+    /// Poisson's ratio nu.
+    pub poisson: f64,
+    /// Density rho, kg/m^3.
+    pub density: f64,
+}
+
+impl MaterialProps {
+    /// Shear modulus G = E / (2 (1 + nu)).
+    pub fn shear_modulus(&self) -> f64 {
+        self.youngs_modulus / (2.0 * (1.0 + self.poisson))
+    }
+}
+
+/// Beam theory of the body elements.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BeamTheory {
+    /// Shear-rigid (Hermite cubic) bending.
+    EulerBernoulli,
+    /// Shear-deformable bending with Cowper's shear coefficient (see `beam`).
+    Timoshenko,
+}
+
+/// The fuselage: a thin-walled circular tube with an optional conical nose.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodySpec {
+    /// Overall length L, m; the body runs from x = 0 (nose tip) to x = -L.
+    pub length: f64,
+    /// Outer diameter of the cylindrical part, m.
+    pub outer_diameter: f64,
+    /// Wall thickness t, m (also the wall of the nose cone; near the tip, where the outer
+    /// radius is below t, the cone is solid).
+    pub wall_thickness: f64,
+    /// Nose length l_n, m; 0 = no nose. The outer diameter tapers linearly (a cone) from 0 at
+    /// the tip to the full diameter at x = -l_n.
+    pub nose_length: f64,
+    /// Number of uniform divisions of the body; extra stations are added (see `mesh`).
+    pub elements: usize,
+    pub theory: BeamTheory,
+    pub material: MaterialProps,
+}
+
+/// A set of identical flat trapezoidal fins, clamped (rigidly linked) to the body at the root.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FinSpec {
+    /// Number of fins n.
+    pub count: usize,
+    /// Exposed span b (root at the tube's outer radius), m.
+    pub span: f64,
+    pub root_chord: f64,
+    pub tip_chord: f64,
+    /// Leading-edge sweep angle, rad (SPHADS-1: atan((c_r - c_t)/b) for an unswept trailing
+    /// edge).
+    pub sweep: f64,
+    /// Plate thickness, m.
+    pub thickness: f64,
+    /// Cant angle, rad: rotation of the planform about the span axis through the middle of
+    /// the root chord; positive turns the chord direction from +x toward the fin normal
+    /// (0, -sin delta, cos delta).
+    pub cant: f64,
+    /// Fin angles delta_i about body x, rad; empty = 2 pi i / n.
+    pub angles: Vec<f64>,
+    /// x of the root trailing edge (<= 0, e.g. -length), m.
+    pub root_trailing_edge_x: f64,
+    pub span_elements: usize,
+    pub chord_elements: usize,
+    pub material: MaterialProps,
+}
+
+impl FinSpec {
+    /// The fin angles delta_i: `angles` if given, else 2 pi i / n (REFERENCE-NOTES fin frames).
+    pub fn fin_angles(&self) -> Vec<f64> {
+        if self.angles.is_empty() {
+            (0..self.count)
+                .map(|i| 2.0 * std::f64::consts::PI * i as f64 / self.count as f64)
+                .collect()
+        } else {
+            self.angles.clone()
+        }
+    }
+
+    /// x of the root leading edge.
+    pub fn root_leading_edge_x(&self) -> f64 {
+        self.root_trailing_edge_x + self.root_chord
+    }
+
+    /// Planform x of the cant pivot (middle of the root chord).
+    pub fn pivot_x(&self) -> f64 {
+        self.root_trailing_edge_x + 0.5 * self.root_chord
+    }
+
+    /// Planform (x, spanwise distance from the root) of chordwise station i (0 = trailing
+    /// edge, `chord_elements` = leading edge) at spanwise station j (0 = root).
+    pub fn planform_point(&self, i: usize, j: usize) -> (f64, f64) {
+        let eta = self.span * j as f64 / self.span_elements as f64;
+        let chord = self.root_chord + (self.tip_chord - self.root_chord) * eta / self.span;
+        let x_le = self.root_leading_edge_x() - eta * self.sweep.tan();
+        let x_te = x_le - chord;
+        (x_te + chord * i as f64 / self.chord_elements as f64, eta)
+    }
+
+    /// Corners of the planform (TE root, LE root, LE tip, TE tip), counter-clockwise in
+    /// (x, eta).
+    pub fn planform_corners(&self) -> [(f64, f64); 4] {
+        let x_le_tip = self.root_leading_edge_x() - self.span * self.sweep.tan();
+        [
+            (self.root_trailing_edge_x, 0.0),
+            (self.root_leading_edge_x(), 0.0),
+            (x_le_tip, self.span),
+            (x_le_tip - self.tip_chord, self.span),
+        ]
+    }
+}
+
+/// A rigid point mass (payload, motor parts, ...).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PointMass {
+    pub name: String,
+    /// Position of its centre in the body frame, m (x within [-L, 0]).
+    pub position: [f64; 3],
+    pub mass: f64,
+    /// Principal moments of inertia about its own centre, along body axes, kg m^2.
+    pub inertia: [f64; 3],
+}
+
+/// Non-structural mass spread uniformly along the body line between two stations.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DistributedMass {
+    pub name: String,
+    pub x_from: f64,
+    pub x_to: f64,
+    /// Total mass, kg, spread uniformly along the body line between x_from and x_to.
+    pub mass: f64,
+}
+
+/// Everything the generator needs to build a vehicle FE model.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GeneratorSpec {
+    pub body: BodySpec,
+    pub fins: Option<FinSpec>,
+    pub point_masses: Vec<PointMass>,
+    pub distributed_masses: Vec<DistributedMass>,
+}
+
+fn positive(what: &'static str, value: f64) -> Result<(), GenerateError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(GenerateError::BadGeometry {
+            what,
+            value,
+            reason: "must be finite and positive",
+        })
+    }
+}
+
+fn finite(what: &'static str, value: f64) -> Result<(), GenerateError> {
+    if value.is_finite() {
+        Ok(())
+    } else {
+        Err(GenerateError::BadGeometry {
+            what,
+            value,
+            reason: "must be finite",
+        })
+    }
+}
+
+/// Validate a material: E > 0, rho > 0, -1 < nu < 0.5.
+pub(crate) fn check_material(what: &'static str, m: &MaterialProps) -> Result<(), GenerateError> {
+    let bad = |field: &'static str, value: f64| GenerateError::BadMaterial {
+        part: what,
+        field,
+        value,
+    };
+    if !(m.youngs_modulus.is_finite() && m.youngs_modulus > 0.0) {
+        return Err(bad("youngs_modulus", m.youngs_modulus));
+    }
+    if !(m.density.is_finite() && m.density > 0.0) {
+        return Err(bad("density", m.density));
+    }
+    if !(m.poisson.is_finite() && m.poisson > -1.0 && m.poisson < 0.5) {
+        return Err(bad("poisson", m.poisson));
+    }
+    Ok(())
+}
+
+/// Validate the body.
+pub(crate) fn check_body(b: &BodySpec) -> Result<(), GenerateError> {
+    positive("body.length", b.length)?;
+    positive("body.outer_diameter", b.outer_diameter)?;
+    positive("body.wall_thickness", b.wall_thickness)?;
+    if b.wall_thickness >= 0.5 * b.outer_diameter {
+        return Err(GenerateError::BadGeometry {
+            what: "body.wall_thickness",
+            value: b.wall_thickness,
+            reason: "must be smaller than the outer radius",
+        });
+    }
+    if !(b.nose_length.is_finite() && b.nose_length >= 0.0 && b.nose_length < b.length) {
+        return Err(GenerateError::BadGeometry {
+            what: "body.nose_length",
+            value: b.nose_length,
+            reason: "must be >= 0 and shorter than the body",
+        });
+    }
+    if b.elements == 0 {
+        return Err(GenerateError::ZeroElements {
+            what: "body.elements",
+        });
+    }
+    check_material("body", &b.material)
+}
+
+/// Validate the fins against the body they are attached to.
+pub(crate) fn check_fins(f: &FinSpec, body: &BodySpec) -> Result<(), GenerateError> {
+    check_fin_planform(f)?;
+    // The root chord (after cant) must sit on the cylindrical part of the body.
+    let half = 0.5 * f.root_chord * f.cant.cos();
+    let (aft, fore) = (f.pivot_x() - half, f.pivot_x() + half);
+    if aft < -body.length * (1.0 + 1e-12) || fore > -body.nose_length {
+        return Err(GenerateError::FinOutsideBody {
+            root_from: aft,
+            root_to: fore,
+            body_from: -body.length,
+            body_to: -body.nose_length,
+        });
+    }
+    Ok(())
+}
+
+/// Validate a fin's planform, mesh and material (not its placement on a body).
+pub(crate) fn check_fin_planform(f: &FinSpec) -> Result<(), GenerateError> {
+    if f.count == 0 {
+        return Err(GenerateError::ZeroElements { what: "fins.count" });
+    }
+    positive("fins.span", f.span)?;
+    positive("fins.root_chord", f.root_chord)?;
+    positive("fins.tip_chord", f.tip_chord)?;
+    positive("fins.thickness", f.thickness)?;
+    finite("fins.sweep", f.sweep)?;
+    finite("fins.cant", f.cant)?;
+    finite("fins.root_trailing_edge_x", f.root_trailing_edge_x)?;
+    if f.tip_chord > f.root_chord {
+        return Err(GenerateError::BadGeometry {
+            what: "fins.tip_chord",
+            value: f.tip_chord,
+            reason: "must not exceed the root chord",
+        });
+    }
+    if f.sweep.abs() >= 0.5 * std::f64::consts::PI || f.cant.abs() >= 0.5 * std::f64::consts::PI
+    {
+        return Err(GenerateError::BadGeometry {
+            what: "fins.sweep/cant",
+            value: f.sweep.max(f.cant),
+            reason: "angles must lie strictly between -pi/2 and pi/2",
+        });
+    }
+    if f.span_elements == 0 {
+        return Err(GenerateError::ZeroElements {
+            what: "fins.span_elements",
+        });
+    }
+    if f.chord_elements == 0 {
+        return Err(GenerateError::ZeroElements {
+            what: "fins.chord_elements",
+        });
+    }
+    if !f.angles.is_empty() && f.angles.len() != f.count {
+        return Err(GenerateError::FinAngles {
+            count: f.count,
+            given: f.angles.len(),
+        });
+    }
+    if f.angles.iter().any(|a| !a.is_finite()) {
+        return Err(GenerateError::BadGeometry {
+            what: "fins.angles",
+            value: f64::NAN,
+            reason: "must be finite",
+        });
+    }
+    check_material("fins", &f.material)
+}
+
+/// Validate point and distributed masses against the body.
+pub(crate) fn check_masses(spec: &GeneratorSpec) -> Result<(), GenerateError> {
+    let l = spec.body.length;
+    let inside = |x: f64| x.is_finite() && x <= 0.0 && x >= -l * (1.0 + 1e-12);
+    for p in &spec.point_masses {
+        if !(p.mass.is_finite() && p.mass > 0.0) {
+            return Err(GenerateError::BadMass {
+                name: p.name.clone(),
+                field: "mass",
+                value: p.mass,
+            });
+        }
+        if let Some(&i) = p.inertia.iter().find(|i| !(i.is_finite() && **i >= 0.0)) {
+            return Err(GenerateError::BadMass {
+                name: p.name.clone(),
+                field: "inertia",
+                value: i,
+            });
+        }
+        if !inside(p.position[0]) || p.position.iter().any(|c| !c.is_finite()) {
+            return Err(GenerateError::MassOutsideBody {
+                name: p.name.clone(),
+                x: p.position[0],
+                length: l,
+            });
+        }
+    }
+    for d in &spec.distributed_masses {
+        if !(d.mass.is_finite() && d.mass > 0.0) {
+            return Err(GenerateError::BadMass {
+                name: d.name.clone(),
+                field: "mass",
+                value: d.mass,
+            });
+        }
+        for x in [d.x_from, d.x_to] {
+            if !inside(x) {
+                return Err(GenerateError::MassOutsideBody {
+                    name: d.name.clone(),
+                    x,
+                    length: l,
+                });
+            }
+        }
+        if (d.x_from - d.x_to).abs() <= 1e-12 * l {
+            return Err(GenerateError::BadMass {
+                name: d.name.clone(),
+                field: "x_to - x_from (empty range)",
+                value: d.x_to - d.x_from,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Validate the whole spec.
+pub(crate) fn check(spec: &GeneratorSpec) -> Result<(), GenerateError> {
+    check_body(&spec.body)?;
+    if let Some(f) = &spec.fins {
+        check_fins(f, &spec.body)?;
+    }
+    check_masses(spec)
+}
