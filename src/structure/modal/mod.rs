@@ -18,8 +18,8 @@
 //!   phi^T K phi / phi^T M phi.
 //!
 //! Both paths then share the post-processing: rigid-body modes are the eigenvalues below
-//! `rigid_rel_tol * lambda_scale`, with `lambda_scale = max_i K_ii / M_ii` (a Rayleigh quotient
-//! of a unit DOF vector, a cheap estimate of the top of the spectrum). More than 6 is an error
+//! `rigid_rel_tol * lambda_scale`, with `lambda_scale = max_i K_ii / M_ii` over translational
+//! DOFs (a Rayleigh quotient of a unit DOF vector, a cheap estimate of the top of the spectrum). More than 6 is an error
 //! (mechanisms). When exactly 6 are found and the exact rigid-body vectors built from the node
 //! positions (3 translations, 3 small rotations theta x r about the origin) lie in the null
 //! space of K, the numerical rigid modes are replaced by an M-orthonormal basis of those exact
@@ -146,7 +146,12 @@ pub fn solve_sparse(model: &FeModel, n_elastic_wanted: usize) -> Result<Modes, M
     solve_sparse_with(model, n_elastic_wanted, &ModalOptions::default())
 }
 
-/// `lambda_scale = max_i K_ii / M_ii` over DOFs with M_ii > 0.
+/// `lambda_scale = max_i K_ii / M_ii` over the translational DOFs with M_ii > 0.
+///
+/// Rotational DOFs are left out: for thin shells their rotary mass (rho t^3 / 12) is so small
+/// that K_ii / M_ii there exceeds the physical top of the spectrum by many orders, which made
+/// genuine low fin modes (0.6 mm SPHADS-1 fins, about 30 Hz) fall under the rigid-mode
+/// threshold and be reported as mechanisms.
 pub(crate) fn lambda_scale(model: &FeModel) -> Result<f64, ModalError> {
     let n = model.n_dof();
     let mut km = vec![(0.0, 0.0); n];
@@ -158,7 +163,9 @@ pub(crate) fn lambda_scale(model: &FeModel) -> Result<f64, ModalError> {
     }
     let s = km
         .iter()
-        .filter(|(_, m)| *m > 0.0)
+        .enumerate()
+        .filter(|(i, (_, m))| i % crate::structure::DOF_PER_NODE < 3 && *m > 0.0)
+        .map(|(_, km)| km)
         .map(|(k, m)| k / m)
         .fold(0.0_f64, f64::max);
     if n == 0 || s <= 0.0 || !s.is_finite() {
