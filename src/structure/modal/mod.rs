@@ -127,10 +127,15 @@ impl Default for ModalOptions {
 
 /// Modal solve with the default options: dense up to 2000 DOF, sparse above. Returns the rigid
 /// modes and the `n_elastic_wanted` lowest elastic modes (fewer if the model has fewer).
+/// A small model whose mass matrix is singular (massless DOF, e.g. shell drilling rotations)
+/// goes to the sparse path, which only needs K - sigma M to be positive definite.
 pub fn solve(model: &FeModel, n_elastic_wanted: usize) -> Result<Modes, ModalError> {
     let opts = ModalOptions::default();
     if model.n_dof() <= opts.dense_max_dof {
-        solve_dense_with(model, n_elastic_wanted, &opts)
+        match solve_dense_with(model, n_elastic_wanted, &opts) {
+            Err(ModalError::MassNotPositiveDefinite(_)) => solve_sparse_with(model, n_elastic_wanted, &opts),
+            other => other,
+        }
     } else {
         solve_sparse_with(model, n_elastic_wanted, &opts)
     }
