@@ -157,8 +157,8 @@ pub fn compile_cached(
                     return Err(EXIT_USAGE);
                 }
             };
-            if let CacheOutcome::Rebuilt { reason } = &outcome {
-                eprintln!("warning: rebuilt the cached artifact: {reason}");
+            if let CacheOutcome::Rebuilt { .. } = &outcome {
+                eprintln!("warning: {outcome}");
             }
             Ok(CompileOutcome {
                 compiled,

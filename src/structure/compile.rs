@@ -316,8 +316,9 @@ pub fn compile_model(v: &Vehicle, model: FeModel) -> Result<(CompiledVehicle, Fe
         .map_err(|error| StructureError::Modal { error, span: structure_span(v) })?;
     let n_rigid = modes.n_rigid;
     let elastic = modes.shapes.as_ref().subcols(n_rigid, modes.shapes.ncols() - n_rigid);
-    let selection = select(&model, &modes.omega2[n_rigid..], elastic, fins.as_ref(), &v.modes.rules)
+    let mut selection = select(&model, &modes.omega2[n_rigid..], elastic, fins.as_ref(), &v.modes.rules)
         .map_err(|error| StructureError::Selection { error, span: v.modes.span })?;
+    normalise_signs(&mut selection.shapes);
     let n = selection.info.len();
     let damping: Vec<f64> = match v.modes.damping.len() {
         0 => vec![0.0; n],
@@ -387,6 +388,26 @@ pub fn compile_model(v: &Vehicle, model: FeModel) -> Result<(CompiledVehicle, Fe
         inertia_cm,
     };
     Ok((compiled, model))
+}
+
+/// Eigenvectors are defined up to sign: make the entry of largest magnitude of each mode
+/// positive (the first such entry on ties), so artifacts and snapshots do not depend on the
+/// eigensolver's arbitrary choice.
+pub fn normalise_signs(shapes: &mut Mat<f64>) {
+    for j in 0..shapes.ncols() {
+        let mut best = (0usize, 0.0f64);
+        for i in 0..shapes.nrows() {
+            let a = shapes[(i, j)].abs();
+            if a > best.1 * (1.0 + 1e-9) {
+                best = (i, a);
+            }
+        }
+        if shapes[(best.0, j)] < 0.0 {
+            for i in 0..shapes.nrows() {
+                shapes[(i, j)] = -shapes[(i, j)];
+            }
+        }
+    }
 }
 
 fn compiled_mode(info: &ModeInfo, generalised_mass: f64) -> CompiledMode {

@@ -1,0 +1,200 @@
+//! The structural compiler end to end: SPHADS-1 and its tri-fin variant compile to the
+//! mode sets the vehicle files ask for, with mass properties equal to the analytic ones of
+//! the generated geometry, and bad structural inputs give diagnostics without touching the
+//! cache.
+
+use std::path::{Path, PathBuf};
+
+use flexflight::check::{check_files, check_source, DiskLoader, MemoryLoader};
+use flexflight::structure::compile::{compile, generator_spec, CompiledVehicle};
+use flexflight::structure::generate::analytic_mass_properties;
+
+fn root(p: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(p)
+}
+
+fn compile_file(p: &str, sets: &[String]) -> CompiledVehicle {
+    let checked = check_files(&[root(p)], sets, &DiskLoader);
+    assert!(!checked.has_errors(), "{:?}", checked.diagnostics);
+    let v = &checked.program.vehicles[0];
+    compile(v).expect("compiles").0
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs().max(1e-300)
+}
+
+#[test]
+fn sphads1_has_two_bending_four_flap_four_twist_modes() {
+    let c = compile_file("vehicles/sphads1.vdl", &[]);
+    let classes: Vec<(&str, i32)> = c.modes.iter().map(|m| (m.class.as_str(), m.fin)).collect();
+    assert_eq!(
+        classes,
+        vec![
+            ("body_bending", -1),
+            ("body_bending", -1),
+            ("fin_flap", 0),
+            ("fin_flap", 1),
+            ("fin_flap", 2),
+            ("fin_flap", 3),
+            ("fin_twist", 0),
+            ("fin_twist", 1),
+            ("fin_twist", 2),
+            ("fin_twist", 3),
+        ]
+    );
+    // The stated design targets of the vehicle file (thesis 5.5 and 6.5.6).
+    assert!((c.centre_of_mass[0] + 1.59).abs() < 0.005, "c.g. at {}", c.centre_of_mass[0]);
+    let f_bend = c.modes[0].frequency_hz;
+    assert!((85.0..95.0).contains(&f_bend), "first bending {f_bend} Hz");
+    // Localised fin modes are single-fin: almost no energy on the other fins.
+    for m in &c.modes[2..] {
+        assert!(m.body_fraction < 0.5, "{m:?}");
+    }
+    // Repeated modes: the four flap frequencies agree (cruciform symmetry).
+    for m in &c.modes[3..6] {
+        assert!(rel(m.frequency_hz, c.modes[2].frequency_hz) < 1e-3);
+    }
+}
+
+#[test]
+fn tri_fin_variant_yields_one_mode_per_fin() {
+    let c = compile_file("vehicles/sphads1a.vdl", &[]);
+    let flap: Vec<i32> = c.modes.iter().filter(|m| m.class == "fin_flap").map(|m| m.fin).collect();
+    let twist: Vec<i32> = c.modes.iter().filter(|m| m.class == "fin_twist").map(|m| m.fin).collect();
+    assert_eq!(flap, vec![0, 1, 2]);
+    assert_eq!(twist, vec![0, 1, 2]);
+    assert_eq!(c.modes.len(), 8);
+}
+
+/// (2.5.25): the rigid properties of the compiled model equal the analytic mass, centre of
+/// mass and inertia of the generated geometry (tube, conical nose, fins, point and
+/// distributed masses) to 1e-9 relative.
+#[test]
+fn rigid_properties_equal_the_analytic_ones() {
+    let checked = check_files(&[root("vehicles/sphads1.vdl")], &[], &DiskLoader);
+    let v = &checked.program.vehicles[0];
+    let flexflight::check::ir::Structure::Generate(g) = &v.structure else { panic!() };
+    let analytic = analytic_mass_properties(&generator_spec(v, g));
+    let c = compile(v).unwrap().0;
+    let r = &c.reduced;
+    assert!(rel(r.mass, analytic.mass) < 1e-9, "{} vs {}", r.mass, analytic.mass);
+    let scale_c = analytic.first_moment.iter().map(|x| x.abs()).fold(0.0, f64::max);
+    for k in 0..3 {
+        assert!((r.first_moment[k] - analytic.first_moment[k]).abs() < 1e-9 * scale_c);
+    }
+    let scale_j = analytic.inertia_about_origin.iter().flatten().map(|x| x.abs()).fold(0.0, f64::max);
+    for a in 0..3 {
+        for b in 0..3 {
+            let d = (r.inertia[a][b] - analytic.inertia_about_origin[a][b]).abs();
+            assert!(d < 1e-9 * scale_j, "J[{a}][{b}]: {} vs {}", r.inertia[a][b], analytic.inertia_about_origin[a][b]);
+        }
+    }
+}
+
+/// Fin thickness enters the structure: thicker fins, stiffer fins.
+#[test]
+fn fin_thickness_override_changes_the_fin_frequencies() {
+    let thin = compile_file("vehicles/sphads1.vdl", &["fins.thickness=0.4 mm".into()]);
+    let thick = compile_file("vehicles/sphads1.vdl", &["fins.thickness=0.8 mm".into()]);
+    // Plate bending: f ~ t (D ~ t^3, mass ~ t): doubling t roughly doubles the flap frequency.
+    let ratio = thick.modes[2].frequency_hz / thin.modes[2].frequency_hz;
+    assert!((1.8..2.2).contains(&ratio), "flap ratio {ratio}");
+}
+
+fn structure_error(src: &str) -> String {
+    let mut loader = MemoryLoader::default();
+    loader.files.insert("v.vdl".into(), src.into());
+    let checked = check_source("v.vdl", src, &loader);
+    assert!(!checked.has_errors(), "{:?}", checked.diagnostics);
+    match compile(&checked.program.vehicles[0]) {
+        Ok(_) => panic!("expected a structure error"),
+        Err(e) => format!("{}: {e}", e.code()),
+    }
+}
+
+const BASE: &str = r#"
+import "std/materials.vdl"
+vehicle v {
+  material = aluminium_thesis
+  origin = ORIGIN
+  structure { generate { body { length = 1 m; diameter = 100 mm; wall = 2 mm; elements = 10 } } }
+  key_nodes { body = BODY }
+  modes { MODES }
+  aero { source = builtin; reference_point = (-0.5, 0, 0) m }
+  forces { gravity {} }
+}
+"#;
+
+fn vehicle(origin: &str, body: &str, modes: &str) -> String {
+    BASE.replace("ORIGIN", origin).replace("BODY", body).replace("MODES", modes)
+}
+
+#[test]
+fn a_key_node_that_does_not_exist_is_reported() {
+    let e = structure_error(&vehicle("node(1)", "node(999)", "body_bending = 2"));
+    assert!(e.starts_with("structure::key_node"), "{e}");
+    assert!(e.contains("999"), "{e}");
+}
+
+#[test]
+fn an_impossible_selection_names_what_was_found() {
+    let e = structure_error(&vehicle("node(1)", "node(2)", "band = [100 kHz, 200 kHz]"));
+    assert!(e.starts_with("structure::modes::unmet"), "{e}");
+    assert!(e.contains("Hz"), "{e}");
+    let e = structure_error(&vehicle("node(1)", "node(2)", "body_bending = 500"));
+    assert!(e.starts_with("structure::modes::unmet"), "{e}");
+    assert!(e.contains("body_bending"), "{e}");
+}
+
+/// A failed compilation writes nothing into the cache.
+#[test]
+fn a_failed_compile_leaves_the_cache_empty() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("v.vdl");
+    std::fs::write(&file, vehicle("node(1)", "node(999)", "body_bending = 2")).unwrap();
+    let cache = dir.path().join("cache");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_flexflight"))
+        .args(["compile", file.to_str().unwrap(), "--cache-dir", cache.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("structure::key_node"));
+    assert!(!cache.exists() || std::fs::read_dir(&cache).unwrap().next().is_none());
+}
+
+/// compile twice: the second run is a cache hit and prints the same summary; a corrupted
+/// artifact is detected, reported and rebuilt.
+#[test]
+fn the_cli_caches_and_rebuilds_corrupt_artifacts() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let run = || {
+        std::process::Command::new(env!("CARGO_BIN_EXE_flexflight"))
+            .args(["compile", root("vehicles/sphads1.vdl").to_str().unwrap(), "--format", "json", "--cache-dir"])
+            .arg(&cache)
+            .output()
+            .unwrap()
+    };
+    let first = run();
+    assert!(first.status.success(), "{}", String::from_utf8_lossy(&first.stderr));
+    let j1: serde_json::Value = serde_json::from_slice(&first.stdout).unwrap();
+    assert_eq!(j1["cache"], "miss");
+    let second = run();
+    let j2: serde_json::Value = serde_json::from_slice(&second.stdout).unwrap();
+    assert_eq!(j2["cache"], "hit");
+    assert_eq!(j1["modes"], j2["modes"]);
+    assert_eq!(j1["hash"], j2["hash"]);
+    // Flip one payload byte.
+    let path = PathBuf::from(j1["artifact"].as_str().unwrap());
+    let mut bytes = std::fs::read(&path).unwrap();
+    let k = bytes.len() - 100;
+    bytes[k] ^= 0x55;
+    std::fs::write(&path, bytes).unwrap();
+    let third = run();
+    assert!(third.status.success());
+    let j3: serde_json::Value = serde_json::from_slice(&third.stdout).unwrap();
+    assert_eq!(j3["cache"], "rebuilt");
+    assert!(String::from_utf8_lossy(&third.stderr).contains("artifact::checksum"));
+    assert_eq!(j3["modes"], j1["modes"]);
+}
