@@ -127,8 +127,9 @@ impl Default for ModalOptions {
 
 /// Modal solve with the default options: dense up to 2000 DOF, sparse above. Returns the rigid
 /// modes and the `n_elastic_wanted` lowest elastic modes (fewer if the model has fewer).
-/// A small model whose mass matrix is singular (massless DOF, e.g. shell drilling rotations)
-/// goes to the sparse path, which only needs K - sigma M to be positive definite.
+/// The dense path condenses massless DOFs (e.g. shell drilling rotations) statically; if M
+/// is singular in another way, the sparse path (which only needs K - sigma M positive
+/// definite) is tried.
 pub fn solve(model: &FeModel, n_elastic_wanted: usize) -> Result<Modes, ModalError> {
     let opts = ModalOptions::default();
     if model.n_dof() <= opts.dense_max_dof {
