@@ -4,4 +4,4 @@
 pub mod fe_model;
 pub mod generate;
 
-pub use fe_model::{Component, Element, ElementKind, FeModel, Node, DOF_PER_NODE};
+pub use fe_model::{Component, DOF_PER_NODE, Element, ElementKind, FeModel, Node};
