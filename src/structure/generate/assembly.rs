@@ -15,6 +15,9 @@ use nalgebra::{Matrix3, Matrix6, Vector3};
 use super::GenerateError;
 use crate::structure::fe_model::DOF_PER_NODE;
 
+/// Assembled sparse matrix type of `FeModel`.
+pub type SparseMatrix = SparseColMat<usize, f64>;
+
 /// How an element node enters the global system.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum NodeMap {
@@ -119,7 +122,12 @@ impl Assembler {
         Self::push_block(&mut self.m, node, node, block);
     }
 
-    fn push_block(list: &mut Vec<Triplet<usize, usize, f64>>, ga: usize, gb: usize, b: &Matrix6<f64>) {
+    fn push_block(
+        list: &mut Vec<Triplet<usize, usize, f64>>,
+        ga: usize,
+        gb: usize,
+        b: &Matrix6<f64>,
+    ) {
         for c in 0..6 {
             for r in 0..6 {
                 let v = b[(r, c)];
@@ -131,7 +139,7 @@ impl Assembler {
     }
 
     /// Build (mass, stiffness); duplicates are summed.
-    pub fn finish(self) -> Result<(SparseColMat<usize, f64>, SparseColMat<usize, f64>), GenerateError> {
+    pub fn finish(self) -> Result<(SparseMatrix, SparseMatrix), GenerateError> {
         let build = |t: &[Triplet<usize, usize, f64>]| {
             SparseColMat::try_new_from_triplets(self.n_dof, self.n_dof, t)
                 .map_err(|e| GenerateError::Assembly(format!("{e:?}")))
@@ -163,7 +171,12 @@ mod tests {
         let dd = Vector3::from(d);
         let par = m * (dd.norm_squared() * Matrix3::identity() - dd * dd.transpose());
         let rot = got.fixed_view::<3, 3>(3, 3).into_owned();
-        assert!((rot - par - Matrix3::from_diagonal(&Vector3::from(ic))).abs().max() < 1e-14);
+        assert!(
+            (rot - par - Matrix3::from_diagonal(&Vector3::from(ic)))
+                .abs()
+                .max()
+                < 1e-14
+        );
         // A unit rotation about z moves the mass by theta x d = (-d_y, d_x, 0).
         let mut q = nalgebra::Vector6::zeros();
         q[5] = 1.0;

@@ -46,6 +46,7 @@ use super::spec::{BeamTheory, BodySpec, MaterialProps};
 pub type Mat12 = SMatrix<f64, 12, 12>;
 
 /// Gauss-Legendre points and weights on [0, 1], 5 points.
+#[allow(clippy::excessive_precision)]
 pub(crate) const GAUSS5: [(f64, f64); 5] = [
     (0.046_910_077_030_668_0, 0.118_463_442_528_094_55),
     (0.230_765_344_947_158_45, 0.239_314_335_249_683_25),
@@ -308,7 +309,10 @@ mod tests {
             for q in 0..4 {
                 let want = ra * l / 420.0 * t[p][q] + ri / (30.0 * l) * r[p][q];
                 let got = m[(d[p], d[q])];
-                assert!((got - want).abs() <= 1e-12 * ra * l, "({p},{q}): {got} vs {want}");
+                assert!(
+                    (got - want).abs() <= 1e-12 * ra * l,
+                    "({p},{q}): {got} vs {want}"
+                );
             }
         }
     }

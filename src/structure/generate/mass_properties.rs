@@ -130,8 +130,22 @@ fn add_body(out: &mut MassProperties, b: &BodySpec) {
     if ln > 0.0 {
         let kappa = r / ln;
         let s_solid = t / kappa; // r_o = t here; t < r so s_solid < l_n
-        add_revolution(out, rho, &Poly(vec![0.0, kappa]), &Poly(vec![0.0]), 0.0, s_solid);
-        add_revolution(out, rho, &Poly(vec![0.0, kappa]), &Poly(vec![-t, kappa]), s_solid, ln);
+        add_revolution(
+            out,
+            rho,
+            &Poly(vec![0.0, kappa]),
+            &Poly(vec![0.0]),
+            0.0,
+            s_solid,
+        );
+        add_revolution(
+            out,
+            rho,
+            &Poly(vec![0.0, kappa]),
+            &Poly(vec![-t, kappa]),
+            s_solid,
+            ln,
+        );
     }
     add_revolution(out, rho, &Poly(vec![r]), &Poly(vec![r - t]), ln, b.length);
 }

@@ -10,8 +10,8 @@
 //!
 //! Stations closer than 1e-12 L are merged. Node 0 is the nose tip; nodes run aft.
 
-use super::spec::{BodySpec, FinSpec, GeneratorSpec};
 use super::assembly::NodeMap;
+use super::spec::{BodySpec, FinSpec, GeneratorSpec};
 use nalgebra::{Matrix3, Vector3};
 
 /// Body stations, from x = 0 (nose tip) down to x = -L (module doc).

@@ -28,9 +28,11 @@ mod spec;
 #[cfg(test)]
 mod test_eigen;
 
-pub use assembly::{offset_mass_block, rigid_link, skew, NodeMap};
-pub use beam::{section_at, TubeSection};
-pub use mass_properties::{analytic_mass_properties, rigid_body_projection, MassProperties};
+pub use assembly::{NodeMap, offset_mass_block, rigid_link, skew};
+pub use beam::{TubeSection, section_at};
+pub use mass_properties::{
+    MassProperties, analytic_mass_properties, rigid_body_projection, rigid_body_vectors,
+};
 pub use spec::{
     BeamTheory, BodySpec, DistributedMass, FinSpec, GeneratorSpec, MaterialProps, PointMass,
 };

@@ -87,6 +87,7 @@ fn covariant_shear(ab: &[[f64; 2]; 4], xi: f64, eta: f64) -> (Row24, Row24) {
 }
 
 /// Area of the quad (for checks and the drilling scale).
+#[cfg(test)]
 pub fn quad_area(ab: &[[f64; 2]; 4]) -> f64 {
     let mut s = 0.0;
     for i in 0..4 {
@@ -106,7 +107,17 @@ pub fn shell_element(ab: &[[f64; 2]; 4], t: f64, mat: &MaterialProps) -> (Mat24,
     let ks = PLATE_SHEAR_FACTOR * g * t;
     let gamma = DRILLING_FACTOR * g * t;
     let elastic = |c: f64| {
-        SMatrix::<f64, 3, 3>::new(c, nu * c, 0.0, nu * c, c, 0.0, 0.0, 0.0, 0.5 * (1.0 - nu) * c)
+        SMatrix::<f64, 3, 3>::new(
+            c,
+            nu * c,
+            0.0,
+            nu * c,
+            c,
+            0.0,
+            0.0,
+            0.0,
+            0.5 * (1.0 - nu) * c,
+        )
     };
     let (d_m, d_b) = (elastic(dm), elastic(db));
 
@@ -119,7 +130,14 @@ pub fn shell_element(ab: &[[f64; 2]; 4], t: f64, mat: &MaterialProps) -> (Mat24,
     let gp = 1.0 / 3f64.sqrt();
     let mut k = Mat24::zeros();
     let mut m = Mat24::zeros();
-    let inertia = [rho * t, rho * t, rho * t, rho * t.powi(3) / 12.0, rho * t.powi(3) / 12.0, 0.0];
+    let inertia = [
+        rho * t,
+        rho * t,
+        rho * t,
+        rho * t.powi(3) / 12.0,
+        rho * t.powi(3) / 12.0,
+        0.0,
+    ];
     for &(xi, eta) in &[(-gp, -gp), (gp, -gp), (gp, gp), (-gp, gp)] {
         let (n, dxi, deta) = q4(xi, eta);
         let j = jacobian(ab, &dxi, &deta);
@@ -219,7 +237,11 @@ mod tests {
                 }
             }
             let kr = k * r;
-            assert!(kr.abs().max() < 1e-10 * norm, "mode {mode}: {}", kr.abs().max());
+            assert!(
+                kr.abs().max() < 1e-10 * norm,
+                "mode {mode}: {}",
+                kr.abs().max()
+            );
             if mode < 3 {
                 // total mass rho t A
                 let mass = (r.transpose() * m * r)[(0, 0)];

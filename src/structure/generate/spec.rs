@@ -260,8 +260,7 @@ pub(crate) fn check_fin_planform(f: &FinSpec) -> Result<(), GenerateError> {
             reason: "must not exceed the root chord",
         });
     }
-    if f.sweep.abs() >= 0.5 * std::f64::consts::PI || f.cant.abs() >= 0.5 * std::f64::consts::PI
-    {
+    if f.sweep.abs() >= 0.5 * std::f64::consts::PI || f.cant.abs() >= 0.5 * std::f64::consts::PI {
         return Err(GenerateError::BadGeometry {
             what: "fins.sweep/cant",
             value: f.sweep.max(f.cant),

@@ -5,6 +5,7 @@
 //! (free-free) and a singular M (massless drilling DOFs) are both fine:
 //! L L^T = K + sigma M,  C = L^-1 M L^-T,  C y = mu y,  omega^2 = 1/mu - sigma.
 //! Modes with mu <= 1e-12 mu_max (infinite frequency, massless DOFs) are dropped.
+#![allow(dead_code)] // used by tests/generator.rs through #[path]
 
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::sparse::SparseColMat;
@@ -20,7 +21,9 @@ pub fn generalized_eigenvalues(
     let md = m.to_dense();
     let n = kd.nrows();
     let a = Mat::<f64>::from_fn(n, n, |i, j| kd[(i, j)] + sigma * md[(i, j)]);
-    let llt = a.llt(Side::Lower).expect("K + sigma M must be positive definite");
+    let llt = a
+        .llt(Side::Lower)
+        .expect("K + sigma M must be positive definite");
     let l = llt.L();
     let mut x = md.clone();
     solve_lower_triangular_in_place(l, x.as_mut(), Par::Seq); // L^-1 M
@@ -41,7 +44,11 @@ pub fn generalized_eigenvalues(
 }
 
 /// Natural frequencies in Hz, ascending, with omega^2 clamped at 0.
-pub fn frequencies_hz(k: &SparseColMat<usize, f64>, m: &SparseColMat<usize, f64>, sigma: f64) -> Vec<f64> {
+pub fn frequencies_hz(
+    k: &SparseColMat<usize, f64>,
+    m: &SparseColMat<usize, f64>,
+    sigma: f64,
+) -> Vec<f64> {
     generalized_eigenvalues(k, m, sigma)
         .into_iter()
         .map(|w2| w2.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
