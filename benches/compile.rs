@@ -6,11 +6,11 @@ use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use flexflight::artifact::Cache;
-use flexflight::check::{check_files, DiskLoader};
+use flexflight::check::{DiskLoader, check_files};
 use flexflight::cli::compile::cache_key;
-use flexflight::structure::compile::{compile, CompiledVehicle};
+use flexflight::structure::compile::{CompiledVehicle, compile};
 
 fn sphads1(sets: &[String]) -> flexflight::check::ir::Vehicle {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("vehicles/sphads1.vdl");
@@ -23,18 +23,23 @@ fn bench_compile(c: &mut Criterion) {
     let v = sphads1(&[]);
     let mut g = c.benchmark_group("compile");
     g.sample_size(10).measurement_time(Duration::from_secs(10));
-    g.bench_function("sphads1 from scratch", |b| b.iter(|| compile(black_box(&v)).map(|r| r.0.modes.len())));
+    g.bench_function("sphads1 from scratch", |b| {
+        b.iter(|| compile(black_box(&v)).map(|r| r.0.modes.len()))
+    });
     let dir = tempfile::tempdir().expect("temp dir");
     let cache = Cache::new(dir.path().to_path_buf());
     let key = cache_key(&v).expect("key");
-    cache.get_or_build(&key, || compile(&v).map(|r| r.0)).expect("first build");
+    cache
+        .get_or_build(&key, || compile(&v).map(|r| r.0))
+        .expect("first build");
     g.bench_function("sphads1 cache hit (key + load + validate)", |b| {
         b.iter(|| {
             let key = cache_key(black_box(&v)).expect("key");
             let (art, outcome) = cache
-                .get_or_build::<CompiledVehicle, flexflight::structure::compile::StructureError>(&key, || {
-                    unreachable!("the artifact is cached")
-                })
+                .get_or_build::<CompiledVehicle, flexflight::structure::compile::StructureError>(
+                    &key,
+                    || unreachable!("the artifact is cached"),
+                )
                 .expect("hit");
             assert!(matches!(outcome, flexflight::artifact::CacheOutcome::Hit));
             art.get().modes.len()

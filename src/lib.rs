@@ -15,6 +15,9 @@
 //! Shared services: [`units`] (dimensions and unit table), [`diagnostics`] (the one place
 //! spans become miette reports).
 
+// Library code reports errors; it does not unwrap (tests, benches and the fuzzer may).
+#![warn(clippy::unwrap_used, clippy::expect_used)]
+
 pub mod artifact;
 pub mod check;
 pub mod cli;

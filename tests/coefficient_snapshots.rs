@@ -6,8 +6,8 @@
 
 use std::path::Path;
 
-use flexflight::check::{check_files, check_source, DiskLoader, MemoryLoader};
-use flexflight::structure::compile::{compile, CompiledVehicle};
+use flexflight::check::{DiskLoader, MemoryLoader, check_files, check_source};
+use flexflight::structure::compile::{CompiledVehicle, compile};
 use serde_json::Value;
 
 fn sig(x: f64) -> String {
@@ -25,7 +25,9 @@ fn fmt_value(v: &Value) -> Value {
             let max = nums.iter().map(|x| x.abs()).fold(0.0, f64::max);
             Value::Array(a.iter().map(|x| fmt_scaled(x, max)).collect())
         }
-        Value::Object(m) => Value::Object(m.iter().map(|(k, x)| (k.clone(), fmt_value(x))).collect()),
+        Value::Object(m) => {
+            Value::Object(m.iter().map(|(k, x)| (k.clone(), fmt_value(x))).collect())
+        }
         Value::Number(n) => Value::String(sig(n.as_f64().unwrap_or(f64::NAN))),
         other => other.clone(),
     }
@@ -35,7 +37,11 @@ fn fmt_scaled(v: &Value, max: f64) -> Value {
     match v {
         Value::Number(n) => {
             let x = n.as_f64().unwrap_or(f64::NAN);
-            Value::String(if x.abs() < 1e-9 * max { "0".into() } else { sig(x) })
+            Value::String(if x.abs() < 1e-9 * max {
+                "0".into()
+            } else {
+                sig(x)
+            })
         }
         Value::Array(a) => Value::Array(a.iter().map(|x| fmt_scaled(x, max)).collect()),
         other => fmt_value(other),

@@ -5,8 +5,8 @@
 
 use std::path::{Path, PathBuf};
 
-use flexflight::check::{check_files, check_source, DiskLoader, MemoryLoader};
-use flexflight::structure::compile::{compile, generator_spec, CompiledVehicle};
+use flexflight::check::{DiskLoader, MemoryLoader, check_files, check_source};
+use flexflight::structure::compile::{CompiledVehicle, compile, generator_spec};
 use flexflight::structure::generate::analytic_mass_properties;
 
 fn root(p: &str) -> PathBuf {
@@ -44,7 +44,11 @@ fn sphads1_has_two_bending_four_flap_four_twist_modes() {
         ]
     );
     // The stated design targets of the vehicle file (thesis 5.5 and 6.5.6).
-    assert!((c.centre_of_mass[0] + 1.59).abs() < 0.005, "c.g. at {}", c.centre_of_mass[0]);
+    assert!(
+        (c.centre_of_mass[0] + 1.59).abs() < 0.005,
+        "c.g. at {}",
+        c.centre_of_mass[0]
+    );
     let f_bend = c.modes[0].frequency_hz;
     assert!((85.0..95.0).contains(&f_bend), "first bending {f_bend} Hz");
     // Localised fin modes are single-fin: almost no energy on the other fins.
@@ -60,8 +64,18 @@ fn sphads1_has_two_bending_four_flap_four_twist_modes() {
 #[test]
 fn tri_fin_variant_yields_one_mode_per_fin() {
     let c = compile_file("vehicles/sphads1a.vdl", &[]);
-    let flap: Vec<i32> = c.modes.iter().filter(|m| m.class == "fin_flap").map(|m| m.fin).collect();
-    let twist: Vec<i32> = c.modes.iter().filter(|m| m.class == "fin_twist").map(|m| m.fin).collect();
+    let flap: Vec<i32> = c
+        .modes
+        .iter()
+        .filter(|m| m.class == "fin_flap")
+        .map(|m| m.fin)
+        .collect();
+    let twist: Vec<i32> = c
+        .modes
+        .iter()
+        .filter(|m| m.class == "fin_twist")
+        .map(|m| m.fin)
+        .collect();
     assert_eq!(flap, vec![0, 1, 2]);
     assert_eq!(twist, vec![0, 1, 2]);
     assert_eq!(c.modes.len(), 8);
@@ -74,20 +88,41 @@ fn tri_fin_variant_yields_one_mode_per_fin() {
 fn rigid_properties_equal_the_analytic_ones() {
     let checked = check_files(&[root("vehicles/sphads1.vdl")], &[], &DiskLoader);
     let v = &checked.program.vehicles[0];
-    let flexflight::check::ir::Structure::Generate(g) = &v.structure else { panic!() };
+    let flexflight::check::ir::Structure::Generate(g) = &v.structure else {
+        panic!()
+    };
     let analytic = analytic_mass_properties(&generator_spec(v, g));
     let c = compile(v).unwrap().0;
     let r = &c.reduced;
-    assert!(rel(r.mass, analytic.mass) < 1e-9, "{} vs {}", r.mass, analytic.mass);
-    let scale_c = analytic.first_moment.iter().map(|x| x.abs()).fold(0.0, f64::max);
+    assert!(
+        rel(r.mass, analytic.mass) < 1e-9,
+        "{} vs {}",
+        r.mass,
+        analytic.mass
+    );
+    let scale_c = analytic
+        .first_moment
+        .iter()
+        .map(|x| x.abs())
+        .fold(0.0, f64::max);
     for k in 0..3 {
         assert!((r.first_moment[k] - analytic.first_moment[k]).abs() < 1e-9 * scale_c);
     }
-    let scale_j = analytic.inertia_about_origin.iter().flatten().map(|x| x.abs()).fold(0.0, f64::max);
+    let scale_j = analytic
+        .inertia_about_origin
+        .iter()
+        .flatten()
+        .map(|x| x.abs())
+        .fold(0.0, f64::max);
     for a in 0..3 {
         for b in 0..3 {
             let d = (r.inertia[a][b] - analytic.inertia_about_origin[a][b]).abs();
-            assert!(d < 1e-9 * scale_j, "J[{a}][{b}]: {} vs {}", r.inertia[a][b], analytic.inertia_about_origin[a][b]);
+            assert!(
+                d < 1e-9 * scale_j,
+                "J[{a}][{b}]: {} vs {}",
+                r.inertia[a][b],
+                analytic.inertia_about_origin[a][b]
+            );
         }
     }
 }
@@ -127,7 +162,9 @@ vehicle v {
 "#;
 
 fn vehicle(origin: &str, body: &str, modes: &str) -> String {
-    BASE.replace("ORIGIN", origin).replace("BODY", body).replace("MODES", modes)
+    BASE.replace("ORIGIN", origin)
+        .replace("BODY", body)
+        .replace("MODES", modes)
 }
 
 #[test]
@@ -155,10 +192,20 @@ fn a_failed_compile_leaves_the_cache_empty() {
     std::fs::write(&file, vehicle("node(1)", "node(999)", "body_bending = 2")).unwrap();
     let cache = dir.path().join("cache");
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_flexflight"))
-        .args(["compile", file.to_str().unwrap(), "--cache-dir", cache.to_str().unwrap()])
+        .args([
+            "compile",
+            file.to_str().unwrap(),
+            "--cache-dir",
+            cache.to_str().unwrap(),
+        ])
         .output()
         .unwrap();
-    assert_eq!(out.status.code(), Some(1), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert!(String::from_utf8_lossy(&out.stderr).contains("structure::key_node"));
     assert!(!cache.exists() || std::fs::read_dir(&cache).unwrap().next().is_none());
 }
@@ -171,13 +218,23 @@ fn the_cli_caches_and_rebuilds_corrupt_artifacts() {
     let cache = dir.path().join("cache");
     let run = || {
         std::process::Command::new(env!("CARGO_BIN_EXE_flexflight"))
-            .args(["compile", root("vehicles/sphads1.vdl").to_str().unwrap(), "--format", "json", "--cache-dir"])
+            .args([
+                "compile",
+                root("vehicles/sphads1.vdl").to_str().unwrap(),
+                "--format",
+                "json",
+                "--cache-dir",
+            ])
             .arg(&cache)
             .output()
             .unwrap()
     };
     let first = run();
-    assert!(first.status.success(), "{}", String::from_utf8_lossy(&first.stderr));
+    assert!(
+        first.status.success(),
+        "{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
     let j1: serde_json::Value = serde_json::from_slice(&first.stdout).unwrap();
     assert_eq!(j1["cache"], "miss");
     let second = run();

@@ -4,14 +4,11 @@
 
 #![allow(clippy::unwrap_used)]
 
-#[path = "../src/structure/generate/test_eigen.rs"]
-mod test_eigen;
-
 use flexflight::structure::generate::{
     BeamTheory, BodySpec, DistributedMass, FinSpec, GeneratorSpec, MaterialProps, PointMass,
     analytic_mass_properties, cantilever_fin_model, generate, rigid_body_projection,
 };
-use flexflight::structure::{Component, FeModel};
+use flexflight::structure::{Component, FeModel, modal};
 use std::f64::consts::PI;
 
 fn aluminium() -> MaterialProps {
@@ -61,7 +58,7 @@ fn free_free_frequencies(body: BodySpec) -> Vec<f64> {
         distributed_masses: vec![],
     };
     let model = generate(&spec).unwrap();
-    test_eigen::frequencies_hz(&model.stiffness, &model.mass, 1.0)
+    modal::solve(&model, 12).unwrap().frequencies_hz()
 }
 
 /// Free-free uniform tube, Euler-Bernoulli elements (with rotary inertia): the first three
@@ -114,7 +111,9 @@ fn plate_lambdas(fin: &FinSpec, a: f64) -> Vec<f64> {
     let model = cantilever_fin_model(fin).unwrap();
     let m = fin.material;
     let dflex = m.youngs_modulus * fin.thickness.powi(3) / (12.0 * (1.0 - m.poisson.powi(2)));
-    test_eigen::generalized_eigenvalues(&model.stiffness, &model.mass, 0.0)
+    modal::solve(&model, 12)
+        .unwrap()
+        .omega2
         .iter()
         .map(|w2| w2.sqrt() * a * a * (m.density * fin.thickness / dflex).sqrt())
         .collect()
@@ -185,14 +184,15 @@ fn skew_cantilever_plate_matches_barton() {
 /// 1e-4 relative once converged (the first bending frequency settles to 5 digits by the
 /// 16 x 8 mesh and then moves by +-5e-5 relative).
 #[test]
-#[ignore = "slow in debug builds (dense eigen of 3168 DOF, ~10 min); run with --ignored"]
 fn sphads_fin_cantilever_converges() {
     let meshes = [(8, 4), (16, 8), (24, 12), (32, 16)];
     let mut table = Vec::new();
     for &(nc, ns) in &meshes {
         let fin = sphads_fin(0.001, nc, ns);
         let model = cantilever_fin_model(&fin).unwrap();
-        let f: Vec<f64> = test_eigen::generalized_eigenvalues(&model.stiffness, &model.mass, 0.0)
+        let f: Vec<f64> = modal::solve(&model, 12)
+            .unwrap()
+            .omega2
             .iter()
             .map(|w2| w2.sqrt() / (2.0 * PI))
             .collect();

@@ -5,13 +5,13 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::artifact::{self, Cache, CacheKey, CacheKeyBuilder, CacheOutcome, GetOrBuildError};
-use crate::check::ir::Vehicle;
 use crate::check::Checked;
+use crate::check::ir::Vehicle;
 use crate::diagnostics::Diagnostic;
-use crate::structure::compile::{compile, referenced_files, CompiledVehicle, StructureError};
+use crate::structure::compile::{CompiledVehicle, StructureError, compile, referenced_files};
 use crate::syntax::{SourceMap, Span};
 
-use super::{emit, Format, Terminal, EXIT_DIAGNOSTICS, EXIT_USAGE};
+use super::{EXIT_DIAGNOSTICS, EXIT_USAGE, Format, Terminal, emit};
 
 /// Pick the vehicle to compile: by name, or the only one declared in the root files.
 pub fn pick_vehicle<'a>(checked: &'a Checked, name: Option<&str>) -> Result<&'a Vehicle, String> {
@@ -20,7 +20,10 @@ pub fn pick_vehicle<'a>(checked: &'a Checked, name: Option<&str>) -> Result<&'a 
         Some(n) => vs.iter().find(|v| v.name.value == n).ok_or_else(|| {
             format!(
                 "no vehicle named `{n}`; declared: {}",
-                vs.iter().map(|v| v.name.value.as_str()).collect::<Vec<_>>().join(", ")
+                vs.iter()
+                    .map(|v| v.name.value.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
             )
         }),
         None => match vs.as_slice() {
@@ -28,7 +31,10 @@ pub fn pick_vehicle<'a>(checked: &'a Checked, name: Option<&str>) -> Result<&'a 
             [] => Err("the files declare no vehicle".into()),
             _ => Err(format!(
                 "the files declare several vehicles ({}); choose one with --vehicle",
-                vs.iter().map(|v| v.name.value.as_str()).collect::<Vec<_>>().join(", ")
+                vs.iter()
+                    .map(|v| v.name.value.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
             )),
         },
     }
@@ -112,8 +118,13 @@ fn line_span(text: &str, line: usize, column: usize) -> Option<(usize, usize)> {
         if k + 1 == line {
             let l_trim = l.trim_end_matches(['\n', '\r']);
             if column > 0 {
-                let c = l_trim.char_indices().nth(column - 1).map_or(l_trim.len(), |(i, _)| i);
-                let end = l_trim[c..].find(char::is_whitespace).map_or(l_trim.len(), |e| c + e);
+                let c = l_trim
+                    .char_indices()
+                    .nth(column - 1)
+                    .map_or(l_trim.len(), |(i, _)| i);
+                let end = l_trim[c..]
+                    .find(char::is_whitespace)
+                    .map_or(l_trim.len(), |e| c + e);
                 return Some((start + c, start + end.max(c + 1).min(l_trim.len().max(c))));
             }
             return Some((start, start + l_trim.len()));
@@ -143,20 +154,28 @@ pub fn compile_cached(
     let key = match cache_key(vehicle) {
         Ok(k) => k,
         Err(e) => {
-            eprintln!("error: cannot read an FE file of `{}`: {e}", vehicle.name.value);
+            eprintln!(
+                "error: cannot read an FE file of `{}`: {e}",
+                vehicle.name.value
+            );
             return Err(EXIT_USAGE);
         }
     };
     let cache = Cache::resolve(cache_dir);
     match cache.get_or_build(&key, || compile(vehicle).map(|(c, _)| c)) {
         Ok((art, outcome)) => {
-            let compiled = match rkyv::deserialize::<CompiledVehicle, rkyv::rancor::Error>(art.get()) {
-                Ok(c) => c,
-                Err(e) => {
-                    eprintln!("error: artifact {} could not be read back: {e}", art.path().map_or(String::new(), |p| p.display().to_string()));
-                    return Err(EXIT_USAGE);
-                }
-            };
+            let compiled =
+                match rkyv::deserialize::<CompiledVehicle, rkyv::rancor::Error>(art.get()) {
+                    Ok(c) => c,
+                    Err(e) => {
+                        eprintln!(
+                            "error: artifact {} could not be read back: {e}",
+                            art.path()
+                                .map_or(String::new(), |p| p.display().to_string())
+                        );
+                        return Err(EXIT_USAGE);
+                    }
+                };
             if let CacheOutcome::Rebuilt { .. } = &outcome {
                 eprintln!("warning: {outcome}");
             }
@@ -193,13 +212,31 @@ pub fn summary_text(c: &CompiledVehicle) -> String {
     );
     let _ = writeln!(s, "inertia about the centre of mass (kg m^2):");
     for row in &c.inertia_cm {
-        let _ = writeln!(s, "  [{:>14.6e} {:>14.6e} {:>14.6e}]", row[0], row[1], row[2]);
+        let _ = writeln!(
+            s,
+            "  [{:>14.6e} {:>14.6e} {:>14.6e}]",
+            row[0], row[1], row[2]
+        );
     }
-    let _ = writeln!(s, "FE model       {} nodes, {} DOF, {} rigid-body modes", c.node_positions.len(), 6 * c.node_positions.len(), c.n_rigid);
+    let _ = writeln!(
+        s,
+        "FE model       {} nodes, {} DOF, {} rigid-body modes",
+        c.node_positions.len(),
+        6 * c.node_positions.len(),
+        c.n_rigid
+    );
     let _ = writeln!(s, "selected modes:");
-    let _ = writeln!(s, "  {:>3}  {:<20} {:<13} {:>4} {:>12} {:>14}", "#", "name", "class", "fin", "freq (Hz)", "gen. mass");
+    let _ = writeln!(
+        s,
+        "  {:>3}  {:<20} {:<13} {:>4} {:>12} {:>14}",
+        "#", "name", "class", "fin", "freq (Hz)", "gen. mass"
+    );
     for (k, m) in c.modes.iter().enumerate() {
-        let fin = if m.fin >= 0 { format!("{}", m.fin + 1) } else { "-".into() };
+        let fin = if m.fin >= 0 {
+            format!("{}", m.fin + 1)
+        } else {
+            "-".into()
+        };
         let _ = writeln!(
             s,
             "  {:>3}  {:<20} {:<13} {:>4} {:>12.4} {:>14.6e}",
@@ -247,7 +284,10 @@ pub fn print_outcome(o: &CompileOutcome, format: Format) {
                 }
             );
         }
-        Format::Json => println!("{}", serde_json::to_string_pretty(&summary_json(o)).unwrap_or_default()),
+        Format::Json => println!(
+            "{}",
+            serde_json::to_string_pretty(&summary_json(o)).unwrap_or_default()
+        ),
     }
 }
 
@@ -263,7 +303,10 @@ pub fn cmd_inspect(path: &Path, format: Format) -> u8 {
     // The expected key is the one stored in the file: inspect validates everything else.
     let key_bytes: Option<[u8; 32]> = bytes.get(48..80).and_then(|s| s.try_into().ok());
     let Some(key_bytes) = key_bytes else {
-        eprintln!("error[artifact::truncated]: `{}` is too short to be an artifact", path.display());
+        eprintln!(
+            "error[artifact::truncated]: `{}` is too short to be an artifact",
+            path.display()
+        );
         return EXIT_DIAGNOSTICS;
     };
     let key = CacheKey(key_bytes);
@@ -271,7 +314,9 @@ pub fn cmd_inspect(path: &Path, format: Format) -> u8 {
         Ok(art) => match rkyv::deserialize::<CompiledVehicle, rkyv::rancor::Error>(art.get()) {
             Ok(c) => {
                 match format {
-                    Format::Json => println!("{}", serde_json::to_string_pretty(&c).unwrap_or_default()),
+                    Format::Json => {
+                        println!("{}", serde_json::to_string_pretty(&c).unwrap_or_default())
+                    }
                     Format::Human => {
                         print!("{}", summary_text(&c));
                         println!("coefficients (3.2.1), row-major:");

@@ -126,14 +126,39 @@ pub const EXIT_USAGE: u8 = 2;
 pub fn run(cli: Cli, term: Terminal) -> ExitCode {
     let code = match cli.command {
         Command::Check { files, common } => cmd_check(&files, &common, term),
-        Command::Fmt { files, check, output } => fmt::cmd_fmt(&files, check, output.format, term),
-        Command::Compile { file, vehicle, common, cache } => {
-            cmd_compile(&file, vehicle.as_deref(), &common, cache.cache_dir.as_deref(), None, term)
-        }
+        Command::Fmt {
+            files,
+            check,
+            output,
+        } => fmt::cmd_fmt(&files, check, output.format, term),
+        Command::Compile {
+            file,
+            vehicle,
+            common,
+            cache,
+        } => cmd_compile(
+            &file,
+            vehicle.as_deref(),
+            &common,
+            cache.cache_dir.as_deref(),
+            None,
+            term,
+        ),
         Command::Inspect { artifact, output } => compile::cmd_inspect(&artifact, output.format),
-        Command::Modes { file, vehicle, export, common, cache } => {
-            cmd_compile(&file, vehicle.as_deref(), &common, cache.cache_dir.as_deref(), Some(&export), term)
-        }
+        Command::Modes {
+            file,
+            vehicle,
+            export,
+            common,
+            cache,
+        } => cmd_compile(
+            &file,
+            vehicle.as_deref(),
+            &common,
+            cache.cache_dir.as_deref(),
+            Some(&export),
+            term,
+        ),
     };
     ExitCode::from(code)
 }
@@ -248,7 +273,10 @@ fn cmd_compile(
                 EXIT_OK
             }
             Err(e) => {
-                eprintln!("error: cannot write mode shapes to `{}`: {e}", dir.display());
+                eprintln!(
+                    "error: cannot write mode shapes to `{}`: {e}",
+                    dir.display()
+                );
                 EXIT_USAGE
             }
         },

@@ -10,12 +10,12 @@ use std::path::Path;
 use faer::Mat;
 use serde::Serialize;
 
-use super::coefficients::{fix_modes_at_origin, reduce, CoefficientError, ReducedModel};
+use super::coefficients::{CoefficientError, ReducedModel, fix_modes_at_origin, reduce};
 use super::fe_io::{self, DofOrder, FeReadError, ReadOptions};
-use super::fe_model::{Component, FeModel, DOF_PER_NODE};
+use super::fe_model::{Component, DOF_PER_NODE, FeModel};
 use super::generate::{self, GenerateError, GeneratorSpec};
 use super::modal::{self, ModalError};
-use super::selection::{select, FinLayout, ModeInfo, SelectionError};
+use super::selection::{FinLayout, ModeInfo, SelectionError, select};
 use crate::check::ir::{self, FinKeyNodes, NodeRef, Structure, Vehicle};
 use crate::syntax::Span;
 
@@ -172,7 +172,10 @@ pub fn build_model(v: &Vehicle) -> Result<FeModel, StructureError> {
     match &v.structure {
         Structure::Generate(g) => {
             let spec = generator_spec(v, g);
-            generate::generate(&spec).map_err(|error| StructureError::Generate { error, span: g.span })
+            generate::generate(&spec).map_err(|error| StructureError::Generate {
+                error,
+                span: g.span,
+            })
         }
         Structure::Files(f) => {
             let order = f.dof_order.value.map(usize::from);
@@ -204,14 +207,18 @@ pub fn build_model(v: &Vehicle) -> Result<FeModel, StructureError> {
 
 fn node_index(model: &FeModel, r: &NodeRef, what: &str) -> Result<usize, StructureError> {
     match r {
-        NodeRef::Id(id) => model.node_index(id.value).ok_or_else(|| StructureError::Node {
-            message: format!("{what}: the FE model has no node with id {}", id.value),
-            span: id.span,
-        }),
-        NodeRef::Nearest(p) => nearest(model, p.value, |_| true).ok_or_else(|| StructureError::Node {
-            message: format!("{what}: the FE model has no nodes"),
-            span: p.span,
-        }),
+        NodeRef::Id(id) => model
+            .node_index(id.value)
+            .ok_or_else(|| StructureError::Node {
+                message: format!("{what}: the FE model has no node with id {}", id.value),
+                span: id.span,
+            }),
+        NodeRef::Nearest(p) => {
+            nearest(model, p.value, |_| true).ok_or_else(|| StructureError::Node {
+                message: format!("{what}: the FE model has no nodes"),
+                span: p.span,
+            })
+        }
     }
 }
 
@@ -225,11 +232,21 @@ fn nearest(model: &FeModel, p: [f64; 3], keep: impl Fn(usize) -> bool) -> Option
 /// Fin key nodes: for `fin_point(span = s, chord = c)` the fin-j node nearest to the point
 /// at fraction s of the span from the root and fraction c of the local chord aft of the
 /// leading edge (5.4.17-5.4.18 use the same non-dimensional positions).
-fn fin_key_nodes(model: &FeModel, comps: &[Component], v: &Vehicle) -> Result<Vec<usize>, StructureError> {
-    let Some(f) = &v.fins else { return Ok(Vec::new()) };
+fn fin_key_nodes(
+    model: &FeModel,
+    comps: &[Component],
+    v: &Vehicle,
+) -> Result<Vec<usize>, StructureError> {
+    let Some(f) = &v.fins else {
+        return Ok(Vec::new());
+    };
     match &v.key_nodes.fins {
         FinKeyNodes::None => Ok(Vec::new()),
-        FinKeyNodes::PerFin(refs) => refs.iter().enumerate().map(|(j, r)| node_index(model, r, &format!("fin {} key node", j + 1))).collect(),
+        FinKeyNodes::PerFin(refs) => refs
+            .iter()
+            .enumerate()
+            .map(|(j, r)| node_index(model, r, &format!("fin {} key node", j + 1)))
+            .collect(),
         FinKeyNodes::Fraction { span, chord } => {
             let mut out = Vec::new();
             for (j, delta) in f.angles.iter().enumerate() {
@@ -239,7 +256,10 @@ fn fin_key_nodes(model: &FeModel, comps: &[Component], v: &Vehicle) -> Result<Ve
                     let q = model.nodes[i].position;
                     q[1] * c + q[2] * s
                 };
-                let r_root = (0..model.nodes.len()).filter(|&i| on_fin(i)).map(radial).fold(f64::INFINITY, f64::min);
+                let r_root = (0..model.nodes.len())
+                    .filter(|&i| on_fin(i))
+                    .map(radial)
+                    .fold(f64::INFINITY, f64::min);
                 if !r_root.is_finite() {
                     return Err(StructureError::Node {
                         message: format!("fin {}: the FE model has no nodes on this fin", j + 1),
@@ -247,8 +267,10 @@ fn fin_key_nodes(model: &FeModel, comps: &[Component], v: &Vehicle) -> Result<Ve
                     });
                 }
                 let eta = span.value * f.span.value;
-                let local_chord = f.root_chord.value + (f.tip_chord.value - f.root_chord.value) * span.value;
-                let x_le = f.root_trailing_edge_x.value + f.root_chord.value - eta * f.leading_edge_sweep.value.tan();
+                let local_chord =
+                    f.root_chord.value + (f.tip_chord.value - f.root_chord.value) * span.value;
+                let x_le = f.root_trailing_edge_x.value + f.root_chord.value
+                    - eta * f.leading_edge_sweep.value.tan();
                 let x = x_le - chord.value * local_chord;
                 let r = r_root + eta;
                 let target = [x, r * c, r * s];
@@ -282,8 +304,13 @@ pub fn compile(v: &Vehicle) -> Result<(CompiledVehicle, FeModel), StructureError
 }
 
 /// Compile a vehicle from an FE model already built.
-pub fn compile_model(v: &Vehicle, model: FeModel) -> Result<(CompiledVehicle, FeModel), StructureError> {
-    let fins = v.fins.as_ref().map(|f| FinLayout { angles: f.angles.iter().map(|a| a.value).collect() });
+pub fn compile_model(
+    v: &Vehicle,
+    model: FeModel,
+) -> Result<(CompiledVehicle, FeModel), StructureError> {
+    let fins = v.fins.as_ref().map(|f| FinLayout {
+        angles: f.angles.iter().map(|a| a.value).collect(),
+    });
     let comps = super::selection::components(&model, fins.as_ref());
     let origin = node_index(&model, &v.origin, "origin")?;
     let origin_span = match &v.origin {
@@ -303,21 +330,44 @@ pub fn compile_model(v: &Vehicle, model: FeModel) -> Result<(CompiledVehicle, Fe
         .fold(f64::INFINITY, f64::min);
     if diag.is_nan() || diag <= 0.0 {
         return Err(StructureError::Node {
-            message: format!("the origin node (id {}) carries no mass: it cannot hold the body frame", model.nodes[origin].id),
+            message: format!(
+                "the origin node (id {}) carries no mass: it cannot hold the body frame",
+                model.nodes[origin].id
+            ),
             span: origin_span,
         });
     }
     let key_body = node_index(&model, &v.key_nodes.body, "body key node")?;
-    let key_nozzle = v.key_nodes.nozzle.as_ref().map(|r| node_index(&model, r, "nozzle key node")).transpose()?;
+    let key_nozzle = v
+        .key_nodes
+        .nozzle
+        .as_ref()
+        .map(|r| node_index(&model, r, "nozzle key node"))
+        .transpose()?;
     let key_fins = fin_key_nodes(&model, &comps, v)?;
 
     let n_fins = fins.as_ref().map_or(0, |f| f.angles.len());
-    let modes = modal::solve(&model, modes_wanted(v, n_fins))
-        .map_err(|error| StructureError::Modal { error, span: structure_span(v) })?;
+    let modes =
+        modal::solve(&model, modes_wanted(v, n_fins)).map_err(|error| StructureError::Modal {
+            error,
+            span: structure_span(v),
+        })?;
     let n_rigid = modes.n_rigid;
-    let elastic = modes.shapes.as_ref().subcols(n_rigid, modes.shapes.ncols() - n_rigid);
-    let mut selection = select(&model, &modes.omega2[n_rigid..], elastic, fins.as_ref(), &v.modes.rules)
-        .map_err(|error| StructureError::Selection { error, span: v.modes.span })?;
+    let elastic = modes
+        .shapes
+        .as_ref()
+        .subcols(n_rigid, modes.shapes.ncols() - n_rigid);
+    let mut selection = select(
+        &model,
+        &modes.omega2[n_rigid..],
+        elastic,
+        fins.as_ref(),
+        &v.modes.rules,
+    )
+    .map_err(|error| StructureError::Selection {
+        error,
+        span: v.modes.span,
+    })?;
     normalise_signs(&mut selection.shapes);
     let n = selection.info.len();
     let damping: Vec<f64> = match v.modes.damping.len() {
@@ -326,19 +376,30 @@ pub fn compile_model(v: &Vehicle, model: FeModel) -> Result<(CompiledVehicle, Fe
         k if k == n => v.modes.damping.iter().map(|d| d.value).collect(),
         k => {
             return Err(StructureError::Damping {
-                message: format!("{k} damping ratios for {n} selected modes: give one, or one per mode"),
+                message: format!(
+                    "{k} damping ratios for {n} selected modes: give one, or one per mode"
+                ),
                 span: v.modes.damping[0].span,
             });
         }
     };
     let shapes: Mat<f64> = if v.modes.fixity_origin {
-        fix_modes_at_origin(&model, origin, selection.shapes.as_ref())
-            .map_err(|error| StructureError::Coefficients { error, span: v.modes.span })?
+        fix_modes_at_origin(&model, origin, selection.shapes.as_ref()).map_err(|error| {
+            StructureError::Coefficients {
+                error,
+                span: v.modes.span,
+            }
+        })?
     } else {
         selection.shapes.clone()
     };
-    let reduced = reduce(&model, origin, shapes.as_ref(), &selection.omega2, &damping)
-        .map_err(|error| StructureError::Coefficients { error, span: structure_span(v) })?;
+    let reduced =
+        reduce(&model, origin, shapes.as_ref(), &selection.omega2, &damping).map_err(|error| {
+            StructureError::Coefficients {
+                error,
+                span: structure_span(v),
+            }
+        })?;
 
     let m = reduced.mass;
     let c = reduced.first_moment;
@@ -365,10 +426,19 @@ pub fn compile_model(v: &Vehicle, model: FeModel) -> Result<(CompiledVehicle, Fe
             .info
             .iter()
             .enumerate()
-            .map(|(j, info)| compiled_mode(info, reduced.modal_mass.get(j * n + j).copied().unwrap_or(0.0)))
+            .map(|(j, info)| {
+                compiled_mode(
+                    info,
+                    reduced.modal_mass.get(j * n + j).copied().unwrap_or(0.0),
+                )
+            })
             .collect(),
         reduced,
-        candidate_frequencies_hz: selection.candidates.iter().map(|c| c.frequency_hz).collect(),
+        candidate_frequencies_hz: selection
+            .candidates
+            .iter()
+            .map(|c| c.frequency_hz)
+            .collect(),
         n_rigid: n_rigid as u32,
         node_positions: model.nodes.iter().map(|n| n.position).collect(),
         node_ids: model.nodes.iter().map(|n| n.id).collect(),
@@ -439,7 +509,11 @@ pub fn referenced_files(v: &Vehicle) -> Vec<&Path> {
     match &v.structure {
         Structure::Generate(_) => Vec::new(),
         Structure::Files(f) => {
-            let mut out = vec![f.mass.value.as_path(), f.stiffness.value.as_path(), f.nodes.value.as_path()];
+            let mut out = vec![
+                f.mass.value.as_path(),
+                f.stiffness.value.as_path(),
+                f.nodes.value.as_path(),
+            ];
             if let Some(e) = &f.elements {
                 out.push(e.value.as_path());
             }

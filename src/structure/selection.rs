@@ -21,7 +21,7 @@ use faer::{Mat, MatRef};
 use nalgebra::DMatrix;
 use serde::Serialize;
 
-use super::fe_model::{Component, FeModel, DOF_PER_NODE};
+use super::fe_model::{Component, DOF_PER_NODE, FeModel};
 use crate::check::ir::{ModeClass, ModeCount, ModeRule};
 
 /// Relative frequency difference below which modes of one class count as one cluster.
@@ -136,7 +136,12 @@ pub fn spmv(a: &faer::sparse::SparseColMat<usize, f64>, x: &[f64], y: &mut [f64]
 /// angular position is nearest (body shells read from files are not recognised: documented
 /// limitation).
 pub fn components(model: &FeModel, fins: Option<&FinLayout>) -> Vec<Component> {
-    let length = model.nodes.iter().map(|n| n.position[0].abs()).fold(0.0, f64::max).max(1e-9);
+    let length = model
+        .nodes
+        .iter()
+        .map(|n| n.position[0].abs())
+        .fold(0.0, f64::max)
+        .max(1e-9);
     model
         .nodes
         .iter()
@@ -148,7 +153,9 @@ pub fn components(model: &FeModel, fins: Option<&FinLayout>) -> Vec<Component> {
                 } else {
                     let a = z.atan2(y);
                     let best = (0..f.angles.len())
-                        .min_by(|&i, &j| ang_dist(a, f.angles[i]).total_cmp(&ang_dist(a, f.angles[j])))
+                        .min_by(|&i, &j| {
+                            ang_dist(a, f.angles[i]).total_cmp(&ang_dist(a, f.angles[j]))
+                        })
                         .unwrap_or(0);
                     Component::Fin(u16::try_from(best).unwrap_or(0))
                 }
@@ -207,17 +214,28 @@ impl Classifier<'_> {
             let bending = transverse_y + transverse_z;
             if bending > axial && bending > torsion {
                 kind = Kind::BodyBending;
-                plane = Some(if transverse_y >= transverse_z { 'y' } else { 'z' });
+                plane = Some(if transverse_y >= transverse_z {
+                    'y'
+                } else {
+                    'z'
+                });
             }
         } else if let Some(fins) = self.fins {
             let (j, _) = fin_fractions
                 .iter()
                 .enumerate()
-                .fold((0, f64::MIN), |acc, (i, f)| if *f > acc.1 { (i, *f) } else { acc });
+                .fold(
+                    (0, f64::MIN),
+                    |acc, (i, f)| if *f > acc.1 { (i, *f) } else { acc },
+                );
             fin_idx = Some(j);
             let (flap, twist, in_plane) = self.fin_motion(phi, fins, j);
             if in_plane < flap + twist {
-                kind = if flap >= twist { Kind::FinFlap } else { Kind::FinTwist };
+                kind = if flap >= twist {
+                    Kind::FinFlap
+                } else {
+                    Kind::FinTwist
+                };
             }
         }
         let name = match (kind, fin_idx, plane) {
@@ -226,7 +244,15 @@ impl Classifier<'_> {
             (Kind::FinTwist, Some(j), _) => format!("fin{}_twist", j + 1),
             _ => format!("mode{}", index + 1),
         };
-        ModeInfo { kind, fin: fin_idx, plane, frequency_hz, body_fraction, fin_fractions, name }
+        ModeInfo {
+            kind,
+            fin: fin_idx,
+            plane,
+            frequency_hz,
+            body_fraction,
+            fin_fractions,
+            name,
+        }
     }
 
     /// Flap, twist and in-plane measures of fin j's motion: out-of-plane displacements w
@@ -253,7 +279,9 @@ impl Classifier<'_> {
             return (0.0, 0.0, 0.0);
         }
         // Bin by span coordinate into stations.
-        let (lo, hi) = pts.iter().fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.0), a.1.max(p.0)));
+        let (lo, hi) = pts
+            .iter()
+            .fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.0), a.1.max(p.0)));
         let bins = 8usize;
         let width = ((hi - lo) / bins as f64).max(1e-12);
         let mut groups: Vec<Vec<(f64, f64)>> = vec![Vec::new(); bins + 1];
@@ -265,7 +293,8 @@ impl Classifier<'_> {
         for g in groups.iter().filter(|g| !g.is_empty()) {
             let nn = g.len() as f64;
             let xm = g.iter().map(|p| p.0).sum::<f64>() / nn;
-            let chord = g.iter().map(|p| p.0).fold(f64::MIN, f64::max) - g.iter().map(|p| p.0).fold(f64::MAX, f64::min);
+            let chord = g.iter().map(|p| p.0).fold(f64::MIN, f64::max)
+                - g.iter().map(|p| p.0).fold(f64::MAX, f64::min);
             let wm = g.iter().map(|p| p.1).sum::<f64>() / nn;
             if g.len() < 2 || chord <= 0.0 {
                 flap += nn * wm * wm;
@@ -297,8 +326,15 @@ pub fn select(
     let n_dof = shapes.nrows();
     let comps = components(model, fins);
     let n_fins = fins.map_or(0, |f| f.angles.len());
-    let cl = Classifier { model, comps, fins, n_fins };
-    let mut phis: Vec<Vec<f64>> = (0..ne).map(|j| (0..n_dof).map(|i| shapes[(i, j)]).collect()).collect();
+    let cl = Classifier {
+        model,
+        comps,
+        fins,
+        n_fins,
+    };
+    let mut phis: Vec<Vec<f64>> = (0..ne)
+        .map(|j| (0..n_dof).map(|i| shapes[(i, j)]).collect())
+        .collect();
     let mut w2: Vec<f64> = omega2[..ne].to_vec();
     let mut m_phis: Vec<Vec<f64>> = phis
         .iter()
@@ -308,7 +344,9 @@ pub fn select(
             y
         })
         .collect();
-    let mut info: Vec<ModeInfo> = (0..ne).map(|j| cl.classify(&phis[j], &m_phis[j], w2[j], j)).collect();
+    let mut info: Vec<ModeInfo> = (0..ne)
+        .map(|j| cl.classify(&phis[j], &m_phis[j], w2[j], j))
+        .collect();
 
     // Localise clusters of repeated modes.
     let mut start = 0;
@@ -335,7 +373,13 @@ pub fn select(
             _ => Vec::new(),
         };
         if !targets.is_empty() {
-            localise(model, &mut phis[start..end], &mut m_phis[start..end], &mut w2[start..end], &targets);
+            localise(
+                model,
+                &mut phis[start..end],
+                &mut m_phis[start..end],
+                &mut w2[start..end],
+                &targets,
+            );
             for j in start..end {
                 info[j] = cl.classify(&phis[j], &m_phis[j], w2[j], j);
             }
@@ -364,24 +408,35 @@ pub fn select(
             ModeRule::Indices(idx) => {
                 for &i in &idx.value {
                     if i == 0 || i > ne {
-                        return Err(SelectionError::IndexOutOfRange { index: i, available: ne });
+                        return Err(SelectionError::IndexOutOfRange {
+                            index: i,
+                            available: ne,
+                        });
                     }
                     push(&mut chosen, i - 1);
                 }
             }
             ModeRule::BandHz { lo, hi } => {
-                let found: Vec<usize> =
-                    (0..ne).filter(|&j| info[j].frequency_hz >= lo.value && info[j].frequency_hz <= hi.value).collect();
+                let found: Vec<usize> = (0..ne)
+                    .filter(|&j| {
+                        info[j].frequency_hz >= lo.value && info[j].frequency_hz <= hi.value
+                    })
+                    .collect();
                 if found.is_empty() {
                     return Err(SelectionError::Unmet(format!(
                         "no elastic mode between {} Hz and {} Hz; computed modes span {:.3} to {:.3} Hz",
-                        lo.value, hi.value, info[0].frequency_hz, info[ne - 1].frequency_hz
+                        lo.value,
+                        hi.value,
+                        info[0].frequency_hz,
+                        info[ne - 1].frequency_hz
                     )));
                 }
                 found.into_iter().for_each(|j| push(&mut chosen, j));
             }
             ModeRule::Class { class, count } => {
-                let of_class: Vec<usize> = (0..ne).filter(|&j| info[j].kind.matches(class.value)).collect();
+                let of_class: Vec<usize> = (0..ne)
+                    .filter(|&j| info[j].kind.matches(class.value))
+                    .collect();
                 match count.value {
                     ModeCount::Count(n) => {
                         if of_class.len() < n {
@@ -393,7 +448,13 @@ pub fn select(
                         for fin in 0..n_fins {
                             match of_class.iter().find(|&&j| info[j].fin == Some(fin)) {
                                 Some(&j) => push(&mut chosen, j),
-                                None => return Err(unmet(class.value, &format!("one per fin ({n_fins} fins)"), &info)),
+                                None => {
+                                    return Err(unmet(
+                                        class.value,
+                                        &format!("one per fin ({n_fins} fins)"),
+                                        &info,
+                                    ));
+                                }
                             }
                         }
                     }
@@ -438,7 +499,13 @@ fn target_mask(comps: &[Component], sel: impl Fn(Component, usize) -> bool) -> V
 }
 
 /// Rotate a cluster of modes so that mode t is concentrated on target t (see module doc).
-fn localise(model: &FeModel, phis: &mut [Vec<f64>], m_phis: &mut [Vec<f64>], w2: &mut [f64], targets: &[Vec<f64>]) {
+fn localise(
+    model: &FeModel,
+    phis: &mut [Vec<f64>],
+    m_phis: &mut [Vec<f64>],
+    w2: &mut [f64],
+    targets: &[Vec<f64>],
+) {
     let k = phis.len();
     let n = phis[0].len();
     // E_t[a][b] = sum_i mask_t,i * (phi_a,i (M phi_b)_i + phi_b,i (M phi_a)_i) / 2
@@ -447,7 +514,11 @@ fn localise(model: &FeModel, phis: &mut [Vec<f64>], m_phis: &mut [Vec<f64>], w2:
         let mut e = DMatrix::<f64>::zeros(k, k);
         for a in 0..k {
             for b in a..k {
-                let v: f64 = (0..n).map(|i| mask[i] * 0.5 * (phis[a][i] * m_phis[b][i] + phis[b][i] * m_phis[a][i])).sum();
+                let v: f64 = (0..n)
+                    .map(|i| {
+                        mask[i] * 0.5 * (phis[a][i] * m_phis[b][i] + phis[b][i] * m_phis[a][i])
+                    })
+                    .sum();
                 e[(a, b)] = v;
                 e[(b, a)] = v;
             }

@@ -25,8 +25,6 @@ mod mass_properties;
 mod mesh;
 mod shell;
 mod spec;
-#[cfg(test)]
-mod test_eigen;
 
 pub use assembly::{NodeMap, offset_mass_block, rigid_link, skew};
 pub use beam::{TubeSection, section_at};

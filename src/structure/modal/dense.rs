@@ -1,9 +1,9 @@
 //! Dense path: Cholesky reduction of (K, M) and a full symmetric eigendecomposition.
 
+use faer::linalg::solvers::Solve;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
-use faer::linalg::solvers::Solve;
 use faer::{Mat, Par, Side};
 
 use super::{ModalError, ModalOptions, Modes, finish};

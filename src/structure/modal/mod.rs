@@ -134,7 +134,9 @@ pub fn solve(model: &FeModel, n_elastic_wanted: usize) -> Result<Modes, ModalErr
     let opts = ModalOptions::default();
     if model.n_dof() <= opts.dense_max_dof {
         match solve_dense_with(model, n_elastic_wanted, &opts) {
-            Err(ModalError::MassNotPositiveDefinite(_)) => solve_sparse_with(model, n_elastic_wanted, &opts),
+            Err(ModalError::MassNotPositiveDefinite(_)) => {
+                solve_sparse_with(model, n_elastic_wanted, &opts)
+            }
             other => other,
         }
     } else {
