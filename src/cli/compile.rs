@@ -96,7 +96,7 @@ pub fn structure_diagnostic(e: &StructureError, sources: &mut SourceMap) -> Diag
             let text = std::fs::read_to_string(&path).unwrap_or_default();
             let span = line_span(&text, r.line(), r.column());
             let id = sources.add(path.clone(), path.display().to_string(), text);
-            let d = Diagnostic::error(r.code(), r.message().to_string());
+            let d = Diagnostic::error(r.code(), r.to_string());
             match span {
                 Some((s, t)) => d.label(Span::new(id, s, t), "here"),
                 None => d.with_help(format!("in {}", path.display())),
