@@ -234,6 +234,24 @@ fn maybe_number(i: In) -> Option<Result<(In, Number), ParseError>> {
             "a digit, a unit or the end of the number",
         )));
     }
+    // `7e GPa`, `7e+ GPa`: an exponent marker without digits. Without this check the `e`
+    // would be read as a unit and the error would land on the next token.
+    let frag = *rest.fragment();
+    if !s.fragment().contains(['e', 'E']) && frag.starts_with(['e', 'E']) {
+        let after_marker = &frag[1..];
+        let signed = after_marker.starts_with(['+', '-']);
+        let next = after_marker[usize::from(signed)..].chars().next();
+        if signed || !next.is_some_and(|c| c.is_alphanumeric() || c == '_') {
+            let marker_len = 1 + usize::from(signed);
+            let start = rest.location_offset();
+            return Some(Err(ParseError {
+                span: Span::new(rest.extra, start, start + marker_len),
+                expected: "digits in the exponent".into(),
+                found: format!("`{}` with no digits after it", &frag[..marker_len]),
+                context: None,
+            }));
+        }
+    }
     let text = s.fragment().to_string();
     let value = match text.parse::<f64>() {
         Ok(v) if v.is_finite() => v,
@@ -712,6 +730,10 @@ impl Parser_ {
     ) -> Result<(In<'a>, Option<UnitExpr>), ParseError> {
         let (after_ws, _) = skip_inline(i);
         match maybe_unit(after_ws) {
+            // `nu = 0.3 rho = 2700 kg/m^3`: `rho` starts a second entry, not a unit.
+            Some(Ok((rest, _))) if skip_inline(rest).0.fragment().starts_with('=') => {
+                Err(error_at(after_ws, "the end of the line (one entry per line)"))
+            }
             Some(Ok((rest, u))) => Ok((rest, Some(u))),
             Some(Err(e)) => Err(e),
             None => Ok((i, None)),
