@@ -184,6 +184,7 @@ fn maybe_comment(i: In) -> Option<(In, Comment)> {
         Comment {
             text,
             span: span_of(i, rest),
+            blank_before: false,
         },
     ))
 }
@@ -409,7 +410,11 @@ impl Parser_ {
     fn parse_body<'a>(&mut self, mut i: In<'a>, open: Option<Span>) -> (In<'a>, Body) {
         let mut body = Body::default();
         let mut pending: Vec<Comment> = Vec::new();
+        // A blank line before the pending comment group (or before the next entry if there
+        // are no pending comments).
         let mut blank = false;
+        // A blank line after the last pending comment.
+        let mut gap = false;
         let mut newlines_in_a_row = 0usize;
         loop {
             let (rest, _) = skip_inline(i);
@@ -417,8 +422,12 @@ impl Parser_ {
             let s = *i.fragment();
             if s.starts_with('\n') {
                 newlines_in_a_row += 1;
-                if newlines_in_a_row >= 2 && !body.entries.is_empty() | !pending.is_empty() {
-                    blank = true;
+                if newlines_in_a_row >= 2 {
+                    if !pending.is_empty() {
+                        gap = true;
+                    } else if !body.entries.is_empty() {
+                        blank = true;
+                    }
                 }
                 i = advance(i, 1);
                 continue;
@@ -427,7 +436,7 @@ impl Parser_ {
                 i = advance(i, 1);
                 continue;
             }
-            if let Some((rest, c)) = maybe_comment(i) {
+            if let Some((rest, mut c)) = maybe_comment(i) {
                 if newlines_in_a_row == 0 && !body.entries.is_empty() && pending.is_empty() {
                     // A comment on the same line after an entry that ended with `;`.
                     if let Some(last) = body.entries.last_mut() {
@@ -438,11 +447,8 @@ impl Parser_ {
                         }
                     }
                 }
-                if blank && pending.is_empty() {
-                    // keep the blank line before the comment group
-                } else if blank && !pending.is_empty() {
-                    // blank line inside a comment group: flush the group as its own trailer
-                }
+                // A blank line inside a comment group stays with the comment after it.
+                c.blank_before = std::mem::take(&mut gap);
                 pending.push(c);
                 newlines_in_a_row = 0;
                 i = rest;
@@ -471,6 +477,7 @@ impl Parser_ {
                     };
                     let span = span_of(start, rest);
                     let trivia = Trivia {
+                        blank_after_leading: !pending.is_empty() && std::mem::take(&mut gap),
                         blank_before: blank,
                         leading: std::mem::take(&mut pending),
                         trailing,
@@ -489,6 +496,7 @@ impl Parser_ {
                     self.errors.push(e);
                     pending.clear();
                     blank = false;
+                    gap = false;
                     i = recover(start);
                 }
             }
