@@ -680,3 +680,79 @@ assert_error!(
     "vdl::type::mismatch",
     edit(VEHICLE, "elements = 10", "elements = \"10\"")
 );
+
+// ---------------------------------------------------------------- the registry of codes
+
+/// Every `"vdl::..."`, `"fe::..."`, `"artifact::..."`, `"generate::..."` string literal in
+/// `src/**/*.rs`.
+fn codes_in_source() -> Vec<(String, PathBuf)> {
+    fn walk(dir: &std::path::Path, out: &mut Vec<PathBuf>) {
+        for e in std::fs::read_dir(dir).expect("read src") {
+            let p = e.expect("entry").path();
+            if p.is_dir() {
+                walk(&p, out);
+            } else if p.extension().is_some_and(|x| x == "rs") {
+                out.push(p);
+            }
+        }
+    }
+    let mut files = Vec::new();
+    walk(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src"), &mut files);
+    let mut codes = Vec::new();
+    for f in files {
+        let text = std::fs::read_to_string(&f).expect("read");
+        for prefix in ["\"vdl::", "\"fe::", "\"artifact::", "\"generate::"] {
+            for (k, _) in text.match_indices(prefix) {
+                let rest = &text[k + 1..];
+                let end = rest
+                    .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == ':'))
+                    .unwrap_or(rest.len());
+                // Only complete literals: `"vdl::x"`, not a prefix used in a format string.
+                if rest[end..].starts_with('"') && !rest[..end].ends_with(':') {
+                    codes.push((rest[..end].to_string(), f.clone()));
+                }
+            }
+        }
+    }
+    codes
+}
+
+#[test]
+fn every_code_is_documented() {
+    let doc_path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/diagnostic-codes.md");
+    let doc = std::fs::read_to_string(&doc_path).expect("docs/diagnostic-codes.md");
+    let codes = codes_in_source();
+    assert!(
+        codes.len() > 40,
+        "the scan found only {} codes: is it broken?",
+        codes.len()
+    );
+    let missing: Vec<String> = codes
+        .iter()
+        .filter(|(c, _)| !doc.contains(&format!("`{c}`")))
+        .map(|(c, f)| format!("{c} (used in {})", f.display()))
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "codes used in src/ but not listed in docs/diagnostic-codes.md:\n{}",
+        missing.join("\n")
+    );
+}
+
+#[test]
+fn documented_codes_are_used() {
+    // The converse: a code listed in the table but used nowhere is stale.
+    let doc = std::fs::read_to_string(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/diagnostic-codes.md"),
+    )
+    .expect("docs/diagnostic-codes.md");
+    let used: std::collections::HashSet<String> =
+        codes_in_source().into_iter().map(|(c, _)| c).collect();
+    let stale: Vec<&str> = doc
+        .lines()
+        .filter_map(|l| l.strip_prefix("| `"))
+        .filter_map(|l| l.split('`').next())
+        .filter(|c| !used.contains(*c))
+        .collect();
+    assert!(stale.is_empty(), "documented but unused codes: {stale:?}");
+}
