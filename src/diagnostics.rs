@@ -183,15 +183,13 @@ impl miette::Diagnostic for Bound<'_> {
     }
 
     fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
-        if self.source.is_none() {
-            return None;
-        }
+        self.source.as_ref()?;
         let it = self.labels.iter().enumerate().map(move |(n, &k)| {
             let l = &self.diag.labels[k];
             let mut start = l.span.start as usize;
             // miette draws no label at the very end of the text ("found end of file"):
             // point at the last character instead, so the location is still shown.
-            if l.span.len() == 0 {
+            if l.span.is_empty() {
                 if let Some(text) = self.sources.get(l.span.file).map(|f| f.text.as_ref()) {
                     if start >= text.len() {
                         // Just after the last visible character (on the final line

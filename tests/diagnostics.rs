@@ -129,7 +129,9 @@ fn report(sources: &[(&str, &str)], checked: &Checked) -> String {
     for (name, text) in sources {
         out.push_str(&format!("----- SOURCE {name}\n{text}\n"));
     }
-    out.push_str(&format!("----- CODES\n{codes:?}\n----- RENDERED\n{rendered}"));
+    out.push_str(&format!(
+        "----- CODES\n{codes:?}\n----- RENDERED\n{rendered}"
+    ));
     out
 }
 
@@ -178,7 +180,11 @@ fn templates_are_valid() {
         assert!(
             checked.diagnostics.is_empty(),
             "template has diagnostics:\n{}",
-            render(&checked.diagnostics, &checked.sources, RenderOptions::plain(80))
+            render(
+                &checked.diagnostics,
+                &checked.sources,
+                RenderOptions::plain(80)
+            )
         );
     }
 }
@@ -298,7 +304,11 @@ assert_error!(
 assert_error!(
     block_unknown_in_vehicle,
     "vdl::block::unknown",
-    edit(VEHICLE, "  forces {", "  force {\n    gravity {}\n  }\n  forces {")
+    edit(
+        VEHICLE,
+        "  forces {",
+        "  force {\n    gravity {}\n  }\n  forces {"
+    )
 );
 assert_error!(
     block_unknown_top_level,
@@ -356,7 +366,11 @@ assert_error!(
 assert_error!(
     import_inside_block,
     "vdl::import::placement",
-    edit(MATERIAL, "  nu = 0.3\n", "  nu = 0.3\n  import \"std/materials.vdl\"\n")
+    edit(
+        MATERIAL,
+        "  nu = 0.3\n",
+        "  nu = 0.3\n  import \"std/materials.vdl\"\n"
+    )
 );
 assert_error!(
     thrust_curve_missing,
@@ -379,7 +393,10 @@ assert_error!(
         "    generate {\n      body {\n        length = 2 m\n        diameter = 100 mm\n        wall = 2 mm\n        elements = 10\n      }\n    }\n",
         "    files {\n      format = matrix_market\n      mass = \"fe/m.mtx\"\n      stiffness = \"fe/k.mtx\"\n      nodes = \"fe/nodes.csv\"\n    }\n"
     ),
-    files = [("fe/m.mtx", "%%MatrixMarket matrix coordinate real symmetric\n")]
+    files = [(
+        "fe/m.mtx",
+        "%%MatrixMarket matrix coordinate real symmetric\n"
+    )]
 );
 
 // ---------------------------------------------------------------- values out of range
@@ -442,7 +459,11 @@ assert_error!(
 assert_error!(
     reference_scenario_names_material,
     "vdl::reference::kind",
-    edit(&finned_scenario(), "vehicle = v", "vehicle = aluminium_thesis")
+    edit(
+        &finned_scenario(),
+        "vehicle = v",
+        "vehicle = aluminium_thesis"
+    )
 );
 assert_error!(
     reference_sweep_names_vehicle,
@@ -455,7 +476,11 @@ assert_error!(
 assert_error!(
     reference_unknown_material_with_suggestion,
     "vdl::reference::unknown",
-    edit(VEHICLE, "material = aluminium_thesis", "material = aluminum_thesis")
+    edit(
+        VEHICLE,
+        "material = aluminium_thesis",
+        "material = aluminum_thesis"
+    )
 );
 assert_error!(
     reference_unknown_vehicle_with_suggestion,
@@ -574,11 +599,7 @@ assert_error!(
     "vdl::sweep::empty",
     sweep("  grid {\n    fins.thickness = []\n  }\n")
 );
-assert_error!(
-    sweep_no_axes,
-    "vdl::sweep::empty",
-    sweep("  grid {\n  }\n")
-);
+assert_error!(sweep_no_axes, "vdl::sweep::empty", sweep("  grid {\n  }\n"));
 assert_error!(
     sweep_bad_range,
     "vdl::sweep::range",
@@ -592,7 +613,9 @@ assert_error!(
 assert_error!(
     sweep_zip_lengths_differ,
     "vdl::sweep::zip",
-    sweep("  zip {\n    fins.thickness = [0.5 mm, 1 mm]\n    initial.altitude = [1 km, 2 km, 3 km]\n  }\n")
+    sweep(
+        "  zip {\n    fins.thickness = [0.5 mm, 1 mm]\n    initial.altitude = [1 km, 2 km, 3 km]\n  }\n"
+    )
 );
 assert_error!(
     sweep_unknown_path,
@@ -602,7 +625,9 @@ assert_error!(
 assert_error!(
     sweep_grid_and_zip,
     "vdl::sweep::combine",
-    sweep("  grid {\n    fins.thickness = [0.5 mm, 1 mm]\n  }\n  zip {\n    initial.altitude = [1 km, 2 km]\n  }\n")
+    sweep(
+        "  grid {\n    fins.thickness = [0.5 mm, 1 mm]\n  }\n  zip {\n    initial.altitude = [1 km, 2 km]\n  }\n"
+    )
 );
 
 // ---------------------------------------------------------------- structure of the file
@@ -615,7 +640,11 @@ assert_error!(
 assert_error!(
     dotted_path_outside_override,
     "vdl::field::dotted",
-    edit(FINNED, "    fin_flap = per_fin\n", "    fin_flap = per_fin\n    fins.count = 3\n")
+    edit(
+        FINNED,
+        "    fin_flap = per_fin\n",
+        "    fin_flap = per_fin\n    fins.count = 3\n"
+    )
 );
 assert_error!(
     vector_arity,
@@ -634,12 +663,20 @@ assert_error!(
 assert_error!(
     modes_per_fin_without_fins,
     "vdl::modes::no_fins",
-    edit(VEHICLE, "    body_bending = 2\n", "    body_bending = 2\n    fin_twist = per_fin\n")
+    edit(
+        VEHICLE,
+        "    body_bending = 2\n",
+        "    body_bending = 2\n    fin_twist = per_fin\n"
+    )
 );
 assert_error!(
     fin_aero_without_fins,
     "vdl::block::missing",
-    edit(VEHICLE, "    gravity {}\n", "    gravity {}\n    fin_aero {}\n")
+    edit(
+        VEHICLE,
+        "    gravity {}\n",
+        "    gravity {}\n    fin_aero {}\n"
+    )
 );
 assert_error!(
     fin_key_nodes_without_fins,
@@ -697,7 +734,10 @@ fn codes_in_source() -> Vec<(String, PathBuf)> {
         }
     }
     let mut files = Vec::new();
-    walk(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src"), &mut files);
+    walk(
+        &PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src"),
+        &mut files,
+    );
     let mut codes = Vec::new();
     for f in files {
         let text = std::fs::read_to_string(&f).expect("read");

@@ -30,7 +30,11 @@ fn erase_spans(tree: &SourceTree) -> String {
         let t = line.trim_start();
         if let Some(key) = ["start: ", "end: "].iter().find(|k| t.starts_with(**k)) {
             let rest = &t[key.len()..];
-            if rest.trim_end_matches(',').chars().all(|c| c.is_ascii_digit()) {
+            if rest
+                .trim_end_matches(',')
+                .chars()
+                .all(|c| c.is_ascii_digit())
+            {
                 out.push_str(&line[..line.len() - t.len()]);
                 out.push_str(key);
                 out.push_str("_,\n");
@@ -143,11 +147,7 @@ fn formatting_does_not_change_the_checked_ir() {
     for (orig, copy) in common::shipped_vdl_files().iter().zip(&copies) {
         let a = ir_json(orig, &root);
         let b = ir_json(copy, tmp.path());
-        assert!(
-            a == b,
-            "formatting {} changed its meaning",
-            orig.display()
-        );
+        assert!(a == b, "formatting {} changed its meaning", orig.display());
         // Not vacuous: every shipped file declares something.
         let n: usize = ["materials", "vehicles", "scenarios", "sweeps"]
             .iter()
@@ -177,10 +177,16 @@ fn comments_and_blank_lines_survive() {
         printed.contains("# Header comment.\n\nmaterial m {"),
         "{printed}"
     );
-    assert!(printed.contains("# Young\n\n  # density next\n"), "{printed}");
+    assert!(
+        printed.contains("# Young\n\n  # density next\n"),
+        "{printed}"
+    );
     assert!(!printed.contains("\n\n\n"), "{printed}");
     // The entries separated by `;` end up on their own lines.
-    assert!(printed.contains("  nu = 0.3\n  rho = 2700 kg/m^3\n"), "{printed}");
+    assert!(
+        printed.contains("  nu = 0.3\n  rho = 2700 kg/m^3\n"),
+        "{printed}"
+    );
     assert_eq!(print_tree(&parse_ok(&printed, "printed messy")), printed);
 }
 

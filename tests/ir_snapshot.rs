@@ -47,12 +47,13 @@ fn sphads1_ir() {
     assert_eq!(fins["thickness"], "0.0006");
     assert_eq!(fins["count"], "4");
     assert_eq!(fins["span"], "0.12723");
-    assert_eq!(
-        vehicles[0]["key_nodes"]["fins"]["Fraction"]["span"],
-        "0.5"
-    );
+    assert_eq!(vehicles[0]["key_nodes"]["fins"]["Fraction"]["span"], "0.5");
     // No span survived: no `[file, start, end]` triple under a span key.
-    assert!(!serde_json::to_string(&v).expect("json").contains("\"header\""));
+    assert!(
+        !serde_json::to_string(&v)
+            .expect("json")
+            .contains("\"header\"")
+    );
     insta::assert_snapshot!(
         "sphads1",
         serde_json::to_string_pretty(&vehicles[0]).expect("json")

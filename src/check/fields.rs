@@ -122,7 +122,11 @@ impl<'b> Fields<'b> {
             cx.push(
                 Diagnostic::error(
                     "vdl::block::missing",
-                    format!("{} needs {} `{kind} {{ ... }}` block", self.what, article(kind)),
+                    format!(
+                        "{} needs {} `{kind} {{ ... }}` block",
+                        self.what,
+                        article(kind)
+                    ),
                 )
                 .label(self.header, format!("no `{kind}` block in here")),
             );

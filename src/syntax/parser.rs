@@ -739,9 +739,9 @@ impl Parser_ {
         let (after_ws, _) = skip_inline(i);
         match maybe_unit(after_ws) {
             // `nu = 0.3 rho = 2700 kg/m^3`: `rho` starts a second entry, not a unit.
-            Some(Ok((rest, _))) if skip_inline(rest).0.fragment().starts_with('=') => {
-                Err(error_at(after_ws, "the end of the line (one entry per line)"))
-            }
+            Some(Ok((rest, _))) if skip_inline(rest).0.fragment().starts_with('=') => Err(
+                error_at(after_ws, "the end of the line (one entry per line)"),
+            ),
             Some(Ok((rest, u))) => Ok((rest, Some(u))),
             Some(Err(e)) => Err(e),
             None => Ok((i, None)),
