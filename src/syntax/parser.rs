@@ -167,10 +167,13 @@ fn skip_ws_nl(mut i: In) -> (In, ()) {
 }
 
 fn advance(i: In, n: usize) -> In {
-    let r: Lex<In> = nom::bytes::complete::take(n).parse(i);
-    match r {
-        Ok((rest, _)) => rest,
-        Err(_) => i,
+    // `n` is a byte count (`recover` passes a byte offset from `char_indices`). nom's
+    // `take` counts characters on `str`: with multi-byte characters it overshot, or failed
+    // near the end of the input and left `i` unchanged, so error recovery looped forever.
+    if i.fragment().is_char_boundary(n) {
+        nom::Input::take_from(&i, n)
+    } else {
+        i
     }
 }
 
