@@ -183,7 +183,27 @@ impl miette::Diagnostic for Bound<'_> {
         self.source.as_ref()?;
         let it = self.labels.iter().enumerate().map(move |(n, &k)| {
             let l = &self.diag.labels[k];
-            let span = SourceSpan::new((l.span.start as usize).into(), l.span.len());
+            let mut start = l.span.start as usize;
+            // miette draws no label at the very end of the text ("found end of file"):
+            // point at the last character instead, so the location is still shown.
+            if l.span.is_empty() {
+                if let Some(text) = self.sources.get(l.span.file).map(|f| f.text.as_ref()) {
+                    if start >= text.len() {
+                        // Just after the last visible character (on the final line
+                        // break if there is one, else on that character itself).
+                        let visible = text.trim_end_matches(['\n', '\r']).len();
+                        start = if visible < text.len() {
+                            visible
+                        } else {
+                            visible.saturating_sub(1)
+                        };
+                        while !text.is_char_boundary(start) {
+                            start -= 1;
+                        }
+                    }
+                }
+            }
+            let span = SourceSpan::new(start.into(), l.span.len());
             let text = if l.message.is_empty() {
                 None
             } else {

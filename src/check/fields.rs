@@ -21,6 +21,8 @@ pub struct Fields<'b> {
     entries: Vec<(&'b EntryKind, Span, bool)>,
     known_fields: Vec<&'static str>,
     known_blocks: Vec<&'static str>,
+    /// Required fields reported missing (a misspelling of one is reported once, as unknown).
+    missing: Vec<&'static str>,
 }
 
 impl<'b> Fields<'b> {
@@ -64,6 +66,7 @@ impl<'b> Fields<'b> {
             entries,
             known_fields: Vec::new(),
             known_blocks: Vec::new(),
+            missing: Vec::new(),
         }
     }
 
@@ -94,10 +97,11 @@ impl<'b> Fields<'b> {
     ) -> Option<&'b Value> {
         let v = self.value(name);
         if v.is_none() {
+            self.missing.push(name);
             cx.push(
                 Diagnostic::error(
                     "vdl::field::missing",
-                    format!("{} needs a `{name}` field", self.what),
+                    format!("{} needs {} `{name}` field", self.what, article(name)),
                 )
                 .label(self.header, format!("`{name}` is missing here"))
                 .with_help(format!("add a line such as `{name} = {example}`")),
@@ -118,7 +122,11 @@ impl<'b> Fields<'b> {
             cx.push(
                 Diagnostic::error(
                     "vdl::block::missing",
-                    format!("{} needs a `{kind} {{ ... }}` block", self.what),
+                    format!(
+                        "{} needs {} `{kind} {{ ... }}` block",
+                        self.what,
+                        article(kind)
+                    ),
                 )
                 .label(self.header, format!("no `{kind}` block in here")),
             );
@@ -172,6 +180,15 @@ impl<'b> Fields<'b> {
                     .label(a.path[0].span, "not a field of this block");
                     let fields = self.known_fields.iter().copied();
                     if let Some(s) = did_you_mean(name, fields) {
+                        if self.missing.contains(&s) {
+                            // `thicknes = ...` for a required `thickness`: one error, not two.
+                            let missing = format!("{} needs {} `{s}` field", self.what, article(s));
+                            cx.diags.retain(|d| {
+                                !(d.code == "vdl::field::missing"
+                                    && d.message == missing
+                                    && d.primary_span() == Some(self.header))
+                            });
+                        }
                         d = d.with_help(format!("did you mean `{s}`?"));
                     } else if self.known_blocks.contains(&name.as_str()) {
                         d = d.with_help(format!("`{name}` is a block: write `{name} {{ ... }}`"));
@@ -201,6 +218,15 @@ impl<'b> Fields<'b> {
                 }
             }
         }
+    }
+}
+
+/// "a" or "an" before a field name (`an aero block`, `a mass field`).
+fn article(word: &str) -> &'static str {
+    if word.starts_with(['a', 'e', 'i', 'o', 'u', 'A', 'E', 'I', 'O', 'U']) {
+        "an"
+    } else {
+        "a"
     }
 }
 
@@ -308,12 +334,14 @@ fn to_si(
     }
 }
 
-fn example_unit(dim: Dim) -> &'static str {
+/// A unit of the dimension to suggest: a named SI unit if the table has one, else the SI
+/// unit written out (`kg/m^3`), which is itself valid unit syntax.
+fn example_unit(dim: Dim) -> String {
     units::UNITS
         .iter()
         .find(|(_, s, d)| *d == dim && *s == 1.0)
         .or_else(|| units::UNITS.iter().find(|(_, _, d)| *d == dim))
-        .map_or("(a unit)", |(n, _, _)| n)
+        .map_or_else(|| dim.si_unit(), |(n, _, _)| (*n).to_string())
 }
 
 /// A scalar quantity of the given dimension, in SI.

@@ -70,7 +70,27 @@ pub struct Cx<'a> {
 
 impl Cx<'_> {
     pub fn push(&mut self, d: Diagnostic) {
+        // The name may well be declared in a file that could not be imported: an unknown
+        // reference after a failed import is a follow-on error, not news.
+        if d.code == "vdl::reference::unknown" && self.imports_failed() {
+            return;
+        }
         self.diags.push(d);
+    }
+
+    /// Did an import fail (missing file or cycle)? Then some declarations are absent.
+    fn imports_failed(&self) -> bool {
+        self.diags
+            .iter()
+            .any(|d| matches!(d.code, "vdl::import::missing" | "vdl::import::cycle"))
+    }
+
+    /// Has any file (or `--set`) a syntax error? Then the trees are partial: an entry the
+    /// parser skipped would be reported again as missing, and a block whose brace is
+    /// missing shifts every later block to the wrong level. Such files are checked for
+    /// syntax only.
+    fn has_syntax_errors(&self) -> bool {
+        self.diags.iter().any(|d| d.code == "vdl::syntax")
     }
 
     /// Directory of the file a span is in (to resolve relative paths).
@@ -166,7 +186,11 @@ pub fn check_files(roots: &[PathBuf], sets: &[String], loader: &dyn Loader) -> C
         load_recursive(&mut cx, &mut trees, root.clone(), None, &mut Vec::new());
     }
     let overrides = parse_sets(&mut cx, sets);
-    let program = check_trees(&mut cx, &trees, &overrides);
+    let program = if cx.has_syntax_errors() {
+        ir::Program::default()
+    } else {
+        check_trees(&mut cx, &trees, &overrides)
+    };
     let mut diagnostics = std::mem::take(&mut cx.diags);
     dedup(&mut diagnostics);
     Checked {
@@ -193,7 +217,11 @@ pub fn check_source(name: &str, text: &str, loader: &dyn Loader) -> Checked {
         resolve_import(&mut cx, &mut trees, &path, span, &mut stack);
     }
     trees.push(tree);
-    let program = check_trees(&mut cx, &trees, &[]);
+    let program = if cx.has_syntax_errors() {
+        ir::Program::default()
+    } else {
+        check_trees(&mut cx, &trees, &[])
+    };
     let mut diagnostics = std::mem::take(&mut cx.diags);
     dedup(&mut diagnostics);
     Checked {

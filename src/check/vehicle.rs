@@ -156,7 +156,8 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
             return None;
         }
     }
-    if let (Some(fo), None) = (&forces, &fins) {
+    // A `fins` block that failed its own checks has been reported already.
+    if let (Some(fo), None, None) = (&forces, &fins, fins_block) {
         if let Some(fa) = &fo.fin_aero {
             cx.push(
                 Diagnostic::error(

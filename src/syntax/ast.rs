@@ -20,6 +20,8 @@ pub struct Ident {
 pub struct Comment {
     pub text: String,
     pub span: Span,
+    /// A blank line separates this comment from the comment before it in its group.
+    pub blank_before: bool,
 }
 
 /// Comments and blank lines that belong to an entry.
@@ -29,6 +31,8 @@ pub struct Trivia {
     pub blank_before: bool,
     /// Own-line comments just above the entry.
     pub leading: Vec<Comment>,
+    /// A blank line separates `leading` from the entry (a file's header comment).
+    pub blank_after_leading: bool,
     /// A comment after the entry on its last line.
     pub trailing: Option<Comment>,
 }

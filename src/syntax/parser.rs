@@ -167,10 +167,13 @@ fn skip_ws_nl(mut i: In) -> (In, ()) {
 }
 
 fn advance(i: In, n: usize) -> In {
-    let r: Lex<In> = nom::bytes::complete::take(n).parse(i);
-    match r {
-        Ok((rest, _)) => rest,
-        Err(_) => i,
+    // `n` is a byte count (`recover` passes a byte offset from `char_indices`). nom's
+    // `take` counts characters on `str`: with multi-byte characters it overshot, or failed
+    // near the end of the input and left `i` unchanged, so error recovery looped forever.
+    if i.fragment().is_char_boundary(n) {
+        nom::Input::take_from(&i, n)
+    } else {
+        i
     }
 }
 
@@ -184,6 +187,7 @@ fn maybe_comment(i: In) -> Option<(In, Comment)> {
         Comment {
             text,
             span: span_of(i, rest),
+            blank_before: false,
         },
     ))
 }
@@ -233,6 +237,24 @@ fn maybe_number(i: In) -> Option<Result<(In, Number), ParseError>> {
             rest,
             "a digit, a unit or the end of the number",
         )));
+    }
+    // `7e GPa`, `7e+ GPa`: an exponent marker without digits. Without this check the `e`
+    // would be read as a unit and the error would land on the next token.
+    let frag = *rest.fragment();
+    if !s.fragment().contains(['e', 'E']) && frag.starts_with(['e', 'E']) {
+        let after_marker = &frag[1..];
+        let signed = after_marker.starts_with(['+', '-']);
+        let next = after_marker[usize::from(signed)..].chars().next();
+        if signed || !next.is_some_and(|c| c.is_alphanumeric() || c == '_') {
+            let marker_len = 1 + usize::from(signed);
+            let start = rest.location_offset();
+            return Some(Err(ParseError {
+                span: Span::new(rest.extra, start, start + marker_len),
+                expected: "digits in the exponent".into(),
+                found: format!("`{}` with no digits after it", &frag[..marker_len]),
+                context: None,
+            }));
+        }
     }
     let text = s.fragment().to_string();
     let value = match text.parse::<f64>() {
@@ -391,7 +413,11 @@ impl Parser_ {
     fn parse_body<'a>(&mut self, mut i: In<'a>, open: Option<Span>) -> (In<'a>, Body) {
         let mut body = Body::default();
         let mut pending: Vec<Comment> = Vec::new();
+        // A blank line before the pending comment group (or before the next entry if there
+        // are no pending comments).
         let mut blank = false;
+        // A blank line after the last pending comment.
+        let mut gap = false;
         let mut newlines_in_a_row = 0usize;
         loop {
             let (rest, _) = skip_inline(i);
@@ -399,8 +425,12 @@ impl Parser_ {
             let s = *i.fragment();
             if s.starts_with('\n') {
                 newlines_in_a_row += 1;
-                if newlines_in_a_row >= 2 && !body.entries.is_empty() | !pending.is_empty() {
-                    blank = true;
+                if newlines_in_a_row >= 2 {
+                    if !pending.is_empty() {
+                        gap = true;
+                    } else if !body.entries.is_empty() {
+                        blank = true;
+                    }
                 }
                 i = advance(i, 1);
                 continue;
@@ -409,7 +439,7 @@ impl Parser_ {
                 i = advance(i, 1);
                 continue;
             }
-            if let Some((rest, c)) = maybe_comment(i) {
+            if let Some((rest, mut c)) = maybe_comment(i) {
                 if newlines_in_a_row == 0 && !body.entries.is_empty() && pending.is_empty() {
                     // A comment on the same line after an entry that ended with `;`.
                     if let Some(last) = body.entries.last_mut() {
@@ -420,11 +450,8 @@ impl Parser_ {
                         }
                     }
                 }
-                if blank && pending.is_empty() {
-                    // keep the blank line before the comment group
-                } else if blank && !pending.is_empty() {
-                    // blank line inside a comment group: flush the group as its own trailer
-                }
+                // A blank line inside a comment group stays with the comment after it.
+                c.blank_before = std::mem::take(&mut gap);
                 pending.push(c);
                 newlines_in_a_row = 0;
                 i = rest;
@@ -453,6 +480,7 @@ impl Parser_ {
                     };
                     let span = span_of(start, rest);
                     let trivia = Trivia {
+                        blank_after_leading: !pending.is_empty() && std::mem::take(&mut gap),
                         blank_before: blank,
                         leading: std::mem::take(&mut pending),
                         trailing,
@@ -471,6 +499,7 @@ impl Parser_ {
                     self.errors.push(e);
                     pending.clear();
                     blank = false;
+                    gap = false;
                     i = recover(start);
                 }
             }
@@ -712,6 +741,10 @@ impl Parser_ {
     ) -> Result<(In<'a>, Option<UnitExpr>), ParseError> {
         let (after_ws, _) = skip_inline(i);
         match maybe_unit(after_ws) {
+            // `nu = 0.3 rho = 2700 kg/m^3`: `rho` starts a second entry, not a unit.
+            Some(Ok((rest, _))) if skip_inline(rest).0.fragment().starts_with('=') => Err(
+                error_at(after_ws, "the end of the line (one entry per line)"),
+            ),
             Some(Ok((rest, u))) => Ok((rest, Some(u))),
             Some(Err(e)) => Err(e),
             None => Ok((i, None)),

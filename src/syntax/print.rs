@@ -33,9 +33,8 @@ fn print_body(out: &mut String, body: &Body, level: usize, top: bool) {
         if blank {
             out.push('\n');
         }
-        for c in &e.trivia.leading {
-            indent(out, level);
-            print_comment(out, c);
+        print_comment_lines(out, &e.trivia.leading, level);
+        if e.trivia.blank_after_leading && !e.trivia.leading.is_empty() {
             out.push('\n');
         }
         indent(out, level);
@@ -50,11 +49,19 @@ fn print_body(out: &mut String, body: &Body, level: usize, top: bool) {
         if body.blank_before_trailing && !body.entries.is_empty() {
             out.push('\n');
         }
-        for c in &body.trailing_comments {
-            indent(out, level);
-            print_comment(out, c);
+        print_comment_lines(out, &body.trailing_comments, level);
+    }
+}
+
+/// Own-line comments, keeping single blank lines between them.
+fn print_comment_lines(out: &mut String, comments: &[Comment], level: usize) {
+    for (k, c) in comments.iter().enumerate() {
+        if k > 0 && c.blank_before {
             out.push('\n');
         }
+        indent(out, level);
+        print_comment(out, c);
+        out.push('\n');
     }
 }
 
