@@ -81,6 +81,7 @@ impl Diagnostic {
 /// primary file are shown on its snippet; labels in other files become related reports.
 struct Bound<'a> {
     diag: &'a Diagnostic,
+    sources: &'a SourceMap,
     /// Which labels this report shows (indices into `diag.labels`).
     labels: Vec<usize>,
     source: Option<NamedSource<String>>,
@@ -110,6 +111,7 @@ impl<'a> Bound<'a> {
                 let f = sources.get(diag.labels[k].span.file);
                 Bound {
                     diag,
+                    sources,
                     labels: vec![k],
                     source: f.map(|f| NamedSource::new(f.name.clone(), f.text.to_string())),
                     related: Vec::new(),
@@ -119,6 +121,7 @@ impl<'a> Bound<'a> {
             .collect();
         Bound {
             diag,
+            sources,
             labels,
             source,
             related,

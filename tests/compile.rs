@@ -261,9 +261,16 @@ fn the_cli_caches_and_rebuilds_corrupt_artifacts() {
 #[test]
 fn nastran_example_reproduces_reference_frequencies() {
     let c = compile_file("examples/tube_from_nastran.vdl", &[]);
-    let reference: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(root("examples/fe/tube21/reference.json")).unwrap()).unwrap();
-    let f_ref: Vec<f64> = reference["fe_frequencies_hz"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    let reference: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(root("examples/fe/tube21/reference.json")).unwrap(),
+    )
+    .unwrap();
+    let f_ref: Vec<f64> = reference["fe_frequencies_hz"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
     let got: Vec<f64> = c.modes.iter().map(|m| m.frequency_hz).collect();
     // Bending pairs: reference modes 1-2 and 3-4 (5 is the first torsion/axial).
     for (g, r) in got.iter().zip([f_ref[0], f_ref[1], f_ref[2], f_ref[3]]) {
