@@ -529,7 +529,8 @@ impl<F: ForceModel> OdeSystem for Eom<'_, F> {
         let d = 6 + n;
         let view = StateView::new(l, x);
         self.ws.forces.iter_mut().for_each(|f| *f = 0.0);
-        self.forces.generalized_forces(t, &view, &mut self.ws.forces);
+        self.forces
+            .generalized_forces(t, &view, &mut self.ws.forces);
         let (v, w) = (view.velocity, view.angular_velocity);
         let (eta, eta_dot) = (view.eta, view.eta_dot);
         let inr = self.assemble(eta);
