@@ -43,9 +43,11 @@
 //!   `2 (M̄_ω η̇)_m` (eq. 2.5.31) by the antisymmetry `H̄'_m e_p = -H̄'_p e_m`;
 //! - `f_σ = K̄ η` (eq. 3.2.20) plus modal viscous damping `C̄ η̇`.
 //!
-//! The gyroscopic part does no work: `vᵀ(-Ṁv + ∂T/∂η·η̇-rows ...)` reduces to
-//! `-½ vᵀṀv`, which is what `d/dt T = vᵀM v̇ + ½ vᵀṀv` needs for `Ṫ = vᵀ f - η̇ᵀ(K̄η + C̄η̇)`;
-//! the free-tumble test checks it (thesis 6.4).
+//! The velocity-dependent part does no work: from the equations,
+//! `vᵀ M v̇ = vᵀf - η̇ᵀ(K̄η + C̄η̇) - vᵀṀv + η̇ᵀ ∂T/∂η` (the `ω×p_V`, `V×p_V + ω×p_ω` terms give
+//! `V·(ω×p_V) + ω·(V×p_V) = 0` and `ω·(ω×p_ω) = 0`), and `η̇ᵀ ∂T/∂η = ½ vᵀṀv`, so
+//! `dT/dt = vᵀM v̇ + ½ vᵀṀv = vᵀf - η̇ᵀ(K̄η + C̄η̇)`: with no loads and no damping
+//! `T + ½ ηᵀK̄η` is constant. The free-tumble test checks it (thesis 6.4).
 //!
 //! Kinematics: `ṗ_I = C_IB V_B`, `q̇` from eqs. (4.4.11)-(4.4.12), `d/dt η = η̇`.
 //! `q` is renormalised after every accepted step ([`OdeSystem::project`]); because `q̇` is

@@ -14,6 +14,9 @@
 //! G. Wanner, "Solving Ordinary Differential Equations I", 2nd ed., II.4 (error norm
 //! (4.11), step-size control (4.12)-(4.13), starting step size) and II.5 (DOPRI5).
 
+// Stage loops index several buffers in step, as the Butcher tableau is written.
+#![allow(clippy::needless_range_loop)]
+
 use thiserror::Error;
 
 /// Why a right-hand side evaluation failed.
@@ -66,6 +69,8 @@ pub enum StopReason {
     MaxSteps { t: f64 },
     /// The observer asked to stop.
     ObserverStopped { t: f64 },
+    /// The state slice does not have the system's dimension (nothing was integrated).
+    StateLength { expected: usize, found: usize },
 }
 
 /// Result of [`Integrator::integrate`]: the state slice holds the state at `t`.
@@ -269,16 +274,13 @@ impl Integrator for DormandPrince54 {
             return stop(
                 t,
                 stats,
-                StopReason::Rhs {
-                    t,
-                    error: RhsError::NonFinite {
-                        index: n.min(x.len()),
-                    },
+                StopReason::StateLength {
+                    expected: n,
+                    found: x.len(),
                 },
             );
         }
-        if let Some(i) = x.iter().position(|v| !v.is_finite()) {
-            let _ = i;
+        if x.iter().any(|v| !v.is_finite()) {
             return stop(t, stats, StopReason::NonFiniteState { t });
         }
         self.resize(n);
@@ -315,7 +317,7 @@ impl Integrator for DormandPrince54 {
             if lands {
                 h_step = remaining;
             }
-            if !(h_step > self.options.h_min && t + h_step > t) || !h_step.is_finite() {
+            if !(h_step > self.options.h_min && t + h_step > t && h_step.is_finite()) {
                 let reason = if last_non_finite {
                     StopReason::NonFiniteState { t }
                 } else {
@@ -347,8 +349,7 @@ impl Integrator for DormandPrince54 {
                     ys[i] = x[i] + h_step * acc;
                 }
                 stats.rhs_evaluations += 1;
-                let (done, rest) = self.k.split_at_mut(s + 1);
-                let _ = done;
+                let (_, rest) = self.k.split_at_mut(s + 1);
                 let ys: &[f64] = if s == 5 { &self.y_new } else { &self.y_stage };
                 if let Err(e) = sys.rhs(t + c * h_step, ys, &mut rest[0]) {
                     failed = Some(e);
@@ -453,7 +454,17 @@ impl Integrator for Rk4 {
         let mut t = t0;
         let report =
             |t: f64, stats: StepStats, stop: StopReason| IntegrationReport { t, stats, stop };
-        if x.len() != n || x.iter().any(|v| !v.is_finite()) {
+        if x.len() != n {
+            return report(
+                t,
+                stats,
+                StopReason::StateLength {
+                    expected: n,
+                    found: x.len(),
+                },
+            );
+        }
+        if x.iter().any(|v| !v.is_finite()) {
             return report(t, stats, StopReason::NonFiniteState { t });
         }
         if !(self.h > 0.0 && self.h.is_finite()) {
