@@ -10,6 +10,7 @@
 //! - [`check`]: names, imports, units, ranges, overrides; produces the typed IR in SI;
 //! - [`structure`]: FE models (read or generated), modal analysis, reduced coefficients;
 //! - [`artifact`]: the cached, memory-mapped binary artifact of a compiled vehicle;
+//! - [`runtime`]: environment models evaluated during a run (atmosphere, thrust, stimuli);
 //! - [`cli`]: the command-line front end.
 //!
 //! Shared services: [`units`] (dimensions and unit table), [`diagnostics`] (the one place
@@ -19,6 +20,7 @@ pub mod artifact;
 pub mod check;
 pub mod cli;
 pub mod diagnostics;
+pub mod runtime;
 pub mod structure;
 pub mod syntax;
 pub mod units;
