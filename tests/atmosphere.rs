@@ -132,20 +132,40 @@ fn standard_1976_matches_geopotential_tables() {
         let s = atm.at_geopotential(h_km * 1000.0).unwrap();
         assert!((s.temperature - t).abs() < 1e-9, "T at {h_km} km'");
         let (ep, er) = (rel(s.pressure, p), rel(s.density, rho));
-        assert!(ep <= last_unit(p, 5) * 1.0001, "p at {h_km} km': {}", s.pressure);
-        assert!(er <= last_unit(rho, 5) * 1.0001, "rho at {h_km} km': {}", s.density);
+        assert!(
+            ep <= last_unit(p, 5) * 1.0001,
+            "p at {h_km} km': {}",
+            s.pressure
+        );
+        assert!(
+            er <= last_unit(rho, 5) * 1.0001,
+            "rho at {h_km} km': {}",
+            s.density
+        );
         worst = worst.max(ep).max(er);
     }
     // The brief's 11 km' values, to their printed digits.
     let s = atm.at_geopotential(11_000.0).unwrap();
-    assert!(rel(s.pressure, 22632.06) < 1e-6, "p_b(11 km') = {}", s.pressure);
+    assert!(
+        rel(s.pressure, 22632.06) < 1e-6,
+        "p_b(11 km') = {}",
+        s.pressure
+    );
     // Sea-level speed of sound 340.294 m/s and viscosity 1.7894e-5 Pa s (USSA76 Table I).
     let s0 = atm.at(0.0).unwrap();
-    assert!((s0.speed_of_sound - 340.294).abs() < 5e-4, "{}", s0.speed_of_sound);
+    assert!(
+        (s0.speed_of_sound - 340.294).abs() < 5e-4,
+        "{}",
+        s0.speed_of_sound
+    );
     assert!(rel(s0.viscosity, 1.7894e-5) < last_unit(1.7894e-5, 5) * 1.0001);
     // 86 km: a = 274.10 m/s (USSA76 Table I).
     let s86 = atm.at(86_000.0).unwrap();
-    assert!((s86.speed_of_sound - 274.10).abs() < 5e-3, "{}", s86.speed_of_sound);
+    assert!(
+        (s86.speed_of_sound - 274.10).abs() < 5e-3,
+        "{}",
+        s86.speed_of_sound
+    );
     eprintln!("max relative error vs USSA76 geopotential rows: {worst:.2e}");
 }
 
@@ -175,7 +195,10 @@ fn standard_1976_is_continuous_at_layer_boundaries() {
     while z < 86_000.0 {
         z = (z + 97.0).min(86_000.0);
         let s = atm.at(z).unwrap();
-        assert!(s.pressure < previous.pressure && s.density < previous.density, "{z}");
+        assert!(
+            s.pressure < previous.pressure && s.density < previous.density,
+            "{z}"
+        );
         previous = s;
     }
 }
@@ -185,10 +208,7 @@ fn standard_1976_rejects_altitudes_out_of_range() {
     let atm = Standard1976::default();
     assert!(atm.at(-500.0).is_ok() && atm.at(86_000.0).is_ok());
     for z in [-501.0, 86_000.5, 1e7] {
-        assert!(matches!(
-            atm.at(z),
-            Err(AtmosphereError::OutOfRange { .. })
-        ));
+        assert!(matches!(atm.at(z), Err(AtmosphereError::OutOfRange { .. })));
     }
     assert!(matches!(
         atm.at(f64::NAN),
@@ -220,7 +240,12 @@ fn table_atmosphere_interpolates_linear_t_and_log_linear_p_rho() {
     assert!(rel(m.speed_of_sound, (1.4 * 287.05287 * 216.65f64).sqrt()) < 1e-6);
     // In the isothermal layer log-linear interpolation is the exact law (thesis eq. 4.5.7).
     let exact = Standard1976::new().at_geopotential(15_500.0).unwrap();
-    assert!(rel(m.pressure, exact.pressure) < 1e-6, "{} {}", m.pressure, exact.pressure);
+    assert!(
+        rel(m.pressure, exact.pressure) < 1e-6,
+        "{} {}",
+        m.pressure,
+        exact.pressure
+    );
     let t = table.at(5_500.0).unwrap();
     assert!((t.temperature - 0.5 * (288.15 + 216.65)).abs() < 1e-12);
     assert!(matches!(
@@ -247,7 +272,10 @@ fn table_atmosphere_errors_name_file_and_line() {
     let header = "altitude_m,temperature_K,pressure_Pa,density_kg_m3\n";
     let e = table_error(&format!("{header}0,288,1e5,1.2\n0,280,9e4,1.1\n"));
     assert!(
-        matches!(e, AtmosphereTableError::NonIncreasingAltitude { line: 3, .. }),
+        matches!(
+            e,
+            AtmosphereTableError::NonIncreasingAltitude { line: 3, .. }
+        ),
         "{e}"
     );
     assert!(e.to_string().starts_with("bad.csv:3:"), "{e}");
