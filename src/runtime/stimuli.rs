@@ -166,7 +166,7 @@ impl Stimuli {
                     start: check(start, "start", false)?,
                     duration: check(duration, "duration", true)?,
                     velocity: check_vector(velocity, "velocity")?,
-                    frame: frame.clone(),
+                    frame: *frame,
                 })
             };
             match &stimulus.kind {
@@ -355,9 +355,9 @@ const VON_KARMAN_U: ShapingFilter = ShapingFilter {
 };
 /// von Karman lateral/vertical, rational approximation (MIL-HDBK-1797):
 /// H_v = (1 + 2.7478 tau s + 0.3398 (tau s)^2) / (1 + 2.9958 tau s + 1.9754 (tau s)^2
-/// + 0.1539 (tau s)^3) with tau = 2 L_v/V in the handbook's notation, i.e. tau = L/V with
-/// MIL-F-8785C's L, approximating Phi_v = sigma^2 (L/pi) (1 + 8/3 (1.339 L Omega)^2) /
-/// (1 + (1.339 L Omega)^2)^(11/6).
+/// plus 0.1539 (tau s)^3) with tau = 2 L_v/V in the handbook's notation, i.e. tau = L/V
+/// with MIL-F-8785C's L, approximating Phi_v = sigma^2 (L/pi) (1 + 8/3 (1.339 L Omega)^2)
+/// divided by (1 + (1.339 L Omega)^2)^(11/6).
 const VON_KARMAN_VW: ShapingFilter = ShapingFilter {
     numerator: &[1.0, 2.7478, 0.3398],
     denominator: &[1.0, 2.9958, 1.9754, 0.1539],
