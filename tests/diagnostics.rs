@@ -741,7 +741,14 @@ fn codes_in_source() -> Vec<(String, PathBuf)> {
     let mut codes = Vec::new();
     for f in files {
         let text = std::fs::read_to_string(&f).expect("read");
-        for prefix in ["\"vdl::", "\"fe::", "\"artifact::", "\"generate::", "\"modal::", "\"structure::"] {
+        for prefix in [
+            "\"vdl::",
+            "\"fe::",
+            "\"artifact::",
+            "\"generate::",
+            "\"modal::",
+            "\"structure::",
+        ] {
             for (k, _) in text.match_indices(prefix) {
                 let rest = &text[k + 1..];
                 let end = rest

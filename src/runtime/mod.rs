@@ -1,12 +1,20 @@
-//! Runtime: the equations of motion of the reduced flexible vehicle and their integration.
+//! Stage 6, runtime: the equations of motion of the reduced flexible vehicle, their
+//! integration, and the environment models the force blocks use.
 //!
 //! - [`eom`]: eq. (3.2.1) as a first-order system, force-model trait, energy and momentum;
 //! - [`kinematics`]: Euler parameters and Euler angles (thesis 4.4);
-//! - [`integrate`]: Dormand-Prince 5(4) and fixed-step RK4.
+//! - [`integrate`]: Dormand-Prince 5(4) and fixed-step RK4;
+//! - [`atmosphere`]: U.S. Standard Atmosphere 1976 and user tables (4.5.1);
+//! - [`thrust`]: RASP `.eng` and CSV thrust curves (5.2);
+//! - [`stimuli`]: gusts, sinusoids and seeded turbulence (4.5.2).
 //!
 //! Architecture invariant: the right-hand side never allocates, does IO or looks up names;
-//! every buffer lives in a [`eom::Workspace`] created once per run.
+//! every buffer lives in a [`eom::Workspace`] created once per run, and everything the
+//! environment models need (files, turbulence series) is prepared before the run.
 
+pub mod atmosphere;
 pub mod eom;
 pub mod integrate;
 pub mod kinematics;
+pub mod stimuli;
+pub mod thrust;
