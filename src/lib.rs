@@ -22,6 +22,7 @@ pub mod artifact;
 pub mod check;
 pub mod cli;
 pub mod diagnostics;
+pub mod runtime;
 pub mod structure;
 pub mod syntax;
 pub mod units;
