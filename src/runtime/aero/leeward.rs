@@ -5,7 +5,10 @@
 //! x_delta = 1 - cos(delta_tot - 180 deg) (5.4.30). The time constant tau follows from the
 //! known value at delta_tot = 225 deg (the "x" cruciform at roll 45 deg, (5.4.26)-(5.4.28)):
 //! tau(alpha) = -ln f_LW(225 deg, alpha) / x_delta(225 deg) (our reading of the garbled (5.4.31),
-//! see REFERENCE-NOTES). Because x_delta is symmetric about delta_tot = 270 deg, so is f_LW.
+//! see REFERENCE-NOTES). The thesis states the profile is symmetric about 270 deg, where the
+//! fin points straight downwind; (5.4.30) alone is not (x_delta keeps growing to 2 at 360 deg),
+//! so (5.4.29)-(5.4.30) are applied on 180..270 deg and mirrored: delta -> 540 deg - delta for
+//! 270 < delta < 360. The factor is then continuous with the windward value 1 at 180 and 360.
 
 /// Angle of attack (deg) above which the windward/leeward split of (5.4.26)-(5.4.27) stays
 /// constant.
@@ -41,8 +44,8 @@ pub fn leeward_tau(alpha_deg: f64) -> f64 {
 ///
 /// `delta_tot_deg` is the net fin orientation delta_i + theta_yz of (5.4.24), any real value
 /// (it is wrapped into [0, 360)); `alpha_deg` the angle of attack in degrees. Returns 1 for
-/// windward fins (0 <= delta_tot <= 180 deg) and exp(-tau x_delta) (5.4.29) for leeward ones;
-/// the minimum is at 270 deg. Non-finite input gives 1 (no reduction) rather than NaN loads.
+/// windward fins (0 <= delta_tot <= 180 deg) and exp(-tau x_delta) (5.4.29) for leeward ones,
+/// mirrored about the minimum at 270 deg (see the module doc). Non-finite input gives 1 (no reduction) rather than NaN loads.
 pub fn f_lw(delta_tot_deg: f64, alpha_deg: f64) -> f64 {
     if !delta_tot_deg.is_finite() || !alpha_deg.is_finite() {
         return 1.0;
@@ -51,6 +54,8 @@ pub fn f_lw(delta_tot_deg: f64, alpha_deg: f64) -> f64 {
     if d <= 180.0 {
         return 1.0;
     }
+    // Mirror 270..360 onto 270..180 (symmetry about 270 deg stated in 5.4.4).
+    let d = if d > 270.0 { 540.0 - d } else { d };
     (-leeward_tau(alpha_deg) * x_delta(d)).exp()
 }
 
@@ -86,6 +91,8 @@ mod tests {
             assert!((a - b).abs() < 1e-12, "offset {off}: {a} vs {b}");
             assert!(a > f_lw(270.0, 30.0));
         }
+        // Continuous with the windward value at 360 deg.
+        assert!((f_lw(360.0 - 1e-6, 20.0) - 1.0).abs() < 1e-9);
     }
 
     #[test]
