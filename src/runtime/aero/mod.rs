@@ -24,3 +24,5 @@ pub use leeward::f_lw;
 pub use tables::{
     Axis, BodyCoefficients, CoefficientTable, FinCoefficients, TableError, TableKind,
 };
+pub use estimator::{BodyShape, EstimatedTables, FinPlanform, NoseShape};
+pub use fin_loads::{FinLoadError, FinLoadModel, FinLoadTable, FinNode, SupersonicRegime, nodal_weights};
