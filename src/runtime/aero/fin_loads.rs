@@ -19,7 +19,8 @@
 //! moment equals the model's centre of pressure EXACTLY on any mesh (in eta, in xi, and,
 //! because the leading edge and chord are linear in eta, in physical x too). Load outside the
 //! first/last node (a mesh without root or tip nodes) goes wholly to that node. The span
-//! integrals use composite 8-point Gauss-Legendre (8 panels per interval); the chordwise
+//! integrals use composite 8-point Gauss-Legendre (32 panels per interval) in theta, eta =
+//! cos(theta), which removes the sqrt(1 - eta) tip behaviour; the chordwise
 //! integrals are exact (closed-form primitives).
 //!
 //! Nodes are grouped into rows of equal eta (tolerance 1e-9); each row gets its own chordwise
@@ -117,6 +118,13 @@ fn gauss(a: f64, b: f64, panels: usize, f: &mut impl FnMut(f64) -> f64) -> f64 {
         }
     }
     sum * 0.5 * h
+}
+
+/// int_lo^hi f(eta) d eta with eta = cos(theta): the span loads behave like sqrt(1 - eta) at
+/// the tip (Fourier series (A1.1), tip cone (A2.14)), which is smooth in theta.
+fn span_integral(lo: f64, hi: f64, panels: usize, f: &mut impl FnMut(f64) -> f64) -> f64 {
+    let (t_lo, t_hi) = (hi.clamp(0.0, 1.0).acos(), lo.clamp(0.0, 1.0).acos());
+    gauss(t_lo, t_hi, panels, &mut |t: f64| f(t.cos()) * t.sin())
 }
 
 /// Complete elliptic integral of the second kind E(m) = int_0^{pi/2} sqrt(1 - m sin^2) (A2.5),
@@ -378,8 +386,8 @@ pub fn nodal_weights(
     hat_shares(
         &rows,
         &mut |lo, hi| {
-            let i0 = gauss(lo, hi, 8, &mut |e| load.at(e));
-            let i1 = gauss(lo, hi, 8, &mut |e| e * load.at(e));
+            let i0 = span_integral(lo, hi, 32, &mut |e| load.at(e));
+            let i1 = span_integral(lo, hi, 32, &mut |e| e * load.at(e));
             (i0, i1)
         },
         &mut a,
@@ -414,8 +422,8 @@ pub fn nodal_weights(
 /// (2000 Gauss panels), xi_cp = 1/4 subsonic (thin airfoil) and 1/2 supersonic (Ackeret).
 pub fn centre_of_pressure(p: &FinPlanform, mach: f64) -> Result<(f64, f64), FinLoadError> {
     let load = SpanLoad::new(p, mach)?;
-    let i0 = gauss(0.0, 1.0, 2000, &mut |e| load.at(e));
-    let i1 = gauss(0.0, 1.0, 2000, &mut |e| e * load.at(e));
+    let i0 = span_integral(0.0, 1.0, 2000, &mut |e| load.at(e));
+    let i1 = span_integral(0.0, 1.0, 2000, &mut |e| e * load.at(e));
     Ok((i1 / i0, if mach >= 1.0 { 0.5 } else { 0.25 }))
 }
 
