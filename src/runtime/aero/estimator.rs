@@ -5,7 +5,7 @@
 //! Body (coefficients on the reference area S = pi d^2/4, lengths in calibres of d):
 //! - normal force, Jorgensen (NASA TR R-474, 1973, eq. 1) with base area = S:
 //!   C_N = sin(2 alpha) cos(alpha/2) [nose, potential, slender-body C_Nalpha = 2 /rad]
-//!       + eta C_dc (A_p/S) sin^2 alpha [viscous crossflow], C_dc = 1.2 (subcritical
+//!   plus eta C_dc (A_p/S) sin^2 alpha [viscous crossflow], C_dc = 1.2 (subcritical
 //!   circular cylinder), eta = 1 (Allen's crossflow analogy without Jorgensen's finite-length
 //!   factor, which he tabulates as about 0.6-0.75; replace the table for better values).
 //!   A tube (no nose) has no potential term.
@@ -85,8 +85,19 @@ pub struct FinPlanform {
 
 impl FinPlanform {
     /// A planform with unswept trailing edge (as App. A.2.6 assumes).
-    pub fn unswept_trailing_edge(span: f64, root_chord: f64, tip_chord: f64, body_radius: f64) -> Self {
-        FinPlanform { span, root_chord, tip_chord, tip_le_offset: root_chord - tip_chord, body_radius }
+    pub fn unswept_trailing_edge(
+        span: f64,
+        root_chord: f64,
+        tip_chord: f64,
+        body_radius: f64,
+    ) -> Self {
+        FinPlanform {
+            span,
+            root_chord,
+            tip_chord,
+            tip_le_offset: root_chord - tip_chord,
+            body_radius,
+        }
     }
 
     /// Local chord at span fraction eta (linear taper).
@@ -108,7 +119,11 @@ impl FinPlanform {
     /// s / (c_r - c_t) (infinite for a rectangle).
     pub fn tan_semi_apex(&self) -> f64 {
         let d = self.root_chord - self.tip_chord;
-        if d <= 0.0 { f64::INFINITY } else { self.span / d }
+        if d <= 0.0 {
+            f64::INFINITY
+        } else {
+            self.span / d
+        }
     }
 
     /// Mid-chord sweep angle Lambda_c, rad.
@@ -176,7 +191,10 @@ fn atmosphere(h: f64) -> (f64, f64, f64, f64) {
         let t = 288.15 - 0.0065 * h;
         (t, 101_325.0 * (t / 288.15).powf(G / (0.0065 * R)))
     } else if h <= 20_000.0 {
-        (216.65, 22_632.06 * (-G * (h - 11_000.0) / (R * 216.65)).exp())
+        (
+            216.65,
+            22_632.06 * (-G * (h - 11_000.0) / (R * 216.65)).exp(),
+        )
     } else {
         let t = 216.65 + 0.001 * (h - 20_000.0);
         (t, 5_474.889 * (216.65 / t).powf(G / (0.001 * R)))
@@ -191,7 +209,11 @@ fn atmosphere(h: f64) -> (f64, f64, f64, f64) {
 /// the module doc) for Reynolds number `re` at Mach `mach`.
 pub fn skin_friction(re: f64, mach: f64) -> f64 {
     let cf = 0.455 / re.max(1e4).log10().powf(2.58);
-    if mach < 1.0 { cf * (1.0 - 0.1 * mach * mach) } else { cf / (1.0 + 0.15 * mach * mach).powf(0.58) }
+    if mach < 1.0 {
+        cf * (1.0 - 0.1 * mach * mach)
+    } else {
+        cf / (1.0 + 0.15 * mach * mach).powf(0.58)
+    }
 }
 
 /// Body coefficients (C_N, C_A, C_M) at one condition; see the module doc.
@@ -203,7 +225,11 @@ pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f
         NoseShape::Tube => (0.0, 0.0),
         NoseShape::Cone { length } => (length, -2.0 / 3.0 * length),
     };
-    let cn_pot = if nose_len > 0.0 { (2.0 * a).sin() * (0.5 * a).cos() } else { 0.0 };
+    let cn_pot = if nose_len > 0.0 {
+        (2.0 * a).sin() * (0.5 * a).cos()
+    } else {
+        0.0
+    };
     // Planform area: triangle of the cone plus the rectangle of the cylinder.
     let a_nose = 0.5 * d * nose_len;
     let a_cyl = d * (b.length - nose_len);
@@ -218,9 +244,14 @@ pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f
     let v = mach * sound;
     let re = rho * v * b.length / mu;
     let slant = (0.25 * d * d + nose_len * nose_len).sqrt();
-    let wetted = std::f64::consts::PI * 0.5 * d * slant + std::f64::consts::PI * d * (b.length - nose_len);
+    let wetted =
+        std::f64::consts::PI * 0.5 * d * slant + std::f64::consts::PI * d * (b.length - nose_len);
     let friction = skin_friction(re, mach) * wetted / s_ref;
-    let base = if mach < 1.0 { 0.12 + 0.13 * mach * mach } else { 0.25 / mach };
+    let base = if mach < 1.0 {
+        0.12 + 0.13 * mach * mach
+    } else {
+        0.25 / mach
+    };
     let wave = if nose_len > 0.0 {
         let half_angle = (0.5 / (nose_len / d)).atan();
         let fit = |m: f64| (1.59 + 1.83 / (m * m)) * half_angle.powf(1.69);
@@ -232,7 +263,13 @@ pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f
 }
 
 /// Coefficients of one fin (C_N, C_A, x_cp) at one condition on reference area `s_ref`.
-pub fn fin_coefficients(f: &FinPlanform, s_ref: f64, mach: f64, alpha_deg: f64, altitude_m: f64) -> [f64; 3] {
+pub fn fin_coefficients(
+    f: &FinPlanform,
+    s_ref: f64,
+    mach: f64,
+    alpha_deg: f64,
+    altitude_m: f64,
+) -> [f64; 3] {
     let cn = f.interference() * f.cn_alpha(mach, s_ref) * alpha_deg.to_radians();
     let (_, rho, sound, mu) = atmosphere(altitude_m);
     let (mac, _) = f.mean_aerodynamic_chord();
@@ -242,8 +279,9 @@ pub fn fin_coefficients(f: &FinPlanform, s_ref: f64, mach: f64, alpha_deg: f64, 
 }
 
 /// The grid the estimator writes: Mach 0.1..5, alpha -20..20 deg by 2, altitude 0..30 km.
-pub const ESTIMATOR_MACH: [f64; 17] =
-    [0.1, 0.3, 0.5, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.1, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0];
+pub const ESTIMATOR_MACH: [f64; 17] = [
+    0.1, 0.3, 0.5, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.1, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0,
+];
 /// Altitudes of the estimator grid, m.
 pub const ESTIMATOR_ALTITUDE: [f64; 6] = [0.0, 5_000.0, 10_000.0, 15_000.0, 20_000.0, 30_000.0];
 
@@ -256,9 +294,17 @@ pub struct EstimatedTables {
 
 impl EstimatedTables {
     /// Estimates both tables (reference area pi d^2/4 of the body) with the given policy.
-    pub fn estimate(body: &BodyShape, fin: &FinPlanform, policy: OutOfRange) -> Result<Self, TableError> {
+    pub fn estimate(
+        body: &BodyShape,
+        fin: &FinPlanform,
+        policy: OutOfRange,
+    ) -> Result<Self, TableError> {
         let alpha: Vec<f64> = (-10..=10).map(|k| 2.0 * f64::from(k)).collect();
-        let axes = [ESTIMATOR_MACH.to_vec(), alpha.clone(), ESTIMATOR_ALTITUDE.to_vec()];
+        let axes = [
+            ESTIMATOR_MACH.to_vec(),
+            alpha.clone(),
+            ESTIMATOR_ALTITUDE.to_vec(),
+        ];
         let s_ref = std::f64::consts::PI * body.diameter * body.diameter / 4.0;
         let mut bp = Vec::new();
         let mut fp = Vec::new();
@@ -271,8 +317,20 @@ impl EstimatedTables {
             }
         }
         Ok(EstimatedTables {
-            body: CoefficientTable::from_grid(TableKind::Body, "builtin-body.csv", axes.clone(), &bp, policy)?,
-            fin: CoefficientTable::from_grid(TableKind::Fin, "builtin-fins.csv", axes, &fp, policy)?,
+            body: CoefficientTable::from_grid(
+                TableKind::Body,
+                "builtin-body.csv",
+                axes.clone(),
+                &bp,
+                policy,
+            )?,
+            fin: CoefficientTable::from_grid(
+                TableKind::Fin,
+                "builtin-fins.csv",
+                axes,
+                &fp,
+                policy,
+            )?,
         })
     }
 
@@ -280,8 +338,14 @@ impl EstimatedTables {
     pub fn write(&self, dir: &Path) -> Result<(), TableError> {
         for (t, name) in [(&self.body, "body.csv"), (&self.fin, "fins.csv")] {
             let path = dir.join(name);
-            let text = format!("# written by the flexflight built-in estimator (runtime::aero::estimator)\n{}", t.to_csv());
-            std::fs::write(&path, text).map_err(|e| TableError::Io { path, message: e.to_string() })?;
+            let text = format!(
+                "# written by the flexflight built-in estimator (runtime::aero::estimator)\n{}",
+                t.to_csv()
+            );
+            std::fs::write(&path, text).map_err(|e| TableError::Io {
+                path,
+                message: e.to_string(),
+            })?;
         }
         Ok(())
     }

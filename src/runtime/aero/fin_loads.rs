@@ -169,10 +169,11 @@ fn fourier_coefficients(span: f64, chord: &dyn Fn(f64) -> f64) -> Result<[f64; 4
             return Err(FinLoadError::SingularFourierSystem);
         }
         a.swap(k, piv);
-        for i in k + 1..4 {
-            let f = a[i][k] / a[k][k];
-            for j in k..5 {
-                a[i][j] -= f * a[k][j];
+        let pivot_row = a[k];
+        for row in a.iter_mut().skip(k + 1) {
+            let f = row[k] / pivot_row[k];
+            for (x, p) in row.iter_mut().zip(pivot_row).skip(k) {
+                *x -= f * p;
             }
         }
     }
@@ -217,13 +218,23 @@ impl SpanLoad {
             return Err(FinLoadError::BadMach(mach));
         }
         if mach < 1.0 {
-            return Ok(SpanLoad { kind: SpanLoadKind::Subsonic(subsonic_fourier_coefficients(p)?) });
+            return Ok(SpanLoad {
+                kind: SpanLoadKind::Subsonic(subsonic_fourier_coefficients(p)?),
+            });
         }
         let expected = p.root_chord - p.tip_chord;
         if (p.tip_le_offset - expected).abs() > 1e-6 * p.root_chord {
-            return Err(FinLoadError::SweptTrailingEdge { offset: p.tip_le_offset, expected });
+            return Err(FinLoadError::SweptTrailingEdge {
+                offset: p.tip_le_offset,
+                expected,
+            });
         }
-        Ok(SpanLoad { kind: SpanLoadKind::Supersonic { p: p.clone(), beta: (mach * mach - 1.0).sqrt() } })
+        Ok(SpanLoad {
+            kind: SpanLoadKind::Supersonic {
+                p: p.clone(),
+                beta: (mach * mach - 1.0).sqrt(),
+            },
+        })
     }
 
     /// The span load l(eta) (c c_l per unit alpha, arbitrary common scale).
@@ -232,7 +243,10 @@ impl SpanLoad {
             // Gamma = 4 s V sum A_n sin(n theta) (A1.1), theta = acos(eta).
             SpanLoadKind::Subsonic(a) => {
                 let th = eta.clamp(0.0, 1.0).acos();
-                a[0] * th.sin() + a[1] * (3.0 * th).sin() + a[2] * (5.0 * th).sin() + a[3] * (7.0 * th).sin()
+                a[0] * th.sin()
+                    + a[1] * (3.0 * th).sin()
+                    + a[2] * (5.0 * th).sin()
+                    + a[3] * (7.0 * th).sin()
             }
             SpanLoadKind::Supersonic { p, beta } => supersonic_span_load(p, *beta, eta),
         }
@@ -281,7 +295,8 @@ fn supersonic_span_load(p: &FinPlanform, beta: f64, eta: f64) -> f64 {
         let big_b = p.root_chord * tan_omega;
         if bt <= 1.0 + 1e-9 {
             let m = (1.0 - bt * bt).max(0.0);
-            4.0 * p.root_chord * tan_omega / elliptic_e(m) * (1.0 - (y / big_b).powi(2)).max(0.0).sqrt()
+            4.0 * p.root_chord * tan_omega / elliptic_e(m)
+                * (1.0 - (y / big_b).powi(2)).max(0.0).sqrt()
         } else if y >= p.root_chord / beta {
             // (A2.9): 4 (B - y) cot(omega) / sqrt(beta^2 - cot^2 omega)
             let cot = 1.0 / tan_omega;
@@ -289,8 +304,12 @@ fn supersonic_span_load(p: &FinPlanform, beta: f64, eta: f64) -> f64 {
         } else {
             // (A2.8)
             let b2 = beta * beta * tan_omega * tan_omega;
-            let a1 = ((y * b2 - big_b) / ((big_b - y) * bt)).clamp(-1.0, 1.0).asin();
-            let a2 = ((y * b2 + big_b) / ((big_b + y) * bt)).clamp(-1.0, 1.0).asin();
+            let a1 = ((y * b2 - big_b) / ((big_b - y) * bt))
+                .clamp(-1.0, 1.0)
+                .asin();
+            let a2 = ((y * b2 + big_b) / ((big_b + y) * bt))
+                .clamp(-1.0, 1.0)
+                .asin();
             4.0 / (b2 - 1.0).sqrt() * (big_b + (big_b - y) / PI * a1 - (big_b + y) / PI * a2)
         }
     };
@@ -312,7 +331,10 @@ fn chord_primitives(supersonic: bool, xi: f64) -> (f64, f64) {
         // g = (2/pi) sqrt((1-xi)/xi); with xi = (1 - cos phi)/2, g dxi = (1 + cos phi) dphi/pi
         // and xi g dxi = sin^2(phi) dphi / (2 pi).
         let phi = (1.0 - 2.0 * xi).acos();
-        ((phi + phi.sin()) / PI, (phi / 2.0 - (2.0 * phi).sin() / 4.0) / (2.0 * PI))
+        (
+            (phi + phi.sin()) / PI,
+            (phi / 2.0 - (2.0 * phi).sin() / 4.0) / (2.0 * PI),
+        )
     }
 }
 
@@ -351,7 +373,11 @@ fn group(values: &[f64], tol: f64) -> (Vec<f64>, Vec<usize>) {
     }
     let idx = values
         .iter()
-        .map(|&v| distinct.partition_point(|&d| d < v - tol).min(distinct.len() - 1))
+        .map(|&v| {
+            distinct
+                .partition_point(|&d| d < v - tol)
+                .min(distinct.len() - 1)
+        })
         .collect();
     (distinct, idx)
 }
@@ -372,7 +398,11 @@ pub fn nodal_weights(
     for (index, n) in nodes.iter().enumerate() {
         let ok = |v: f64| v.is_finite() && (-GROUP_TOL..=1.0 + GROUP_TOL).contains(&v);
         if !ok(n.eta) || !ok(n.xi) {
-            return Err(FinLoadError::NodeOutside { index, eta: n.eta, xi: n.xi });
+            return Err(FinLoadError::NodeOutside {
+                index,
+                eta: n.eta,
+                xi: n.xi,
+            });
         }
     }
     if model == Distribution::Uniform {
@@ -395,7 +425,10 @@ pub fn nodal_weights(
     let mut w = vec![0.0; nodes.len()];
     for (r, _) in rows.iter().enumerate() {
         let members: Vec<usize> = (0..nodes.len()).filter(|&k| row_of[k] == r).collect();
-        let xis: Vec<f64> = members.iter().map(|&k| nodes[k].xi.clamp(0.0, 1.0)).collect();
+        let xis: Vec<f64> = members
+            .iter()
+            .map(|&k| nodes[k].xi.clamp(0.0, 1.0))
+            .collect();
         let (cols, col_of) = group(&xis, GROUP_TOL);
         let mut b = vec![0.0; cols.len()];
         hat_shares(
@@ -440,27 +473,49 @@ pub struct FinLoadTable {
 
 impl FinLoadTable {
     /// Computes the weights at every Mach of `machs` (strictly increasing).
-    pub fn new(p: &FinPlanform, nodes: &[FinNode], machs: &[f64], model: FinLoadModel) -> Result<Self, FinLoadError> {
-        if machs.is_empty() || machs.windows(2).any(|w| !(w[1] > w[0])) {
-            return Err(FinLoadError::Table("Mach grid must be non-empty and strictly increasing".into()));
+    pub fn new(
+        p: &FinPlanform,
+        nodes: &[FinNode],
+        machs: &[f64],
+        model: FinLoadModel,
+    ) -> Result<Self, FinLoadError> {
+        if machs.is_empty()
+            || machs
+                .windows(2)
+                .any(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+        {
+            return Err(FinLoadError::Table(
+                "Mach grid must be non-empty and strictly increasing".into(),
+            ));
         }
         let mut weights = Vec::with_capacity(machs.len() * nodes.len());
         for &m in machs {
             weights.extend(nodal_weights(p, nodes, m, model)?);
         }
-        Ok(FinLoadTable { machs: machs.to_vec(), n_nodes: nodes.len(), weights })
+        Ok(FinLoadTable {
+            machs: machs.to_vec(),
+            n_nodes: nodes.len(),
+            weights,
+        })
     }
 
     /// Weights at `mach` into `out` (length = number of nodes).
     pub fn weights_at(&self, mach: f64, out: &mut [f64]) -> Result<(), FinLoadError> {
         if out.len() != self.n_nodes {
-            return Err(FinLoadError::Table(format!("buffer of {} for {} nodes", out.len(), self.n_nodes)));
+            return Err(FinLoadError::Table(format!(
+                "buffer of {} for {} nodes",
+                out.len(),
+                self.n_nodes
+            )));
         }
         if !mach.is_finite() {
             return Err(FinLoadError::BadMach(mach));
         }
         let m = mach.clamp(self.machs[0], self.machs[self.machs.len() - 1]);
-        let upper = self.machs.partition_point(|&x| x <= m).clamp(1, self.machs.len().max(2) - 1);
+        let upper = self
+            .machs
+            .partition_point(|&x| x <= m)
+            .clamp(1, self.machs.len().max(2) - 1);
         let (i, t) = if self.machs.len() == 1 {
             (0, 0.0)
         } else {
@@ -470,7 +525,11 @@ impl FinLoadTable {
         let n = self.n_nodes;
         for (k, o) in out.iter_mut().enumerate() {
             let lo = self.weights[i * n + k];
-            *o = if t == 0.0 { lo } else { (1.0 - t) * lo + t * self.weights[(i + 1) * n + k] };
+            *o = if t == 0.0 {
+                lo
+            } else {
+                (1.0 - t) * lo + t * self.weights[(i + 1) * n + k]
+            };
         }
         Ok(())
     }

@@ -8,7 +8,10 @@ fn grid(ns: usize, nc: usize) -> Vec<FinNode> {
     let mut v = Vec::new();
     for i in 0..=ns {
         for j in 0..=nc {
-            v.push(FinNode { eta: i as f64 / ns as f64, xi: j as f64 / nc as f64 });
+            v.push(FinNode {
+                eta: i as f64 / ns as f64,
+                xi: j as f64 / nc as f64,
+            });
         }
     }
     v
@@ -42,9 +45,15 @@ fn weights_sum_to_one_and_reproduce_cp_on_coarse_meshes() {
             let nodes = grid(ns, nc);
             let w = nodal_weights(&p, &nodes, mach, Distribution::Theory).unwrap();
             assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-12);
-            assert!(w.iter().all(|&x| x >= -1e-12), "M {mach} mesh {ns}x{nc}: {w:?}");
+            assert!(
+                w.iter().all(|&x| x >= -1e-12),
+                "M {mach} mesh {ns}x{nc}: {w:?}"
+            );
             let (e, x) = cp(&nodes, &w);
-            assert!((e - want).abs() < 2e-6, "M {mach} mesh {ns}x{nc}: eta_cp {e} vs {want}");
+            assert!(
+                (e - want).abs() < 2e-6,
+                "M {mach} mesh {ns}x{nc}: eta_cp {e} vs {want}"
+            );
             let xi_want = if mach < 1.0 { 0.25 } else { 0.5 };
             assert!((x - xi_want).abs() < 1e-12, "xi_cp {x}");
         }
@@ -63,8 +72,12 @@ fn midpoint_lumping_converges_to_the_same_cp() {
         let (mut s0, mut s1) = (0.0, 0.0);
         for i in 0..=n {
             let e = i as f64 / n as f64;
-            let len = if i == 0 || i == n { 0.5 / n as f64 } else { 1.0 / n as f64 };
-            let c = (e.clamp(0.25 / n as f64, 1.0 - 0.25 / n as f64)) as f64;
+            let len = if i == 0 || i == n {
+                0.5 / n as f64
+            } else {
+                1.0 / n as f64
+            };
+            let c = e.clamp(0.25 / n as f64, 1.0 - 0.25 / n as f64);
             s0 += l.at(c) * len;
             s1 += e * l.at(c) * len;
         }
@@ -115,7 +128,10 @@ fn ackeret_two_dimensional_limit() {
     assert!((e - 0.5).abs() < 1e-3, "{e}");
     // Interior chordwise nodes of a row carry equal shares, end nodes half (uniform load).
     let row = &w[5 * 5..6 * 5];
-    assert!((row[1] - row[2]).abs() < 1e-9 && (row[0] - 0.5 * row[1]).abs() < 1e-9, "{row:?}");
+    assert!(
+        (row[1] - row[2]).abs() < 1e-9 && (row[0] - 0.5 * row[1]).abs() < 1e-9,
+        "{row:?}"
+    );
 }
 
 #[test]
@@ -138,7 +154,10 @@ fn supersonic_delta_wing_total_lift_is_ackeret() {
     assert!((lift / want - 1.0).abs() < 1e-4, "{lift} vs {want}");
     // (A2.8) meets (A2.9) at y = c_r / beta.
     let eta = cr / beta / p.span;
-    let (lo, hi) = (supersonic_span_load(&p, beta, eta - 1e-9), supersonic_span_load(&p, beta, eta + 1e-9));
+    let (lo, hi) = (
+        supersonic_span_load(&p, beta, eta - 1e-9),
+        supersonic_span_load(&p, beta, eta + 1e-9),
+    );
     assert!((lo - hi).abs() < 1e-6 * hi, "{lo} vs {hi}");
 }
 
@@ -192,7 +211,10 @@ fn sphads_regimes_by_mach() {
     assert_eq!(supersonic_regime(&p, 0.9), None);
     // Span load is continuous across the regime changes (shape at fixed eta).
     for (lo, hi) in [(1.389, 1.3891), (1.8764, 1.8765), (3.6555, 3.6556)] {
-        let (a, b) = (SpanLoad::new(&p, lo).unwrap(), SpanLoad::new(&p, hi).unwrap());
+        let (a, b) = (
+            SpanLoad::new(&p, lo).unwrap(),
+            SpanLoad::new(&p, hi).unwrap(),
+        );
         let (na, nb) = (a.at(0.0), b.at(0.0));
         for e in [0.2, 0.5, 0.8, 0.95] {
             let (x, y) = (a.at(e) / na, b.at(e) / nb);
@@ -220,8 +242,19 @@ fn mesh_refinement_converges_row_shares() {
     for ns in [2usize, 4, 8, 16, 32] {
         let nodes = grid(ns, 3);
         let w = nodal_weights(&p, &nodes, 0.5, Distribution::Theory).unwrap();
-        let share: f64 = nodes.iter().zip(&w).filter(|(n, _)| n.eta < 0.5 - 1e-12).map(|(_, w)| w).sum::<f64>()
-            + 0.5 * nodes.iter().zip(&w).filter(|(n, _)| (n.eta - 0.5).abs() < 1e-12).map(|(_, w)| w).sum::<f64>();
+        let share: f64 = nodes
+            .iter()
+            .zip(&w)
+            .filter(|(n, _)| n.eta < 0.5 - 1e-12)
+            .map(|(_, w)| w)
+            .sum::<f64>()
+            + 0.5
+                * nodes
+                    .iter()
+                    .zip(&w)
+                    .filter(|(n, _)| (n.eta - 0.5).abs() < 1e-12)
+                    .map(|(_, w)| w)
+                    .sum::<f64>();
         errs.push((share - want).abs());
     }
     assert!(errs.windows(2).all(|e| e[1] < e[0]), "{errs:?}");
@@ -231,11 +264,23 @@ fn mesh_refinement_converges_row_shares() {
 #[test]
 fn errors_and_uniform_model_and_table() {
     let p = sphads();
-    assert_eq!(nodal_weights(&p, &[], 0.5, Distribution::Theory), Err(FinLoadError::NoNodes));
+    assert_eq!(
+        nodal_weights(&p, &[], 0.5, Distribution::Theory),
+        Err(FinLoadError::NoNodes)
+    );
     let bad = [FinNode { eta: 1.2, xi: 0.5 }];
-    assert!(matches!(nodal_weights(&p, &bad, 0.5, Distribution::Theory), Err(FinLoadError::NodeOutside { index: 0, .. })));
-    let swept = FinPlanform { tip_le_offset: 0.1, ..sphads() };
-    assert!(matches!(nodal_weights(&swept, &grid(2, 2), 2.0, Distribution::Theory), Err(FinLoadError::SweptTrailingEdge { .. })));
+    assert!(matches!(
+        nodal_weights(&p, &bad, 0.5, Distribution::Theory),
+        Err(FinLoadError::NodeOutside { index: 0, .. })
+    ));
+    let swept = FinPlanform {
+        tip_le_offset: 0.1,
+        ..sphads()
+    };
+    assert!(matches!(
+        nodal_weights(&swept, &grid(2, 2), 2.0, Distribution::Theory),
+        Err(FinLoadError::SweptTrailingEdge { .. })
+    ));
     let w = nodal_weights(&p, &grid(2, 2), 0.5, Distribution::Uniform).unwrap();
     assert!(w.iter().all(|&x| (x - 1.0 / 9.0).abs() < 1e-15));
     let nodes = grid(4, 3);

@@ -18,11 +18,11 @@ pub mod fin_loads;
 pub mod leeward;
 pub mod tables;
 
-
-
+pub use estimator::{BodyShape, EstimatedTables, FinPlanform, NoseShape};
+pub use fin_loads::{
+    FinLoadError, FinLoadModel, FinLoadTable, FinNode, SupersonicRegime, nodal_weights,
+};
 pub use leeward::f_lw;
 pub use tables::{
     Axis, BodyCoefficients, CoefficientTable, FinCoefficients, TableError, TableKind,
 };
-pub use estimator::{BodyShape, EstimatedTables, FinPlanform, NoseShape};
-pub use fin_loads::{FinLoadError, FinLoadModel, FinLoadTable, FinNode, SupersonicRegime, nodal_weights};

@@ -95,13 +95,32 @@ pub enum TableError {
     #[error("{}: no header line (expected `{expected}`)", path.display())]
     MissingHeader { path: PathBuf, expected: String },
     #[error("{}:{line}: header must be `{expected}`, found `{found}`", path.display())]
-    Header { path: PathBuf, line: usize, expected: String, found: String },
+    Header {
+        path: PathBuf,
+        line: usize,
+        expected: String,
+        found: String,
+    },
     #[error("{}:{line}: expected 6 comma-separated fields, found {found}", path.display())]
-    FieldCount { path: PathBuf, line: usize, found: usize },
+    FieldCount {
+        path: PathBuf,
+        line: usize,
+        found: usize,
+    },
     #[error("{}:{line}: column `{column}` is not a number: `{text}`", path.display())]
-    NotANumber { path: PathBuf, line: usize, column: &'static str, text: String },
+    NotANumber {
+        path: PathBuf,
+        line: usize,
+        column: &'static str,
+        text: String,
+    },
     #[error("{}:{line}: column `{column}` is not finite: {value}", path.display())]
-    NonFinite { path: PathBuf, line: usize, column: &'static str, value: f64 },
+    NonFinite {
+        path: PathBuf,
+        line: usize,
+        column: &'static str,
+        value: f64,
+    },
     #[error(
         "{}:{line}: duplicate grid point mach={mach}, alpha_deg={alpha_deg}, altitude_m={altitude_m} (first on line {first_line})",
         path.display()
@@ -118,7 +137,13 @@ pub enum TableError {
         "{}:{line}: axis `{axis}` is not increasing: new value {value} comes after {previous}",
         path.display()
     )]
-    NonMonotonic { path: PathBuf, line: usize, axis: Axis, value: f64, previous: f64 },
+    NonMonotonic {
+        path: PathBuf,
+        line: usize,
+        axis: Axis,
+        value: f64,
+        previous: f64,
+    },
     #[error(
         "{}: grid hole: no row for mach={mach}, alpha_deg={alpha_deg}, altitude_m={altitude_m} (the grid must hold every combination of its {n_mach} x {n_alpha} x {n_altitude} axis values; last data line {last_line})",
         path.display()
@@ -136,11 +161,25 @@ pub enum TableError {
     #[error("{}: the table has no data rows", path.display())]
     Empty { path: PathBuf },
     #[error("{}: {axis} = {value} is outside the table range [{min}, {max}]", path.display())]
-    OutOfRange { path: PathBuf, axis: Axis, value: f64, min: f64, max: f64 },
+    OutOfRange {
+        path: PathBuf,
+        axis: Axis,
+        value: f64,
+        min: f64,
+        max: f64,
+    },
     #[error("{}: lookup with non-finite {axis} = {value}", path.display())]
-    NonFiniteQuery { path: PathBuf, axis: Axis, value: f64 },
+    NonFiniteQuery {
+        path: PathBuf,
+        axis: Axis,
+        value: f64,
+    },
     #[error("{}: grid of {expected} points given {found} value rows", path.display())]
-    Shape { path: PathBuf, expected: usize, found: usize },
+    Shape {
+        path: PathBuf,
+        expected: usize,
+        found: usize,
+    },
 }
 
 /// Body coefficients at one flight condition (eqs. (5.3.1)-(5.3.3)).
@@ -191,7 +230,7 @@ impl CoefficientTable {
                 return Err(TableError::Empty { path: source });
             }
             for (k, w) in a.windows(2).enumerate() {
-                if !(w[1] > w[0]) {
+                if w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater) {
                     return Err(TableError::NonMonotonic {
                         path: source,
                         line: k + 2,
@@ -204,7 +243,11 @@ impl CoefficientTable {
         }
         let expected = axes[0].len() * axes[1].len() * axes[2].len();
         if points.len() != expected {
-            return Err(TableError::Shape { path: source, expected, found: points.len() });
+            return Err(TableError::Shape {
+                path: source,
+                expected,
+                found: points.len(),
+            });
         }
         let columns = kind.columns();
         for (n, p) in points.iter().enumerate() {
@@ -221,13 +264,22 @@ impl CoefficientTable {
         }
         let strides = [3 * axes[1].len() * axes[2].len(), 3 * axes[2].len(), 3];
         let values = points.iter().flat_map(|p| p.iter().copied()).collect();
-        Ok(CoefficientTable { kind, source, axes, values, strides, policy })
+        Ok(CoefficientTable {
+            kind,
+            source,
+            axes,
+            values,
+            strides,
+            policy,
+        })
     }
 
     /// Reads a table file (see the module doc for the layout).
     pub fn read_csv(kind: TableKind, path: &Path, policy: OutOfRange) -> Result<Self, TableError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| TableError::Io { path: path.to_path_buf(), message: e.to_string() })?;
+        let text = std::fs::read_to_string(path).map_err(|e| TableError::Io {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
         Self::parse_csv(kind, path, &text, policy)
     }
 
@@ -310,7 +362,9 @@ impl CoefficientTable {
             rows.push((line, row));
         }
         let Some(&(last_line, _)) = rows.last() else {
-            return Err(TableError::Empty { path: path.to_path_buf() });
+            return Err(TableError::Empty {
+                path: path.to_path_buf(),
+            });
         };
         let n = [axes[0].len(), axes[1].len(), axes[2].len()];
         let mut slot_line = vec![0usize; n[0] * n[1] * n[2]];
@@ -370,8 +424,10 @@ impl CoefficientTable {
 
     /// Writes [`Self::to_csv`] to `path`.
     pub fn write_csv(&self, path: &Path) -> Result<(), TableError> {
-        std::fs::write(path, self.to_csv())
-            .map_err(|e| TableError::Io { path: path.to_path_buf(), message: e.to_string() })
+        std::fs::write(path, self.to_csv()).map_err(|e| TableError::Io {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })
     }
 
     /// What the table holds.
@@ -393,19 +449,21 @@ impl CoefficientTable {
     fn locate(&self, a: usize, value: f64) -> Result<(usize, f64), TableError> {
         let axis = &self.axes[a];
         if !value.is_finite() {
-            return Err(TableError::NonFiniteQuery { path: self.source.clone(), axis: AXES[a], value });
+            return Err(TableError::NonFiniteQuery {
+                path: self.source.clone(),
+                axis: AXES[a],
+                value,
+            });
         }
         let (min, max) = (axis[0], axis[axis.len() - 1]);
-        if value < min || value > max {
-            if self.policy == OutOfRange::Stop {
-                return Err(TableError::OutOfRange {
-                    path: self.source.clone(),
-                    axis: AXES[a],
-                    value,
-                    min,
-                    max,
-                });
-            }
+        if (value < min || value > max) && self.policy == OutOfRange::Stop {
+            return Err(TableError::OutOfRange {
+                path: self.source.clone(),
+                axis: AXES[a],
+                value,
+                min,
+                max,
+            });
         }
         let v = value.clamp(min, max);
         if axis.len() == 1 {
@@ -418,7 +476,12 @@ impl CoefficientTable {
     }
 
     /// Trilinear interpolation of the three value columns at (Mach, alpha deg, altitude m).
-    pub fn lookup(&self, mach: f64, alpha_deg: f64, altitude_m: f64) -> Result<[f64; 3], TableError> {
+    pub fn lookup(
+        &self,
+        mach: f64,
+        alpha_deg: f64,
+        altitude_m: f64,
+    ) -> Result<[f64; 3], TableError> {
         let q = [mach, alpha_deg, altitude_m];
         let mut base = [(0usize, 0.0f64); 3];
         for a in 0..3 {
@@ -428,9 +491,8 @@ impl CoefficientTable {
         for corner in 0..8usize {
             let mut w = 1.0;
             let mut o = 0;
-            for a in 0..3 {
+            for (a, &(i, t)) in base.iter().enumerate() {
                 let up = (corner >> a) & 1 == 1;
-                let (i, t) = base[a];
                 if up {
                     if t == 0.0 {
                         w = 0.0;
@@ -444,8 +506,8 @@ impl CoefficientTable {
                 }
             }
             if w != 0.0 {
-                for c in 0..3 {
-                    out[c] += w * self.values[o + c];
+                for (x, v) in out.iter_mut().zip(&self.values[o..o + 3]) {
+                    *x += w * v;
                 }
             }
         }
@@ -453,13 +515,23 @@ impl CoefficientTable {
     }
 
     /// Body coefficients (for a [`TableKind::Body`] table).
-    pub fn body(&self, mach: f64, alpha_deg: f64, altitude_m: f64) -> Result<BodyCoefficients, TableError> {
+    pub fn body(
+        &self,
+        mach: f64,
+        alpha_deg: f64,
+        altitude_m: f64,
+    ) -> Result<BodyCoefficients, TableError> {
         let [cn, ca, cm] = self.lookup(mach, alpha_deg, altitude_m)?;
         Ok(BodyCoefficients { cn, ca, cm })
     }
 
     /// Fin coefficients (for a [`TableKind::Fin`] table).
-    pub fn fin(&self, mach: f64, alpha_deg: f64, altitude_m: f64) -> Result<FinCoefficients, TableError> {
+    pub fn fin(
+        &self,
+        mach: f64,
+        alpha_deg: f64,
+        altitude_m: f64,
+    ) -> Result<FinCoefficients, TableError> {
         let [cn, ca, x_cp_m] = self.lookup(mach, alpha_deg, altitude_m)?;
         Ok(FinCoefficients { cn, ca, x_cp_m })
     }
@@ -476,7 +548,11 @@ mod tests {
     /// Values linear in each axis: trilinear interpolation must reproduce them exactly,
     /// including the mixed term m*a*h which is multilinear.
     fn f(m: f64, a: f64, h: f64) -> [f64; 3] {
-        [1.0 + 2.0 * m - 0.5 * a + 1e-4 * h, m * a * h * 1e-3, 3.0 - a]
+        [
+            1.0 + 2.0 * m - 0.5 * a + 1e-4 * h,
+            m * a * h * 1e-3,
+            3.0 - a,
+        ]
     }
 
     fn grid_text(skip: Option<usize>) -> String {
@@ -498,12 +574,22 @@ mod tests {
 
     #[test]
     fn multilinear_reproduces_multilinear_data() {
-        let t = CoefficientTable::parse_csv(TableKind::Body, p(), &grid_text(None), OutOfRange::Stop).unwrap();
-        for (m, a, h) in [(0.7, 3.0, 1000.0), (1.5, 12.5, 4999.0), (2.0, 20.0, 0.0), (0.5, 0.0, 2500.0)] {
+        let t =
+            CoefficientTable::parse_csv(TableKind::Body, p(), &grid_text(None), OutOfRange::Stop)
+                .unwrap();
+        for (m, a, h) in [
+            (0.7, 3.0, 1000.0),
+            (1.5, 12.5, 4999.0),
+            (2.0, 20.0, 0.0),
+            (0.5, 0.0, 2500.0),
+        ] {
             let got = t.lookup(m, a, h).unwrap();
             let want = f(m, a, h);
             for c in 0..3 {
-                assert!((got[c] - want[c]).abs() < 1e-12, "{m} {a} {h} col {c}: {got:?} vs {want:?}");
+                assert!(
+                    (got[c] - want[c]).abs() < 1e-12,
+                    "{m} {a} {h} col {c}: {got:?} vs {want:?}"
+                );
             }
         }
         // Hand value: m=0.75, a=2.5, h=2500: cn = 1 + 1.5 - 1.25 + 0.25 = 1.5.
@@ -512,42 +598,118 @@ mod tests {
 
     #[test]
     fn stop_and_clamp_policies() {
-        let stop = CoefficientTable::parse_csv(TableKind::Body, p(), &grid_text(None), OutOfRange::Stop).unwrap();
+        let stop =
+            CoefficientTable::parse_csv(TableKind::Body, p(), &grid_text(None), OutOfRange::Stop)
+                .unwrap();
         let e = stop.lookup(2.5, 5.0, 0.0).unwrap_err();
         assert_eq!(
             e,
-            TableError::OutOfRange { path: p().into(), axis: Axis::Mach, value: 2.5, min: 0.5, max: 2.0 }
+            TableError::OutOfRange {
+                path: p().into(),
+                axis: Axis::Mach,
+                value: 2.5,
+                min: 0.5,
+                max: 2.0
+            }
         );
-        assert!(e.to_string().contains("mach = 2.5 is outside the table range [0.5, 2]"));
-        let clamp = CoefficientTable::parse_csv(TableKind::Body, p(), &grid_text(None), OutOfRange::Clamp).unwrap();
-        assert_eq!(clamp.lookup(2.5, -3.0, 9000.0).unwrap(), clamp.lookup(2.0, 0.0, 5000.0).unwrap());
-        assert!(matches!(clamp.lookup(f64::NAN, 0.0, 0.0), Err(TableError::NonFiniteQuery { .. })));
+        assert!(
+            e.to_string()
+                .contains("mach = 2.5 is outside the table range [0.5, 2]")
+        );
+        let clamp =
+            CoefficientTable::parse_csv(TableKind::Body, p(), &grid_text(None), OutOfRange::Clamp)
+                .unwrap();
+        assert_eq!(
+            clamp.lookup(2.5, -3.0, 9000.0).unwrap(),
+            clamp.lookup(2.0, 0.0, 5000.0).unwrap()
+        );
+        assert!(matches!(
+            clamp.lookup(f64::NAN, 0.0, 0.0),
+            Err(TableError::NonFiniteQuery { .. })
+        ));
     }
 
     #[test]
     fn round_trip_through_csv() {
-        let t = CoefficientTable::parse_csv(TableKind::Fin, p(), &grid_text(None).replace(",cm", ",x_cp_m"), OutOfRange::Clamp).unwrap();
-        let back = CoefficientTable::parse_csv(TableKind::Fin, p(), &t.to_csv(), OutOfRange::Clamp).unwrap();
+        let t = CoefficientTable::parse_csv(
+            TableKind::Fin,
+            p(),
+            &grid_text(None).replace(",cm", ",x_cp_m"),
+            OutOfRange::Clamp,
+        )
+        .unwrap();
+        let back = CoefficientTable::parse_csv(TableKind::Fin, p(), &t.to_csv(), OutOfRange::Clamp)
+            .unwrap();
         assert_eq!(t, back);
     }
 
     #[test]
     fn reader_errors_name_line() {
         // Hole: point 5 (mach 0.5, alpha 10, altitude 5000) missing.
-        let e = CoefficientTable::parse_csv(TableKind::Body, p(), &grid_text(Some(5)), OutOfRange::Stop).unwrap_err();
-        assert!(matches!(e, TableError::Hole { mach: 0.5, alpha_deg: 10.0, altitude_m: 5000.0, .. }), "{e}");
+        let e = CoefficientTable::parse_csv(
+            TableKind::Body,
+            p(),
+            &grid_text(Some(5)),
+            OutOfRange::Stop,
+        )
+        .unwrap_err();
+        assert!(
+            matches!(
+                e,
+                TableError::Hole {
+                    mach: 0.5,
+                    alpha_deg: 10.0,
+                    altitude_m: 5000.0,
+                    ..
+                }
+            ),
+            "{e}"
+        );
         // Duplicate of line 3 on line 5.
         let dup = "mach,alpha_deg,altitude_m,cn,ca,cm\n\n0,0,0,1,1,1\n0,1,0,1,1,1\n0,0,0,2,2,2\n";
-        let e = CoefficientTable::parse_csv(TableKind::Body, p(), dup, OutOfRange::Stop).unwrap_err();
-        assert!(matches!(e, TableError::Duplicate { line: 5, first_line: 3, .. }), "{e}");
+        let e =
+            CoefficientTable::parse_csv(TableKind::Body, p(), dup, OutOfRange::Stop).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                TableError::Duplicate {
+                    line: 5,
+                    first_line: 3,
+                    ..
+                }
+            ),
+            "{e}"
+        );
         assert!(e.to_string().starts_with("t.csv:5: duplicate"));
         // Non-monotonic alpha: 5 then a new value 2.
         let nm = "mach,alpha_deg,altitude_m,cn,ca,cm\n0,0,0,1,1,1\n0,5,0,1,1,1\n0,2,0,1,1,1\n";
-        let e = CoefficientTable::parse_csv(TableKind::Body, p(), nm, OutOfRange::Stop).unwrap_err();
-        assert!(matches!(e, TableError::NonMonotonic { line: 4, axis: Axis::AlphaDeg, .. }), "{e}");
+        let e =
+            CoefficientTable::parse_csv(TableKind::Body, p(), nm, OutOfRange::Stop).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                TableError::NonMonotonic {
+                    line: 4,
+                    axis: Axis::AlphaDeg,
+                    ..
+                }
+            ),
+            "{e}"
+        );
         let nf = "mach,alpha_deg,altitude_m,cn,ca,cm\n0,0,0,1,NaN,1\n";
-        let e = CoefficientTable::parse_csv(TableKind::Body, p(), nf, OutOfRange::Stop).unwrap_err();
-        assert!(matches!(e, TableError::NonFinite { line: 2, column: "ca", .. }), "{e}");
+        let e =
+            CoefficientTable::parse_csv(TableKind::Body, p(), nf, OutOfRange::Stop).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                TableError::NonFinite {
+                    line: 2,
+                    column: "ca",
+                    ..
+                }
+            ),
+            "{e}"
+        );
         let inf = "mach,alpha_deg,altitude_m,cn,ca,cm\n0,0,0,1,inf,1\n";
         assert!(matches!(
             CoefficientTable::parse_csv(TableKind::Body, p(), inf, OutOfRange::Stop),
@@ -556,12 +718,20 @@ mod tests {
         let bad = "mach,alpha_deg,altitude_m,cn,ca,cm\n0,0,0,1,x,1\n";
         assert!(matches!(
             CoefficientTable::parse_csv(TableKind::Body, p(), bad, OutOfRange::Stop),
-            Err(TableError::NotANumber { line: 2, column: "ca", .. })
+            Err(TableError::NotANumber {
+                line: 2,
+                column: "ca",
+                ..
+            })
         ));
         let short = "mach,alpha_deg,altitude_m,cn,ca,cm\n0,0,0,1,1\n";
         assert!(matches!(
             CoefficientTable::parse_csv(TableKind::Body, p(), short, OutOfRange::Stop),
-            Err(TableError::FieldCount { line: 2, found: 5, .. })
+            Err(TableError::FieldCount {
+                line: 2,
+                found: 5,
+                ..
+            })
         ));
         let hdr = "mach,alpha,altitude_m,cn,ca,cm\n";
         assert!(matches!(
