@@ -1,3 +1,4 @@
+#![allow(clippy::type_complexity, clippy::needless_range_loop)]
 //! Equations of motion (3.2.1) and their integration: conservation in free tumble (thesis
 //! 6.4), the rigid parabola under uniform gravity, the torque-free asymmetric top against
 //! Jacobi's elliptic functions, the constrained modal frequency, and determinism.

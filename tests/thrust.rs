@@ -174,7 +174,8 @@ fn csv_curves_and_their_errors() {
     assert!((c.total_impulse() - 300.0).abs() < 1e-12);
     assert!((c.thrust_at(0.25) - 100.0).abs() < 1e-12);
 
-    let cases: [(&str, fn(&ThrustCurveError) -> bool); 7] = [
+    type Case = (&'static str, fn(&ThrustCurveError) -> bool);
+    let cases: [Case; 7] = [
         ("time_s,thrust_N\n0,0\n1,5\n1,6\n", |e| {
             matches!(e, ThrustCurveError::TimeNotIncreasing { line: 4, .. })
         }),

@@ -4,6 +4,8 @@
 //! - [`eom`]: eq. (3.2.1) as a first-order system, force-model trait, energy and momentum;
 //! - [`kinematics`]: Euler parameters and Euler angles (thesis 4.4);
 //! - [`integrate`]: Dormand-Prince 5(4) and fixed-step RK4;
+//! - [`aero`]: coefficient tables, the built-in estimator, fin load distributions (5.4, App. A)
+//!   and the leeward reduction (5.4.24-5.4.31);
 //! - [`atmosphere`]: U.S. Standard Atmosphere 1976 and user tables (4.5.1);
 //! - [`thrust`]: RASP `.eng` and CSV thrust curves (5.2);
 //! - [`stimuli`]: gusts, sinusoids and seeded turbulence (4.5.2).
@@ -12,6 +14,7 @@
 //! every buffer lives in a [`eom::Workspace`] created once per run, and everything the
 //! environment models need (files, turbulence series) is prepared before the run.
 
+pub mod aero;
 pub mod atmosphere;
 pub mod eom;
 pub mod integrate;

@@ -1,0 +1,352 @@
+//! The built-in coefficient estimator, used when a vehicle gives no tables (`aero builtin`).
+//! It produces a body and a fin [`CoefficientTable`] on a fixed grid and can write them in the
+//! CSV layout of [`super::tables`], so users can inspect and replace them.
+//!
+//! Body (coefficients on the reference area S = pi d^2/4, lengths in calibres of d):
+//! - normal force, Jorgensen (NASA TR R-474, 1973, eq. 1) with base area = S:
+//!   C_N = sin(2 alpha) cos(alpha/2) [nose, potential, slender-body C_Nalpha = 2 /rad]
+//!   plus eta C_dc (A_p/S) sin^2 alpha [viscous crossflow], C_dc = 1.2 (subcritical
+//!   circular cylinder), eta = 1 (Allen's crossflow analogy without Jorgensen's finite-length
+//!   factor, which he tabulates as about 0.6-0.75; replace the table for better values).
+//!   A tube (no nose) has no potential term.
+//! - potential term at the nose centre of pressure: cone 2/3 of the nose length from the tip
+//!   (slender-body theory); crossflow term at the planform centroid.
+//! - C_M = sum C_N,part (x_part - x_ref)/b_b about the reference point (5.3.3), positive
+//!   nose up (x forward, so a force ahead of the c.g. pitches the nose up).
+//! - axial force C_A (independent of alpha here):
+//!   - skin friction, turbulent flat plate, Prandtl-Schlichting C_f = 0.455/(log10 Re)^2.58
+//!     on the body length, with the compressibility corrections of Barrowman (1967) as used
+//!     by OpenRocket (Niskanen 2009, eqs. 3.81-3.82): C_f (1 - 0.1 M^2) subsonic,
+//!     C_f/(1 + 0.15 M^2)^0.58 supersonic; times wetted area / S;
+//!   - base drag (Niskanen 2009, eq. 3.94, after Hoerner): 0.12 + 0.13 M^2 for M < 1,
+//!     0.25/M above;
+//!   - cone nose wave drag above Mach 1 (Fleeman, "Tactical Missile Design", 2nd ed., 2006,
+//!     sharp-cone fit): (1.59 + 1.83/M^2) [atan(0.5/(L_n/d))]^1.69 (angle in rad); ramped
+//!     linearly from 0 at M = 0.9 to its M = 1.2 value (our transonic blend).
+//!
+//! Fins (per fin, on S, alpha = the fin's own angle of attack):
+//! - subsonic, Barrowman (1967) / Diederich: C_Nalpha = 2 pi A (A_f/S) / (2 + sqrt(4 +
+//!   (beta A / cos Lambda_c)^2)), beta = sqrt|1 - M^2|, A = 2 s^2/A_f (the two-panel aspect
+//!   ratio of a fin and its mirror image), Lambda_c the mid-chord sweep;
+//! - supersonic, linear (Ackeret) theory: C_Nalpha = 4/sqrt(M^2 - 1) (A_f/S);
+//! - transonic: linear in Mach between the subsonic value at M = 0.9 and the supersonic
+//!   value at M = 1.2 (our blend);
+//! - body-fin interference K_T(B) = 1 + r/(s + r) (Barrowman), multiplying C_N;
+//! - C_N = K_T(B) C_Nalpha alpha (alpha in rad; linear, as (5.4.6));
+//! - centre of pressure aft of the root leading edge: subsonic Barrowman
+//!   x_f = x_t/3 (c_r + 2 c_t)/(c_r + c_t) + (c_r + c_t - c_r c_t/(c_r + c_t))/6, i.e. the
+//!   quarter point of the mean aerodynamic chord; supersonic the half point of the mean
+//!   aerodynamic chord (uniform Ackeret loading); blended linearly on 0.9..1.2 like C_Nalpha;
+//! - C_A: skin friction on both faces (2 A_f / S) with the body's C_f law on the mean chord.
+//!   Fin thickness wave drag and trailing-edge base drag are not modelled.
+//!
+//! The thesis itself used Missile DATCOM tables (5.5); these are simple engineering methods.
+
+use std::path::Path;
+
+use crate::check::ir::OutOfRange;
+
+use super::tables::{CoefficientTable, TableError, TableKind};
+
+/// Nose shape of the body.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum NoseShape {
+    /// A plain tube (no nose).
+    Tube,
+    /// A sharp cone of the given length, m.
+    Cone { length: f64 },
+}
+
+/// Body of revolution for the estimator.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyShape {
+    /// Overall length, m.
+    pub length: f64,
+    /// Diameter (also the reference length b_b), m.
+    pub diameter: f64,
+    pub nose: NoseShape,
+    /// Coefficient reference point (nominal c.g.) body x, m (<= 0; x forward from the nose).
+    pub reference_x: f64,
+}
+
+/// A trapezoidal fin planform.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FinPlanform {
+    /// Span s (root to tip), m.
+    pub span: f64,
+    pub root_chord: f64,
+    pub tip_chord: f64,
+    /// Chordwise distance from the root leading edge back to the tip leading edge, m
+    /// (x_t = s tan Lambda_LE; root minus tip chord for an unswept trailing edge).
+    pub tip_le_offset: f64,
+    /// Body radius at the fins, m.
+    pub body_radius: f64,
+}
+
+impl FinPlanform {
+    /// A planform with unswept trailing edge (as App. A.2.6 assumes).
+    pub fn unswept_trailing_edge(
+        span: f64,
+        root_chord: f64,
+        tip_chord: f64,
+        body_radius: f64,
+    ) -> Self {
+        FinPlanform {
+            span,
+            root_chord,
+            tip_chord,
+            tip_le_offset: root_chord - tip_chord,
+            body_radius,
+        }
+    }
+
+    /// Local chord at span fraction eta (linear taper).
+    pub fn chord_at(&self, eta: f64) -> f64 {
+        self.root_chord + (self.tip_chord - self.root_chord) * eta
+    }
+
+    /// Planform area A_f of one fin.
+    pub fn area(&self) -> f64 {
+        0.5 * (self.root_chord + self.tip_chord) * self.span
+    }
+
+    /// Two-panel aspect ratio A = 2 s^2 / A_f.
+    pub fn aspect_ratio(&self) -> f64 {
+        2.0 * self.span * self.span / self.area()
+    }
+
+    /// tan of the semi-apex angle omega of the generating triangle (App. A.2.6):
+    /// s / (c_r - c_t) (infinite for a rectangle).
+    pub fn tan_semi_apex(&self) -> f64 {
+        let d = self.root_chord - self.tip_chord;
+        if d <= 0.0 {
+            f64::INFINITY
+        } else {
+            self.span / d
+        }
+    }
+
+    /// Mid-chord sweep angle Lambda_c, rad.
+    pub fn mid_chord_sweep(&self) -> f64 {
+        ((self.tip_le_offset + 0.5 * self.tip_chord - 0.5 * self.root_chord) / self.span).atan()
+    }
+
+    /// Mean aerodynamic chord and its leading-edge offset aft of the root leading edge.
+    pub fn mean_aerodynamic_chord(&self) -> (f64, f64) {
+        let (cr, ct) = (self.root_chord, self.tip_chord);
+        let mac = 2.0 / 3.0 * (cr + ct - cr * ct / (cr + ct));
+        let x_le = self.tip_le_offset * (cr + 2.0 * ct) / (3.0 * (cr + ct));
+        (mac, x_le)
+    }
+
+    /// Per-fin normal-force slope on reference area `s_ref`, per rad, WITHOUT interference.
+    pub fn cn_alpha(&self, mach: f64, s_ref: f64) -> f64 {
+        let ratio = self.area() / s_ref;
+        let sub = |m: f64| {
+            let beta = (1.0 - m * m).abs().sqrt();
+            let a = self.aspect_ratio();
+            let k = beta * a / self.mid_chord_sweep().cos();
+            2.0 * std::f64::consts::PI * a * ratio / (2.0 + (4.0 + k * k).sqrt())
+        };
+        let sup = |m: f64| 4.0 / (m * m - 1.0).sqrt() * ratio;
+        transonic_blend(mach, sub, sup)
+    }
+
+    /// Body-fin interference factor K_T(B) = 1 + r/(s + r) (Barrowman).
+    pub fn interference(&self) -> f64 {
+        1.0 + self.body_radius / (self.span + self.body_radius)
+    }
+
+    /// Chordwise centre of pressure aft of the root leading edge, m: quarter MAC subsonic
+    /// (equal to Barrowman's x_f), half MAC supersonic, blended on 0.9..1.2.
+    pub fn x_cp(&self, mach: f64) -> f64 {
+        let (mac, x_le) = self.mean_aerodynamic_chord();
+        transonic_blend(mach, |_| x_le + 0.25 * mac, |_| x_le + 0.5 * mac)
+    }
+}
+
+/// Subsonic branch below M = 0.9, supersonic above 1.2, linear in Mach between their values
+/// at 0.9 and 1.2.
+fn transonic_blend(mach: f64, sub: impl Fn(f64) -> f64, sup: impl Fn(f64) -> f64) -> f64 {
+    const LO: f64 = 0.9;
+    const HI: f64 = 1.2;
+    if mach <= LO {
+        sub(mach)
+    } else if mach >= HI {
+        sup(mach)
+    } else {
+        let t = (mach - LO) / (HI - LO);
+        (1.0 - t) * sub(LO) + t * sup(HI)
+    }
+}
+
+/// Standard atmosphere 1976 below 32 km (thesis 4.5.1): temperature K, density kg/m^3,
+/// speed of sound m/s, dynamic viscosity Pa s (Sutherland). Only for Reynolds numbers here;
+/// the runtime has its own atmosphere block.
+fn atmosphere(h: f64) -> (f64, f64, f64, f64) {
+    const G: f64 = 9.806_65;
+    const R: f64 = 287.053;
+    let h = h.clamp(0.0, 32_000.0);
+    let (t, p) = if h <= 11_000.0 {
+        let t = 288.15 - 0.0065 * h;
+        (t, 101_325.0 * (t / 288.15).powf(G / (0.0065 * R)))
+    } else if h <= 20_000.0 {
+        (
+            216.65,
+            22_632.06 * (-G * (h - 11_000.0) / (R * 216.65)).exp(),
+        )
+    } else {
+        let t = 216.65 + 0.001 * (h - 20_000.0);
+        (t, 5_474.889 * (216.65 / t).powf(G / (0.001 * R)))
+    };
+    let rho = p / (R * t);
+    let a = (1.4 * R * t).sqrt();
+    let mu = 1.458e-6 * t.powf(1.5) / (t + 110.4);
+    (t, rho, a, mu)
+}
+
+/// Turbulent skin-friction coefficient (Prandtl-Schlichting, compressibility-corrected; see
+/// the module doc) for Reynolds number `re` at Mach `mach`.
+pub fn skin_friction(re: f64, mach: f64) -> f64 {
+    let cf = 0.455 / re.max(1e4).log10().powf(2.58);
+    if mach < 1.0 {
+        cf * (1.0 - 0.1 * mach * mach)
+    } else {
+        cf / (1.0 + 0.15 * mach * mach).powf(0.58)
+    }
+}
+
+/// Body coefficients (C_N, C_A, C_M) at one condition; see the module doc.
+pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f64) -> [f64; 3] {
+    let d = b.diameter;
+    let s_ref = std::f64::consts::PI * d * d / 4.0;
+    let a = alpha_deg.to_radians();
+    let (nose_len, x_nose_cp) = match b.nose {
+        NoseShape::Tube => (0.0, 0.0),
+        NoseShape::Cone { length } => (length, -2.0 / 3.0 * length),
+    };
+    let cn_pot = if nose_len > 0.0 {
+        (2.0 * a).sin() * (0.5 * a).cos()
+    } else {
+        0.0
+    };
+    // Planform area: triangle of the cone plus the rectangle of the cylinder.
+    let a_nose = 0.5 * d * nose_len;
+    let a_cyl = d * (b.length - nose_len);
+    let a_p = a_nose + a_cyl;
+    let x_p = (a_nose * (-2.0 / 3.0 * nose_len) + a_cyl * (-(nose_len + b.length) / 2.0)) / a_p;
+    const C_DC: f64 = 1.2;
+    let cn_cross = C_DC * (a_p / s_ref) * a.sin() * a.sin().abs();
+    let cn = cn_pot + cn_cross;
+    let cm = (cn_pot * (x_nose_cp - b.reference_x) + cn_cross * (x_p - b.reference_x)) / d;
+    // Axial force.
+    let (_, rho, sound, mu) = atmosphere(altitude_m);
+    let v = mach * sound;
+    let re = rho * v * b.length / mu;
+    let slant = (0.25 * d * d + nose_len * nose_len).sqrt();
+    let wetted =
+        std::f64::consts::PI * 0.5 * d * slant + std::f64::consts::PI * d * (b.length - nose_len);
+    let friction = skin_friction(re, mach) * wetted / s_ref;
+    let base = if mach < 1.0 {
+        0.12 + 0.13 * mach * mach
+    } else {
+        0.25 / mach
+    };
+    let wave = if nose_len > 0.0 {
+        let half_angle = (0.5 / (nose_len / d)).atan();
+        let fit = |m: f64| (1.59 + 1.83 / (m * m)) * half_angle.powf(1.69);
+        transonic_blend(mach, |_| 0.0, fit)
+    } else {
+        0.0
+    };
+    [cn, friction + base + wave, cm]
+}
+
+/// Coefficients of one fin (C_N, C_A, x_cp) at one condition on reference area `s_ref`.
+pub fn fin_coefficients(
+    f: &FinPlanform,
+    s_ref: f64,
+    mach: f64,
+    alpha_deg: f64,
+    altitude_m: f64,
+) -> [f64; 3] {
+    let cn = f.interference() * f.cn_alpha(mach, s_ref) * alpha_deg.to_radians();
+    let (_, rho, sound, mu) = atmosphere(altitude_m);
+    let (mac, _) = f.mean_aerodynamic_chord();
+    let re = rho * mach * sound * mac / mu;
+    let ca = skin_friction(re, mach) * 2.0 * f.area() / s_ref;
+    [cn, ca, f.x_cp(mach)]
+}
+
+/// The grid the estimator writes: Mach 0.1..5, alpha -20..20 deg by 2, altitude 0..30 km.
+pub const ESTIMATOR_MACH: [f64; 17] = [
+    0.1, 0.3, 0.5, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.1, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0,
+];
+/// Altitudes of the estimator grid, m.
+pub const ESTIMATOR_ALTITUDE: [f64; 6] = [0.0, 5_000.0, 10_000.0, 15_000.0, 20_000.0, 30_000.0];
+
+/// The two tables the estimator produced.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EstimatedTables {
+    pub body: CoefficientTable,
+    pub fin: CoefficientTable,
+}
+
+impl EstimatedTables {
+    /// Estimates both tables (reference area pi d^2/4 of the body) with the given policy.
+    pub fn estimate(
+        body: &BodyShape,
+        fin: &FinPlanform,
+        policy: OutOfRange,
+    ) -> Result<Self, TableError> {
+        let alpha: Vec<f64> = (-10..=10).map(|k| 2.0 * f64::from(k)).collect();
+        let axes = [
+            ESTIMATOR_MACH.to_vec(),
+            alpha.clone(),
+            ESTIMATOR_ALTITUDE.to_vec(),
+        ];
+        let s_ref = std::f64::consts::PI * body.diameter * body.diameter / 4.0;
+        let mut bp = Vec::new();
+        let mut fp = Vec::new();
+        for &m in &ESTIMATOR_MACH {
+            for &a in &alpha {
+                for &h in &ESTIMATOR_ALTITUDE {
+                    bp.push(body_coefficients(body, m, a, h));
+                    fp.push(fin_coefficients(fin, s_ref, m, a, h));
+                }
+            }
+        }
+        Ok(EstimatedTables {
+            body: CoefficientTable::from_grid(
+                TableKind::Body,
+                "builtin-body.csv",
+                axes.clone(),
+                &bp,
+                policy,
+            )?,
+            fin: CoefficientTable::from_grid(
+                TableKind::Fin,
+                "builtin-fins.csv",
+                axes,
+                &fp,
+                policy,
+            )?,
+        })
+    }
+
+    /// Writes `body.csv` and `fins.csv` into `dir` (with a comment line naming the estimator).
+    pub fn write(&self, dir: &Path) -> Result<(), TableError> {
+        for (t, name) in [(&self.body, "body.csv"), (&self.fin, "fins.csv")] {
+            let path = dir.join(name);
+            let text = format!(
+                "# written by the flexflight built-in estimator (runtime::aero::estimator)\n{}",
+                t.to_csv()
+            );
+            std::fs::write(&path, text).map_err(|e| TableError::Io {
+                path,
+                message: e.to_string(),
+            })?;
+        }
+        Ok(())
+    }
+}

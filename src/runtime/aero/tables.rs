@@ -1,0 +1,742 @@
+//! Aerodynamic coefficient tables (thesis 5.5; the thesis tabulated Missile DATCOM output
+//! over Mach, angle of attack and altitude).
+//!
+//! # CSV layout
+//!
+//! Long format, one grid point per row, comma separated, with a header line:
+//!
+//! ```text
+//! # body coefficients (comment lines start with '#'; blank lines are ignored)
+//! mach,alpha_deg,altitude_m,cn,ca,cm
+//! 0.5,0,0,0,0.31,0
+//! 0.5,2,0,0.0698,0.31,0.91
+//! ...
+//! ```
+//!
+//! - Body tables ([`TableKind::Body`]): `mach,alpha_deg,altitude_m,cn,ca,cm`. C_N and C_A are
+//!   the normal and axial force coefficients of the fuselage alone in the coefficient frame,
+//!   C_M the pitching moment about the coefficient reference point (the nominal c.g.),
+//!   positive nose up; all on the reference area S and reference length b_b of eqs.
+//!   (5.3.1)-(5.3.3).
+//! - Fin tables ([`TableKind::Fin`]): `mach,alpha_deg,altitude_m,cn,ca,x_cp_m`: the normal
+//!   and axial force coefficients of ONE fin (body-fin interference included) at its own
+//!   angle of attack alpha_f (5.4.5)-(5.4.14), on the same reference area S, and the
+//!   chordwise centre of pressure in metres aft of the root-chord leading edge.
+//!
+//! The grid must be full: every combination of the distinct Mach, alpha and altitude values
+//! present must appear exactly once. Rows may come in any order, but each axis must introduce
+//! its values in strictly increasing order (a value smaller than one already seen on the same
+//! axis, and not itself seen before, is reported as a non-monotonic axis). Angles are degrees,
+//! altitude metres. All numbers must be finite.
+//!
+//! # Lookup
+//!
+//! Multilinear (trilinear) interpolation between the eight surrounding grid points; an axis
+//! with a single value is constant along it. Outside an axis range the table's
+//! [`OutOfRange`] policy applies: `Stop` returns [`TableError::OutOfRange`] naming the axis,
+//! value and range; `Clamp` holds the edge value. Lookups do not allocate: the grid index
+//! uses precomputed strides.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use crate::check::ir::OutOfRange;
+
+/// Which coefficients a table holds (three value columns after the three axes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TableKind {
+    /// Fuselage alone: `cn, ca, cm`.
+    Body,
+    /// One fin: `cn, ca, x_cp_m`.
+    Fin,
+}
+
+impl TableKind {
+    /// The six column names, in order.
+    pub fn columns(self) -> [&'static str; 6] {
+        match self {
+            TableKind::Body => ["mach", "alpha_deg", "altitude_m", "cn", "ca", "cm"],
+            TableKind::Fin => ["mach", "alpha_deg", "altitude_m", "cn", "ca", "x_cp_m"],
+        }
+    }
+
+    /// The header line.
+    pub fn header(self) -> String {
+        self.columns().join(",")
+    }
+}
+
+/// One of the three table axes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Axis {
+    Mach,
+    AlphaDeg,
+    AltitudeM,
+}
+
+impl fmt::Display for Axis {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Axis::Mach => "mach",
+            Axis::AlphaDeg => "alpha_deg",
+            Axis::AltitudeM => "altitude_m",
+        })
+    }
+}
+
+const AXES: [Axis; 3] = [Axis::Mach, Axis::AlphaDeg, Axis::AltitudeM];
+
+/// Errors reading, building or looking up a coefficient table. Reader errors name the file
+/// and the 1-based line.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum TableError {
+    #[error("{}: cannot read coefficient table: {message}", path.display())]
+    Io { path: PathBuf, message: String },
+    #[error("{}: no header line (expected `{expected}`)", path.display())]
+    MissingHeader { path: PathBuf, expected: String },
+    #[error("{}:{line}: header must be `{expected}`, found `{found}`", path.display())]
+    Header {
+        path: PathBuf,
+        line: usize,
+        expected: String,
+        found: String,
+    },
+    #[error("{}:{line}: expected 6 comma-separated fields, found {found}", path.display())]
+    FieldCount {
+        path: PathBuf,
+        line: usize,
+        found: usize,
+    },
+    #[error("{}:{line}: column `{column}` is not a number: `{text}`", path.display())]
+    NotANumber {
+        path: PathBuf,
+        line: usize,
+        column: &'static str,
+        text: String,
+    },
+    #[error("{}:{line}: column `{column}` is not finite: {value}", path.display())]
+    NonFinite {
+        path: PathBuf,
+        line: usize,
+        column: &'static str,
+        value: f64,
+    },
+    #[error(
+        "{}:{line}: duplicate grid point mach={mach}, alpha_deg={alpha_deg}, altitude_m={altitude_m} (first on line {first_line})",
+        path.display()
+    )]
+    Duplicate {
+        path: PathBuf,
+        line: usize,
+        first_line: usize,
+        mach: f64,
+        alpha_deg: f64,
+        altitude_m: f64,
+    },
+    #[error(
+        "{}:{line}: axis `{axis}` is not increasing: new value {value} comes after {previous}",
+        path.display()
+    )]
+    NonMonotonic {
+        path: PathBuf,
+        line: usize,
+        axis: Axis,
+        value: f64,
+        previous: f64,
+    },
+    #[error(
+        "{}: grid hole: no row for mach={mach}, alpha_deg={alpha_deg}, altitude_m={altitude_m} (the grid must hold every combination of its {n_mach} x {n_alpha} x {n_altitude} axis values; last data line {last_line})",
+        path.display()
+    )]
+    Hole {
+        path: PathBuf,
+        last_line: usize,
+        mach: f64,
+        alpha_deg: f64,
+        altitude_m: f64,
+        n_mach: usize,
+        n_alpha: usize,
+        n_altitude: usize,
+    },
+    #[error("{}: the table has no data rows", path.display())]
+    Empty { path: PathBuf },
+    #[error("{}: {axis} = {value} is outside the table range [{min}, {max}]", path.display())]
+    OutOfRange {
+        path: PathBuf,
+        axis: Axis,
+        value: f64,
+        min: f64,
+        max: f64,
+    },
+    #[error("{}: lookup with non-finite {axis} = {value}", path.display())]
+    NonFiniteQuery {
+        path: PathBuf,
+        axis: Axis,
+        value: f64,
+    },
+    #[error("{}: grid of {expected} points given {found} value rows", path.display())]
+    Shape {
+        path: PathBuf,
+        expected: usize,
+        found: usize,
+    },
+}
+
+/// Body coefficients at one flight condition (eqs. (5.3.1)-(5.3.3)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyCoefficients {
+    pub cn: f64,
+    pub ca: f64,
+    pub cm: f64,
+}
+
+/// Coefficients of one fin at one flight condition (eqs. (5.4.5), (5.4.12), (5.4.14)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FinCoefficients {
+    pub cn: f64,
+    pub ca: f64,
+    /// Chordwise centre of pressure, m aft of the root-chord leading edge.
+    pub x_cp_m: f64,
+}
+
+/// A full-grid coefficient table over (Mach, alpha in degrees, altitude in m).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CoefficientTable {
+    kind: TableKind,
+    /// Where the table came from (for errors); a label for built tables.
+    source: PathBuf,
+    axes: [Vec<f64>; 3],
+    /// Three values per grid point; point (i, j, k) starts at i*strides[0] + j*strides[1] +
+    /// k*strides[2].
+    values: Vec<f64>,
+    strides: [usize; 3],
+    policy: OutOfRange,
+}
+
+impl CoefficientTable {
+    /// Builds a table from its axes and the three values of every grid point in row-major
+    /// order (Mach slowest, altitude fastest). Axes must be strictly increasing and every
+    /// number finite.
+    pub fn from_grid(
+        kind: TableKind,
+        source: impl Into<PathBuf>,
+        axes: [Vec<f64>; 3],
+        points: &[[f64; 3]],
+        policy: OutOfRange,
+    ) -> Result<Self, TableError> {
+        let source = source.into();
+        for (a, axis) in axes.iter().zip(AXES) {
+            if a.is_empty() {
+                return Err(TableError::Empty { path: source });
+            }
+            for (k, w) in a.windows(2).enumerate() {
+                if w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater) {
+                    return Err(TableError::NonMonotonic {
+                        path: source,
+                        line: k + 2,
+                        axis,
+                        value: w[1],
+                        previous: w[0],
+                    });
+                }
+            }
+        }
+        let expected = axes[0].len() * axes[1].len() * axes[2].len();
+        if points.len() != expected {
+            return Err(TableError::Shape {
+                path: source,
+                expected,
+                found: points.len(),
+            });
+        }
+        let columns = kind.columns();
+        for (n, p) in points.iter().enumerate() {
+            for (c, &v) in p.iter().enumerate() {
+                if !v.is_finite() {
+                    return Err(TableError::NonFinite {
+                        path: source,
+                        line: n + 2,
+                        column: columns[3 + c],
+                        value: v,
+                    });
+                }
+            }
+        }
+        let strides = [3 * axes[1].len() * axes[2].len(), 3 * axes[2].len(), 3];
+        let values = points.iter().flat_map(|p| p.iter().copied()).collect();
+        Ok(CoefficientTable {
+            kind,
+            source,
+            axes,
+            values,
+            strides,
+            policy,
+        })
+    }
+
+    /// Reads a table file (see the module doc for the layout).
+    pub fn read_csv(kind: TableKind, path: &Path, policy: OutOfRange) -> Result<Self, TableError> {
+        let text = std::fs::read_to_string(path).map_err(|e| TableError::Io {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        Self::parse_csv(kind, path, &text, policy)
+    }
+
+    /// Parses table text; `path` names the source in errors.
+    pub fn parse_csv(
+        kind: TableKind,
+        path: &Path,
+        text: &str,
+        policy: OutOfRange,
+    ) -> Result<Self, TableError> {
+        let columns = kind.columns();
+        let expected_header = kind.header();
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .map(|(i, l)| (i + 1, l.trim()))
+            .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+        let Some((hline, header)) = lines.next() else {
+            return Err(TableError::MissingHeader {
+                path: path.to_path_buf(),
+                expected: expected_header,
+            });
+        };
+        let found: Vec<&str> = header.split(',').map(str::trim).collect();
+        if found != columns {
+            return Err(TableError::Header {
+                path: path.to_path_buf(),
+                line: hline,
+                expected: expected_header,
+                found: header.to_string(),
+            });
+        }
+        // Rows as (line, [6 numbers]).
+        let mut rows: Vec<(usize, [f64; 6])> = Vec::new();
+        let mut axes: [Vec<f64>; 3] = [Vec::new(), Vec::new(), Vec::new()];
+        for (line, l) in lines {
+            let fields: Vec<&str> = l.split(',').map(str::trim).collect();
+            if fields.len() != 6 {
+                return Err(TableError::FieldCount {
+                    path: path.to_path_buf(),
+                    line,
+                    found: fields.len(),
+                });
+            }
+            let mut row = [0.0; 6];
+            for (c, f) in fields.iter().enumerate() {
+                let v: f64 = f.parse().map_err(|_| TableError::NotANumber {
+                    path: path.to_path_buf(),
+                    line,
+                    column: columns[c],
+                    text: (*f).to_string(),
+                })?;
+                if !v.is_finite() {
+                    return Err(TableError::NonFinite {
+                        path: path.to_path_buf(),
+                        line,
+                        column: columns[c],
+                        value: v,
+                    });
+                }
+                row[c] = v;
+            }
+            for (a, axis) in AXES.iter().enumerate() {
+                let v = row[a];
+                if !axes[a].contains(&v) {
+                    if let Some(&last) = axes[a].last()
+                        && v < last
+                    {
+                        return Err(TableError::NonMonotonic {
+                            path: path.to_path_buf(),
+                            line,
+                            axis: *axis,
+                            value: v,
+                            previous: last,
+                        });
+                    }
+                    axes[a].push(v);
+                }
+            }
+            rows.push((line, row));
+        }
+        let Some(&(last_line, _)) = rows.last() else {
+            return Err(TableError::Empty {
+                path: path.to_path_buf(),
+            });
+        };
+        let n = [axes[0].len(), axes[1].len(), axes[2].len()];
+        let mut slot_line = vec![0usize; n[0] * n[1] * n[2]];
+        let mut points = vec![[0.0; 3]; n[0] * n[1] * n[2]];
+        for &(line, row) in &rows {
+            // Each value is in its axis (we pushed it), so position() succeeds.
+            let idx: Vec<usize> = (0..3)
+                .map(|a| axes[a].iter().position(|&x| x == row[a]).unwrap_or(0))
+                .collect();
+            let slot = (idx[0] * n[1] + idx[1]) * n[2] + idx[2];
+            if slot_line[slot] != 0 {
+                return Err(TableError::Duplicate {
+                    path: path.to_path_buf(),
+                    line,
+                    first_line: slot_line[slot],
+                    mach: row[0],
+                    alpha_deg: row[1],
+                    altitude_m: row[2],
+                });
+            }
+            slot_line[slot] = line;
+            points[slot] = [row[3], row[4], row[5]];
+        }
+        if let Some(slot) = slot_line.iter().position(|&l| l == 0) {
+            let (i, rest) = (slot / (n[1] * n[2]), slot % (n[1] * n[2]));
+            let (j, k) = (rest / n[2], rest % n[2]);
+            return Err(TableError::Hole {
+                path: path.to_path_buf(),
+                last_line,
+                mach: axes[0][i],
+                alpha_deg: axes[1][j],
+                altitude_m: axes[2][k],
+                n_mach: n[0],
+                n_alpha: n[1],
+                n_altitude: n[2],
+            });
+        }
+        Self::from_grid(kind, path, axes, &points, policy)
+    }
+
+    /// The table in the CSV layout of the module doc (values printed so they read back
+    /// exactly).
+    pub fn to_csv(&self) -> String {
+        let mut s = self.kind.header();
+        s.push('\n');
+        for (i, m) in self.axes[0].iter().enumerate() {
+            for (j, a) in self.axes[1].iter().enumerate() {
+                for (k, h) in self.axes[2].iter().enumerate() {
+                    let o = i * self.strides[0] + j * self.strides[1] + k * self.strides[2];
+                    let v = &self.values[o..o + 3];
+                    s.push_str(&format!("{m},{a},{h},{},{},{}\n", v[0], v[1], v[2]));
+                }
+            }
+        }
+        s
+    }
+
+    /// Writes [`Self::to_csv`] to `path`.
+    pub fn write_csv(&self, path: &Path) -> Result<(), TableError> {
+        std::fs::write(path, self.to_csv()).map_err(|e| TableError::Io {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })
+    }
+
+    /// What the table holds.
+    pub fn kind(&self) -> TableKind {
+        self.kind
+    }
+
+    /// The values of one axis.
+    pub fn axis(&self, axis: Axis) -> &[f64] {
+        &self.axes[axis as usize]
+    }
+
+    /// The out-of-range policy.
+    pub fn policy(&self) -> OutOfRange {
+        self.policy
+    }
+
+    /// Bracketing index and fraction on one axis, after the out-of-range policy.
+    fn locate(&self, a: usize, value: f64) -> Result<(usize, f64), TableError> {
+        let axis = &self.axes[a];
+        if !value.is_finite() {
+            return Err(TableError::NonFiniteQuery {
+                path: self.source.clone(),
+                axis: AXES[a],
+                value,
+            });
+        }
+        let (min, max) = (axis[0], axis[axis.len() - 1]);
+        if (value < min || value > max) && self.policy == OutOfRange::Stop {
+            return Err(TableError::OutOfRange {
+                path: self.source.clone(),
+                axis: AXES[a],
+                value,
+                min,
+                max,
+            });
+        }
+        let v = value.clamp(min, max);
+        if axis.len() == 1 {
+            return Ok((0, 0.0));
+        }
+        // First index whose value exceeds v, kept within 1..len-1 so i = that - 1 brackets.
+        let upper = axis.partition_point(|&x| x <= v).clamp(1, axis.len() - 1);
+        let i = upper - 1;
+        Ok((i, (v - axis[i]) / (axis[i + 1] - axis[i])))
+    }
+
+    /// Trilinear interpolation of the three value columns at (Mach, alpha deg, altitude m).
+    pub fn lookup(
+        &self,
+        mach: f64,
+        alpha_deg: f64,
+        altitude_m: f64,
+    ) -> Result<[f64; 3], TableError> {
+        let q = [mach, alpha_deg, altitude_m];
+        let mut base = [(0usize, 0.0f64); 3];
+        for a in 0..3 {
+            base[a] = self.locate(a, q[a])?;
+        }
+        let mut out = [0.0; 3];
+        for corner in 0..8usize {
+            let mut w = 1.0;
+            let mut o = 0;
+            for (a, &(i, t)) in base.iter().enumerate() {
+                let up = (corner >> a) & 1 == 1;
+                if up {
+                    if t == 0.0 {
+                        w = 0.0;
+                        break;
+                    }
+                    w *= t;
+                    o += (i + 1) * self.strides[a];
+                } else {
+                    w *= 1.0 - t;
+                    o += i * self.strides[a];
+                }
+            }
+            if w != 0.0 {
+                for (x, v) in out.iter_mut().zip(&self.values[o..o + 3]) {
+                    *x += w * v;
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// Body coefficients (for a [`TableKind::Body`] table).
+    pub fn body(
+        &self,
+        mach: f64,
+        alpha_deg: f64,
+        altitude_m: f64,
+    ) -> Result<BodyCoefficients, TableError> {
+        let [cn, ca, cm] = self.lookup(mach, alpha_deg, altitude_m)?;
+        Ok(BodyCoefficients { cn, ca, cm })
+    }
+
+    /// Fin coefficients (for a [`TableKind::Fin`] table).
+    pub fn fin(
+        &self,
+        mach: f64,
+        alpha_deg: f64,
+        altitude_m: f64,
+    ) -> Result<FinCoefficients, TableError> {
+        let [cn, ca, x_cp_m] = self.lookup(mach, alpha_deg, altitude_m)?;
+        Ok(FinCoefficients { cn, ca, x_cp_m })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p() -> &'static Path {
+        Path::new("t.csv")
+    }
+
+    /// Values linear in each axis: trilinear interpolation must reproduce them exactly,
+    /// including the mixed term m*a*h which is multilinear.
+    fn f(m: f64, a: f64, h: f64) -> [f64; 3] {
+        [
+            1.0 + 2.0 * m - 0.5 * a + 1e-4 * h,
+            m * a * h * 1e-3,
+            3.0 - a,
+        ]
+    }
+
+    fn grid_text(skip: Option<usize>) -> String {
+        let mut s = String::from("# test\nmach,alpha_deg,altitude_m,cn,ca,cm\n");
+        let mut n = 0;
+        for m in [0.5, 1.0, 2.0] {
+            for a in [0.0, 5.0, 10.0, 20.0] {
+                for h in [0.0, 5000.0] {
+                    if Some(n) != skip {
+                        let v = f(m, a, h);
+                        s.push_str(&format!("{m},{a},{h},{},{},{}\n", v[0], v[1], v[2]));
+                    }
+                    n += 1;
+                }
+            }
+        }
+        s
+    }
+
+    #[test]
+    fn multilinear_reproduces_multilinear_data() {
+        let t =
+            CoefficientTable::parse_csv(TableKind::Body, p(), &grid_text(None), OutOfRange::Stop)
+                .unwrap();
+        for (m, a, h) in [
+            (0.7, 3.0, 1000.0),
+            (1.5, 12.5, 4999.0),
+            (2.0, 20.0, 0.0),
+            (0.5, 0.0, 2500.0),
+        ] {
+            let got = t.lookup(m, a, h).unwrap();
+            let want = f(m, a, h);
+            for c in 0..3 {
+                assert!(
+                    (got[c] - want[c]).abs() < 1e-12,
+                    "{m} {a} {h} col {c}: {got:?} vs {want:?}"
+                );
+            }
+        }
+        // Hand value: m=0.75, a=2.5, h=2500: cn = 1 + 1.5 - 1.25 + 0.25 = 1.5.
+        assert!((t.body(0.75, 2.5, 2500.0).unwrap().cn - 1.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn stop_and_clamp_policies() {
+        let stop =
+            CoefficientTable::parse_csv(TableKind::Body, p(), &grid_text(None), OutOfRange::Stop)
+                .unwrap();
+        let e = stop.lookup(2.5, 5.0, 0.0).unwrap_err();
+        assert_eq!(
+            e,
+            TableError::OutOfRange {
+                path: p().into(),
+                axis: Axis::Mach,
+                value: 2.5,
+                min: 0.5,
+                max: 2.0
+            }
+        );
+        assert!(
+            e.to_string()
+                .contains("mach = 2.5 is outside the table range [0.5, 2]")
+        );
+        let clamp =
+            CoefficientTable::parse_csv(TableKind::Body, p(), &grid_text(None), OutOfRange::Clamp)
+                .unwrap();
+        assert_eq!(
+            clamp.lookup(2.5, -3.0, 9000.0).unwrap(),
+            clamp.lookup(2.0, 0.0, 5000.0).unwrap()
+        );
+        assert!(matches!(
+            clamp.lookup(f64::NAN, 0.0, 0.0),
+            Err(TableError::NonFiniteQuery { .. })
+        ));
+    }
+
+    #[test]
+    fn round_trip_through_csv() {
+        let t = CoefficientTable::parse_csv(
+            TableKind::Fin,
+            p(),
+            &grid_text(None).replace(",cm", ",x_cp_m"),
+            OutOfRange::Clamp,
+        )
+        .unwrap();
+        let back = CoefficientTable::parse_csv(TableKind::Fin, p(), &t.to_csv(), OutOfRange::Clamp)
+            .unwrap();
+        assert_eq!(t, back);
+    }
+
+    #[test]
+    fn reader_errors_name_line() {
+        // Hole: point 5 (mach 0.5, alpha 10, altitude 5000) missing.
+        let e = CoefficientTable::parse_csv(
+            TableKind::Body,
+            p(),
+            &grid_text(Some(5)),
+            OutOfRange::Stop,
+        )
+        .unwrap_err();
+        assert!(
+            matches!(
+                e,
+                TableError::Hole {
+                    mach: 0.5,
+                    alpha_deg: 10.0,
+                    altitude_m: 5000.0,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        // Duplicate of line 3 on line 5.
+        let dup = "mach,alpha_deg,altitude_m,cn,ca,cm\n\n0,0,0,1,1,1\n0,1,0,1,1,1\n0,0,0,2,2,2\n";
+        let e =
+            CoefficientTable::parse_csv(TableKind::Body, p(), dup, OutOfRange::Stop).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                TableError::Duplicate {
+                    line: 5,
+                    first_line: 3,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        assert!(e.to_string().starts_with("t.csv:5: duplicate"));
+        // Non-monotonic alpha: 5 then a new value 2.
+        let nm = "mach,alpha_deg,altitude_m,cn,ca,cm\n0,0,0,1,1,1\n0,5,0,1,1,1\n0,2,0,1,1,1\n";
+        let e =
+            CoefficientTable::parse_csv(TableKind::Body, p(), nm, OutOfRange::Stop).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                TableError::NonMonotonic {
+                    line: 4,
+                    axis: Axis::AlphaDeg,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let nf = "mach,alpha_deg,altitude_m,cn,ca,cm\n0,0,0,1,NaN,1\n";
+        let e =
+            CoefficientTable::parse_csv(TableKind::Body, p(), nf, OutOfRange::Stop).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                TableError::NonFinite {
+                    line: 2,
+                    column: "ca",
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let inf = "mach,alpha_deg,altitude_m,cn,ca,cm\n0,0,0,1,inf,1\n";
+        assert!(matches!(
+            CoefficientTable::parse_csv(TableKind::Body, p(), inf, OutOfRange::Stop),
+            Err(TableError::NonFinite { line: 2, .. })
+        ));
+        let bad = "mach,alpha_deg,altitude_m,cn,ca,cm\n0,0,0,1,x,1\n";
+        assert!(matches!(
+            CoefficientTable::parse_csv(TableKind::Body, p(), bad, OutOfRange::Stop),
+            Err(TableError::NotANumber {
+                line: 2,
+                column: "ca",
+                ..
+            })
+        ));
+        let short = "mach,alpha_deg,altitude_m,cn,ca,cm\n0,0,0,1,1\n";
+        assert!(matches!(
+            CoefficientTable::parse_csv(TableKind::Body, p(), short, OutOfRange::Stop),
+            Err(TableError::FieldCount {
+                line: 2,
+                found: 5,
+                ..
+            })
+        ));
+        let hdr = "mach,alpha,altitude_m,cn,ca,cm\n";
+        assert!(matches!(
+            CoefficientTable::parse_csv(TableKind::Body, p(), hdr, OutOfRange::Stop),
+            Err(TableError::Header { line: 1, .. })
+        ));
+    }
+}

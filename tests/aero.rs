@@ -1,0 +1,160 @@
+//! Aerodynamic data of the runtime force block: built-in estimator figures for the SPHADS-1
+//! fin planform against hand calculations, and the estimator's tables written to CSV and read
+//! back through the table reader.
+
+use flexflight::check::ir::{Distribution, OutOfRange};
+use flexflight::runtime::aero::fin_loads::{centre_of_pressure, supersonic_regime};
+use flexflight::runtime::aero::{
+    BodyShape, CoefficientTable, EstimatedTables, FinNode, FinPlanform, NoseShape,
+    SupersonicRegime, TableKind, nodal_weights,
+};
+
+fn sphads_fin() -> FinPlanform {
+    FinPlanform::unswept_trailing_edge(0.12723, 0.32468, 0.12267, 0.127 / 2.0)
+}
+
+fn sphads_body() -> BodyShape {
+    // Length and diameter from Table 4.1; the nose length is our assumption (not stated).
+    BodyShape {
+        length: 2.75,
+        diameter: 0.127,
+        nose: NoseShape::Cone { length: 0.4 },
+        reference_x: -1.59,
+    }
+}
+
+/// Cone wave drag of the SPHADS body (0.4 m nose) at M 2, computed by hand (see the test).
+const WAVE_M2: f64 = 0.0900;
+
+const S_REF: f64 = std::f64::consts::PI * 0.0635 * 0.0635;
+
+#[test]
+fn sphads_fin_normal_force_slope_hand_values() {
+    // Hand calculation: A_f = (0.32468 + 0.12267)/2 * 0.12723 = 0.0284582 m^2,
+    // S = pi 0.0635^2 = 0.0126677 m^2, A = 2 s^2/A_f = 1.137633,
+    // Lambda_c = atan(((c_r - c_t) + c_t/2 - c_r/2)/s) = 38.4453 deg.
+    // M = 0.5: beta = 0.866025, beta A / cos Lambda_c = 1.257893,
+    //   C_Nalpha = 2 pi 1.137633 * 2.246518 / (2 + sqrt(4 + 1.582295)) = 3.68074 /rad.
+    // M = 2: 4/sqrt(3) * 2.246518 = 5.18811 /rad.
+    // K_T(B) = 1 + 0.0635/(0.12723 + 0.0635) = 1.332931.
+    let f = sphads_fin();
+    assert!(
+        (f.cn_alpha(0.5, S_REF) - 3.680_74).abs() < 1e-5,
+        "{}",
+        f.cn_alpha(0.5, S_REF)
+    );
+    assert!(
+        (f.cn_alpha(2.0, S_REF) - 5.188_11).abs() < 1e-5,
+        "{}",
+        f.cn_alpha(2.0, S_REF)
+    );
+    assert!((f.interference() - 1.332_931).abs() < 1e-6);
+    // Transonic blend: M = 1.05 is half way between the 0.9 and 1.2 values.
+    let mid = 0.5 * (f.cn_alpha(0.9, S_REF) + f.cn_alpha(1.2, S_REF));
+    assert!((f.cn_alpha(1.05, S_REF) - mid).abs() < 1e-12);
+}
+
+#[test]
+fn sphads_fin_centre_of_pressure_hand_values() {
+    // Barrowman x_f = x_t/3 (c_r + 2c_t)/(c_r + c_t) + (c_r + c_t - c_r c_t/(c_r + c_t))/6
+    //  = 0.067337*1.274221 + 0.358318/6 = 0.085801 + 0.059720 = 0.145521 m;
+    // supersonic: MAC LE 0.085801 + MAC/2 (MAC = 0.238879) = 0.205241 m.
+    let f = sphads_fin();
+    assert!((f.x_cp(0.5) - 0.145_521).abs() < 1e-6, "{}", f.x_cp(0.5));
+    assert!((f.x_cp(2.0) - 0.205_241).abs() < 1e-6, "{}", f.x_cp(2.0));
+}
+
+#[test]
+fn sphads_fin_load_distribution_figures() {
+    let f = sphads_fin();
+    let (eta_sub, xi_sub) = centre_of_pressure(&f, 0.5).unwrap();
+    let (eta_sup, xi_sup) = centre_of_pressure(&f, 2.0).unwrap();
+    println!("SPHADS-1 span cp: M 0.5 eta {eta_sub:.5}, M 2 eta {eta_sup:.5}");
+    assert_eq!((xi_sub, xi_sup), (0.25, 0.5));
+    // A tapered fin loads its root: the span cp lies inboard of the elliptic 4/(3 pi).
+    assert!(
+        eta_sub > 0.3 && eta_sub < 4.0 / (3.0 * std::f64::consts::PI),
+        "{eta_sub}"
+    );
+    assert!(eta_sup > 0.3 && eta_sup < 0.5, "{eta_sup}");
+    assert_eq!(supersonic_regime(&f, 2.0), Some(SupersonicRegime::C));
+    // A 6 x 4 element mesh reproduces the model cp.
+    let nodes: Vec<FinNode> = (0..=6)
+        .flat_map(|i| {
+            (0..=4).map(move |j| FinNode {
+                eta: i as f64 / 6.0,
+                xi: j as f64 / 4.0,
+            })
+        })
+        .collect();
+    for (m, eta_cp) in [(0.5, eta_sub), (2.0, eta_sup)] {
+        let w = nodal_weights(&f, &nodes, m, Distribution::Theory).unwrap();
+        let e: f64 = nodes.iter().zip(&w).map(|(n, w)| n.eta * w).sum();
+        assert!((e - eta_cp).abs() < 1e-6, "M {m}: {e} vs {eta_cp}");
+    }
+}
+
+#[test]
+fn sphads_body_hand_values() {
+    let b = sphads_body();
+    let est = EstimatedTables::estimate(&b, &sphads_fin(), OutOfRange::Stop).unwrap();
+    // alpha = 2 deg: potential C_N = sin 4deg cos 1deg = 0.069756*0.999848 = 0.069745;
+    // crossflow 1.2 (A_p/S) sin^2 2deg with A_p = 0.127*(2.75 - 0.4) + 0.5*0.127*0.4 = 0.323850,
+    // A_p/S = 25.5651: 1.2*25.5651*0.00121797 = 0.037365. Total 0.107110.
+    let c = est.body.body(0.5, 2.0, 0.0).unwrap();
+    assert!((c.cn - 0.107_110).abs() < 2e-6, "{}", c.cn);
+    // Nose force ahead of the c.g. (x = -0.26667 vs -1.59) pitches nose up.
+    assert!(c.cm > 0.0);
+    // Base drag at M 0.5: 0.12 + 0.13*0.25 = 0.1525; the rest is skin friction (positive).
+    assert!(c.ca > 0.1525 && c.ca < 0.6, "{}", c.ca);
+    // M 2: base 0.25/2 = 0.125 plus cone wave drag (1.59 + 1.83/4) atan(0.5/3.149606)^1.69
+    // = 2.0475 * 0.157436^1.69 = 0.0900 (hand), plus positive skin friction.
+    let ca2 = est.body.body(2.0, 0.0, 5000.0).unwrap().ca;
+    assert!(
+        ca2 > 0.125 + WAVE_M2 && ca2 < 0.125 + WAVE_M2 + 0.3,
+        "{ca2}"
+    );
+    // Fin table: C_N = K_T C_Nalpha alpha at M 2, alpha 4 deg.
+    let fin = est.fin.fin(2.0, 4.0, 0.0).unwrap();
+    assert!(
+        (fin.cn - 6.915_392 * 4f64.to_radians()).abs() < 1e-5,
+        "{}",
+        fin.cn
+    );
+    assert!((fin.x_cp_m - 0.205_241).abs() < 1e-6);
+}
+
+#[test]
+fn estimator_tables_write_and_read_back() {
+    let est = EstimatedTables::estimate(&sphads_body(), &sphads_fin(), OutOfRange::Clamp).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    est.write(dir.path()).unwrap();
+    let body = CoefficientTable::read_csv(
+        TableKind::Body,
+        &dir.path().join("body.csv"),
+        OutOfRange::Clamp,
+    )
+    .unwrap();
+    let fin = CoefficientTable::read_csv(
+        TableKind::Fin,
+        &dir.path().join("fins.csv"),
+        OutOfRange::Clamp,
+    )
+    .unwrap();
+    for (m, a, h) in [
+        (0.5, 3.0, 1000.0),
+        (2.2, -7.5, 12_000.0),
+        (0.95, 19.0, 25_000.0),
+    ] {
+        assert_eq!(
+            body.lookup(m, a, h).unwrap(),
+            est.body.lookup(m, a, h).unwrap()
+        );
+        assert_eq!(
+            fin.lookup(m, a, h).unwrap(),
+            est.fin.lookup(m, a, h).unwrap()
+        );
+    }
+    let text = std::fs::read_to_string(dir.path().join("body.csv")).unwrap();
+    assert!(text.lines().nth(1) == Some("mach,alpha_deg,altitude_m,cn,ca,cm"));
+}
