@@ -118,7 +118,24 @@ fn write_formatted_copy(dir: &Path) -> Vec<PathBuf> {
         std::fs::write(&dest, print_tree(&parse_ok(&text, "shipped file"))).expect("write");
         out.push(dest);
     }
+    // Data files the vehicle files refer to (FE matrices, ...), unchanged.
+    copy_data_files(&root.join("examples"), &dir.join("examples"));
     out
+}
+
+fn copy_data_files(from: &Path, to: &Path) {
+    let Ok(entries) = std::fs::read_dir(from) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            copy_data_files(&p, &to.join(e.file_name()));
+        } else if p.extension().is_none_or(|x| x != "vdl") {
+            std::fs::create_dir_all(to).expect("mkdir");
+            std::fs::copy(&p, to.join(e.file_name())).expect("copy");
+        }
+    }
 }
 
 fn ir_json(path: &Path, dir: &Path) -> serde_json::Value {
