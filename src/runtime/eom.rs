@@ -349,7 +349,6 @@ impl<'m, F: ForceModel> Eom<'m, F> {
     fn assemble(&mut self, eta: &[f64]) -> Inertia {
         let md = self.model;
         let n = self.layout.n;
-        let d = 6 + n;
         let mut c = md.first_moment;
         for i in 0..3 {
             for m in 0..n {
@@ -374,36 +373,12 @@ impl<'m, F: ForceModel> Eom<'m, F> {
             }
         }
         let h = &mut self.ws.h_tot;
-        h.copy_from_slice(&md.h_bar);
-        for m in 0..n {
-            for i in 0..3 {
-                for p in 0..n {
-                    h[i * n + p] += eta[m] * md.h_prime[(m * 3 + i) * n + p];
-                }
-            }
+        // Lengths were checked in `Eom::new`; a failure here poisons the state with NaN so
+        // the integrator stops with "non-finite state" instead of going on silently.
+        if md.h_tot_into(eta, h).is_err() {
+            h.fill(f64::NAN);
         }
-        let a = &mut self.ws.mass_matrix;
-        a.iter_mut().for_each(|x| *x = 0.0);
-        let cx = [[0.0, -c[2], c[1]], [c[2], 0.0, -c[0]], [-c[1], c[0], 0.0]];
-        for i in 0..3 {
-            a[i * d + i] = md.mass;
-            for k in 0..3 {
-                a[i * d + 3 + k] = -cx[i][k];
-                a[(3 + i) * d + k] = cx[i][k];
-                a[(3 + i) * d + 3 + k] = j[i][k];
-            }
-            for p in 0..n {
-                a[i * d + 6 + p] = md.p_bar[i * n + p];
-                a[(6 + p) * d + i] = md.p_bar[i * n + p];
-                a[(3 + i) * d + 6 + p] = h[i * n + p];
-                a[(6 + p) * d + 3 + i] = h[i * n + p];
-            }
-        }
-        for m in 0..n {
-            for p in 0..n {
-                a[(6 + m) * d + 6 + p] = md.modal_mass[m * n + p];
-            }
-        }
+        md.assemble_mass_matrix(c, &j, h, &mut self.ws.mass_matrix);
         Inertia { c_tot: c, j_tot: j }
     }
 

@@ -66,17 +66,31 @@ impl ReducedModel {
 
     /// `H̄_tot = H̄ + Σ_m η_m H̄'_m` (3 x n, row-major), eqs. (3.2.4)-(3.2.6).
     pub fn h_tot(&self, eta: &[f64]) -> Result<Vec<f64>, CoefficientError> {
+        let mut h = vec![0.0; 3 * self.n()];
+        self.h_tot_into(eta, &mut h)?;
+        Ok(h)
+    }
+
+    /// [`Self::h_tot`] into a caller's buffer of length `3 n` (no allocation).
+    pub fn h_tot_into(&self, eta: &[f64], h: &mut [f64]) -> Result<(), CoefficientError> {
         self.check_eta(eta)?;
         let n = self.n();
-        let mut h = self.h_bar.clone();
-        for i in 0..3 {
-            for p in 0..n {
-                h[i * n + p] += (0..n)
-                    .map(|m| eta[m] * self.h_prime[(m * 3 + i) * n + p])
-                    .sum::<f64>();
+        if h.len() != 3 * n {
+            return Err(CoefficientError::LengthMismatch {
+                what: "H_tot buffer",
+                expected: 3 * n,
+                found: h.len(),
+            });
+        }
+        h.copy_from_slice(&self.h_bar);
+        for m in 0..n {
+            for i in 0..3 {
+                for p in 0..n {
+                    h[i * n + p] += eta[m] * self.h_prime[(m * 3 + i) * n + p];
+                }
             }
         }
-        Ok(h)
+        Ok(())
     }
 
     /// The mass matrix of (3.2.1), `M_tot(η)` ((6+n) x (6+n), row-major, written into `out`):
@@ -88,7 +102,6 @@ impl ReducedModel {
     /// It is the Hessian of `T = ½ v^T M_tot(η) v` in `v = (V_B, ω_B, η̇)`, exactly quadratic
     /// in `η` (module `coefficients::reduce` gives the derivation).
     pub fn mass_matrix_into(&self, eta: &[f64], out: &mut [f64]) -> Result<(), CoefficientError> {
-        let n = self.n();
         let d = self.dim();
         if out.len() != d * d {
             return Err(CoefficientError::LengthMismatch {
@@ -97,9 +110,26 @@ impl ReducedModel {
                 found: out.len(),
             });
         }
-        let c = skew(self.c_tot(eta)?);
+        let c = self.c_tot(eta)?;
         let j = self.j_tot(eta)?;
         let h = self.h_tot(eta)?;
+        self.assemble_mass_matrix(c, &j, &h, out);
+        Ok(())
+    }
+
+    /// Assemble `M_tot` from its η-dependent parts `c̄_tot`, `J̄_tot`, `H̄_tot` (3 x n,
+    /// row-major) into `out` ((6+n)², row-major; no allocation; `out.len()` must be right).
+    /// The layout is the one documented at [`Self::mass_matrix_into`].
+    pub fn assemble_mass_matrix(
+        &self,
+        c_tot: [f64; 3],
+        j: &[[f64; 3]; 3],
+        h: &[f64],
+        out: &mut [f64],
+    ) {
+        let n = self.n();
+        let d = self.dim();
+        let c = skew(c_tot);
         out.iter_mut().for_each(|x| *x = 0.0);
         for i in 0..3 {
             out[i * d + i] = self.mass;
@@ -120,7 +150,6 @@ impl ReducedModel {
                 out[(6 + m) * d + 6 + p] = self.modal_mass[m * n + p];
             }
         }
-        Ok(())
     }
 
     /// Allocating convenience for [`Self::mass_matrix_into`].
