@@ -179,16 +179,27 @@ fn lanczos(
     };
     let req = partial_self_adjoint_eigen_scratch(op, n_ev, Par::Seq, params);
     let mut mem = MemBuffer::new(req.or(op.apply_scratch(n_ev.max(8), Par::Seq)));
-    let info = partial_self_adjoint_eigen(
-        eigvecs.as_mut(),
-        &mut eigvals,
-        op,
-        v0.col(0),
-        opts.lanczos_tol,
-        Par::Seq,
-        MemStack::new(&mut mem),
-        params,
-    );
+    // faer 0.24's partial eigensolver ends in a bare `panic!()` when it runs out of restarts
+    // without converging (operator/self_adjoint_eigen/mod.rs). A library must not panic on
+    // input, so that one case is caught here and reported as an eigensolver error.
+    let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        partial_self_adjoint_eigen(
+            eigvecs.as_mut(),
+            &mut eigvals,
+            op,
+            v0.col(0),
+            opts.lanczos_tol,
+            Par::Seq,
+            MemStack::new(&mut mem),
+            params,
+        )
+    }));
+    let Ok(info) = run else {
+        return Err(ModalError::Eigensolver(format!(
+            "the Lanczos iteration for {n_ev} eigenpairs did not converge within {} restarts",
+            params.max_restarts
+        )));
+    };
     if info.n_converged_eigen < n_ev {
         return Err(ModalError::Eigensolver(format!(
             "Lanczos converged {} of {n_ev} eigenpairs",
