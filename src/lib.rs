@@ -23,6 +23,7 @@ pub mod artifact;
 pub mod check;
 pub mod cli;
 pub mod diagnostics;
+pub mod plan;
 pub mod runtime;
 pub mod structure;
 pub mod syntax;

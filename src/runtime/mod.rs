@@ -17,7 +17,9 @@
 pub mod aero;
 pub mod atmosphere;
 pub mod eom;
+pub mod forces;
 pub mod integrate;
+pub mod run;
 pub mod kinematics;
 pub mod stimuli;
 pub mod thrust;
