@@ -155,7 +155,13 @@ pub fn history_csv(o: &RunOutput) -> String {
             if i > 0 {
                 s.push(',');
             }
-            let _ = write!(s, "{v}");
+            // Shortest round-trip form; exponent notation for very small or large values.
+            let a = v.abs();
+            if a != 0.0 && !(1e-4..1e15).contains(&a) {
+                let _ = write!(s, "{v:e}");
+            } else {
+                let _ = write!(s, "{v}");
+            }
         }
         s.push('\n');
     }
