@@ -235,3 +235,138 @@ fn plan_prints_json() {
     assert_eq!(p["forces"].as_array().unwrap().len(), 0);
     assert_eq!(p["channels"].as_array().unwrap().len(), 24 + 2 * 10 + 17);
 }
+
+/// SPHADS-1 with a constant 100 N motor burning 1 s at the nozzle key node, written next to
+/// a copy of the vehicle file; two scenarios: `burn` (level, gravity and aerodynamics off,
+/// `misalignment` as given) and `mach_start` (for the plan of a Mach and quaternion start).
+fn thrust_files(dir: &Path, misalignment: &str) -> PathBuf {
+    let vehicle = std::fs::read_to_string(repo("vehicles/sphads1.vdl")).unwrap();
+    let vehicle = vehicle.replacen(
+        "  forces {\n",
+        &format!(
+            "  forces {{\n    thrust {{\n      curve = \"motor.csv\"\n      misalignment = {misalignment}\n    }}\n\n"
+        ),
+        1,
+    );
+    std::fs::write(dir.join("sphads1_motor.vdl"), vehicle).unwrap();
+    std::fs::write(dir.join("motor.csv"), "time_s,thrust_N\n0,100\n1,100\n").unwrap();
+    let text = r#"import "sphads1_motor.vdl"
+
+scenario burn {
+  vehicle = sphads1
+  with {
+    forces.gravity.enabled = false
+    forces.body_aero.enabled = false
+    forces.fin_aero.enabled = false
+  }
+  initial {
+    velocity = (0, 0, 0) m/s
+    angular_velocity = (0, 0, 0) rad/s
+    attitude = euler(0 deg, 0 deg, 0 deg)
+    altitude = 1 km
+  }
+  run {
+    stop_time = 1.5 s
+    integrator = dopri5
+    rtol = 1e-10
+    atol = 1e-12
+    output_interval = 10 ms
+    stop_on_ground = false
+  }
+}
+
+scenario mach_start {
+  vehicle = sphads1
+  with {
+    forces.body_aero.enabled = false
+    forces.fin_aero.enabled = false
+  }
+  initial {
+    mach = 0.5
+    angular_velocity = (0, 0, 0) rad/s
+    attitude = quaternion(0.8, 0, 0.6, 0)
+    altitude = 5 km
+  }
+  run {
+    stop_time = 1 s
+  }
+}
+"#;
+    let file = dir.join("burn.vdl");
+    std::fs::write(&file, text).unwrap();
+    file
+}
+
+#[test]
+fn aligned_thrust_delivers_its_impulse() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = thrust_files(dir.path(), "(0, 0, 0) rad");
+    let out = dir.path().join("out");
+    let o = run(&file, "burn", &out, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let h = History::read(&out);
+    assert_eq!(summary(&out)["stop_reason"], "completed");
+    // Momentum theorem: the inertial momentum gains the total impulse, 100 N s along x.
+    let last = h.rows.len() - 1;
+    let px = h.col("momentum_inertial_x")[last];
+    assert!((px - 100.0).abs() < 1e-6 * 100.0, "impulse {px}");
+    // On the axis and aligned: no rotation, and V = I/m after the burn.
+    let m = 17.56;
+    let vx = h.col("v_body_x")[last];
+    assert!((vx - 100.0 / m).abs() < 1e-3 * vx, "v {vx}");
+    let w = h.col("omega_body_y");
+    assert!(w.iter().all(|v| v.abs() < 1e-9), "{:e}", w[last]);
+    eprintln!("aligned thrust: momentum {px}, v {vx}");
+}
+
+#[test]
+fn misaligned_thrust_pitches_the_vehicle_by_the_hand_moment() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = thrust_files(dir.path(), "(0, 0.01, 0) rad");
+    let out = dir.path().join("out");
+    let o = run(&file, "burn", &out, &["run.stop_time=0.2 s"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let h = History::read(&out);
+    // T_alpha = (T, 0, -0.01 T) (5.2.2) at the nozzle, 2.75 m aft of the nose; the mass
+    // centre is 1.5896 m aft: moment about it (-1.1604, 0, 0) x T_alpha = (0, -0.011604 T, 0).
+    // dh_cm/dt equals it while the rotation stays small: h_cm_y(0.2 s) = -0.2321 N m s.
+    let last = h.rows.len() - 1;
+    let hy = h.col("h_cm_inertial_y")[last];
+    let expect = -0.011604 * 100.0 * 0.2;
+    assert!((hy - expect).abs() < 0.01 * expect.abs(), "h_cm_y {hy} vs {expect}");
+    assert!(h.col("omega_body_y")[last] < 0.0);
+}
+
+#[test]
+fn plan_resolves_mach_quaternion_altitude_and_thrust() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = thrust_files(dir.path(), "(0, 0, 0.002) rad");
+    let o = bin()
+        .arg("plan")
+        .arg(&file)
+        .args(["--scenario", "mach_start", "--format", "json"])
+        .arg("--cache-dir")
+        .arg(cache())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let p: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let x: Vec<f64> = p["initial_state"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    assert_eq!(x[2], -5000.0);
+    // quaternion(q0 = 0.8, q1, q2 = 0.6, q3): the runtime stores (eps1, eps2, eps3, eta).
+    assert_eq!(&x[3..7], &[0.0, 0.6, 0.0, 0.8]);
+    // Mach 0.5 at 5 km: USSA76 T = 288.15 - 6.5 H (H geopotential km), a = sqrt(1.4 R T).
+    let hgp: f64 = 6356.766 * 5.0 / (6356.766 + 5.0);
+    let a = (1.4_f64 * 8314.32 / 28.9644 * (288.15 - 6.5 * hgp)).sqrt();
+    assert!((x[7] - 0.5 * a).abs() < 1e-6, "{} vs {}", x[7], 0.5 * a);
+    assert_eq!((x[8], x[9]), (0.0, 0.0));
+    let forces = p["forces"].as_array().unwrap();
+    let names: Vec<&str> = forces.iter().map(|f| f["block"].as_str().unwrap()).collect();
+    assert_eq!(names, ["gravity", "thrust"]);
+    assert_eq!(forces[0]["altitude_correction"], true);
+    let t = &forces[1];
+    assert!((t["total_impulse"].as_f64().unwrap() - 100.0).abs() < 1e-12);
+    assert_eq!(t["misalignment"][2], 0.002);
+    assert!((t["nozzle_position"][0].as_f64().unwrap() + 2.75).abs() < 0.05);
+    assert_eq!(t["s_translation"].as_array().unwrap().len(), 3 * 10);
+}
