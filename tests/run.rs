@@ -39,7 +39,11 @@ impl History {
     }
 
     fn col(&self, name: &str) -> Vec<f64> {
-        let i = self.columns.iter().position(|c| c == name).unwrap_or_else(|| panic!("{name}"));
+        let i = self
+            .columns
+            .iter()
+            .position(|c| c == name)
+            .unwrap_or_else(|| panic!("{name}"));
         self.rows.iter().map(|r| r[i]).collect()
     }
 }
@@ -50,7 +54,11 @@ fn summary(dir: &Path) -> serde_json::Value {
 
 fn run(file: &Path, scenario: &str, out: &Path, sets: &[&str]) -> std::process::Output {
     let mut c = bin();
-    c.arg("run").arg(file).args(["--scenario", scenario]).arg("--out").arg(out);
+    c.arg("run")
+        .arg(file)
+        .args(["--scenario", scenario])
+        .arg("--out")
+        .arg(out);
     c.arg("--cache-dir").arg(cache());
     for s in sets {
         c.args(["--set", s]);
@@ -62,7 +70,12 @@ fn run(file: &Path, scenario: &str, out: &Path, sets: &[&str]) -> std::process::
 fn free_tumble_conserves_energy_for_one_second() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("tumble");
-    let o = run(&repo("examples/free_tumble.vdl"), "free_tumble", &out, &["run.stop_time=1 s"]);
+    let o = run(
+        &repo("examples/free_tumble.vdl"),
+        "free_tumble",
+        &out,
+        &["run.stop_time=1 s"],
+    );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let h = History::read(&out);
     assert_eq!(h.rows.len(), 101, "0 to 1 s every 10 ms");
@@ -150,7 +163,10 @@ fn gravity_only_flight_follows_the_parabola() {
         let ez = -20.0 + vz * t[k] + 0.5 * g * t[k] * t[k];
         worst = worst.max((x[k] - ex).abs()).max((z[k] - ez).abs());
     }
-    assert!(worst < 1e-6, "largest departure from the parabola {worst:e} m");
+    assert!(
+        worst < 1e-6,
+        "largest departure from the parabola {worst:e} m"
+    );
     // The mass centre's inertial momentum grows by m g t along z: m from p_B = m V_B at t = 0.
     let m = h.col("momentum_body_x")[0] / h.col("v_body_x")[0];
     assert!((m - 17.56).abs() < 0.01, "mass {m}");
@@ -182,7 +198,11 @@ fn ground_impact_stops_cleanly_with_complete_files() {
     let t_hit = (25.0 + (625.0 + 2.0 * g * 20.0_f64).sqrt()) / g;
     let last = t.len() - 1;
     assert_eq!(t[last], s["t_end"].as_f64().unwrap());
-    assert!(t[last] >= t_hit && t[last] < t_hit + 0.1, "{} vs {t_hit}", t[last]);
+    assert!(
+        t[last] >= t_hit && t[last] < t_hit + 0.1,
+        "{} vs {t_hit}",
+        t[last]
+    );
     assert!(z[last] >= 0.0 && z[..last].iter().all(|v| *v < 0.0));
     // Rows every 10 ms up to the stop, then the stopping state.
     assert!(t.windows(2).all(|w| w[1] > w[0]));
@@ -193,9 +213,17 @@ fn ground_impact_stops_cleanly_with_complete_files() {
 fn unknown_scenario_fails_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("never");
-    let o = run(&repo("examples/free_tumble.vdl"), "no_such_scenario", &out, &[]);
+    let o = run(
+        &repo("examples/free_tumble.vdl"),
+        "no_such_scenario",
+        &out,
+        &[],
+    );
     assert!(!o.status.success());
-    assert!(String::from_utf8_lossy(&o.stderr).contains("free_tumble"), "lists the declared ones");
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("free_tumble"),
+        "lists the declared ones"
+    );
     assert!(!out.exists());
 }
 
@@ -333,7 +361,10 @@ fn misaligned_thrust_pitches_the_vehicle_by_the_hand_moment() {
     let last = h.rows.len() - 1;
     let hy = h.col("h_cm_inertial_y")[last];
     let expect = -0.011604 * 100.0 * 0.2;
-    assert!((hy - expect).abs() < 0.01 * expect.abs(), "h_cm_y {hy} vs {expect}");
+    assert!(
+        (hy - expect).abs() < 0.01 * expect.abs(),
+        "h_cm_y {hy} vs {expect}"
+    );
     assert!(h.col("omega_body_y")[last] < 0.0);
 }
 
@@ -351,7 +382,12 @@ fn plan_resolves_mach_quaternion_altitude_and_thrust() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let p: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    let x: Vec<f64> = p["initial_state"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    let x: Vec<f64> = p["initial_state"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
     assert_eq!(x[2], -5000.0);
     // quaternion(q0 = 0.8, q1, q2 = 0.6, q3): the runtime stores (eps1, eps2, eps3, eta).
     assert_eq!(&x[3..7], &[0.0, 0.6, 0.0, 0.8]);
@@ -361,7 +397,10 @@ fn plan_resolves_mach_quaternion_altitude_and_thrust() {
     assert!((x[7] - 0.5 * a).abs() < 1e-6, "{} vs {}", x[7], 0.5 * a);
     assert_eq!((x[8], x[9]), (0.0, 0.0));
     let forces = p["forces"].as_array().unwrap();
-    let names: Vec<&str> = forces.iter().map(|f| f["block"].as_str().unwrap()).collect();
+    let names: Vec<&str> = forces
+        .iter()
+        .map(|f| f["block"].as_str().unwrap())
+        .collect();
     assert_eq!(names, ["gravity", "thrust"]);
     assert_eq!(forces[0]["altitude_correction"], true);
     let t = &forces[1];

@@ -48,7 +48,11 @@ fn prepare(
             .collect();
         eprintln!(
             "error: no scenario named `{scenario}`; declared: {}",
-            if names.is_empty() { "none".to_string() } else { names.join(", ") }
+            if names.is_empty() {
+                "none".to_string()
+            } else {
+                names.join(", ")
+            }
         );
         return Err(EXIT_USAGE);
     };
@@ -109,8 +113,15 @@ pub fn cmd_run(
     let mut progress = |t: f64, t_end: f64| {
         if on_terminal && last_print.elapsed().as_secs_f64() > 0.1 {
             last_print = Instant::now();
-            let pct = if t_end > 0.0 { 100.0 * t / t_end } else { 100.0 };
-            let _ = write!(std::io::stderr(), "\rrun {scenario}: t = {t:.4} s ({pct:5.1} %)");
+            let pct = if t_end > 0.0 {
+                100.0 * t / t_end
+            } else {
+                100.0
+            };
+            let _ = write!(
+                std::io::stderr(),
+                "\rrun {scenario}: t = {t:.4} s ({pct:5.1} %)"
+            );
         }
     };
     let result = run::run(&p, &compiled.compiled.reduced, &mut progress);
@@ -125,7 +136,10 @@ pub fn cmd_run(
         }
     };
     if let Err(e) = write_outputs(out, &p, &compiled, &output) {
-        eprintln!("error: cannot write the run outputs to `{}`: {e}", out.display());
+        eprintln!(
+            "error: cannot write the run outputs to `{}`: {e}",
+            out.display()
+        );
         return EXIT_USAGE;
     }
     if common.output.format == Format::Human {
@@ -140,7 +154,10 @@ pub fn cmd_run(
             out.display()
         );
     } else {
-        println!("{}", serde_json::to_string_pretty(&summary_json(&p, &compiled, &output)).unwrap_or_default());
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&summary_json(&p, &compiled, &output)).unwrap_or_default()
+        );
     }
     EXIT_OK
 }
@@ -195,11 +212,23 @@ pub fn summary_json(p: &Plan, c: &CompileOutcome, o: &RunOutput) -> serde_json::
             serde_json::json!({ "min": lo.0, "t_min": lo.1, "max": hi.0, "t_max": hi.1 }),
         );
     }
-    let energy_drift = o.channels.iter().position(|c| c == "energy_total").and_then(|col| {
-        let first = o.rows.first()?[col];
-        let worst = o.rows.iter().map(|r| (r[col] - first).abs()).fold(0.0, f64::max);
-        Some(if first != 0.0 { worst / first.abs() } else { worst })
-    });
+    let energy_drift = o
+        .channels
+        .iter()
+        .position(|c| c == "energy_total")
+        .and_then(|col| {
+            let first = o.rows.first()?[col];
+            let worst = o
+                .rows
+                .iter()
+                .map(|r| (r[col] - first).abs())
+                .fold(0.0, f64::max);
+            Some(if first != 0.0 {
+                worst / first.abs()
+            } else {
+                worst
+            })
+        });
     serde_json::json!({
         "scenario": p.scenario,
         "vehicle": p.vehicle,

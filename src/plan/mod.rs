@@ -14,13 +14,11 @@ use std::path::PathBuf;
 
 use serde::Serialize;
 
-use crate::check::ir::{
-    self, Attitude, InitialPosition, InitialVelocity, Scenario, Stimulus,
-};
+use crate::check::ir::{self, Attitude, InitialPosition, InitialVelocity, Scenario, Stimulus};
 use crate::runtime::atmosphere::{Atmosphere, AtmosphereError, Standard1976};
 use crate::runtime::eom::StateLayout;
 use crate::runtime::kinematics::euler_parameters_from_angles;
-use crate::runtime::stimuli::{StimulusError, Stimuli};
+use crate::runtime::stimuli::{Stimuli, StimulusError};
 use crate::runtime::thrust::{ThrustCurve, ThrustCurveError};
 use crate::structure::compile::CompiledVehicle;
 use crate::syntax::Span;
@@ -120,9 +118,12 @@ pub struct ThrustPlan {
 #[serde(rename_all = "snake_case", tag = "block")]
 pub enum ForcePlan {
     Gravity(GravityPlan),
-    Thrust(ThrustPlan),
+    /// Boxed: the shape rows and the curve make it much larger than the others.
+    Thrust(Box<ThrustPlan>),
     /// Body aerodynamics (5.3): its settings as checked.
-    BodyAero { rate_terms: bool },
+    BodyAero {
+        rate_terms: bool,
+    },
     /// Fin aerodynamics (5.4): its settings as checked.
     FinAero {
         distribution: ir::Distribution,
@@ -265,7 +266,7 @@ pub fn build(scenario: &Scenario, compiled: &CompiledVehicle) -> Result<Plan, Pl
                 span: t.span,
             })?;
         let curve = ThrustCurve::read(&t.curve.value)?;
-        forces.push(ForcePlan::Thrust(ThrustPlan {
+        forces.push(ForcePlan::Thrust(Box::new(ThrustPlan {
             curve_file: t.curve.value.clone(),
             total_impulse: curve.total_impulse(),
             burn_time: curve.burn_time(),
@@ -276,7 +277,7 @@ pub fn build(scenario: &Scenario, compiled: &CompiledVehicle) -> Result<Plan, Pl
             s_rotation: rows(node, 3),
             offset: t.offset.value,
             misalignment: t.misalignment.value,
-        }));
+        })));
     }
     if let Some(b) = &vehicle.forces.body_aero {
         forces.push(ForcePlan::BodyAero {
@@ -349,10 +350,26 @@ pub fn summary_text(p: &Plan) -> String {
         13 + 2 * p.n_modes,
         p.mode_names.join(", ")
     );
-    let _ = writeln!(s, "p_I            ({:.6}, {:.6}, {:.6}) m (z down)", x[0], x[1], x[2]);
-    let _ = writeln!(s, "q (eps, eta)   ({:.9}, {:.9}, {:.9}, {:.9})", x[3], x[4], x[5], x[6]);
-    let _ = writeln!(s, "V_B            ({:.6}, {:.6}, {:.6}) m/s", x[7], x[8], x[9]);
-    let _ = writeln!(s, "omega_B        ({:.6}, {:.6}, {:.6}) rad/s", x[10], x[11], x[12]);
+    let _ = writeln!(
+        s,
+        "p_I            ({:.6}, {:.6}, {:.6}) m (z down)",
+        x[0], x[1], x[2]
+    );
+    let _ = writeln!(
+        s,
+        "q (eps, eta)   ({:.9}, {:.9}, {:.9}, {:.9})",
+        x[3], x[4], x[5], x[6]
+    );
+    let _ = writeln!(
+        s,
+        "V_B            ({:.6}, {:.6}, {:.6}) m/s",
+        x[7], x[8], x[9]
+    );
+    let _ = writeln!(
+        s,
+        "omega_B        ({:.6}, {:.6}, {:.6}) rad/s",
+        x[10], x[11], x[12]
+    );
     let i = &p.integrator;
     let _ = writeln!(
         s,
@@ -393,7 +410,11 @@ pub fn summary_text(p: &Plan) -> String {
                 t.misalignment
             ),
             ForcePlan::BodyAero { rate_terms } => {
-                writeln!(s, "  body_aero    rate terms {}", if *rate_terms { "on" } else { "off" })
+                writeln!(
+                    s,
+                    "  body_aero    rate terms {}",
+                    if *rate_terms { "on" } else { "off" }
+                )
             }
             ForcePlan::FinAero {
                 distribution,

@@ -21,7 +21,7 @@ pub mod atmosphere;
 pub mod eom;
 pub mod forces;
 pub mod integrate;
-pub mod run;
 pub mod kinematics;
+pub mod run;
 pub mod stimuli;
 pub mod thrust;

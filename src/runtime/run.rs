@@ -18,9 +18,7 @@ use std::time::Instant;
 use super::atmosphere::{Atmosphere, Standard1976};
 use super::eom::{Eom, EomError, FreeFlight, StateView};
 use super::forces::{ForceBlock, ForceBlocks, GravityBlock, ThrustBlock};
-use super::integrate::{
-    AdaptiveOptions, DormandPrince54, Integrator, Rk4, StepStats, StopReason,
-};
+use super::integrate::{AdaptiveOptions, DormandPrince54, Integrator, Rk4, StepStats, StopReason};
 use super::kinematics::{euler_angles, mat_vec, normalize_euler_parameters};
 use crate::check::ir;
 use crate::plan::{ForcePlan, Plan};
@@ -137,7 +135,10 @@ impl Monitor<'_> {
         let n = self.plan.n_modes;
         let s = &self.plan.node_translation_shapes;
         let mut worst: f64 = 0.0;
-        for node in s.chunks_exact(3 * n.max(1)).take(if n == 0 { 0 } else { usize::MAX }) {
+        for node in s
+            .chunks_exact(3 * n.max(1))
+            .take(if n == 0 { 0 } else { usize::MAX })
+        {
             let mut d2 = 0.0;
             for i in 0..3 {
                 let u: f64 = (0..n).map(|m| node[i * n + m] * eta[m]).sum();
@@ -219,7 +220,10 @@ impl Monitor<'_> {
         r.extend_from_slice(s.eta);
         r.extend_from_slice(s.eta_dot);
         r.push(self.max_deformation(s.eta));
-        let gravitational = self.gravity.as_ref().map_or(0.0, |g| g.potential_energy(&s));
+        let gravitational = self
+            .gravity
+            .as_ref()
+            .map_or(0.0, |g| g.potential_energy(&s));
         r.push(inv.kinetic_energy);
         r.push(inv.strain_energy);
         r.push(gravitational);
@@ -233,7 +237,10 @@ impl Monitor<'_> {
 }
 
 /// Cubic Hermite interpolation between `(t0, x0, d0)` and `(t1, x1, d1)` at `t`.
-fn hermite(t0: f64, x0: &[f64], d0: &[f64], t1: f64, x1: &[f64], d1: &[f64], t: f64, out: &mut [f64]) {
+/// One end of an accepted step: time, state, derivative.
+type StepEnd<'a> = (f64, &'a [f64], &'a [f64]);
+
+fn hermite((t0, x0, d0): StepEnd, (t1, x1, d1): StepEnd, t: f64, out: &mut [f64]) {
     let h = t1 - t0;
     let s = if h > 0.0 { (t - t0) / h } else { 1.0 };
     let (s2, s3) = (s * s, s * s * s);
@@ -307,7 +314,7 @@ pub fn run(
                 let tk = if (tk - t).abs() <= eps { t } else { tk };
                 match &prev {
                     Some((tp, xp, dp)) if tk > *tp && tk < t => {
-                        hermite(*tp, xp, dp, t, xs, dx, tk, &mut scratch)
+                        hermite((*tp, xp, dp), (t, xs, dx), tk, &mut scratch)
                     }
                     _ => scratch.copy_from_slice(xs),
                 }
@@ -366,8 +373,13 @@ pub fn run(
         (None, StopReason::NonFiniteState { t }) => {
             (RunStop::NonFinite, format!("non-finite state at t = {t} s"))
         }
-        (None, StopReason::Rhs { t, error }) => (RunStop::NonFinite, format!("at t = {t} s: {error}")),
-        (None, StopReason::MaxSteps { t }) => (RunStop::MaxSteps, format!("step budget used up at t = {t} s")),
+        (None, StopReason::Rhs { t, error }) => {
+            (RunStop::NonFinite, format!("at t = {t} s: {error}"))
+        }
+        (None, StopReason::MaxSteps { t }) => (
+            RunStop::MaxSteps,
+            format!("step budget used up at t = {t} s"),
+        ),
         (None, other) => (RunStop::NonFinite, format!("{other:?}")),
     };
     // The integrator leaves `x` at the last accepted state (the stop time, or where an

@@ -119,7 +119,14 @@ mod tests {
     fn level_vehicle_gets_weight_moment_and_modal_force() {
         let md = model();
         let layout = StateLayout { n: 1 };
-        let x = layout.state([0.0, 0.0, -1000.0], [0.0, 0.0, 0.0, 1.0], [0.0; 3], [0.0; 3], &[0.1], &[0.0]);
+        let x = layout.state(
+            [0.0, 0.0, -1000.0],
+            [0.0, 0.0, 0.0, 1.0],
+            [0.0; 3],
+            [0.0; 3],
+            &[0.1],
+            &[0.0],
+        );
         let s = StateView::new(layout, &x);
         let mut b = GravityBlock::new(&md, false);
         let mut out = vec![0.0; 7];

@@ -102,7 +102,8 @@ impl ForceModel for ThrustBlock {
         for m in 0..n {
             let mut q = 0.0;
             for i in 0..3 {
-                q += self.s_translation[i * n + m] * f[i] + self.s_rotation[i * n + m] * g_nozzle[i];
+                q +=
+                    self.s_translation[i * n + m] * f[i] + self.s_rotation[i * n + m] * g_nozzle[i];
             }
             out[6 + m] += q;
         }
@@ -130,7 +131,14 @@ mod tests {
 
     fn forces(b: &mut ThrustBlock, eta: f64) -> Vec<f64> {
         let layout = StateLayout { n: 1 };
-        let x = layout.state([0.0; 3], [0.0, 0.0, 0.0, 1.0], [0.0; 3], [0.0; 3], &[eta], &[0.0]);
+        let x = layout.state(
+            [0.0; 3],
+            [0.0, 0.0, 0.0, 1.0],
+            [0.0; 3],
+            [0.0; 3],
+            &[eta],
+            &[0.0],
+        );
         let mut out = vec![0.0; 7];
         b.generalized_forces(1.0, &StateView::new(layout, &x), &mut out);
         out
@@ -158,7 +166,7 @@ mod tests {
             assert!((out[3 + i] - g[i]).abs() < 1e-12, "{i}: {}", out[3 + i]);
         }
         // Q = u·F + θ·(δ × F); δ × F = (0.01·(-1), 0, -0.01·100) = (-0.01, 0, -1).
-        assert!((out[6] - (0.5 * 2.0 + 0.2 * -1.0)).abs() < 1e-12, "{}", out[6]);
+        assert!((out[6] - (0.5 * 2.0 - 0.2)).abs() < 1e-12, "{}", out[6]);
     }
 
     #[test]
@@ -174,7 +182,14 @@ mod tests {
         assert!((out[6] - 1.0).abs() < 1e-12);
         // After burnout nothing.
         let layout = StateLayout { n: 1 };
-        let x = layout.state([0.0; 3], [0.0, 0.0, 0.0, 1.0], [0.0; 3], [0.0; 3], &[eta], &[0.0]);
+        let x = layout.state(
+            [0.0; 3],
+            [0.0, 0.0, 0.0, 1.0],
+            [0.0; 3],
+            [0.0; 3],
+            &[eta],
+            &[0.0],
+        );
         let mut o = vec![0.0; 7];
         b.generalized_forces(5.0, &StateView::new(layout, &x), &mut o);
         assert!(o.iter().all(|v| *v == 0.0));
