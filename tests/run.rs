@@ -409,3 +409,35 @@ fn plan_resolves_mach_quaternion_altitude_and_thrust() {
     assert!((t["nozzle_position"][0].as_f64().unwrap() + 2.75).abs() < 0.05);
     assert_eq!(t["s_translation"].as_array().unwrap().len(), 3 * 10);
 }
+
+#[test]
+fn deformation_and_alpha_limits_stop_the_run_at_the_first_state_beyond_them() {
+    for (set, reason, column, limit) in [
+        (
+            "run.max_deformation=0.1 mm",
+            "max_deformation",
+            "max_deformation",
+            1e-4,
+        ),
+        ("run.max_alpha=30 deg", "max_alpha", "alpha", 30.0),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let o = run(
+            &repo("examples/free_tumble.vdl"),
+            "free_tumble",
+            &out,
+            &[set],
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let s = summary(&out);
+        assert_eq!(s["stop_reason"], reason);
+        let h = History::read(&out);
+        let c = h.col(column);
+        let last = c.len() - 1;
+        assert!(c[last].abs() > limit, "{reason}: last {}", c[last]);
+        assert!(c[..last].iter().all(|v| v.abs() <= limit), "{reason}");
+        assert_eq!(h.col("t")[last], s["t_end"].as_f64().unwrap());
+        assert!(s["t_end"].as_f64().unwrap() < 1.0);
+    }
+}
