@@ -5,8 +5,11 @@
 //! Output sampling: the integrator's observer sees `(t, x, ẋ)` after every accepted step;
 //! rows at the output times inside the step are interpolated by the cubic Hermite polynomial
 //! through the two step ends and their derivatives (third-order accurate, no extra
-//! right-hand side evaluations; the Euler parameters of a row are renormalised). A run that
-//! stops early ends with one row at the last accepted state, so the history always reaches
+//! right-hand side evaluations; the Euler parameters of a row are renormalised). When an
+//! accepted step meets a stop condition (ground, alpha, deformation, atmosphere range), the
+//! first state meeting it is located by bisection on that interpolant and the history ends
+//! with a row there; when the integrator gives up (step underflow, non-finite state) it ends
+//! with a row at the last accepted state. So the history always reaches
 //! the stop and never holds a non-finite value.
 //!
 //! Architecture invariant: the right-hand side (the [`Eom`] with its [`ForceBlocks`]) does
@@ -296,6 +299,7 @@ pub fn run(
     let mut next_k: u64 = 0;
     let mut last_row_t = f64::NEG_INFINITY;
     let mut stop_cond: Option<RunStop> = None;
+    let mut stopped_at: Option<f64> = None;
     let mut row_error: Option<EomError> = None;
     let mut scratch = vec![0.0; dim];
     let mut x = plan.initial_state.clone();
@@ -303,12 +307,33 @@ pub fn run(
 
     let report = {
         let mut observer = |t: f64, xs: &[f64], dx: &[f64]| -> bool {
-            let hit = monitor.stop_condition(t, xs);
+            let mut hit = monitor.stop_condition(t, xs);
+            // A stop inside this step: locate the first state that meets a condition by
+            // bisection on the step's Hermite interpolant (the step start met none).
+            let mut t_stop = t;
+            if let (Some(_), Some((tp, xp, dp))) = (hit, &prev) {
+                let (mut lo, mut hi) = (*tp, t);
+                for _ in 0..64 {
+                    let mid = 0.5 * (lo + hi);
+                    if mid <= lo || mid >= hi {
+                        break;
+                    }
+                    hermite((*tp, xp, dp), (t, xs, dx), mid, &mut scratch);
+                    match monitor.stop_condition(mid, &scratch) {
+                        Some(reason) => {
+                            hi = mid;
+                            hit = Some(reason);
+                        }
+                        None => lo = mid,
+                    }
+                }
+                t_stop = hi;
+            }
             // Output times in (t_prev, t] (and t = 0 at the start) up to the stop time; when
-            // this state stops the run, the rows end with the stopping state itself (below).
+            // a condition stops the run, the rows end with the stopping state itself (below).
             loop {
                 let tk = next_k as f64 * dt_out;
-                if tk > t + eps || tk > t_end + eps || (hit.is_some() && tk >= t - eps) {
+                if tk > t + eps || tk > t_end + eps || (hit.is_some() && tk >= t_stop - eps) {
                     break;
                 }
                 let tk = if (tk - t).abs() <= eps { t } else { tk };
@@ -335,16 +360,20 @@ pub fn run(
                 next_k += 1;
             }
             if let Some(stop) = hit {
-                if last_row_t < t {
-                    scratch.copy_from_slice(xs);
-                    if let Ok(r) = monitor.row(t, &mut scratch) {
-                        if r.iter().all(|v| v.is_finite()) {
-                            rows.push(r);
-                            last_row_t = t;
-                        }
+                match &prev {
+                    Some((tp, xp, dp)) if t_stop < t => {
+                        hermite((*tp, xp, dp), (t, xs, dx), t_stop, &mut scratch)
+                    }
+                    _ => scratch.copy_from_slice(xs),
+                }
+                if let Ok(r) = monitor.row(t_stop, &mut scratch) {
+                    if r.iter().all(|v| v.is_finite()) {
+                        rows.push(r);
+                        last_row_t = t_stop;
                     }
                 }
                 stop_cond = Some(stop);
+                stopped_at = Some(t_stop);
                 return false;
             }
             match &mut prev {
@@ -364,7 +393,10 @@ pub fn run(
         return Err(RunError::Eom(e));
     }
     let (stop, detail) = match (stop_cond, report.stop) {
-        (Some(s), _) => (s, format!("{} at t = {} s", s.code(), report.t)),
+        (Some(s), _) => (
+            s,
+            format!("{} at t = {} s", s.code(), stopped_at.unwrap_or(report.t)),
+        ),
         (None, StopReason::Completed) => (RunStop::Completed, "reached the stop time".into()),
         (None, StopReason::StepSizeUnderflow { t, h }) => (
             RunStop::StepUnderflow,
@@ -384,7 +416,7 @@ pub fn run(
     };
     // The integrator leaves `x` at the last accepted state (the stop time, or where an
     // underflow or non-finite trial stopped it): close the history there.
-    if last_row_t < report.t - eps && x.iter().all(|v| v.is_finite()) {
+    if stopped_at.is_none() && last_row_t < report.t - eps && x.iter().all(|v| v.is_finite()) {
         if let Ok(r) = monitor.row(report.t, &mut x) {
             if r.iter().all(|v| v.is_finite()) {
                 rows.push(r);
@@ -396,7 +428,7 @@ pub fn run(
         rows,
         stop,
         stop_detail: detail,
-        t_end: report.t,
+        t_end: stopped_at.unwrap_or(report.t),
         stats: report.stats,
         wall_seconds: started.elapsed().as_secs_f64(),
     })
