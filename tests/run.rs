@@ -439,3 +439,20 @@ fn deformation_and_alpha_limits_stop_the_run_at_the_first_state_beyond_them() {
         assert!(s["t_end"].as_f64().unwrap() < 1.0);
     }
 }
+
+#[test]
+fn the_same_run_twice_writes_the_same_history() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+    for out in [&a, &b] {
+        let o = run(
+            &repo("examples/free_tumble.vdl"),
+            "free_tumble",
+            out,
+            &["run.stop_time=0.2 s"],
+        );
+        assert!(o.status.success());
+    }
+    let read = |d: &Path| std::fs::read(d.join("history.csv")).unwrap();
+    assert_eq!(read(&a), read(&b));
+}

@@ -59,3 +59,33 @@ pub fn channel_names(mode_names: &[String]) -> Vec<String> {
     v.extend(INVARIANT_CHANNELS.iter().map(|s| s.to_string()));
     v
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn modal_channels_sit_between_the_rigid_and_invariant_ones() {
+        let names = channel_names(&["body_bending_y1".into(), "fin1_flap".into()]);
+        assert_eq!(
+            names.len(),
+            RIGID_CHANNELS.len() + 4 + INVARIANT_CHANNELS.len()
+        );
+        let k = RIGID_CHANNELS.len();
+        assert_eq!(names[k - 1], "speed_of_sound");
+        assert_eq!(
+            names[k..k + 4],
+            [
+                "eta_body_bending_y1",
+                "eta_fin1_flap",
+                "eta_dot_body_bending_y1",
+                "eta_dot_fin1_flap"
+            ]
+        );
+        assert_eq!(names[k + 4], "max_deformation");
+        let mut sorted = names.clone();
+        sorted.sort();
+        sorted.dedup();
+        assert_eq!(sorted.len(), names.len(), "column names are unique");
+    }
+}
