@@ -10,7 +10,9 @@
 //! - [`check`]: names, imports, units, ranges, overrides; produces the typed IR in SI;
 //! - [`structure`]: FE models (read or generated), modal analysis, reduced coefficients;
 //! - [`artifact`]: the cached, memory-mapped binary artifact of a compiled vehicle;
-//! - [`runtime`]: equations of motion (3.2.1), integrators, atmosphere, thrust, stimuli;
+//! - [`plan`]: a checked scenario and its compiled vehicle resolved into a run plan;
+//! - [`runtime`]: equations of motion (3.2.1), integrators, force blocks, the run driver,
+//!   atmosphere, thrust curves, stimuli;
 //! - [`cli`]: the command-line front end.
 //!
 //! Shared services: [`units`] (dimensions and unit table), [`diagnostics`] (the one place
@@ -23,6 +25,7 @@ pub mod artifact;
 pub mod check;
 pub mod cli;
 pub mod diagnostics;
+pub mod plan;
 pub mod runtime;
 pub mod structure;
 pub mod syntax;

@@ -6,6 +6,7 @@
 
 pub mod compile;
 mod fmt;
+pub mod run;
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -64,6 +65,32 @@ pub enum Command {
         /// Directory to write mode_NN_NAME.csv files into.
         #[arg(long)]
         export: PathBuf,
+        #[command(flatten)]
+        common: Common,
+        #[command(flatten)]
+        cache: CacheArgs,
+    },
+    /// Print a scenario's simulation plan: initial state, integrator, stop conditions, force
+    /// blocks, stimuli, output channels.
+    Plan {
+        file: PathBuf,
+        /// The scenario to plan.
+        #[arg(long)]
+        scenario: String,
+        #[command(flatten)]
+        common: Common,
+        #[command(flatten)]
+        cache: CacheArgs,
+    },
+    /// Run a scenario in the time domain; writes DIR/history.csv and DIR/summary.json.
+    Run {
+        file: PathBuf,
+        /// The scenario to run.
+        #[arg(long)]
+        scenario: String,
+        /// Output directory (created if needed; nothing is written if the run cannot start).
+        #[arg(long)]
+        out: PathBuf,
         #[command(flatten)]
         common: Common,
         #[command(flatten)]
@@ -142,6 +169,26 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
             &common,
             cache.cache_dir.as_deref(),
             None,
+            term,
+        ),
+        Command::Plan {
+            file,
+            scenario,
+            common,
+            cache,
+        } => run::cmd_plan(&file, &scenario, &common, cache.cache_dir.as_deref(), term),
+        Command::Run {
+            file,
+            scenario,
+            out,
+            common,
+            cache,
+        } => run::cmd_run(
+            &file,
+            &scenario,
+            &common,
+            cache.cache_dir.as_deref(),
+            &out,
             term,
         ),
         Command::Inspect { artifact, output } => compile::cmd_inspect(&artifact, output.format),

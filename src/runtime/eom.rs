@@ -202,16 +202,42 @@ impl UniformGravity {
     }
 }
 
+impl UniformGravity {
+    /// Replaces `g_I` (m/s², inertial frame); lets a gravity block scale `g` with altitude
+    /// (eq. 5.1.2) before each evaluation without copying the algebra.
+    pub fn set_gravity(&mut self, g_inertial: [f64; 3]) {
+        self.g_inertial = g_inertial;
+    }
+
+    /// The gravity currently applied, m/s², inertial frame.
+    pub fn gravity(&self) -> [f64; 3] {
+        self.g_inertial
+    }
+
+    /// Total mass `m`, kg.
+    pub fn mass(&self) -> f64 {
+        self.mass
+    }
+
+    /// Deformed first moment `c̄_tot = c + P̄η` (eq. 3.2.10), body frame, kg m; the mass
+    /// centre sits at `c̄_tot / m`. No allocation.
+    pub fn first_moment_total(&self, eta: &[f64]) -> [f64; 3] {
+        let n = self.n;
+        let mut c = self.first_moment;
+        for i in 0..3 {
+            for m in 0..n.min(eta.len()) {
+                c[i] += self.p_bar[i * n + m] * eta[m];
+            }
+        }
+        c
+    }
+}
+
 impl ForceModel for UniformGravity {
     fn generalized_forces(&mut self, _t: f64, s: &StateView, out: &mut [f64]) {
         let n = self.n;
         let g = mat_vec(&s.c_bi, &self.g_inertial);
-        let mut c = self.first_moment;
-        for i in 0..3 {
-            for m in 0..n {
-                c[i] += self.p_bar[i * n + m] * s.eta[m];
-            }
-        }
+        let c = self.first_moment_total(s.eta);
         let gm = cross(&c, &g);
         for i in 0..3 {
             out[i] += self.mass * g[i];

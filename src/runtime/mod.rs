@@ -4,6 +4,8 @@
 //! - [`eom`]: eq. (3.2.1) as a first-order system, force-model trait, energy and momentum;
 //! - [`kinematics`]: Euler parameters and Euler angles (thesis 4.4);
 //! - [`integrate`]: Dormand-Prince 5(4) and fixed-step RK4;
+//! - [`forces`]: the force blocks of chapter 5 (gravity, thrust; aerodynamics plugged in);
+//! - [`run`]: the run driver: stop conditions and output channels;
 //! - [`aero`]: coefficient tables, the built-in estimator, fin load distributions (5.4, App. A)
 //!   and the leeward reduction (5.4.24-5.4.31);
 //! - [`atmosphere`]: U.S. Standard Atmosphere 1976 and user tables (4.5.1);
@@ -17,7 +19,9 @@
 pub mod aero;
 pub mod atmosphere;
 pub mod eom;
+pub mod forces;
 pub mod integrate;
 pub mod kinematics;
+pub mod run;
 pub mod stimuli;
 pub mod thrust;

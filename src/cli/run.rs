@@ -1,0 +1,258 @@
+//! `flexflight plan` and `flexflight run`: a scenario's plan, and its time-domain run with
+//! `history.csv` and `summary.json` written to the output directory.
+
+use std::fmt::Write as _;
+use std::io::{IsTerminal, Write as _};
+use std::path::Path;
+use std::time::Instant;
+
+use crate::check::Checked;
+use crate::check::ir::Scenario;
+use crate::diagnostics::Diagnostic;
+use crate::plan::{self, Plan, PlanError};
+use crate::runtime::run::{self, RunOutput};
+
+use super::compile::{CompileOutcome, compile_cached};
+use super::{Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, emit, load_program};
+
+/// Channels whose extrema go into `summary.json` (when present).
+const SUMMARY_CHANNELS: &[&str] = &[
+    "altitude",
+    "mach",
+    "alpha",
+    "beta",
+    "dynamic_pressure",
+    "omega_body_x",
+    "omega_body_y",
+    "omega_body_z",
+    "max_deformation",
+    "energy_total",
+];
+
+/// Check, compile through the cache and plan; on failure the diagnostics are printed and
+/// the exit code returned. Touches nothing but the cache.
+fn prepare(
+    file: &Path,
+    scenario: &str,
+    common: &Common,
+    cache_dir: Option<&Path>,
+    term: Terminal,
+) -> Result<(Plan, CompileOutcome), u8> {
+    let mut checked: Checked = load_program(&[file.to_path_buf()], common, term)?;
+    let Some(sc) = checked.program.scenario(scenario).cloned() else {
+        let names: Vec<&str> = checked
+            .program
+            .scenarios
+            .iter()
+            .map(|s| s.name.value.as_str())
+            .collect();
+        eprintln!(
+            "error: no scenario named `{scenario}`; declared: {}",
+            if names.is_empty() {
+                "none".to_string()
+            } else {
+                names.join(", ")
+            }
+        );
+        return Err(EXIT_USAGE);
+    };
+    let format = common.output.format;
+    let outcome = compile_cached(&mut checked, &sc.vehicle, cache_dir, format, term)?;
+    match plan::build(&sc, &outcome.compiled) {
+        Ok(p) => Ok((p, outcome)),
+        Err(e) => {
+            emit(&[plan_diagnostic(&e, &sc)], &checked.sources, format, term);
+            Err(EXIT_DIAGNOSTICS)
+        }
+    }
+}
+
+fn plan_diagnostic(e: &PlanError, sc: &Scenario) -> Diagnostic {
+    let d = Diagnostic::error("plan::invalid", e.to_string());
+    match e.span() {
+        Some(span) => d.label(span, "here"),
+        None => d.label(sc.name.span, "while planning this scenario"),
+    }
+}
+
+/// `flexflight plan`: the plan as a human summary or JSON.
+pub fn cmd_plan(
+    file: &Path,
+    scenario: &str,
+    common: &Common,
+    cache_dir: Option<&Path>,
+    term: Terminal,
+) -> u8 {
+    let (p, _) = match prepare(file, scenario, common, cache_dir, term) {
+        Ok(x) => x,
+        Err(code) => return code,
+    };
+    match common.output.format {
+        Format::Human => print!("{}", plan::summary_text(&p)),
+        Format::Json => println!("{}", serde_json::to_string_pretty(&p).unwrap_or_default()),
+    }
+    EXIT_OK
+}
+
+/// `flexflight run`: check, compile, plan, integrate, then write `history.csv` and
+/// `summary.json` into `out` (created if needed; nothing is written unless the run ran).
+pub fn cmd_run(
+    file: &Path,
+    scenario: &str,
+    common: &Common,
+    cache_dir: Option<&Path>,
+    out: &Path,
+    term: Terminal,
+) -> u8 {
+    let (p, compiled) = match prepare(file, scenario, common, cache_dir, term) {
+        Ok(x) => x,
+        Err(code) => return code,
+    };
+    let on_terminal = std::io::stderr().is_terminal();
+    let mut last_print = Instant::now();
+    let mut progress = |t: f64, t_end: f64| {
+        if on_terminal && last_print.elapsed().as_secs_f64() > 0.1 {
+            last_print = Instant::now();
+            let pct = if t_end > 0.0 {
+                100.0 * t / t_end
+            } else {
+                100.0
+            };
+            let _ = write!(
+                std::io::stderr(),
+                "\rrun {scenario}: t = {t:.4} s ({pct:5.1} %)"
+            );
+        }
+    };
+    let result = run::run(&p, &compiled.compiled.reduced, &mut progress);
+    if on_terminal {
+        let _ = write!(std::io::stderr(), "\r\x1b[2K");
+    }
+    let output = match result {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("error[run::cannot_start]: {e}");
+            return EXIT_DIAGNOSTICS;
+        }
+    };
+    if let Err(e) = write_outputs(out, &p, &compiled, &output) {
+        eprintln!(
+            "error: cannot write the run outputs to `{}`: {e}",
+            out.display()
+        );
+        return EXIT_USAGE;
+    }
+    if common.output.format == Format::Human {
+        eprintln!(
+            "{}: {} at t = {} s ({} rows, {} steps, {:.3} s) -> {}",
+            p.scenario,
+            output.stop.code(),
+            output.t_end,
+            output.rows.len(),
+            output.stats.accepted,
+            output.wall_seconds,
+            out.display()
+        );
+    } else {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&summary_json(&p, &compiled, &output)).unwrap_or_default()
+        );
+    }
+    EXIT_OK
+}
+
+/// `history.csv`: a header of channel names, one row per output time. Floats are written
+/// in Rust's shortest round-trip form, so reading them back gives the same numbers.
+pub fn history_csv(o: &RunOutput) -> String {
+    let mut s = o.channels.join(",");
+    s.push('\n');
+    for row in &o.rows {
+        for (i, v) in row.iter().enumerate() {
+            if i > 0 {
+                s.push(',');
+            }
+            // Shortest round-trip form; exponent notation for very small or large values.
+            let a = v.abs();
+            if a != 0.0 && !(1e-4..1e15).contains(&a) {
+                let _ = write!(s, "{v:e}");
+            } else {
+                let _ = write!(s, "{v}");
+            }
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// `summary.json` of a run.
+pub fn summary_json(p: &Plan, c: &CompileOutcome, o: &RunOutput) -> serde_json::Value {
+    let mut extrema = serde_json::Map::new();
+    let mut wanted: Vec<String> = SUMMARY_CHANNELS.iter().map(|s| s.to_string()).collect();
+    wanted.extend(p.mode_names.iter().map(|m| format!("eta_{m}")));
+    for name in &wanted {
+        let Some(col) = o.channels.iter().position(|c| c == name) else {
+            continue;
+        };
+        let mut lo = (f64::INFINITY, 0.0);
+        let mut hi = (f64::NEG_INFINITY, 0.0);
+        for r in &o.rows {
+            if r[col] < lo.0 {
+                lo = (r[col], r[0]);
+            }
+            if r[col] > hi.0 {
+                hi = (r[col], r[0]);
+            }
+        }
+        if o.rows.is_empty() {
+            continue;
+        }
+        extrema.insert(
+            name.clone(),
+            serde_json::json!({ "min": lo.0, "t_min": lo.1, "max": hi.0, "t_max": hi.1 }),
+        );
+    }
+    let energy_drift = o
+        .channels
+        .iter()
+        .position(|c| c == "energy_total")
+        .and_then(|col| {
+            let first = o.rows.first()?[col];
+            let worst = o
+                .rows
+                .iter()
+                .map(|r| (r[col] - first).abs())
+                .fold(0.0, f64::max);
+            Some(if first != 0.0 {
+                worst / first.abs()
+            } else {
+                worst
+            })
+        });
+    serde_json::json!({
+        "scenario": p.scenario,
+        "vehicle": p.vehicle,
+        "overrides": p.overrides.iter().map(|(k, v)| serde_json::json!({"path": k, "value": v})).collect::<Vec<_>>(),
+        "artifact": c.path,
+        "artifact_hash": c.key.to_hex(),
+        "stop_reason": o.stop.code(),
+        "stop_detail": o.stop_detail,
+        "t_end": o.t_end,
+        "stop_time": p.stop.stop_time,
+        "wall_time_s": o.wall_seconds,
+        "accepted_steps": o.stats.accepted,
+        "rejected_steps": o.stats.rejected,
+        "rhs_evaluations": o.stats.rhs_evaluations,
+        "rows": o.rows.len(),
+        "output_interval": p.output_interval,
+        "energy_total_max_relative_drift": energy_drift,
+        "extrema": extrema,
+    })
+}
+
+fn write_outputs(out: &Path, p: &Plan, c: &CompileOutcome, o: &RunOutput) -> std::io::Result<()> {
+    std::fs::create_dir_all(out)?;
+    super::fmt::write_atomic(&out.join("history.csv"), &history_csv(o))?;
+    let summary = serde_json::to_string_pretty(&summary_json(p, c, o)).unwrap_or_default();
+    super::fmt::write_atomic(&out.join("summary.json"), &(summary + "\n"))
+}

@@ -1,0 +1,441 @@
+//! Stage 5, plan: everything a run needs, resolved from a checked [`Scenario`] and its
+//! [`CompiledVehicle`] before the first step.
+//!
+//! The plan fixes the state layout and the initial state, the integrator settings, the stop
+//! conditions, the ordered force blocks with their resolved parameters (thrust curve loaded,
+//! nozzle node and its shape rows), the planned stimuli and the output channel names.
+//!
+//! Architecture invariant: every file read, name lookup and table resolution of a run
+//! happens here; the runtime only indexes what the plan holds.
+
+mod channels;
+
+use std::path::PathBuf;
+
+use serde::Serialize;
+
+use crate::check::ir::{self, Attitude, InitialPosition, InitialVelocity, Scenario, Stimulus};
+use crate::runtime::atmosphere::{Atmosphere, AtmosphereError, Standard1976};
+use crate::runtime::eom::StateLayout;
+use crate::runtime::kinematics::euler_parameters_from_angles;
+use crate::runtime::stimuli::{Stimuli, StimulusError};
+use crate::runtime::thrust::{ThrustCurve, ThrustCurveError};
+use crate::structure::compile::CompiledVehicle;
+use crate::syntax::Span;
+
+pub use channels::channel_names;
+
+/// Why a plan could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum PlanError {
+    /// The thrust curve could not be read.
+    #[error("thrust curve: {0}")]
+    ThrustCurve(#[from] ThrustCurveError),
+    /// Thrust is enabled but the vehicle has no nozzle key node.
+    #[error("thrust is enabled but vehicle `{vehicle}` declares no nozzle key node")]
+    NoNozzle { vehicle: String, span: Span },
+    /// A stimulus has a bad parameter.
+    #[error("stimulus: {0}")]
+    Stimulus(#[from] StimulusError),
+    /// The initial altitude is outside the atmosphere (Mach needs the speed of sound).
+    #[error("initial state: {0}")]
+    Atmosphere(#[from] AtmosphereError),
+    /// The compiled vehicle's arrays disagree with its mode count.
+    #[error("compiled vehicle `{vehicle}`: {what}")]
+    Compiled { vehicle: String, what: String },
+}
+
+impl PlanError {
+    /// Where in the vehicle or scenario file the problem was written, if known.
+    pub fn span(&self) -> Option<Span> {
+        match self {
+            PlanError::NoNozzle { span, .. } => Some(*span),
+            _ => None,
+        }
+    }
+}
+
+/// Which integrator and its settings.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct IntegratorPlan {
+    /// Dormand-Prince 5(4) or RK4.
+    pub method: ir::Integrator,
+    pub rtol: f64,
+    pub atol: f64,
+    /// Fixed step (RK4) or first step (Dopri5), s.
+    pub step: f64,
+    /// Smallest step before the run stops with "step_underflow", s.
+    pub min_step: f64,
+}
+
+/// When the run stops (besides step underflow and non-finite states, always on).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct StopConditions {
+    /// Final time, s.
+    pub stop_time: f64,
+    /// Stop when the body origin reaches the ground, inertial `z >= 0`.
+    pub ground: bool,
+    /// Stop when `|α|` exceeds this, rad.
+    pub max_alpha: Option<f64>,
+    /// Stop when the elastic displacement `|S_trans,i η|` at any node exceeds this, m.
+    pub max_deformation: Option<f64>,
+}
+
+/// Gravity block parameters (5.1).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GravityPlan {
+    /// Apply (5.1.2).
+    pub altitude_correction: bool,
+}
+
+/// Thrust block parameters (5.2), resolved.
+#[derive(Debug, Clone, Serialize)]
+pub struct ThrustPlan {
+    /// The curve file.
+    pub curve_file: PathBuf,
+    /// Loaded curve (not serialised; see the summary fields).
+    #[serde(skip)]
+    pub curve: ThrustCurve,
+    /// Total impulse, N s, and burn time, s, of the curve.
+    pub total_impulse: f64,
+    pub burn_time: f64,
+    /// Index of the nozzle key node in the compiled node list.
+    pub nozzle_node: usize,
+    /// Its undeformed position `r_T`, m.
+    pub nozzle_position: [f64; 3],
+    /// Rows u, v, w of `S` at the nozzle (3 x n, row-major).
+    pub s_translation: Vec<f64>,
+    /// Rows θx, θy, θz of `S` at the nozzle (3 x n, row-major).
+    pub s_rotation: Vec<f64>,
+    /// `δ_T`, m.
+    pub offset: [f64; 3],
+    /// `α_T`, rad.
+    pub misalignment: [f64; 3],
+}
+
+/// One force block with its resolved parameters, in evaluation order.
+#[derive(Debug, Clone, Serialize)]
+#[serde(rename_all = "snake_case", tag = "block")]
+pub enum ForcePlan {
+    Gravity(GravityPlan),
+    /// Boxed: the shape rows and the curve make it much larger than the others.
+    Thrust(Box<ThrustPlan>),
+    /// Body aerodynamics (5.3): its settings as checked.
+    BodyAero {
+        rate_terms: bool,
+    },
+    /// Fin aerodynamics (5.4): its settings as checked.
+    FinAero {
+        distribution: ir::Distribution,
+        leeward_reduction: bool,
+        stress_limit_fraction: Option<f64>,
+    },
+}
+
+impl ForcePlan {
+    /// The block's name as written in `forces { ... }`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            ForcePlan::Gravity(_) => "gravity",
+            ForcePlan::Thrust(_) => "thrust",
+            ForcePlan::BodyAero { .. } => "body_aero",
+            ForcePlan::FinAero { .. } => "fin_aero",
+        }
+    }
+}
+
+/// Everything a run needs.
+#[derive(Debug, Clone, Serialize)]
+pub struct Plan {
+    pub scenario: String,
+    pub vehicle: String,
+    /// The scenario's overrides as (path, value).
+    pub overrides: Vec<(String, String)>,
+    /// Number of modal coordinates `n` (state length `13 + 2n`).
+    pub n_modes: usize,
+    pub mode_names: Vec<String>,
+    /// `x0 = (p_I, q, V_B, ω_B, η, η̇)` of [`StateLayout`].
+    pub initial_state: Vec<f64>,
+    pub integrator: IntegratorPlan,
+    pub stop: StopConditions,
+    /// Output interval, s.
+    pub output_interval: f64,
+    pub forces: Vec<ForcePlan>,
+    /// The stimuli as checked.
+    pub stimuli: Vec<Stimulus>,
+    /// Planned stimuli (turbulence series generated).
+    #[serde(skip)]
+    pub planned_stimuli: Stimuli,
+    /// Columns of `history.csv`.
+    pub channels: Vec<String>,
+    /// Translation rows of `S` for every node (`3 n_nodes x n`, row-major), for the
+    /// deformation stop and monitor.
+    #[serde(skip)]
+    pub node_translation_shapes: Vec<f64>,
+}
+
+impl Plan {
+    /// The state layout.
+    pub fn layout(&self) -> StateLayout {
+        StateLayout { n: self.n_modes }
+    }
+
+    /// The gravity block's settings, if gravity is on.
+    pub fn gravity(&self) -> Option<&GravityPlan> {
+        self.forces.iter().find_map(|f| match f {
+            ForcePlan::Gravity(g) => Some(g),
+            _ => None,
+        })
+    }
+}
+
+/// Builds the plan of `scenario` flown by `compiled` (its compiled vehicle).
+pub fn build(scenario: &Scenario, compiled: &CompiledVehicle) -> Result<Plan, PlanError> {
+    let vehicle = &scenario.vehicle;
+    let n = compiled.modes.len();
+    let n_nodes = compiled.node_positions.len();
+    let bad = |what: String| PlanError::Compiled {
+        vehicle: compiled.vehicle.clone(),
+        what,
+    };
+    if compiled.reduced.n() != n {
+        return Err(bad(format!(
+            "{} reduced coordinates but {} modes",
+            compiled.reduced.n(),
+            n
+        )));
+    }
+    if compiled.shapes.len() != 6 * n_nodes * n {
+        return Err(bad(format!(
+            "shape array has {} entries, expected 6 x {n_nodes} x {n}",
+            compiled.shapes.len()
+        )));
+    }
+    let rows = |node: usize, first_dof: usize| -> Vec<f64> {
+        let mut v = Vec::with_capacity(3 * n);
+        for d in 0..3 {
+            let r = (6 * node + first_dof + d) * n;
+            v.extend_from_slice(&compiled.shapes[r..r + n]);
+        }
+        v
+    };
+
+    // Initial state.
+    let init = &scenario.initial;
+    let position = match &init.position {
+        InitialPosition::Altitude(h) => [0.0, 0.0, -h.value],
+        InitialPosition::Inertial(p) => p.value,
+    };
+    let velocity = match &init.velocity {
+        InitialVelocity::Body(v) => v.value,
+        InitialVelocity::Mach(m) => {
+            let a = Standard1976::new().at(-position[2])?.speed_of_sound;
+            [m.value * a, 0.0, 0.0]
+        }
+    };
+    // Runtime order is (ε1, ε2, ε3, η) with η the scalar part; `quaternion(q0, ...)` has
+    // the scalar first (quaternion(1, 0, 0, 0) is the identity).
+    let attitude = match &init.attitude {
+        Attitude::Euler(a) => euler_parameters_from_angles(a.value[0], a.value[1], a.value[2]),
+        Attitude::Quaternion(q) => [q.value[1], q.value[2], q.value[3], q.value[0]],
+    };
+    let layout = StateLayout { n };
+    let zeros = vec![0.0; n];
+    let initial_state = layout.state(
+        position,
+        attitude,
+        velocity,
+        init.angular_velocity.value,
+        &zeros,
+        &zeros,
+    );
+
+    // Force blocks, in evaluation order.
+    let mut forces = Vec::new();
+    if let Some(g) = &vehicle.forces.gravity {
+        forces.push(ForcePlan::Gravity(GravityPlan {
+            altitude_correction: g.altitude_correction,
+        }));
+    }
+    if let Some(t) = &vehicle.forces.thrust {
+        let node = usize::try_from(compiled.key_nozzle)
+            .ok()
+            .filter(|&k| k < n_nodes)
+            .ok_or_else(|| PlanError::NoNozzle {
+                vehicle: vehicle.name.value.clone(),
+                span: t.span,
+            })?;
+        let curve = ThrustCurve::read(&t.curve.value)?;
+        forces.push(ForcePlan::Thrust(Box::new(ThrustPlan {
+            curve_file: t.curve.value.clone(),
+            total_impulse: curve.total_impulse(),
+            burn_time: curve.burn_time(),
+            curve,
+            nozzle_node: node,
+            nozzle_position: compiled.node_positions[node],
+            s_translation: rows(node, 0),
+            s_rotation: rows(node, 3),
+            offset: t.offset.value,
+            misalignment: t.misalignment.value,
+        })));
+    }
+    if let Some(b) = &vehicle.forces.body_aero {
+        forces.push(ForcePlan::BodyAero {
+            rate_terms: b.rate_terms,
+        });
+    }
+    if let Some(f) = &vehicle.forces.fin_aero {
+        forces.push(ForcePlan::FinAero {
+            distribution: f.distribution.value,
+            leeward_reduction: f.leeward_reduction,
+            stress_limit_fraction: f.stress_limit_fraction.as_ref().map(|q| q.value),
+        });
+    }
+
+    let run = &scenario.run;
+    let airspeed = velocity.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let planned_stimuli = Stimuli::new(&scenario.stimuli, airspeed, run.stop_time.value)?;
+    let mode_names: Vec<String> = compiled.modes.iter().map(|m| m.name.clone()).collect();
+    let mut node_translation_shapes = Vec::with_capacity(3 * n_nodes * n);
+    for node in 0..n_nodes {
+        node_translation_shapes.extend(rows(node, 0));
+    }
+    Ok(Plan {
+        scenario: scenario.name.value.clone(),
+        vehicle: vehicle.name.value.clone(),
+        overrides: scenario
+            .overrides
+            .iter()
+            .map(|o| (o.path.clone(), o.value.clone()))
+            .collect(),
+        n_modes: n,
+        channels: channel_names(&mode_names),
+        mode_names,
+        initial_state,
+        integrator: IntegratorPlan {
+            method: run.integrator.value,
+            rtol: run.rtol.value,
+            atol: run.atol.value,
+            step: run.step.value,
+            min_step: run.min_step.value,
+        },
+        stop: StopConditions {
+            stop_time: run.stop_time.value,
+            ground: run.stop_on_ground,
+            max_alpha: run.max_alpha.as_ref().map(|q| q.value),
+            max_deformation: run.max_deformation.as_ref().map(|q| q.value),
+        },
+        output_interval: run.output_interval.value,
+        forces,
+        stimuli: scenario.stimuli.clone(),
+        planned_stimuli,
+        node_translation_shapes,
+    })
+}
+
+/// The human summary printed by `flexflight plan`.
+pub fn summary_text(p: &Plan) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let x = &p.initial_state;
+    let _ = writeln!(s, "scenario       {}", p.scenario);
+    let _ = writeln!(s, "vehicle        {}", p.vehicle);
+    for (path, value) in &p.overrides {
+        let _ = writeln!(s, "  with         {path} = {value}");
+    }
+    let _ = writeln!(
+        s,
+        "state          13 + 2 x {} = {} entries; modes: {}",
+        p.n_modes,
+        13 + 2 * p.n_modes,
+        p.mode_names.join(", ")
+    );
+    let _ = writeln!(
+        s,
+        "p_I            ({:.6}, {:.6}, {:.6}) m (z down)",
+        x[0], x[1], x[2]
+    );
+    let _ = writeln!(
+        s,
+        "q (eps, eta)   ({:.9}, {:.9}, {:.9}, {:.9})",
+        x[3], x[4], x[5], x[6]
+    );
+    let _ = writeln!(
+        s,
+        "V_B            ({:.6}, {:.6}, {:.6}) m/s",
+        x[7], x[8], x[9]
+    );
+    let _ = writeln!(
+        s,
+        "omega_B        ({:.6}, {:.6}, {:.6}) rad/s",
+        x[10], x[11], x[12]
+    );
+    let i = &p.integrator;
+    let _ = writeln!(
+        s,
+        "integrator     {:?}: rtol {:e}, atol {:e}, step {} s, min step {:e} s",
+        i.method, i.rtol, i.atol, i.step, i.min_step
+    );
+    let st = &p.stop;
+    let _ = writeln!(s, "stop           t = {} s", st.stop_time);
+    if st.ground {
+        let _ = writeln!(s, "               ground (body origin z >= 0)");
+    }
+    if let Some(a) = st.max_alpha {
+        let _ = writeln!(s, "               |alpha| > {:.3} deg", a.to_degrees());
+    }
+    if let Some(d) = st.max_deformation {
+        let _ = writeln!(s, "               max nodal deformation > {d} m");
+    }
+    let _ = writeln!(s, "               step underflow, non-finite state");
+    let _ = writeln!(s, "force blocks:");
+    for f in &p.forces {
+        let _ = match f {
+            ForcePlan::Gravity(g) => writeln!(
+                s,
+                "  gravity      g0 = 9.806 m/s^2, altitude correction {}",
+                if g.altitude_correction { "on" } else { "off" }
+            ),
+            ForcePlan::Thrust(t) => writeln!(
+                s,
+                "  thrust       {} ({:.3} N s over {:.3} s), nozzle node {} at ({:.4}, {:.4}, {:.4}) m, offset {:?} m, misalignment {:?} rad",
+                t.curve_file.display(),
+                t.total_impulse,
+                t.burn_time,
+                t.nozzle_node,
+                t.nozzle_position[0],
+                t.nozzle_position[1],
+                t.nozzle_position[2],
+                t.offset,
+                t.misalignment
+            ),
+            ForcePlan::BodyAero { rate_terms } => {
+                writeln!(
+                    s,
+                    "  body_aero    rate terms {}",
+                    if *rate_terms { "on" } else { "off" }
+                )
+            }
+            ForcePlan::FinAero {
+                distribution,
+                leeward_reduction,
+                ..
+            } => writeln!(
+                s,
+                "  fin_aero     distribution {distribution:?}, leeward reduction {}",
+                if *leeward_reduction { "on" } else { "off" }
+            ),
+        };
+    }
+    if p.forces.is_empty() {
+        let _ = writeln!(s, "  (none: free flight)");
+    }
+    let _ = writeln!(s, "stimuli        {}", p.stimuli.len());
+    let _ = writeln!(
+        s,
+        "output         every {} s, {} channels",
+        p.output_interval,
+        p.channels.len()
+    );
+    s
+}
