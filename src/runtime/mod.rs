@@ -17,6 +17,7 @@
 pub mod aero;
 pub mod atmosphere;
 pub mod eom;
+pub mod forces;
 pub mod integrate;
 pub mod kinematics;
 pub mod stimuli;
