@@ -105,9 +105,18 @@ fn body_at_zero_alpha_gets_only_axial_force() {
     let q = dynamic_pressure(v);
     let s = f.vehicle.aero.reference_area.value;
     println!("alpha 0: F = {:?}, C_A = {}, q = {q}", &out[..6], c.ca);
-    assert!(close(out[0], -c.ca * q * s, 1e-9), "{} vs {}", out[0], -c.ca * q * s);
+    assert!(
+        close(out[0], -c.ca * q * s, 1e-9),
+        "{} vs {}",
+        out[0],
+        -c.ca * q * s
+    );
     for k in 1..6 {
-        assert!(out[k].abs() < 1e-9 * out[0].abs(), "component {k}: {}", out[k]);
+        assert!(
+            out[k].abs() < 1e-9 * out[0].abs(),
+            "component {k}: {}",
+            out[k]
+        );
     }
     assert!(!b.out_of_range());
 }
@@ -148,7 +157,11 @@ fn body_normal_force_lies_in_the_plane_of_total_incidence() {
     let f = fixture();
     let n = f.compiled.modes.len();
     let mut b = body(f, RateDerivatives::default());
-    let (v, alpha, phi) = (0.6 * speed_of_sound(), 6f64.to_radians(), 30f64.to_radians());
+    let (v, alpha, phi) = (
+        0.6 * speed_of_sound(),
+        6f64.to_radians(),
+        30f64.to_radians(),
+    );
     let vel = [
         v * alpha.cos(),
         v * alpha.sin() * phi.sin(),
@@ -181,12 +194,21 @@ fn body_rate_terms_from_pitch_rate() {
     let x_key = f.compiled.node_positions[f.compiled.key_body as usize][0];
     let vz = -omega[1] * x_key;
     let speed = (v * v + vz * vz).sqrt();
-    assert!(close(s.alpha_dot, omega[1] * v / speed, 1e-9), "{}", s.alpha_dot);
+    assert!(
+        close(s.alpha_dot, omega[1] * v / speed, 1e-9),
+        "{}",
+        s.alpha_dot
+    );
     let bref = f.vehicle.aero.reference_length.value;
     let qs = s.dynamic_pressure * f.vehicle.aero.reference_area.value;
     let dcn = rd.cn_alpha_dot * (s.alpha_dot + s.beta_dot) * bref / (2.0 * speed);
     // Extra normal force along -z_ba (z_ba = e3 here).
-    assert!(close(a[2] - b0[2], -dcn * qs, 1e-6), "{} vs {}", a[2] - b0[2], -dcn * qs);
+    assert!(
+        close(a[2] - b0[2], -dcn * qs, 1e-6),
+        "{} vs {}",
+        a[2] - b0[2],
+        -dcn * qs
+    );
 }
 
 #[test]
@@ -235,14 +257,25 @@ fn fins_at_pitch_incidence_load_symmetrically_and_excite_their_own_flap_modes() 
     let mut fa = fins(f);
     fa.set_leeward_reduction(false);
     let (v, alpha) = (0.5 * speed_of_sound(), 4f64.to_radians());
-    let out = evaluate(&mut fa, n, [v * alpha.cos(), 0.0, v * alpha.sin()], [0.0; 3]);
+    let out = evaluate(
+        &mut fa,
+        n,
+        [v * alpha.cos(), 0.0, v * alpha.sin()],
+        [0.0; 3],
+    );
     let s: Vec<_> = (0..4).map(|i| fa.last(i).unwrap()).collect();
     let c = f.tables.fin.fin(0.5, 4.0, ALTITUDE).unwrap();
     let qs = dynamic_pressure(v) * f.vehicle.aero.reference_area.value;
     // Fins 0 and 2 (span along y) see the incidence; 1 and 3 (span along z) lie in its plane.
-    for i in [0, 2] {
-        assert!(close(s[i].alpha, alpha, 1e-12));
-        assert!(close(s[i].force_fin[2], -c.cn * qs, 1e-9));
+    // Fin 2's frame is fin 0's rotated by 180 deg about x: opposite alpha_f and fin-frame
+    // normal force, the same body force.
+    for (i, sign) in [(0, 1.0), (2, -1.0)] {
+        assert!(
+            close(s[i].alpha, sign * alpha, 1e-12),
+            "fin {i}: {}",
+            s[i].alpha
+        );
+        assert!(close(s[i].force_fin[2], -sign * c.cn * qs, 1e-9));
         assert!(close(s[i].force_body[2], -c.cn * qs, 1e-9));
     }
     for i in [1, 3] {
@@ -256,7 +289,13 @@ fn fins_at_pitch_incidence_load_symmetrically_and_excite_their_own_flap_modes() 
     );
     let flaps = flap_modes(&f.compiled);
     assert_eq!(flaps.len(), 4);
-    let q_of = |fin: i32| flaps.iter().find(|(k, _)| *k == fin).map(|(_, j)| out[6 + j]).unwrap();
+    let q_of = |fin: i32| {
+        flaps
+            .iter()
+            .find(|(k, _)| *k == fin)
+            .map(|(_, j)| out[6 + j])
+            .unwrap()
+    };
     let loaded = q_of(0).abs();
     println!(
         "flap modal forces: fin0 {} fin1 {} fin2 {} fin3 {}",
@@ -278,14 +317,21 @@ fn nodal_loads_sum_to_the_fin_force_at_the_centre_of_pressure() {
     fa.set_leeward_reduction(false);
     // Mach exactly on the weights' grid (0.5), so the centre of pressure is the model's.
     let (v, alpha) = (0.5 * speed_of_sound(), 4f64.to_radians());
-    evaluate(&mut fa, n, [v * alpha.cos(), 0.0, v * alpha.sin()], [0.0; 3]);
+    evaluate(
+        &mut fa,
+        n,
+        [v * alpha.cos(), 0.0, v * alpha.sin()],
+        [0.0; 3],
+    );
     let fins_ir = f.vehicle.fins.as_ref().unwrap();
     let s0 = fa.last(0).unwrap();
     let w = fa.weights(0);
     assert!(close(w.iter().sum::<f64>(), 1.0, 1e-12));
     // Centre of pressure of the distribution in physical coordinates.
     let pos = fa.node_positions(0);
-    let cp: Vec<f64> = (0..3).map(|d| w.iter().zip(pos).map(|(w, p)| w * p[d]).sum()).collect();
+    let cp: Vec<f64> = (0..3)
+        .map(|d| w.iter().zip(pos).map(|(w, p)| w * p[d]).sum())
+        .collect();
     let y_root = pos.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min);
     let pf = planform(fins_ir, y_root);
     let (eta_cp, xi_cp) = centre_of_pressure(&pf, 0.5).unwrap();
@@ -299,6 +345,7 @@ fn nodal_loads_sum_to_the_fin_force_at_the_centre_of_pressure() {
         cp[2],
         y_root + eta_cp * b
     );
+    println!("cp {cp:?} y_root {y_root} eta_cp {eta_cp} b {b} x_cp {x_cp}");
     assert!(close(cp[1], y_root + eta_cp * b, 1e-9));
     assert!(close(cp[0], x_cp, 1e-9));
     // Root bending moment = N * y_cp, and (5.6.1) on it.
@@ -307,7 +354,11 @@ fn nodal_loads_sum_to_the_fin_force_at_the_centre_of_pressure() {
     let st = fa.stress_model(0).unwrap();
     let t = fins_ir.thickness.value;
     let cbar = 0.5 * (pf.root_chord + pf.tip_chord);
-    assert!(close(fa.root_stress(0), 6.0 * (n_f * eta_cp * b).abs() / (cbar * t * t), 1e-9));
+    assert!(close(
+        fa.root_stress(0),
+        6.0 * (n_f * eta_cp * b).abs() / (cbar * t * t),
+        1e-9
+    ));
     assert!(close(st.stress(s0.root_moment), fa.root_stress(0), 1e-12));
     println!(
         "root moment {} N m, root stress {} MPa (t = {} mm)",
@@ -318,11 +369,18 @@ fn nodal_loads_sum_to_the_fin_force_at_the_centre_of_pressure() {
     // Moment of fin 0 alone about the origin = r_cp x F (fin 2 is checked by symmetry).
     let mut only0 = fins(f);
     only0.set_leeward_reduction(false);
-    let out = evaluate(&mut only0, n, [v * alpha.cos(), 0.0, v * alpha.sin()], [0.0; 3]);
+    let out = evaluate(
+        &mut only0,
+        n,
+        [v * alpha.cos(), 0.0, v * alpha.sin()],
+        [0.0; 3],
+    );
     let (f0, f2) = (only0.last(0).unwrap(), only0.last(2).unwrap());
     let w2 = only0.weights(2);
     let pos2 = only0.node_positions(2);
-    let cp2: Vec<f64> = (0..3).map(|d| w2.iter().zip(pos2).map(|(w, p)| w * p[d]).sum()).collect();
+    let cp2: Vec<f64> = (0..3)
+        .map(|d| w2.iter().zip(pos2).map(|(w, p)| w * p[d]).sum())
+        .collect();
     let m = |r: &[f64], fb: [f64; 3]| {
         [
             r[1] * fb[2] - r[2] * fb[1],
@@ -332,7 +390,12 @@ fn nodal_loads_sum_to_the_fin_force_at_the_centre_of_pressure() {
     };
     let (m0, m2) = (m(&cp, f0.force_body), m(&cp2, f2.force_body));
     for d in 0..3 {
-        assert!(close(out[3 + d], m0[d] + m2[d], 1e-9), "G[{d}] {} vs {}", out[3 + d], m0[d] + m2[d]);
+        assert!(
+            close(out[3 + d], m0[d] + m2[d], 1e-9),
+            "G[{d}] {} vs {}",
+            out[3 + d],
+            m0[d] + m2[d]
+        );
     }
     // The two loaded fins' roll moments cancel.
     assert!(out[3].abs() < 1e-9 * out[4].abs());
@@ -342,7 +405,11 @@ fn nodal_loads_sum_to_the_fin_force_at_the_centre_of_pressure() {
 fn leeward_fins_are_reduced_by_f_lw() {
     let f = fixture();
     let n = f.compiled.modes.len();
-    let (v, alpha, phi) = (0.5 * speed_of_sound(), 4f64.to_radians(), 45f64.to_radians());
+    let (v, alpha, phi) = (
+        0.5 * speed_of_sound(),
+        4f64.to_radians(),
+        45f64.to_radians(),
+    );
     let vel = [
         v * alpha.cos(),
         v * alpha.sin() * phi.sin(),
@@ -361,10 +428,16 @@ fn leeward_fins_are_reduced_by_f_lw() {
         let (a, b) = (on.last(i).unwrap(), off.last(i).unwrap());
         // Without the reduction the "x" attitude loads every fin equally.
         assert!(close(b.force_fin[2].abs(), base, 1e-9));
-        assert!(close(a.force_fin[2], expected[i] * b.force_fin[2], 1e-12), "fin {i}");
+        assert!(
+            close(a.force_fin[2], expected[i] * b.force_fin[2], 1e-12),
+            "fin {i}"
+        );
         assert!(close(a.leeward_factor, expected[i], 1e-12));
     }
-    println!("leeward factor at alpha 4 deg, delta_tot 225: {}", expected[2]);
+    println!(
+        "leeward factor at alpha 4 deg, delta_tot 225: {}",
+        expected[2]
+    );
     assert!(expected[2] < 0.95 && expected[2] > 0.85);
 }
 
@@ -391,7 +464,12 @@ fn stress_limit_is_reported_against_yield() {
     evaluate(&mut fa, n, [v, 0.0, 0.0], [0.0; 3]);
     assert_eq!(fa.stress_limit_exceeded(), None);
     let alpha = 10f64.to_radians();
-    evaluate(&mut fa, n, [v * alpha.cos(), 0.0, v * alpha.sin()], [0.0; 3]);
+    evaluate(
+        &mut fa,
+        n,
+        [v * alpha.cos(), 0.0, v * alpha.sin()],
+        [0.0; 3],
+    );
     let ratio = fa.root_stress(0) / 275e6;
     println!("alpha 10 deg M 0.5 5 km: root stress / yield = {ratio}");
     assert_eq!(fa.stress_limit_exceeded().is_some(), ratio > 0.5);

@@ -46,9 +46,9 @@
 //! driver can stop the run at the end of the step.
 
 use crate::check::ir::{self, AeroSource, OutOfRange, Structure};
+use crate::runtime::aero::FinLoadError;
 use crate::runtime::aero::estimator::{BodyShape, EstimatedTables, FinPlanform, NoseShape};
 use crate::runtime::aero::tables::{Axis, CoefficientTable, TableError};
-use crate::runtime::aero::FinLoadError;
 use crate::runtime::atmosphere::{Atmosphere, Standard1976};
 use crate::runtime::eom::{ForceModel, StateView};
 use crate::runtime::kinematics::{cross, dot, mat_vec};
@@ -62,7 +62,9 @@ pub enum AeroForceError {
     Table(#[from] TableError),
     #[error("fin load distribution: {0}")]
     FinLoad(#[from] FinLoadError),
-    #[error("the built-in aerodynamic estimator needs the generated body geometry (diameter, length, nose); give `aero {{ source = tables ... }}` for an imported FE model")]
+    #[error(
+        "the built-in aerodynamic estimator needs the generated body geometry (diameter, length, nose); give `aero {{ source = tables ... }}` for an imported FE model"
+    )]
     NoBodyGeometry,
     #[error("vehicle `{vehicle}` has fin aerodynamics but no `fins` block")]
     NoFins { vehicle: String },
@@ -72,7 +74,9 @@ pub enum AeroForceError {
         index: usize,
         n_nodes: usize,
     },
-    #[error("compiled shapes hold {found} values, expected {expected} (6 x {n_nodes} nodes x {n_modes} modes)")]
+    #[error(
+        "compiled shapes hold {found} values, expected {expected} (6 x {n_nodes} nodes x {n_modes} modes)"
+    )]
     ShapeSize {
         found: usize,
         expected: usize,
@@ -87,7 +91,9 @@ pub enum AeroForceError {
     },
     #[error("fin {fin} has no nodes in the compiled model")]
     EmptyFin { fin: usize },
-    #[error("fin {fin}, node {node}: at span fraction {eta} and chord fraction {xi}, outside the declared planform")]
+    #[error(
+        "fin {fin}, node {node}: at span fraction {eta} and chord fraction {xi}, outside the declared planform"
+    )]
     NodeOffPlanform {
         fin: usize,
         node: usize,
@@ -187,7 +193,11 @@ pub(crate) struct NodeRows {
 }
 
 impl NodeRows {
-    pub(crate) fn new(c: &CompiledVehicle, node: usize, what: &'static str) -> Result<Self, AeroForceError> {
+    pub(crate) fn new(
+        c: &CompiledVehicle,
+        node: usize,
+        what: &'static str,
+    ) -> Result<Self, AeroForceError> {
         let n_nodes = c.node_positions.len();
         let n = c.modes.len();
         if c.shapes.len() != 6 * n_nodes * n {
@@ -369,14 +379,18 @@ impl ForceModel for BodyAero {
             return;
         }
         let Ok(air) = self.atmosphere.at(altitude) else {
-            self.fault
-                .get_or_insert(AeroFault::Atmosphere { altitude_m: altitude });
+            self.fault.get_or_insert(AeroFault::Atmosphere {
+                altitude_m: altitude,
+            });
             return;
         };
         // ba frame (5.3.15)-(5.3.18), rows expressed in bn axes.
         let r = (v_bn[1] * v_bn[1] + v_bn[2] * v_bn[2]).sqrt();
         let (y_ba, z_ba) = if r > 0.0 {
-            ([0.0, v_bn[2] / r, -v_bn[1] / r], [0.0, v_bn[1] / r, v_bn[2] / r])
+            (
+                [0.0, v_bn[2] / r, -v_bn[1] / r],
+                [0.0, v_bn[1] / r, v_bn[2] / r],
+            )
         } else {
             ([0.0, 1.0, 0.0], [0.0, 0.0, 1.0])
         };
@@ -384,7 +398,12 @@ impl ForceModel for BodyAero {
         let q = 0.5 * air.density * speed * speed;
         let mach = speed / air.speed_of_sound;
         let m_q = clamp_axis(&self.table, Axis::Mach, mach, &mut self.fault);
-        let a_q = clamp_axis(&self.table, Axis::AlphaDeg, alpha.to_degrees(), &mut self.fault);
+        let a_q = clamp_axis(
+            &self.table,
+            Axis::AlphaDeg,
+            alpha.to_degrees(),
+            &mut self.fault,
+        );
         let h_q = clamp_axis(&self.table, Axis::AltitudeM, altitude, &mut self.fault);
         let Ok(coef) = self.table.body(m_q, a_q, h_q) else {
             self.fault.get_or_insert(AeroFault::NonFinite);

@@ -6,9 +6,10 @@
 //! 2. Fin frame (5.4.1)-(5.4.4): `C_f = C_γ C_fδ (1 - θ_f^×)`, with
 //!    `C_fδ = [[1,0,0],[0,cos δ,sin δ],[0,-sin δ,cos δ]]` (fin span along
 //!    `(0, cos δ, sin δ)`, normal `z_f = (0, -sin δ, cos δ)`) and the cant `γ` as a further
-//!    rotation about the fin span axis, `C_γ = [[cos γ,0,-sin γ],[0,1,0],[sin γ,0,cos γ]]`:
-//!    in the canted frame a flow along the undeformed fin chord has `V_fz = V sin γ`, so a
-//!    positive cant adds `γ` to the fin angle of attack.
+//!    rotation about the fin span axis, `C_γ = [[cos γ,0,sin γ],[0,1,0],[-sin γ,0,cos γ]]`:
+//!    the canted chord is `cos γ x_f + sin γ z_f`, as the mesh generator lays the fin out
+//!    (`structure::generate::mesh::fin_frame`), so a flow along body x gives `α_f = -γ`.
+//!    (The chord fraction ξ below uses body x, exact for zero cant, off by `cos γ` otherwise.)
 //! 3. Velocity of the key node relative to the air (5.4.8), body axes:
 //!    `V_Bf = V_B + ω_B × (r_f + u_f) + u̇_f - V_w`. The thesis writes `ω_f × r_f` with
 //!    `ω_f = ω_B + θ̇_f` (5.4.7); `θ̇_f × r_f` is not a velocity of the fin (it scales with the
@@ -30,7 +31,11 @@
 //!    is the load model's centre of pressure). The nodes' (η, ξ) are computed once from the
 //!    undeformed positions, (5.4.17)-(5.4.18): `η = (y - y_root)/b` with y the coordinate along
 //!    the fin span direction and y_root the smallest over the fin's nodes, and
-//!    `ξ = (x_LE(η) - x)/c(η)` on the declared trapezoid.
+//!    `ξ = (x_LE(η) - x)/c(η)` on the declared trapezoid. y_root is the body radius for a
+//!    generated structure, the smallest y over the fin's nodes for an imported one. When the
+//!    root row is not among the fin's nodes (the generator ties it rigidly to the body), it is
+//!    added as virtual nodes at η = 0 with the ξ of the innermost row, each attached rigidly to
+//!    the nearest body node m: translation rows `S_u,m - o^× S_θ,m`, `o` the offset from m.
 //! 7. Generalised forces: `F_B += Σ f_k`, `G_B += Σ (r_k + u_k) × f_k` (the moment of the
 //!    distributed loads, (5.4.16) evaluated node by node so that the rigid moment and the
 //!    modal forces come from the same virtual work), `Q += Σ S_kᵀ f_k` (5.4.21).
@@ -135,7 +140,7 @@ impl FinAero {
             });
         }
         let (sg, cg) = f.cant.value.sin_cos();
-        let c_cant: Mat3 = [[cg, 0.0, -sg], [0.0, 1.0, 0.0], [sg, 0.0, cg]];
+        let c_cant: Mat3 = [[cg, 0.0, sg], [0.0, 1.0, 0.0], [-sg, 0.0, cg]];
         let root_le_x = f.root_trailing_edge_x.value + f.root_chord.value;
         let machs = table.axis(Axis::Mach).to_vec();
         let mut fins = Vec::with_capacity(n_fins);
@@ -155,14 +160,21 @@ impl FinAero {
                 .iter()
                 .map(|&k| dot3(&c.node_positions[k], &span_dir))
                 .collect();
-            let y_root = y.iter().copied().fold(f64::INFINITY, f64::min);
+            let y_root = match &v.structure {
+                ir::Structure::Generate(g) => 0.5 * g.body.diameter.value,
+                ir::Structure::Files(_) => y.iter().copied().fold(f64::INFINITY, f64::min),
+            };
+            let tan_le = f.leading_edge_sweep.value.tan();
+            let chord_at =
+                |eta: f64| f.root_chord.value + (f.tip_chord.value - f.root_chord.value) * eta;
             let mut nodes = Vec::with_capacity(members.len());
             let mut rows = Vec::with_capacity(3 * n * members.len());
+            let mut positions = Vec::with_capacity(members.len());
+            let mut span_arm = Vec::with_capacity(members.len());
             for (j, &k) in members.iter().enumerate() {
                 let eta = (y[j] - y_root) / f.span.value;
-                let x_le = root_le_x - eta * f.span.value * f.leading_edge_sweep.value.tan();
-                let chord = f.root_chord.value + (f.tip_chord.value - f.root_chord.value) * eta;
-                let xi = (x_le - c.node_positions[k][0]) / chord;
+                let x_le = root_le_x - eta * f.span.value * tan_le;
+                let xi = (x_le - c.node_positions[k][0]) / chord_at(eta);
                 let inside = |v: f64| (-PLANFORM_TOL..=1.0 + PLANFORM_TOL).contains(&v);
                 if !(inside(eta) && inside(xi)) {
                     return Err(AeroForceError::NodeOffPlanform {
@@ -177,16 +189,39 @@ impl FinAero {
                     xi: xi.clamp(0.0, 1.0),
                 });
                 rows.extend_from_slice(&c.shapes[6 * k * n..(6 * k + 3) * n]);
+                positions.push(c.node_positions[k]);
+                span_arm.push(y[j] - y_root);
             }
-            let body_radius = y_root;
-            let loads = FinLoadTable::new(&planform(f, body_radius), &nodes, &machs, model)?;
+            // Root row rigidly attached to the body (the generator makes the root grid points
+            // slaves of body stations): add it as virtual nodes so the load between the root and
+            // the first fin row reaches the body where it acts.
+            let eta_min = nodes.iter().map(|p| p.eta).fold(f64::INFINITY, f64::min);
+            if eta_min > PLANFORM_TOL {
+                let mut xis: Vec<f64> = nodes
+                    .iter()
+                    .filter(|p| (p.eta - eta_min).abs() < PLANFORM_TOL)
+                    .map(|p| p.xi)
+                    .collect();
+                xis.sort_by(f64::total_cmp);
+                xis.dedup_by(|a, b| (*a - *b).abs() < PLANFORM_TOL);
+                for xi in xis {
+                    let x = root_le_x - xi * f.root_chord.value;
+                    let p = [x, y_root * cd, y_root * sd];
+                    let rows_root = rigid_rows(c, &p).ok_or(AeroForceError::EmptyFin { fin: i })?;
+                    nodes.push(FinNode { eta: 0.0, xi });
+                    rows.extend_from_slice(&rows_root);
+                    positions.push(p);
+                    span_arm.push(0.0);
+                }
+            }
+            let loads = FinLoadTable::new(&planform(f, y_root), &nodes, &machs, model)?;
             fins.push(Fin {
                 key: NodeRows::new(c, c.key_fins[i] as usize, "fin key node")?,
                 c_nominal,
                 delta,
                 rows,
-                positions: members.iter().map(|&k| c.node_positions[k]).collect(),
-                span_arm: y.iter().map(|v| v - y_root).collect(),
+                positions,
+                span_arm,
                 weights: vec![0.0; nodes.len()],
                 nodes,
                 loads,
@@ -282,6 +317,32 @@ impl FinAero {
     }
 }
 
+/// Translation rows (3 x n, row-major) of a point `p` rigidly attached to the body node
+/// nearest to it: `S_u,m - o^× S_θ,m` with `o = p - r_m`.
+fn rigid_rows(c: &CompiledVehicle, p: &[f64; 3]) -> Option<Vec<f64>> {
+    let n = c.modes.len();
+    let m = (0..c.node_positions.len())
+        .filter(|&k| c.node_components[k] < 0)
+        .min_by(|&a, &b| {
+            let d = |k: usize| {
+                let r = c.node_positions[k];
+                (0..3).map(|e| (r[e] - p[e]).powi(2)).sum::<f64>()
+            };
+            d(a).total_cmp(&d(b))
+        })?;
+    let r = c.node_positions[m];
+    let o = [p[0] - r[0], p[1] - r[1], p[2] - r[2]];
+    let skew = [[0.0, -o[2], o[1]], [o[2], 0.0, -o[0]], [-o[1], o[0], 0.0]];
+    let s = |d: usize, j: usize| c.shapes[(6 * m + d) * n + j];
+    let mut rows = vec![0.0; 3 * n];
+    for d in 0..3 {
+        for j in 0..n {
+            rows[d * n + j] = s(d, j) - (0..3).map(|e| skew[d][e] * s(3 + e, j)).sum::<f64>();
+        }
+    }
+    Some(rows)
+}
+
 fn dot3(a: &[f64; 3], b: &[f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
@@ -304,8 +365,9 @@ impl ForceModel for FinAero {
             return;
         }
         let Ok(air) = self.atmosphere.at(altitude) else {
-            self.fault
-                .get_or_insert(AeroFault::Atmosphere { altitude_m: altitude });
+            self.fault.get_or_insert(AeroFault::Atmosphere {
+                altitude_m: altitude,
+            });
             return;
         };
         let wind = self.stimuli.wind(t);
@@ -332,7 +394,12 @@ impl ForceModel for FinAero {
             let q = 0.5 * air.density * speed * speed;
             let mach = speed / air.speed_of_sound;
             let m_q = clamp_axis(&self.table, Axis::Mach, mach, &mut self.fault);
-            let a_q = clamp_axis(&self.table, Axis::AlphaDeg, alpha.to_degrees(), &mut self.fault);
+            let a_q = clamp_axis(
+                &self.table,
+                Axis::AlphaDeg,
+                alpha.to_degrees(),
+                &mut self.fault,
+            );
             let h_q = clamp_axis(&self.table, Axis::AltitudeM, altitude, &mut self.fault);
             let Ok(coef) = self.table.fin(m_q, a_q, h_q) else {
                 self.fault.get_or_insert(AeroFault::NonFinite);
@@ -343,10 +410,7 @@ impl ForceModel for FinAero {
                 let theta_yz = v_b[1].atan2(v_b[2]);
                 let cross_flow = (v_b[1] * v_b[1] + v_b[2] * v_b[2]).sqrt();
                 let alpha_tot = cross_flow.atan2(v_b[0]);
-                f_lw(
-                    (fin.delta + theta_yz).to_degrees(),
-                    alpha_tot.to_degrees(),
-                )
+                f_lw((fin.delta + theta_yz).to_degrees(), alpha_tot.to_degrees())
             } else {
                 1.0
             };
