@@ -345,7 +345,6 @@ fn nodal_loads_sum_to_the_fin_force_at_the_centre_of_pressure() {
         cp[2],
         y_root + eta_cp * b
     );
-    println!("cp {cp:?} y_root {y_root} eta_cp {eta_cp} b {b} x_cp {x_cp}");
     assert!(close(cp[1], y_root + eta_cp * b, 1e-9));
     assert!(close(cp[0], x_cp, 1e-9));
     // Root bending moment = N * y_cp, and (5.6.1) on it.
@@ -424,15 +423,15 @@ fn leeward_fins_are_reduced_by_f_lw() {
     // theta_yz = 45 deg: delta_tot = 45, 135 (windward), 225, 315 (leeward).
     let expected = [1.0, 1.0, f_lw(225.0, 4.0), f_lw(315.0, 4.0)];
     let base = off.last(0).unwrap().force_fin[2].abs();
-    for i in 0..4 {
+    for (i, &factor) in expected.iter().enumerate() {
         let (a, b) = (on.last(i).unwrap(), off.last(i).unwrap());
         // Without the reduction the "x" attitude loads every fin equally.
         assert!(close(b.force_fin[2].abs(), base, 1e-9));
         assert!(
-            close(a.force_fin[2], expected[i] * b.force_fin[2], 1e-12),
+            close(a.force_fin[2], factor * b.force_fin[2], 1e-12),
             "fin {i}"
         );
-        assert!(close(a.leeward_factor, expected[i], 1e-12));
+        assert!(close(a.leeward_factor, factor, 1e-12));
     }
     println!(
         "leeward factor at alpha 4 deg, delta_tot 225: {}",
