@@ -50,6 +50,29 @@ fn dynamic_pressure(speed: f64) -> f64 {
     0.5 * Standard1976::new().at(ALTITUDE).unwrap().density * speed * speed
 }
 
+/// Generalised forces of `model` with modal state `(eta, eta_dot)`, level attitude.
+fn evaluate_flexible(
+    model: &mut dyn ForceModel,
+    velocity: [f64; 3],
+    eta: &[f64],
+    eta_dot: &[f64],
+) -> Vec<f64> {
+    let n = eta.len();
+    let layout = StateLayout { n };
+    let x = layout.state(
+        [0.0, 0.0, -ALTITUDE],
+        [0.0, 0.0, 0.0, 1.0],
+        velocity,
+        [0.0; 3],
+        eta,
+        eta_dot,
+    );
+    let view = StateView::new(layout, &x);
+    let mut out = vec![0.0; 6 + n];
+    model.generalized_forces(0.0, &view, &mut out);
+    out
+}
+
 /// Generalised forces of `model` at rest in the structure (η = η̇ = 0), level attitude.
 fn evaluate(model: &mut dyn ForceModel, n: usize, velocity: [f64; 3], omega: [f64; 3]) -> Vec<f64> {
     let layout = StateLayout { n };
@@ -472,4 +495,127 @@ fn stress_limit_is_reported_against_yield() {
     let ratio = fa.root_stress(0) / 275e6;
     println!("alpha 10 deg M 0.5 5 km: root stress / yield = {ratio}");
     assert_eq!(fa.stress_limit_exceeded().is_some(), ratio > 0.5);
+}
+
+/// Shape entry of node `node`, DOF `dof`, mode `j`.
+fn shape(c: &CompiledVehicle, node: usize, dof: usize, j: usize) -> f64 {
+    c.shapes[(6 * node + dof) * c.modes.len() + j]
+}
+
+#[test]
+fn body_key_node_rotation_changes_alpha_and_modal_forces_follow_the_key_node() {
+    let f = fixture();
+    let c = &f.compiled;
+    let n = c.modes.len();
+    let kb = c.key_body as usize;
+    // The body bending mode with the largest pitch rotation at the key node.
+    let j = (0..n)
+        .filter(|&j| c.modes[j].class == "body_bending")
+        .max_by(|&a, &b| {
+            shape(c, kb, 4, a)
+                .abs()
+                .total_cmp(&shape(c, kb, 4, b).abs())
+        })
+        .unwrap();
+    let mut eta = vec![0.0; n];
+    eta[j] = 0.01 / shape(c, kb, 4, j);
+    let theta: Vec<f64> = (3..6).map(|d| shape(c, kb, d, j) * eta[j]).collect();
+    let mut b = body(f, RateDerivatives::default());
+    let v = 0.6 * speed_of_sound();
+    let out = evaluate_flexible(&mut b, [v, 0.0, 0.0], &eta, &vec![0.0; n]);
+    // (5.3.11): V_bn = V - theta x V = (V, V theta_z, -V theta_y)... with V along x:
+    // theta x V = (0, theta_z V, -theta_y V), so V_bn = (V, -theta_z V, theta_y V).
+    let expected = (theta[1].hypot(theta[2])).atan();
+    println!(
+        "mode {j} ({}): key-node theta {theta:?}, alpha_b {} rad",
+        c.modes[j].name,
+        b.last().alpha
+    );
+    assert!(close(b.last().alpha, expected, 1e-12));
+    assert!(close(b.last().alpha, 0.01f64.atan(), 1e-3));
+    // Modal forces: Q = S_u^T F + S_theta^T M_key at the key node.
+    let s = b.last();
+    for m in 0..n {
+        let q: f64 = (0..3)
+            .map(|d| {
+                shape(c, kb, d, m) * s.force[d] + shape(c, kb, 3 + d, m) * s.moment_key_node[d]
+            })
+            .sum();
+        assert!(
+            close(out[6 + m], q, 1e-9),
+            "mode {m}: {} vs {q}",
+            out[6 + m]
+        );
+    }
+    assert!(out[6 + j].abs() > 0.0);
+}
+
+#[test]
+fn fin_twist_rotation_and_cant_change_the_fin_angle_of_attack() {
+    let f = fixture();
+    let c = &f.compiled;
+    let n = c.modes.len();
+    let k0 = c.key_fins[0] as usize;
+    // Fin 0 spans along body y: its twist is a rotation about y at the key node.
+    let j = (0..n)
+        .filter(|&j| c.modes[j].class == "fin_twist" && c.modes[j].fin == 0)
+        .max_by(|&a, &b| {
+            shape(c, k0, 4, a)
+                .abs()
+                .total_cmp(&shape(c, k0, 4, b).abs())
+        })
+        .unwrap();
+    let mut eta = vec![0.0; n];
+    eta[j] = 0.005 / shape(c, k0, 4, j);
+    let theta: Vec<f64> = (3..6).map(|d| shape(c, k0, d, j) * eta[j]).collect();
+    let mut fa = fins(f);
+    fa.set_leeward_reduction(false);
+    let v = 0.5 * speed_of_sound();
+    evaluate_flexible(&mut fa, [v, 0.0, 0.0], &eta, &vec![0.0; n]);
+    // V_f = C_delta (V - theta x V) with V along x: V - theta x V = V (1, -theta_z, theta_y),
+    // and the fin normal is (0, -sin delta, cos delta): tan alpha_f = sin delta theta_z +
+    // cos delta theta_y, with each fin's own key-node rotation (the twist mode of fin 0 moves
+    // the other fins a little through the body).
+    let s0 = fa.last(0).unwrap();
+    println!(
+        "fin twist mode {j}: key-node theta {theta:?}, alpha_f {}",
+        s0.alpha
+    );
+    assert!(close(s0.alpha, theta[1].atan(), 1e-9));
+    let angles = &f.vehicle.fins.as_ref().unwrap().angles;
+    for (i, a) in angles.iter().enumerate() {
+        let k = c.key_fins[i] as usize;
+        let (ty, tz) = (shape(c, k, 4, j) * eta[j], shape(c, k, 5, j) * eta[j]);
+        let expected = (a.value.sin() * tz + a.value.cos() * ty).atan();
+        let got = fa.last(i).unwrap().alpha;
+        println!("fin {i}: alpha_f {got} (expected {expected})");
+        assert!(
+            (got - expected).abs() < 1e-12 + 1e-9 * expected.abs(),
+            "fin {i}"
+        );
+    }
+    // Cant 1 deg on every fin: alpha_f = -1 deg for all (chord tilted toward +z_f) and a
+    // pure roll moment with no net side or normal force.
+    let mut vehicle = f.vehicle.clone();
+    vehicle.fins.as_mut().unwrap().cant.value = 1f64.to_radians();
+    let mut canted = FinAero::new(
+        c,
+        &vehicle,
+        f.tables.fin.clone(),
+        Standard1976::new(),
+        Stimuli::default(),
+    )
+    .unwrap();
+    canted.set_leeward_reduction(false);
+    let out = evaluate(&mut canted, n, [v, 0.0, 0.0], [0.0; 3]);
+    for i in 0..4 {
+        assert!(close(
+            canted.last(i).unwrap().alpha,
+            -1f64.to_radians(),
+            1e-12
+        ));
+    }
+    println!("cant 1 deg: roll moment {} N m", out[3]);
+    assert!(out[1].abs() < 1e-9 * out[3].abs() && out[2].abs() < 1e-9 * out[3].abs());
+    assert!(out[3].abs() > 0.0);
 }
