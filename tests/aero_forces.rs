@@ -619,3 +619,105 @@ fn fin_twist_rotation_and_cant_change_the_fin_angle_of_attack() {
     assert!(out[1].abs() < 1e-9 * out[3].abs() && out[2].abs() < 1e-9 * out[3].abs());
     assert!(out[3].abs() > 0.0);
 }
+
+fn gust(f: &Fixture, velocity: [f64; 3], frame: flexflight::check::ir::Frame) -> Stimuli {
+    use flexflight::check::ir::{Stimulus, StimulusKind};
+    use flexflight::syntax::Spanned;
+    let sp = f.vehicle.span;
+    let s = Stimulus {
+        name: Spanned::new("g".to_string(), sp),
+        kind: StimulusKind::Gust {
+            start: Spanned::new(0.0, sp),
+            duration: Spanned::new(1.0, sp),
+            velocity: Spanned::new(velocity, sp),
+            frame,
+        },
+    };
+    Stimuli::new(&[s], 200.0, 10.0).unwrap()
+}
+
+/// Generalised forces at time `t` with attitude `q` and no rotation or deformation.
+fn evaluate_at(model: &mut dyn ForceModel, n: usize, t: f64, q: [f64; 4], v: [f64; 3]) -> Vec<f64> {
+    let layout = StateLayout { n };
+    let x = layout.state(
+        [0.0, 0.0, -ALTITUDE],
+        q,
+        v,
+        [0.0; 3],
+        &vec![0.0; n],
+        &vec![0.0; n],
+    );
+    let view = StateView::new(layout, &x);
+    let mut out = vec![0.0; 6 + n];
+    model.generalized_forces(t, &view, &mut out);
+    out
+}
+
+#[test]
+fn wind_enters_as_relative_velocity_in_body_and_inertial_frames() {
+    use flexflight::check::ir::Frame;
+    use flexflight::runtime::kinematics::{c_bi, euler_parameters_from_angles, mat_vec};
+    let f = fixture();
+    let c = &f.compiled;
+    let n = c.modes.len();
+    let v = 0.5 * speed_of_sound();
+    let level = [0.0, 0.0, 0.0, 1.0];
+    let cases = [
+        (Frame::Body, [0.0, 3.0, 5.0], level),
+        (
+            Frame::Inertial,
+            [4.0, -2.0, 5.0],
+            euler_parameters_from_angles(0.2, 0.1, 0.5),
+        ),
+    ];
+    for (frame, w, q) in cases {
+        let w_b = match frame {
+            Frame::Body => w,
+            Frame::Inertial => mat_vec(&c_bi(&q), &w),
+        };
+        let rel = [v - w_b[0], -w_b[1], -w_b[2]];
+        let mut b_wind = BodyAero::new(
+            c,
+            &f.vehicle,
+            f.tables.body.clone(),
+            Standard1976::new(),
+            gust(f, w, frame),
+            RateDerivatives::default(),
+        )
+        .unwrap();
+        let mut f_wind = FinAero::new(
+            c,
+            &f.vehicle,
+            f.tables.fin.clone(),
+            Standard1976::new(),
+            gust(f, w, frame),
+        )
+        .unwrap();
+        let (mut b_calm, mut f_calm) = (body(f, RateDerivatives::default()), fins(f));
+        let a = evaluate_at(&mut b_wind, n, 0.5, q, [v, 0.0, 0.0]);
+        let b = evaluate_at(&mut b_calm, n, 0.5, q, rel);
+        let fa = evaluate_at(&mut f_wind, n, 0.5, q, [v, 0.0, 0.0]);
+        let fb = evaluate_at(&mut f_calm, n, 0.5, q, rel);
+        for k in 0..6 + n {
+            assert!(
+                close(a[k], b[k], 1e-9),
+                "{frame:?} body {k}: {} vs {}",
+                a[k],
+                b[k]
+            );
+            assert!(
+                close(fa[k], fb[k], 1e-9),
+                "{frame:?} fins {k}: {} vs {}",
+                fa[k],
+                fb[k]
+            );
+        }
+        // After the gust the wind is gone.
+        let after = evaluate_at(&mut b_wind, n, 2.0, q, [v, 0.0, 0.0]);
+        assert!(after[2].abs() < 1e-12);
+        println!(
+            "{frame:?} gust {w:?}: body F_z {} N, fins F_z {} N",
+            a[2], fa[2]
+        );
+    }
+}

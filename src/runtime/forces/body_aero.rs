@@ -83,12 +83,10 @@ pub enum AeroForceError {
         n_nodes: usize,
         n_modes: usize,
     },
-    #[error("fin {fin}: {count} compiled fin nodes, the `fins` block has {declared} fins")]
-    FinCount {
-        fin: usize,
-        count: usize,
-        declared: usize,
-    },
+    #[error(
+        "the compiled vehicle has {key_nodes} fin key nodes, the `fins` block has {declared} fins"
+    )]
+    FinCount { key_nodes: usize, declared: usize },
     #[error("fin {fin} has no nodes in the compiled model")]
     EmptyFin { fin: usize },
     #[error(

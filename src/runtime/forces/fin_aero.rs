@@ -134,8 +134,7 @@ impl FinAero {
         let n_fins = f.angles.len();
         if c.key_fins.len() != n_fins {
             return Err(AeroForceError::FinCount {
-                fin: c.key_fins.len(),
-                count: c.key_fins.len(),
+                key_nodes: c.key_fins.len(),
                 declared: n_fins,
             });
         }
