@@ -225,22 +225,33 @@ fn unknown_scenario_fails_and_writes_nothing() {
     assert!(!out.exists());
 }
 
+/// A thesis scenario with body and fin aerodynamics flies (first 50 ms, before its first
+/// gust): the run completes, the fins are loaded (their flap coordinates move), and the
+/// tables the built-in estimator produced are written beside the history.
 #[test]
-fn a_scenario_with_aerodynamics_does_not_start_without_the_aero_blocks_and_writes_nothing() {
-    // Until the aerodynamic blocks are plugged into the run driver, a scenario that enables
-    // them must refuse to start rather than fly without them. (When they are plugged in,
-    // replace this test with one that flies them.)
+fn a_thesis_scenario_flies_with_body_and_fin_aerodynamics() {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("never");
+    let out = dir.path().join("sub06");
     let o = run(
-        &repo("examples/free_tumble.vdl"),
-        "free_tumble",
+        &repo("examples/thesis/section_6_5.vdl"),
+        "subsonic_t06",
         &out,
-        &["forces.body_aero.enabled=true"],
+        &["run.stop_time=0.05 s"],
     );
-    assert_eq!(o.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("body_aero"));
-    assert!(!out.exists());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s = summary(&out);
+    assert_eq!(s["stop_reason"], "completed");
+    let flap = &s["extrema"]["eta_fin1_flap"];
+    let moved = flap["max"]
+        .as_f64()
+        .unwrap()
+        .abs()
+        .max(flap["min"].as_f64().unwrap().abs());
+    assert!(moved > 1e-7, "fin 1 flap did not move: {flap}");
+    for t in ["body.csv", "fins.csv"] {
+        let text = std::fs::read_to_string(out.join("aero_tables").join(t)).unwrap();
+        assert!(text.lines().count() > 100, "{t} is too short");
+    }
 }
 
 #[test]

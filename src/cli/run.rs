@@ -38,6 +38,17 @@ fn prepare(
     cache_dir: Option<&Path>,
     term: Terminal,
 ) -> Result<(Plan, CompileOutcome), u8> {
+    prepare_with_scenario(file, scenario, common, cache_dir, term).map(|(p, c, _)| (p, c))
+}
+
+/// Check, compile (through the cache) and plan; also returns the checked scenario.
+fn prepare_with_scenario(
+    file: &Path,
+    scenario: &str,
+    common: &Common,
+    cache_dir: Option<&Path>,
+    term: Terminal,
+) -> Result<(Plan, CompileOutcome, Scenario), u8> {
     let mut checked: Checked = load_program(&[file.to_path_buf()], common, term)?;
     let Some(sc) = checked.program.scenario(scenario).cloned() else {
         let names: Vec<&str> = checked
@@ -59,7 +70,7 @@ fn prepare(
     let format = common.output.format;
     let outcome = compile_cached(&mut checked, &sc.vehicle, cache_dir, format, term)?;
     match plan::build(&sc, &outcome.compiled) {
-        Ok(p) => Ok((p, outcome)),
+        Ok(p) => Ok((p, outcome, sc)),
         Err(e) => {
             emit(&[plan_diagnostic(&e, &sc)], &checked.sources, format, term);
             Err(EXIT_DIAGNOSTICS)
@@ -104,9 +115,16 @@ pub fn cmd_run(
     out: &Path,
     term: Terminal,
 ) -> u8 {
-    let (p, compiled) = match prepare(file, scenario, common, cache_dir, term) {
+    let (p, compiled, sc) = match prepare_with_scenario(file, scenario, common, cache_dir, term) {
         Ok(x) => x,
         Err(code) => return code,
+    };
+    let (aero, tables) = match run::build_aero_blocks(&p, &sc, &compiled.compiled) {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("error[run::cannot_start]: {e}");
+            return EXIT_DIAGNOSTICS;
+        }
     };
     let on_terminal = std::io::stderr().is_terminal();
     let mut last_print = Instant::now();
@@ -124,7 +142,7 @@ pub fn cmd_run(
             );
         }
     };
-    let result = run::run(&p, &compiled.compiled.reduced, &mut progress);
+    let result = run::run(&p, &compiled.compiled.reduced, aero, &mut progress);
     if on_terminal {
         let _ = write!(std::io::stderr(), "\r\x1b[2K");
     }
@@ -135,6 +153,20 @@ pub fn cmd_run(
             return EXIT_DIAGNOSTICS;
         }
     };
+    // The coefficient tables the built-in estimator produced, for users to inspect or
+    // replace (`aero { source = tables ... }`).
+    if let (Some(t), crate::check::ir::AeroSource::Builtin) = (&tables, &sc.vehicle.aero.source) {
+        let dir = out.join("aero_tables");
+        if let Err(e) = std::fs::create_dir_all(&dir)
+            .map_err(|e| e.to_string())
+            .and_then(|_| t.write(&dir).map_err(|e| e.to_string()))
+        {
+            eprintln!(
+                "warning: cannot write the estimated aero tables to `{}`: {e}",
+                dir.display()
+            );
+        }
+    }
     if let Err(e) = write_outputs(out, &p, &compiled, &output) {
         eprintln!(
             "error: cannot write the run outputs to `{}`: {e}",

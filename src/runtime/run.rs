@@ -20,7 +20,7 @@ use std::time::Instant;
 
 use super::atmosphere::{Atmosphere, Standard1976};
 use super::eom::{Eom, EomError, FreeFlight, StateView};
-use super::forces::{ForceBlock, ForceBlocks, GravityBlock, ThrustBlock};
+use super::forces::{BodyAero, FinAero, ForceBlock, ForceBlocks, GravityBlock, ThrustBlock};
 use super::integrate::{AdaptiveOptions, DormandPrince54, Integrator, Rk4, StepStats, StopReason};
 use super::kinematics::{euler_angles, mat_vec, normalize_euler_parameters};
 use crate::check::ir;
@@ -33,9 +33,12 @@ const ATMOSPHERE_RANGE: (f64, f64) = (-500.0, 86_000.0);
 /// Why a run could not start.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RunError {
-    /// The plan has a force block this build cannot evaluate yet.
-    #[error("force block `{block}` is not available in the run driver yet")]
+    /// The plan has a force block that was not built (see [`build_aero_blocks`]).
+    #[error("force block `{block}` was not built for this run")]
     ForceBlockUnavailable { block: &'static str },
+    /// The aerodynamic blocks could not be built (tables, geometry).
+    #[error("aerodynamics: {0}")]
+    Aero(crate::runtime::forces::AeroForceError),
     /// The reduced model is inconsistent.
     #[error("{0}")]
     Eom(#[from] EomError),
@@ -97,8 +100,78 @@ pub struct RunOutput {
     pub wall_seconds: f64,
 }
 
+/// The aerodynamic blocks of a run, built before it from the scenario's vehicle and the
+/// compiled structure (tables read or estimated, fin load weights, key-node shape rows).
+#[derive(Debug, Default)]
+pub struct AeroBlocks {
+    pub body: Option<BodyAero>,
+    pub fin: Option<FinAero>,
+}
+
+/// Build the aerodynamic blocks a plan asks for. Returns the coefficient tables too, so the
+/// caller can write the ones the built-in estimator produced.
+pub fn build_aero_blocks(
+    plan: &Plan,
+    scenario: &crate::check::ir::Scenario,
+    compiled: &crate::structure::compile::CompiledVehicle,
+) -> Result<
+    (
+        AeroBlocks,
+        Option<crate::runtime::aero::estimator::EstimatedTables>,
+    ),
+    RunError,
+> {
+    let wants_body = plan
+        .forces
+        .iter()
+        .any(|f| matches!(f, ForcePlan::BodyAero { .. }));
+    let wants_fin = plan
+        .forces
+        .iter()
+        .any(|f| matches!(f, ForcePlan::FinAero { .. }));
+    if !wants_body && !wants_fin {
+        return Ok((AeroBlocks::default(), None));
+    }
+    let v = &scenario.vehicle;
+    let tables = crate::runtime::forces::aero_tables(v).map_err(RunError::Aero)?;
+    let body = if wants_body {
+        Some(
+            BodyAero::new(
+                compiled,
+                v,
+                tables.body.clone(),
+                Standard1976::new(),
+                plan.planned_stimuli.clone(),
+                crate::runtime::forces::RateDerivatives::default(),
+            )
+            .map_err(RunError::Aero)?,
+        )
+    } else {
+        None
+    };
+    let fin = if wants_fin {
+        Some(
+            FinAero::new(
+                compiled,
+                v,
+                tables.fin.clone(),
+                Standard1976::new(),
+                plan.planned_stimuli.clone(),
+            )
+            .map_err(RunError::Aero)?,
+        )
+    } else {
+        None
+    };
+    Ok((AeroBlocks { body, fin }, Some(tables)))
+}
+
 /// The force blocks of the plan, in plan order.
-pub fn build_force_blocks(plan: &Plan, model: &ReducedModel) -> Result<ForceBlocks, RunError> {
+pub fn build_force_blocks(
+    plan: &Plan,
+    model: &ReducedModel,
+    mut aero: AeroBlocks,
+) -> Result<ForceBlocks, RunError> {
     let mut blocks = Vec::new();
     for f in &plan.forces {
         match f {
@@ -115,10 +188,14 @@ pub fn build_force_blocks(plan: &Plan, model: &ReducedModel) -> Result<ForceBloc
                 &t.s_rotation,
                 plan.n_modes,
             ))),
-            // LEAD: plug the aerodynamic blocks in here (body_aero.rs, fin_aero.rs).
-            ForcePlan::BodyAero { .. } | ForcePlan::FinAero { .. } => {
-                return Err(RunError::ForceBlockUnavailable { block: f.name() });
-            }
+            ForcePlan::BodyAero { .. } => match aero.body.take() {
+                Some(b) => blocks.push(ForceBlock::BodyAero(Box::new(b))),
+                None => return Err(RunError::ForceBlockUnavailable { block: f.name() }),
+            },
+            ForcePlan::FinAero { .. } => match aero.fin.take() {
+                Some(b) => blocks.push(ForceBlock::FinAero(Box::new(b))),
+                None => return Err(RunError::ForceBlockUnavailable { block: f.name() }),
+            },
         }
     }
     Ok(ForceBlocks { blocks })
@@ -260,10 +337,11 @@ fn hermite((t0, x0, d0): StepEnd, (t1, x1, d1): StepEnd, t: f64, out: &mut [f64]
 pub fn run(
     plan: &Plan,
     model: &ReducedModel,
+    aero: AeroBlocks,
     progress: &mut dyn FnMut(f64, f64),
 ) -> Result<RunOutput, RunError> {
     let started = Instant::now();
-    let forces = build_force_blocks(plan, model)?;
+    let forces = build_force_blocks(plan, model, aero)?;
     let mut eom = Eom::new(model, forces)?;
     let layout = eom.layout();
     if plan.initial_state.len() != layout.len() {
@@ -286,6 +364,9 @@ pub fn run(
             atol: plan.integrator.atol,
             h_initial: (plan.integrator.step > 0.0).then_some(plan.integrator.step),
             h_min: plan.integrator.min_step,
+            // A run that needs more steps than this has gone stiff or unstable: stop it with
+            // `max_steps` rather than let it grind for many minutes.
+            max_steps: 2_000_000,
             ..AdaptiveOptions::default()
         })),
         ir::Integrator::Rk4 => Box::new(Rk4::new(plan.integrator.step)),

@@ -2,19 +2,26 @@
 //! [`ForceBlocks`] used by a run.
 //!
 //! - [`gravity`]: eqs. (5.1.1)-(5.1.6), with the altitude correction (5.1.2);
-//! - [`thrust`]: eqs. (5.2.1)-(5.2.6), thrust curve, misalignment, nozzle flexibility.
-//!
-//! The aerodynamic blocks (5.3 body, 5.4 fins) are added as further [`ForceBlock`] variants.
+//! - [`thrust`]: eqs. (5.2.1)-(5.2.6), thrust curve, misalignment, nozzle flexibility;
+//! - [`body_aero`]: fuselage aerodynamics through the key-node frames bn, ba, co (5.3);
+//! - [`fin_aero`]: per-fin aerodynamics, nodal load distribution and leeward reduction (5.4);
+//! - [`stress`]: the fin root bending stress approximation (5.6).
 //!
 //! Architecture invariant: `generalized_forces` never allocates, does IO or looks up names;
 //! every table (thrust curve, nozzle shape rows) is resolved by the plan before the run.
 
+pub mod body_aero;
+pub mod fin_aero;
 pub mod gravity;
+pub mod stress;
 pub mod thrust;
 
 use super::eom::{ForceModel, StateView};
 
+pub use body_aero::{AeroFault, AeroForceError, BodyAero, RateDerivatives, aero_tables};
+pub use fin_aero::FinAero;
 pub use gravity::GravityBlock;
+pub use stress::FinRootStress;
 pub use thrust::ThrustBlock;
 
 /// One force block of a run (a closed set: the hot loop matches on it, no dynamic dispatch).
@@ -24,8 +31,10 @@ pub enum ForceBlock {
     Gravity(GravityBlock),
     /// Rocket thrust (5.2).
     Thrust(ThrustBlock),
-    // LEAD: add `BodyAero(body_aero::BodyAeroBlock)` and `FinAero(fin_aero::FinAeroBlock)`
-    // here and in the match below; `runtime::run::build_force_blocks` builds them.
+    /// Body aerodynamics (5.3).
+    BodyAero(Box<BodyAero>),
+    /// Fin aerodynamics with distributed loads (5.4).
+    FinAero(Box<FinAero>),
 }
 
 impl ForceModel for ForceBlock {
@@ -33,6 +42,8 @@ impl ForceModel for ForceBlock {
         match self {
             ForceBlock::Gravity(b) => b.generalized_forces(t, state, out),
             ForceBlock::Thrust(b) => b.generalized_forces(t, state, out),
+            ForceBlock::BodyAero(b) => b.generalized_forces(t, state, out),
+            ForceBlock::FinAero(b) => b.generalized_forces(t, state, out),
         }
     }
 }

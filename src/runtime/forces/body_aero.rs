@@ -1,0 +1,464 @@
+//! Fuselage-alone aerodynamics through the body key node (thesis 5.3, eqs. (5.3.1)-(5.3.33)).
+//!
+//! # Algorithm (the summary list at the end of 5.3.2)
+//! 1. Key-node deformation from the selected shapes: `u_bn = S_u η`, `θ_bn = S_θ η` and their
+//!    rates (`S_u`, `S_θ` the translation and rotation rows of the key node). Nodal frame
+//!    `C_bn,B = 1 - θ_bn^×` (5.3.10)-(5.3.11).
+//! 2. Velocity of the key node relative to the air, body axes (5.3.12)-(5.3.13):
+//!    `V_b = V_B + ω_B × (r_bn + u_bn) + u̇_bn - V_w`, with `V_w = w_B + C_BI w_I` (the
+//!    body-frame and the inertial-frame parts of [`Stimuli::wind`]). We use the deformed
+//!    position `r_bn + u_bn`: it is the velocity of the material point the loads act on.
+//!    In the nodal frame: `V_bn = C_bn,B V_b`.
+//! 3. Aerodynamic frame ba (5.3.15)-(5.3.18): `x_ba = x_bn`, `y_ba = (V × x_bn)/|V × x_bn|`,
+//!    `z_ba = x_ba × y_ba`. With `V_bn = (V_x, V_y, V_z)` and `r = sqrt(V_y² + V_z²)` this is
+//!    `y_ba = (0, V_z, -V_y)/r`, `z_ba = (0, V_y, V_z)/r`: the ba frame is rolled into the plane
+//!    of the total angle of attack, so `β_b = 0` (5.3.21) and
+//!    `α_b = atan2(r, V_x)` (the exact form of (5.3.19); (5.3.20) is its small-angle limit),
+//!    always >= 0. At `r = 0` (no crossflow) the ba frame is taken equal to bn.
+//! 4. Rates (5.3.22)-(5.3.25), used only with `rate_terms`:
+//!    `α̇_b = (ż_baᵀ V - z_baᵀ(ω_B × V))/|V|`, `ż_ba = (θ̇_y, -θ̇_x, 0)`,
+//!    `β̇_b = (ẏ_baᵀ V - y_baᵀ(ω_B × V))/|V|`, `ẏ_ba = (-θ̇_z, 0, θ̇_x)` — closed forms of the
+//!    state, no finite differences and no stored history.
+//! 5. Coefficients at (Mach, α_b in degrees, altitude `-z`), Mach from the 1976 speed of sound:
+//!    `C_N = C_N(α) + C_Nα̇ (α̇ + β̇) b/(2V)`, `C_M = C_M(α) + C_Mα̇ (α̇ + β̇) b/(2V)`
+//!    (5.3.8), (5.3.7) with the body-of-revolution symmetry `C_Nα̇ = C_Nβ̇`. The rate
+//!    derivatives are NOT in the coefficient tables (the CSV layout holds C_N, C_A, C_M only);
+//!    they are given by [`RateDerivatives`] and are zero unless the caller supplies them.
+//! 6. Loads in the coefficient frame co, `C_co,ba = diag(-1, -1, 1)` (5.3.27), at the
+//!    reference point: x_co points aft, so the axial force is `+C_A q S` along x_co; the normal
+//!    force opposes the crossflow, `-C_N q S` along z_co = z_ba (5.3.1)-(5.3.2); the pitching
+//!    moment `C_M q S b` is positive nose up, i.e. about +y_ba = -y_co (5.3.3):
+//!    `F_co = q S (C_A, 0, -C_N)`, `M_co = q S b (0, -C_M, 0)`; then `F_ba = C_co,baᵀ F_co`,
+//!    `M_ba = C_co,baᵀ M_co` (5.3.28).
+//! 7. Back to the nodal and body frames (5.3.30)-(5.3.32): `F_bn = C_ba,bnᵀ F_ba`,
+//!    `F_B = C_bn,Bᵀ F_bn = F_bn + θ_bn × F_bn` (and the same for the moment).
+//! 8. Transfer from the reference point to the key node (5.3.29): the reference point moves
+//!    with the key node (the ba frame is attached to it), so with the constant lever arm
+//!    `d = r_ref - r_bn` (undeformed) the moment about the key node is `M_bn = M + d × F`
+//!    (body axes; the thesis mixes frames here, which only differs at second order in θ).
+//!    About the body origin (5.3.33): `G_B = M_bn + (r_bn + u_bn) × F_B`.
+//! 9. Modal forces by virtual work of a force and a moment at the key node (5.3.x, as
+//!    (5.4.21)): `Q = S_uᵀ F_B + S_θᵀ M_bn`.
+//!
+//! Table lookups never allocate: the query is clamped to the table axes here before the
+//! lookup; with the `stop` policy an out-of-range query is recorded as an [`AeroFault`] (read
+//! it with [`BodyAero::fault`]) and the clamped value is used for this evaluation, so the run
+//! driver can stop the run at the end of the step.
+
+use crate::check::ir::{self, AeroSource, OutOfRange, Structure};
+use crate::runtime::aero::FinLoadError;
+use crate::runtime::aero::estimator::{BodyShape, EstimatedTables, FinPlanform, NoseShape};
+use crate::runtime::aero::tables::{Axis, CoefficientTable, TableError};
+use crate::runtime::atmosphere::{Atmosphere, Standard1976};
+use crate::runtime::eom::{ForceModel, StateView};
+use crate::runtime::kinematics::{cross, dot, mat_vec};
+use crate::runtime::stimuli::Stimuli;
+use crate::structure::compile::CompiledVehicle;
+
+/// Why an aerodynamic force block could not be built.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum AeroForceError {
+    #[error("coefficient table: {0}")]
+    Table(#[from] TableError),
+    #[error("fin load distribution: {0}")]
+    FinLoad(#[from] FinLoadError),
+    #[error(
+        "the built-in aerodynamic estimator needs the generated body geometry (diameter, length, nose); give `aero {{ source = tables ... }}` for an imported FE model"
+    )]
+    NoBodyGeometry,
+    #[error("vehicle `{vehicle}` has fin aerodynamics but no `fins` block")]
+    NoFins { vehicle: String },
+    #[error("{what} node index {index} is outside the compiled model ({n_nodes} nodes)")]
+    BadNode {
+        what: &'static str,
+        index: usize,
+        n_nodes: usize,
+    },
+    #[error(
+        "compiled shapes hold {found} values, expected {expected} (6 x {n_nodes} nodes x {n_modes} modes)"
+    )]
+    ShapeSize {
+        found: usize,
+        expected: usize,
+        n_nodes: usize,
+        n_modes: usize,
+    },
+    #[error(
+        "the compiled vehicle has {key_nodes} fin key nodes, the `fins` block has {declared} fins"
+    )]
+    FinCount { key_nodes: usize, declared: usize },
+    #[error("fin {fin} has no nodes in the compiled model")]
+    EmptyFin { fin: usize },
+    #[error(
+        "fin {fin}, node {node}: at span fraction {eta} and chord fraction {xi}, outside the declared planform"
+    )]
+    NodeOffPlanform {
+        fin: usize,
+        node: usize,
+        eta: f64,
+        xi: f64,
+    },
+}
+
+/// A condition met during a right-hand-side evaluation that the run driver must act on
+/// (recorded without allocating; the first one is kept).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AeroFault {
+    /// A coefficient table with the `stop` policy was queried outside its range.
+    TableOutOfRange { axis: Axis, value: f64 },
+    /// The altitude left the atmosphere model's range.
+    Atmosphere { altitude_m: f64 },
+    /// A non-finite state reached the aerodynamics.
+    NonFinite,
+}
+
+/// Rate derivatives of (5.3.7)-(5.3.9) per radian, non-dimensionalised by `b/(2V)`. The
+/// coefficient tables do not hold them; zero unless supplied.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RateDerivatives {
+    /// C_Nα̇ (= C_Nβ̇ for a body of revolution, (5.3.8)).
+    pub cn_alpha_dot: f64,
+    /// C_Mα̇.
+    pub cm_alpha_dot: f64,
+}
+
+/// The body and fin coefficient tables of a vehicle: the CSV files of `aero { source =
+/// tables }`, or the built-in estimator (5.5) on the generated geometry.
+pub fn aero_tables(v: &ir::Vehicle) -> Result<EstimatedTables, AeroForceError> {
+    match &v.aero.source {
+        AeroSource::Tables {
+            body,
+            fins,
+            out_of_range,
+        } => Ok(EstimatedTables {
+            body: CoefficientTable::read_csv(
+                crate::runtime::aero::TableKind::Body,
+                &body.value,
+                out_of_range.value,
+            )?,
+            fin: CoefficientTable::read_csv(
+                crate::runtime::aero::TableKind::Fin,
+                &fins.value,
+                out_of_range.value,
+            )?,
+        }),
+        AeroSource::Builtin => {
+            let Structure::Generate(g) = &v.structure else {
+                return Err(AeroForceError::NoBodyGeometry);
+            };
+            let b = &g.body;
+            let body = BodyShape {
+                length: b.length.value,
+                diameter: b.diameter.value,
+                nose: if b.nose_length.value > 0.0 {
+                    NoseShape::Cone {
+                        length: b.nose_length.value,
+                    }
+                } else {
+                    NoseShape::Tube
+                },
+                reference_x: v.aero.reference_point.value[0],
+            };
+            let fin = match &v.fins {
+                Some(f) => planform(f, 0.5 * b.diameter.value),
+                // No fins: a placeholder planform; the fin table is then never used.
+                None => FinPlanform::unswept_trailing_edge(0.1, 0.1, 0.1, 0.5 * b.diameter.value),
+            };
+            Ok(EstimatedTables::estimate(&body, &fin, OutOfRange::Clamp)?)
+        }
+    }
+}
+
+/// The trapezoidal planform of the `fins` block (x_t = s tan Λ_LE).
+pub fn planform(f: &ir::Fins, body_radius: f64) -> FinPlanform {
+    FinPlanform {
+        span: f.span.value,
+        root_chord: f.root_chord.value,
+        tip_chord: f.tip_chord.value,
+        tip_le_offset: f.span.value * f.leading_edge_sweep.value.tan(),
+        body_radius,
+    }
+}
+
+/// The six shape rows of one node (translations then rotations), copied at construction.
+#[derive(Clone, Debug)]
+pub(crate) struct NodeRows {
+    /// Undeformed body-frame position.
+    pub position: [f64; 3],
+    /// Row-major 6 x n.
+    rows: Vec<f64>,
+    n: usize,
+}
+
+impl NodeRows {
+    pub(crate) fn new(
+        c: &CompiledVehicle,
+        node: usize,
+        what: &'static str,
+    ) -> Result<Self, AeroForceError> {
+        let n_nodes = c.node_positions.len();
+        let n = c.modes.len();
+        if c.shapes.len() != 6 * n_nodes * n {
+            return Err(AeroForceError::ShapeSize {
+                found: c.shapes.len(),
+                expected: 6 * n_nodes * n,
+                n_nodes,
+                n_modes: n,
+            });
+        }
+        if node >= n_nodes {
+            return Err(AeroForceError::BadNode {
+                what,
+                index: node,
+                n_nodes,
+            });
+        }
+        Ok(NodeRows {
+            position: c.node_positions[node],
+            rows: c.shapes[6 * node * n..6 * (node + 1) * n].to_vec(),
+            n,
+        })
+    }
+
+    /// `(S_u q, S_θ q)` for modal coordinates (or rates) `q`.
+    pub(crate) fn apply(&self, q: &[f64]) -> ([f64; 3], [f64; 3]) {
+        let mut out = [0.0; 6];
+        for (d, o) in out.iter_mut().enumerate() {
+            let row = &self.rows[d * self.n..(d + 1) * self.n];
+            *o = row.iter().zip(q).map(|(s, x)| s * x).sum();
+        }
+        ([out[0], out[1], out[2]], [out[3], out[4], out[5]])
+    }
+
+    /// `Q += S_uᵀ f + S_θᵀ m`.
+    pub(crate) fn add_transpose(&self, f: &[f64; 3], m: &[f64; 3], q: &mut [f64]) {
+        for d in 0..6 {
+            let load = if d < 3 { f[d] } else { m[d - 3] };
+            if load == 0.0 {
+                continue;
+            }
+            let row = &self.rows[d * self.n..(d + 1) * self.n];
+            for (qm, s) in q.iter_mut().zip(row) {
+                *qm += s * load;
+            }
+        }
+    }
+}
+
+/// Relative air velocity of a node in body axes (5.3.12)-(5.3.13) / (5.4.8):
+/// `V_B + ω_B × p + u̇ - (w_B + C_BI w_I)` with `p` the deformed node position.
+pub(crate) fn relative_velocity(
+    state: &StateView,
+    p: &[f64; 3],
+    u_dot: &[f64; 3],
+    wind: &([f64; 3], [f64; 3]),
+) -> [f64; 3] {
+    let w_i = mat_vec(&state.c_bi, &wind.1);
+    let rot = cross(&state.angular_velocity, p);
+    [0, 1, 2].map(|k| state.velocity[k] + rot[k] + u_dot[k] - wind.0[k] - w_i[k])
+}
+
+/// Clamps `value` into a table axis; records a fault when the table's policy is `stop`.
+pub(crate) fn clamp_axis(
+    table: &CoefficientTable,
+    axis: Axis,
+    value: f64,
+    fault: &mut Option<AeroFault>,
+) -> f64 {
+    let a = table.axis(axis);
+    let (lo, hi) = (a[0], a[a.len() - 1]);
+    if (value < lo || value > hi) && table.policy() == OutOfRange::Stop && fault.is_none() {
+        *fault = Some(AeroFault::TableOutOfRange { axis, value });
+    }
+    value.clamp(lo, hi)
+}
+
+/// What the last evaluation saw (for output and tests).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BodyAeroSample {
+    /// Total angle of attack α_b, rad (>= 0).
+    pub alpha: f64,
+    /// α̇_b and β̇_b of (5.3.22)-(5.3.24), rad/s.
+    pub alpha_dot: f64,
+    pub beta_dot: f64,
+    pub mach: f64,
+    /// Dynamic pressure, Pa.
+    pub dynamic_pressure: f64,
+    /// Body-axes force and moment about the key node.
+    pub force: [f64; 3],
+    pub moment_key_node: [f64; 3],
+}
+
+/// The fuselage aerodynamic force block (thesis 5.3); see the module doc.
+#[derive(Clone, Debug)]
+pub struct BodyAero {
+    key: NodeRows,
+    /// `r_ref - r_bn` (undeformed), m.
+    lever: [f64; 3],
+    area: f64,
+    length: f64,
+    table: CoefficientTable,
+    atmosphere: Standard1976,
+    stimuli: Stimuli,
+    rates: Option<RateDerivatives>,
+    fault: Option<AeroFault>,
+    last: BodyAeroSample,
+}
+
+impl BodyAero {
+    /// Builds the block for the compiled vehicle `c` of the checked vehicle `v` with the body
+    /// coefficient table `table` (see [`aero_tables`]). Rate terms follow
+    /// `v.forces.body_aero.rate_terms`, with the derivatives `rates`.
+    pub fn new(
+        c: &CompiledVehicle,
+        v: &ir::Vehicle,
+        table: CoefficientTable,
+        atmosphere: Standard1976,
+        stimuli: Stimuli,
+        rates: RateDerivatives,
+    ) -> Result<Self, AeroForceError> {
+        let key = NodeRows::new(c, c.key_body as usize, "body key node")?;
+        let r_ref = v.aero.reference_point.value;
+        let lever = [0, 1, 2].map(|k| r_ref[k] - key.position[k]);
+        let rate_terms = v.forces.body_aero.as_ref().is_some_and(|b| b.rate_terms);
+        Ok(BodyAero {
+            key,
+            lever,
+            area: v.aero.reference_area.value,
+            length: v.aero.reference_length.value,
+            table,
+            atmosphere,
+            stimuli,
+            rates: rate_terms.then_some(rates),
+            fault: None,
+            last: BodyAeroSample::default(),
+        })
+    }
+
+    /// The first fault met since construction (or [`Self::clear_fault`]).
+    pub fn fault(&self) -> Option<AeroFault> {
+        self.fault
+    }
+
+    /// True when a table lookup or the atmosphere went out of range.
+    pub fn out_of_range(&self) -> bool {
+        self.fault.is_some()
+    }
+
+    /// Forgets a recorded fault.
+    pub fn clear_fault(&mut self) {
+        self.fault = None;
+    }
+
+    /// What the last evaluation computed.
+    pub fn last(&self) -> BodyAeroSample {
+        self.last
+    }
+}
+
+impl ForceModel for BodyAero {
+    fn generalized_forces(&mut self, t: f64, state: &StateView, out: &mut [f64]) {
+        let (u, theta) = self.key.apply(state.eta);
+        let (u_dot, theta_dot) = self.key.apply(state.eta_dot);
+        let p = [0, 1, 2].map(|k| self.key.position[k] + u[k]);
+        let wind = self.stimuli.wind(t);
+        let v_b = relative_velocity(state, &p, &u_dot, &wind);
+        // Nodal frame (5.3.11): C_bn,B v = v - θ × v.
+        let tv = cross(&theta, &v_b);
+        let v_bn = [0, 1, 2].map(|k| v_b[k] - tv[k]);
+        let speed = dot(&v_bn, &v_bn).sqrt();
+        let altitude = -state.position[2];
+        if !(speed.is_finite() && altitude.is_finite()) {
+            self.fault.get_or_insert(AeroFault::NonFinite);
+            return;
+        }
+        if speed == 0.0 {
+            self.last = BodyAeroSample::default();
+            return;
+        }
+        let Ok(air) = self.atmosphere.at(altitude) else {
+            self.fault.get_or_insert(AeroFault::Atmosphere {
+                altitude_m: altitude,
+            });
+            return;
+        };
+        // ba frame (5.3.15)-(5.3.18), rows expressed in bn axes.
+        let r = (v_bn[1] * v_bn[1] + v_bn[2] * v_bn[2]).sqrt();
+        let (y_ba, z_ba) = if r > 0.0 {
+            (
+                [0.0, v_bn[2] / r, -v_bn[1] / r],
+                [0.0, v_bn[1] / r, v_bn[2] / r],
+            )
+        } else {
+            ([0.0, 1.0, 0.0], [0.0, 0.0, 1.0])
+        };
+        let alpha = r.atan2(v_bn[0]);
+        let q = 0.5 * air.density * speed * speed;
+        let mach = speed / air.speed_of_sound;
+        let m_q = clamp_axis(&self.table, Axis::Mach, mach, &mut self.fault);
+        let a_q = clamp_axis(
+            &self.table,
+            Axis::AlphaDeg,
+            alpha.to_degrees(),
+            &mut self.fault,
+        );
+        let h_q = clamp_axis(&self.table, Axis::AltitudeM, altitude, &mut self.fault);
+        let Ok(coef) = self.table.body(m_q, a_q, h_q) else {
+            self.fault.get_or_insert(AeroFault::NonFinite);
+            return;
+        };
+        let (mut cn, mut cm) = (coef.cn, coef.cm);
+        let (mut alpha_dot, mut beta_dot) = (0.0, 0.0);
+        if let Some(rd) = self.rates {
+            // (5.3.22)-(5.3.25).
+            let wv = cross(&state.angular_velocity, &v_bn);
+            let z_dot = [theta_dot[1], -theta_dot[0], 0.0];
+            let y_dot = [-theta_dot[2], 0.0, theta_dot[0]];
+            alpha_dot = (dot(&z_dot, &v_bn) - dot(&z_ba, &wv)) / speed;
+            beta_dot = (dot(&y_dot, &v_bn) - dot(&y_ba, &wv)) / speed;
+            let k = (alpha_dot + beta_dot) * self.length / (2.0 * speed);
+            cn += rd.cn_alpha_dot * k;
+            cm += rd.cm_alpha_dot * k;
+        }
+        // Coefficient frame (5.3.27) and back to ba (5.3.28): F_ba = diag(-1,-1,1) F_co.
+        let qs = q * self.area;
+        let f_co = [coef.ca * qs, 0.0, -cn * qs];
+        let m_co = [0.0, -cm * qs * self.length, 0.0];
+        let f_ba = [-f_co[0], -f_co[1], f_co[2]];
+        let m_ba = [-m_co[0], -m_co[1], m_co[2]];
+        // ba -> bn (5.3.30)-(5.3.31): C_ba,bnᵀ x = x_ba x0 + y_ba x1 + z_ba x2 (x_ba = e1).
+        let to_bn = |x: [f64; 3]| {
+            [
+                x[0],
+                y_ba[1] * x[1] + z_ba[1] * x[2],
+                y_ba[2] * x[1] + z_ba[2] * x[2],
+            ]
+        };
+        let (f_bn, m_bn) = (to_bn(f_ba), to_bn(m_ba));
+        // bn -> B (5.3.32): C_bn,Bᵀ = 1 + θ^×.
+        let to_b = |x: [f64; 3]| {
+            let c = cross(&theta, &x);
+            [x[0] + c[0], x[1] + c[1], x[2] + c[2]]
+        };
+        let (f_b, m_ref_b) = (to_b(f_bn), to_b(m_bn));
+        // Transfer from the reference point to the key node (5.3.29).
+        let arm = cross(&self.lever, &f_b);
+        let m_key = [0, 1, 2].map(|k| m_ref_b[k] + arm[k]);
+        // About the body origin (5.3.33).
+        let pf = cross(&p, &f_b);
+        for k in 0..3 {
+            out[k] += f_b[k];
+            out[3 + k] += m_key[k] + pf[k];
+        }
+        self.key.add_transpose(&f_b, &m_key, &mut out[6..]);
+        self.last = BodyAeroSample {
+            alpha,
+            alpha_dot,
+            beta_dot,
+            mach,
+            dynamic_pressure: q,
+            force: f_b,
+            moment_key_node: m_key,
+        };
+    }
+}

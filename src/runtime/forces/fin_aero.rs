@@ -1,0 +1,466 @@
+//! Fin aerodynamics (thesis 5.4): per-fin gross loads through the fin key-node frames,
+//! distribution over the fin's FE nodes, leeward reduction, and the root stress monitor (5.6).
+//!
+//! # Per fin i
+//! 1. Key-node deformation `u_f = S_u η`, `θ_f = S_θ η` (body axes) and rates.
+//! 2. Fin frame (5.4.1)-(5.4.4): `C_f = C_γ C_fδ (1 - θ_f^×)`, with
+//!    `C_fδ = [[1,0,0],[0,cos δ,sin δ],[0,-sin δ,cos δ]]` (fin span along
+//!    `(0, cos δ, sin δ)`, normal `z_f = (0, -sin δ, cos δ)`) and the cant `γ` as a further
+//!    rotation about the fin span axis, `C_γ = [[cos γ,0,sin γ],[0,1,0],[-sin γ,0,cos γ]]`:
+//!    the canted chord is `cos γ x_f + sin γ z_f`, as the mesh generator lays the fin out
+//!    (`structure::generate::mesh::fin_frame`), so a flow along body x gives `α_f = -γ`.
+//!    (The chord fraction ξ below uses body x, exact for zero cant, off by `cos γ` otherwise.)
+//! 3. Velocity of the key node relative to the air (5.4.8), body axes:
+//!    `V_Bf = V_B + ω_B × (r_f + u_f) + u̇_f - V_w`. The thesis writes `ω_f × r_f` with
+//!    `ω_f = ω_B + θ̇_f` (5.4.7); `θ̇_f × r_f` is not a velocity of the fin (it scales with the
+//!    distance of the fin from the NOSE): the velocity of the material point is the rigid
+//!    `V_B + ω_B × (r + u)` plus the elastic `u̇` (the same kinematics as (5.3.12)), which we
+//!    use. The fin's elastic rotation enters through the frame `C_f`, i.e. through `α_f`.
+//!    `V_f = C_f V_Bf` (5.4.9), `α_f = atan2(V_fz, V_fx)` (5.4.10).
+//! 4. Loads in the fin frame (5.4.12)-(5.4.14), with the tabulated `C_N(α_f)` of ONE fin on the
+//!    reference area S (the fin table of [`crate::runtime::aero::tables`]):
+//!    `F_f = q S (-C_A, 0, -C_N)`; the side force is neglected, `F_fy = 0` ((5.4.13) as
+//!    corrected in REFERENCE-NOTES). With the leeward reduction the whole fin load is scaled by
+//!    `f_LW(δ_tot, α)` ([`f_lw`], (5.4.24)-(5.4.31)), `δ_tot = δ_i + θ_yz`,
+//!    `θ_yz = atan2(V_y, V_z)` of `V_Bf` (5.4.25, four-quadrant so that `δ_tot` in (0, 180) deg
+//!    means the fin span has a positive component along the crossflow: windward) and `α` the
+//!    total angle of attack `atan2(sqrt(V_y² + V_z²), V_x)` of `V_Bf`, in degrees.
+//! 5. Body axes (5.4.15): `F_Bf = C_fᵀ F_f`.
+//! 6. Distribution (5.4.19)-(5.4.23): node k of the fin carries `f_k = w_k F_Bf`, with the
+//!    weights of [`FinLoadTable`] at the fin Mach number (they sum to 1 and their first moment
+//!    is the load model's centre of pressure). The nodes' (η, ξ) are computed once from the
+//!    undeformed positions, (5.4.17)-(5.4.18): `η = (y - y_root)/b` with y the coordinate along
+//!    the fin span direction and y_root the smallest over the fin's nodes, and
+//!    `ξ = (x_LE(η) - x)/c(η)` on the declared trapezoid. y_root is the body radius for a
+//!    generated structure, the smallest y over the fin's nodes for an imported one. When the
+//!    root row is not among the fin's nodes (the generator ties it rigidly to the body), it is
+//!    added as virtual nodes at η = 0 with the ξ of the innermost row, each attached rigidly to
+//!    the nearest body node m: translation rows `S_u,m - o^× S_θ,m`, `o` the offset from m.
+//! 7. Generalised forces: `F_B += Σ f_k`, `G_B += Σ (r_k + u_k) × f_k` (the moment of the
+//!    distributed loads, (5.4.16) evaluated node by node so that the rigid moment and the
+//!    modal forces come from the same virtual work), `Q += Σ S_kᵀ f_k` (5.4.21).
+//! 8. Root stress (5.6): the root bending moment of the normal loads,
+//!    `M = Σ_k w_k F_fz (y_k - y_root)`, through [`FinRootStress`].
+//!
+//! No allocation in the right-hand side: the node lists, shape rows, positions, weights buffer
+//! and per-fin results are sized at construction.
+
+use super::body_aero::{
+    AeroFault, AeroForceError, NodeRows, clamp_axis, planform, relative_velocity,
+};
+use super::stress::FinRootStress;
+use crate::check::ir;
+use crate::runtime::aero::fin_loads::{FinLoadTable, FinNode};
+use crate::runtime::aero::leeward::f_lw;
+use crate::runtime::aero::tables::{Axis, CoefficientTable};
+use crate::runtime::atmosphere::{Atmosphere, Standard1976};
+use crate::runtime::eom::{ForceModel, StateView};
+use crate::runtime::kinematics::{Mat3, cross, mat_t_vec, mat_vec};
+use crate::runtime::stimuli::Stimuli;
+use crate::structure::compile::CompiledVehicle;
+
+/// Tolerance on (η, ξ) outside [0, 1] from mesh round-off.
+const PLANFORM_TOL: f64 = 1e-6;
+
+/// What the last evaluation computed for one fin (for output and tests).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FinSample {
+    /// Fin angle of attack α_f, rad (5.4.10).
+    pub alpha: f64,
+    pub mach: f64,
+    pub dynamic_pressure: f64,
+    /// Leeward factor applied (1 without the reduction).
+    pub leeward_factor: f64,
+    /// Net force in the fin frame (x chordwise forward, y span, z normal), N.
+    pub force_fin: [f64; 3],
+    /// Net force in body axes, N.
+    pub force_body: [f64; 3],
+    /// Root bending moment of the normal loads, N m.
+    pub root_moment: f64,
+    /// Root bending stress, Pa (5.6.1).
+    pub root_stress: f64,
+}
+
+#[derive(Clone, Debug)]
+struct Fin {
+    key: NodeRows,
+    /// `C_γ C_fδ` (body to undeformed canted fin frame).
+    c_nominal: Mat3,
+    /// Nominal angular position δ_i, rad.
+    delta: f64,
+    /// Translation shape rows of the fin nodes, row-major `(3 k + d) * n`.
+    rows: Vec<f64>,
+    positions: Vec<[f64; 3]>,
+    /// `y_k - y_root`, m.
+    span_arm: Vec<f64>,
+    nodes: Vec<FinNode>,
+    loads: FinLoadTable,
+    weights: Vec<f64>,
+    stress: FinRootStress,
+    last: FinSample,
+}
+
+/// The fin aerodynamic force block (thesis 5.4, 5.6); see the module doc.
+#[derive(Clone, Debug)]
+pub struct FinAero {
+    fins: Vec<Fin>,
+    n: usize,
+    area: f64,
+    table: CoefficientTable,
+    atmosphere: Standard1976,
+    stimuli: Stimuli,
+    leeward: bool,
+    limit_fraction: Option<f64>,
+    fault: Option<AeroFault>,
+}
+
+impl FinAero {
+    /// Builds the block for the compiled vehicle `c` of the checked vehicle `v` with the fin
+    /// coefficient table `table` (see [`super::aero_tables`]); the distribution model and the
+    /// leeward reduction follow `v.forces.fin_aero` (theory and on when absent).
+    pub fn new(
+        c: &CompiledVehicle,
+        v: &ir::Vehicle,
+        table: CoefficientTable,
+        atmosphere: Standard1976,
+        stimuli: Stimuli,
+    ) -> Result<Self, AeroForceError> {
+        let f = v.fins.as_ref().ok_or_else(|| AeroForceError::NoFins {
+            vehicle: v.name.value.clone(),
+        })?;
+        let settings = v.forces.fin_aero.as_ref();
+        let model = settings.map_or(ir::Distribution::Theory, |s| s.distribution.value);
+        let n = c.modes.len();
+        let n_fins = f.angles.len();
+        if c.key_fins.len() != n_fins {
+            return Err(AeroForceError::FinCount {
+                key_nodes: c.key_fins.len(),
+                declared: n_fins,
+            });
+        }
+        let (sg, cg) = f.cant.value.sin_cos();
+        let c_cant: Mat3 = [[cg, 0.0, sg], [0.0, 1.0, 0.0], [-sg, 0.0, cg]];
+        let root_le_x = f.root_trailing_edge_x.value + f.root_chord.value;
+        let machs = table.axis(Axis::Mach).to_vec();
+        let mut fins = Vec::with_capacity(n_fins);
+        for (i, angle) in f.angles.iter().enumerate() {
+            let delta = angle.value;
+            let (sd, cd) = delta.sin_cos();
+            let c_delta: Mat3 = [[1.0, 0.0, 0.0], [0.0, cd, sd], [0.0, -sd, cd]];
+            let c_nominal = mat_mul(&c_cant, &c_delta);
+            let members: Vec<usize> = (0..c.node_components.len())
+                .filter(|&k| usize::try_from(c.node_components[k]).ok() == Some(i))
+                .collect();
+            if members.is_empty() {
+                return Err(AeroForceError::EmptyFin { fin: i });
+            }
+            let span_dir = [0.0, cd, sd];
+            let y: Vec<f64> = members
+                .iter()
+                .map(|&k| dot3(&c.node_positions[k], &span_dir))
+                .collect();
+            let y_root = match &v.structure {
+                ir::Structure::Generate(g) => 0.5 * g.body.diameter.value,
+                ir::Structure::Files(_) => y.iter().copied().fold(f64::INFINITY, f64::min),
+            };
+            let tan_le = f.leading_edge_sweep.value.tan();
+            let chord_at =
+                |eta: f64| f.root_chord.value + (f.tip_chord.value - f.root_chord.value) * eta;
+            let mut nodes = Vec::with_capacity(members.len());
+            let mut rows = Vec::with_capacity(3 * n * members.len());
+            let mut positions = Vec::with_capacity(members.len());
+            let mut span_arm = Vec::with_capacity(members.len());
+            for (j, &k) in members.iter().enumerate() {
+                let eta = (y[j] - y_root) / f.span.value;
+                let x_le = root_le_x - eta * f.span.value * tan_le;
+                let xi = (x_le - c.node_positions[k][0]) / chord_at(eta);
+                let inside = |v: f64| (-PLANFORM_TOL..=1.0 + PLANFORM_TOL).contains(&v);
+                if !(inside(eta) && inside(xi)) {
+                    return Err(AeroForceError::NodeOffPlanform {
+                        fin: i,
+                        node: k,
+                        eta,
+                        xi,
+                    });
+                }
+                nodes.push(FinNode {
+                    eta: eta.clamp(0.0, 1.0),
+                    xi: xi.clamp(0.0, 1.0),
+                });
+                rows.extend_from_slice(&c.shapes[6 * k * n..(6 * k + 3) * n]);
+                positions.push(c.node_positions[k]);
+                span_arm.push(y[j] - y_root);
+            }
+            // Root row rigidly attached to the body (the generator makes the root grid points
+            // slaves of body stations): add it as virtual nodes so the load between the root and
+            // the first fin row reaches the body where it acts.
+            let eta_min = nodes.iter().map(|p| p.eta).fold(f64::INFINITY, f64::min);
+            if eta_min > PLANFORM_TOL {
+                let mut xis: Vec<f64> = nodes
+                    .iter()
+                    .filter(|p| (p.eta - eta_min).abs() < PLANFORM_TOL)
+                    .map(|p| p.xi)
+                    .collect();
+                xis.sort_by(f64::total_cmp);
+                xis.dedup_by(|a, b| (*a - *b).abs() < PLANFORM_TOL);
+                for xi in xis {
+                    let x = root_le_x - xi * f.root_chord.value;
+                    let p = [x, y_root * cd, y_root * sd];
+                    let rows_root = rigid_rows(c, &p).ok_or(AeroForceError::EmptyFin { fin: i })?;
+                    nodes.push(FinNode { eta: 0.0, xi });
+                    rows.extend_from_slice(&rows_root);
+                    positions.push(p);
+                    span_arm.push(0.0);
+                }
+            }
+            let loads = FinLoadTable::new(&planform(f, y_root), &nodes, &machs, model)?;
+            fins.push(Fin {
+                key: NodeRows::new(c, c.key_fins[i] as usize, "fin key node")?,
+                c_nominal,
+                delta,
+                rows,
+                positions,
+                span_arm,
+                weights: vec![0.0; nodes.len()],
+                nodes,
+                loads,
+                stress: FinRootStress {
+                    thickness: f.thickness.value,
+                    mean_chord: 0.5 * (f.root_chord.value + f.tip_chord.value),
+                    span: f.span.value,
+                    yield_stress: f.material.yield_stress.as_ref().map(|q| q.value),
+                },
+                last: FinSample::default(),
+            });
+        }
+        Ok(FinAero {
+            fins,
+            n,
+            area: v.aero.reference_area.value,
+            table,
+            atmosphere,
+            stimuli,
+            leeward: settings.is_none_or(|s| s.leeward_reduction),
+            limit_fraction: settings
+                .and_then(|s| s.stress_limit_fraction.as_ref())
+                .map(|q| q.value),
+            fault: None,
+        })
+    }
+
+    /// Number of fins.
+    pub fn n_fins(&self) -> usize {
+        self.fins.len()
+    }
+
+    /// Turns the leeward reduction on or off (the vehicle's `leeward_reduction` by default).
+    pub fn set_leeward_reduction(&mut self, on: bool) {
+        self.leeward = on;
+    }
+
+    /// Root bending stress of fin `fin` at the last evaluation, Pa (5.6.1); 0 for an unknown
+    /// fin.
+    pub fn root_stress(&self, fin: usize) -> f64 {
+        self.fins.get(fin).map_or(0.0, |f| f.last.root_stress)
+    }
+
+    /// The stress model of fin `fin`.
+    pub fn stress_model(&self, fin: usize) -> Option<&FinRootStress> {
+        self.fins.get(fin).map(|f| &f.stress)
+    }
+
+    /// The first fin whose root stress exceeds `stress_limit_fraction` of the yield stress at
+    /// the last evaluation (None without a limit, a yield stress, or an exceedance).
+    pub fn stress_limit_exceeded(&self) -> Option<usize> {
+        let limit = self.limit_fraction?;
+        self.fins.iter().position(|f| {
+            f.stress
+                .yield_fraction(f.last.root_stress)
+                .is_some_and(|r| r > limit)
+        })
+    }
+
+    /// What the last evaluation computed for fin `fin`.
+    pub fn last(&self, fin: usize) -> Option<FinSample> {
+        self.fins.get(fin).map(|f| f.last)
+    }
+
+    /// The fin's nodes in non-dimensional planform coordinates (5.4.17)-(5.4.18).
+    pub fn nodes(&self, fin: usize) -> &[FinNode] {
+        self.fins.get(fin).map_or(&[], |f| &f.nodes)
+    }
+
+    /// Undeformed body-frame positions of the fin's nodes.
+    pub fn node_positions(&self, fin: usize) -> &[[f64; 3]] {
+        self.fins.get(fin).map_or(&[], |f| &f.positions)
+    }
+
+    /// The load weights of the last evaluation (sum 1), one per fin node.
+    pub fn weights(&self, fin: usize) -> &[f64] {
+        self.fins.get(fin).map_or(&[], |f| &f.weights)
+    }
+
+    /// The first fault met since construction.
+    pub fn fault(&self) -> Option<AeroFault> {
+        self.fault
+    }
+
+    /// True when a table lookup or the atmosphere went out of range.
+    pub fn out_of_range(&self) -> bool {
+        self.fault.is_some()
+    }
+
+    /// Forgets a recorded fault.
+    pub fn clear_fault(&mut self) {
+        self.fault = None;
+    }
+}
+
+/// Translation rows (3 x n, row-major) of a point `p` rigidly attached to the body node
+/// nearest to it: `S_u,m - o^× S_θ,m` with `o = p - r_m`.
+fn rigid_rows(c: &CompiledVehicle, p: &[f64; 3]) -> Option<Vec<f64>> {
+    let n = c.modes.len();
+    let m = (0..c.node_positions.len())
+        .filter(|&k| c.node_components[k] < 0)
+        .min_by(|&a, &b| {
+            let d = |k: usize| {
+                let r = c.node_positions[k];
+                (0..3).map(|e| (r[e] - p[e]).powi(2)).sum::<f64>()
+            };
+            d(a).total_cmp(&d(b))
+        })?;
+    let r = c.node_positions[m];
+    let o = [p[0] - r[0], p[1] - r[1], p[2] - r[2]];
+    let skew = [[0.0, -o[2], o[1]], [o[2], 0.0, -o[0]], [-o[1], o[0], 0.0]];
+    let s = |d: usize, j: usize| c.shapes[(6 * m + d) * n + j];
+    let mut rows = vec![0.0; 3 * n];
+    for d in 0..3 {
+        for j in 0..n {
+            rows[d * n + j] = s(d, j) - (0..3).map(|e| skew[d][e] * s(3 + e, j)).sum::<f64>();
+        }
+    }
+    Some(rows)
+}
+
+fn dot3(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn mat_mul(a: &Mat3, b: &Mat3) -> Mat3 {
+    let mut c = [[0.0; 3]; 3];
+    for (i, row) in c.iter_mut().enumerate() {
+        for (j, x) in row.iter_mut().enumerate() {
+            *x = (0..3).map(|k| a[i][k] * b[k][j]).sum();
+        }
+    }
+    c
+}
+
+impl ForceModel for FinAero {
+    fn generalized_forces(&mut self, t: f64, state: &StateView, out: &mut [f64]) {
+        let altitude = -state.position[2];
+        if !altitude.is_finite() {
+            self.fault.get_or_insert(AeroFault::NonFinite);
+            return;
+        }
+        let Ok(air) = self.atmosphere.at(altitude) else {
+            self.fault.get_or_insert(AeroFault::Atmosphere {
+                altitude_m: altitude,
+            });
+            return;
+        };
+        let wind = self.stimuli.wind(t);
+        let n = self.n;
+        for fin in &mut self.fins {
+            let (u, theta) = fin.key.apply(state.eta);
+            let (u_dot, _) = fin.key.apply(state.eta_dot);
+            let p = [0, 1, 2].map(|k| fin.key.position[k] + u[k]);
+            let v_b = relative_velocity(state, &p, &u_dot, &wind);
+            // C_f V = C_nominal (V - θ × V), (5.4.3)-(5.4.4), (5.4.9).
+            let tv = cross(&theta, &v_b);
+            let w = [0, 1, 2].map(|k| v_b[k] - tv[k]);
+            let v_f = mat_vec(&fin.c_nominal, &w);
+            let speed = dot3(&v_f, &v_f).sqrt();
+            fin.last = FinSample::default();
+            if !speed.is_finite() {
+                self.fault.get_or_insert(AeroFault::NonFinite);
+                continue;
+            }
+            if speed == 0.0 {
+                continue;
+            }
+            let alpha = v_f[2].atan2(v_f[0]);
+            let q = 0.5 * air.density * speed * speed;
+            let mach = speed / air.speed_of_sound;
+            let m_q = clamp_axis(&self.table, Axis::Mach, mach, &mut self.fault);
+            let a_q = clamp_axis(
+                &self.table,
+                Axis::AlphaDeg,
+                alpha.to_degrees(),
+                &mut self.fault,
+            );
+            let h_q = clamp_axis(&self.table, Axis::AltitudeM, altitude, &mut self.fault);
+            let Ok(coef) = self.table.fin(m_q, a_q, h_q) else {
+                self.fault.get_or_insert(AeroFault::NonFinite);
+                continue;
+            };
+            let qs = q * self.area;
+            let leeward_factor = if self.leeward {
+                let theta_yz = v_b[1].atan2(v_b[2]);
+                let cross_flow = (v_b[1] * v_b[1] + v_b[2] * v_b[2]).sqrt();
+                let alpha_tot = cross_flow.atan2(v_b[0]);
+                f_lw((fin.delta + theta_yz).to_degrees(), alpha_tot.to_degrees())
+            } else {
+                1.0
+            };
+            // (5.4.12)-(5.4.14), side force neglected.
+            let f_f = [
+                -coef.ca * qs * leeward_factor,
+                0.0,
+                -coef.cn * qs * leeward_factor,
+            ];
+            // (5.4.15): C_fᵀ = (1 + θ^×) C_nominalᵀ.
+            let f_n = mat_t_vec(&fin.c_nominal, &f_f);
+            let tf = cross(&theta, &f_n);
+            let f_b = [0, 1, 2].map(|k| f_n[k] + tf[k]);
+            if fin.loads.weights_at(m_q, &mut fin.weights).is_err() {
+                self.fault.get_or_insert(AeroFault::NonFinite);
+                continue;
+            }
+            let mut root_moment = 0.0;
+            for (k, &w_k) in fin.weights.iter().enumerate() {
+                let f_k = [w_k * f_b[0], w_k * f_b[1], w_k * f_b[2]];
+                let rows = &fin.rows[3 * k * n..3 * (k + 1) * n];
+                let mut pos = fin.positions[k];
+                for (d, x) in pos.iter_mut().enumerate() {
+                    *x += rows[d * n..(d + 1) * n]
+                        .iter()
+                        .zip(state.eta)
+                        .map(|(s, e)| s * e)
+                        .sum::<f64>();
+                }
+                let m_k = cross(&pos, &f_k);
+                for d in 0..3 {
+                    out[d] += f_k[d];
+                    out[3 + d] += m_k[d];
+                    if f_k[d] != 0.0 {
+                        for (qm, s) in out[6..6 + n].iter_mut().zip(&rows[d * n..(d + 1) * n]) {
+                            *qm += s * f_k[d];
+                        }
+                    }
+                }
+                root_moment += w_k * f_f[2] * fin.span_arm[k];
+            }
+            fin.last = FinSample {
+                alpha,
+                mach,
+                dynamic_pressure: q,
+                leeward_factor,
+                force_fin: f_f,
+                force_body: f_b,
+                root_moment,
+                root_stress: fin.stress.stress(root_moment),
+            };
+        }
+    }
+}
