@@ -180,29 +180,15 @@ fn transonic_blend(mach: f64, sub: impl Fn(f64) -> f64, sup: impl Fn(f64) -> f64
     }
 }
 
-/// Standard atmosphere 1976 below 32 km (thesis 4.5.1): temperature K, density kg/m^3,
-/// speed of sound m/s, dynamic viscosity Pa s (Sutherland). Only for Reynolds numbers here;
-/// the runtime has its own atmosphere block.
+/// Temperature K, density kg/m^3, speed of sound m/s and dynamic viscosity Pa s from the
+/// runtime's U.S. Standard Atmosphere 1976 (thesis 4.5.1), for Reynolds numbers; the altitude
+/// is clamped to the model's range (-0.5 km to 86 km), so the lookup cannot fail.
 fn atmosphere(h: f64) -> (f64, f64, f64, f64) {
-    const G: f64 = 9.806_65;
-    const R: f64 = 287.053;
-    let h = h.clamp(0.0, 32_000.0);
-    let (t, p) = if h <= 11_000.0 {
-        let t = 288.15 - 0.0065 * h;
-        (t, 101_325.0 * (t / 288.15).powf(G / (0.0065 * R)))
-    } else if h <= 20_000.0 {
-        (
-            216.65,
-            22_632.06 * (-G * (h - 11_000.0) / (R * 216.65)).exp(),
-        )
-    } else {
-        let t = 216.65 + 0.001 * (h - 20_000.0);
-        (t, 5_474.889 * (216.65 / t).powf(G / (0.001 * R)))
-    };
-    let rho = p / (R * t);
-    let a = (1.4 * R * t).sqrt();
-    let mu = 1.458e-6 * t.powf(1.5) / (t + 110.4);
-    (t, rho, a, mu)
+    use crate::runtime::atmosphere::{Atmosphere, Standard1976};
+    match Standard1976::new().at(h.clamp(-500.0, 86_000.0)) {
+        Ok(a) => (a.temperature, a.density, a.speed_of_sound, a.viscosity),
+        Err(_) => (f64::NAN, f64::NAN, f64::NAN, f64::NAN),
+    }
 }
 
 /// Turbulent skin-friction coefficient (Prandtl-Schlichting, compressibility-corrected; see
