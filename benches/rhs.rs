@@ -1,6 +1,6 @@
 //! Right-hand side of the equations of motion (3.2.1) for SPHADS-1 with its 10 modes
-//! (free flight and uniform gravity; the aerodynamic force blocks are benchmarked once they
-//! are wired into the plan). The RHS must not allocate: it runs on a workspace made once.
+//! (free flight, uniform gravity, and the full force set of the subsonic thesis scenario with
+//! distributed fin loads). The RHS must not allocate: it runs on a workspace made once.
 
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -39,4 +39,35 @@ fn bench_rhs(c: &mut Criterion) {
 }
 
 criterion_group!(benches, bench_rhs);
-criterion_main!(benches);
+
+/// The RHS of the subsonic thesis scenario with every force block of its plan: gravity, body
+/// aerodynamics and fin aerodynamics distributed over the fin nodes.
+fn bench_rhs_with_aero(c: &mut Criterion) {
+    use flexflight::runtime::run::{build_aero_blocks, build_force_blocks};
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/thesis/section_6_5.vdl");
+    let checked = check_files(&[root], &[], &DiskLoader);
+    let sc = checked
+        .program
+        .scenario("subsonic_t06")
+        .expect("scenario")
+        .clone();
+    let (compiled, _) = compile(&sc.vehicle).expect("compiles");
+    let plan = flexflight::plan::build(&sc, &compiled).expect("plan");
+    let (aero, _) = build_aero_blocks(&plan, &sc, &compiled).expect("aero blocks");
+    let forces = build_force_blocks(&plan, &compiled.reduced, aero).expect("force blocks");
+    let mut eom = Eom::new(&compiled.reduced, forces).expect("eom");
+    let mut x = plan.initial_state.clone();
+    // A slightly disturbed state so every block does real work.
+    x[9] += 3.0;
+    for k in 0..plan.n_modes {
+        x[13 + k] = 1e-5 * (k as f64 + 1.0);
+    }
+    let mut dx = vec![0.0; x.len()];
+    c.bench_function(
+        "rhs sphads1 10 modes, gravity + body aero + distributed fin aero",
+        |b| b.iter(|| eom.rhs(0.0, black_box(&x), &mut dx).map(|_| dx[7])),
+    );
+}
+
+criterion_group!(aero_benches, bench_rhs_with_aero);
+criterion_main!(benches, aero_benches);
