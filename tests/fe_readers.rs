@@ -724,3 +724,111 @@ fn bulk_sample_content() {
     assert_eq!(bulk.dmigs.len(), 2);
     assert_eq!(bulk.grids[1].position, [-0.1375, 0.0, 0.0]);
 }
+
+// ---------------------------------------------------------------------------------------
+// Binary OP4, written here from the ASCII sample (no binary sample is shared).
+
+/// Fortran unformatted record.
+fn record(out: &mut Vec<u8>, payload: &[u8], big: bool) {
+    let len = payload.len() as i32;
+    let l = if big {
+        len.to_be_bytes()
+    } else {
+        len.to_le_bytes()
+    };
+    out.extend_from_slice(&l);
+    out.extend_from_slice(payload);
+    out.extend_from_slice(&l);
+}
+
+/// One matrix in binary OP4: dense columns (first to last nonzero) or sparse strings.
+fn write_binary_matrix(
+    out: &mut Vec<u8>,
+    name: &str,
+    m: &SparseColMat<usize, f64>,
+    big: bool,
+    sparse: bool,
+) {
+    let i = |v: i32| {
+        if big {
+            v.to_be_bytes()
+        } else {
+            v.to_le_bytes()
+        }
+    };
+    let f = |v: f64| {
+        if big {
+            v.to_be_bytes()
+        } else {
+            v.to_le_bytes()
+        }
+    };
+    let n = m.nrows() as i32;
+    let mut head = Vec::new();
+    for v in [n, n, 6, 2] {
+        head.extend_from_slice(&i(v));
+    }
+    head.extend_from_slice(format!("{name:<8}").as_bytes());
+    record(out, &head, big);
+    let d = m.to_dense();
+    for c in 0..m.ncols() {
+        let rows: Vec<usize> = (0..m.nrows()).filter(|&r| d[(r, c)] != 0.0).collect();
+        let (Some(&first), Some(&last)) = (rows.first(), rows.last()) else {
+            continue;
+        };
+        let mut rec = Vec::new();
+        let mut data = Vec::new();
+        if sparse {
+            // one string per nonzero: IS = irow + 65536 (L + 1), L = 2 words
+            for &r in &rows {
+                data.extend_from_slice(&i((r as i32 + 1) + 65536 * 3));
+                data.extend_from_slice(&f(d[(r, c)]));
+            }
+        } else {
+            for r in first..=last {
+                data.extend_from_slice(&f(d[(r, c)]));
+            }
+        }
+        let irow = if sparse { 0 } else { first as i32 + 1 };
+        for v in [c as i32 + 1, irow, (data.len() / 4) as i32] {
+            rec.extend_from_slice(&i(v));
+        }
+        rec.extend_from_slice(&data);
+        record(out, &rec, big);
+    }
+    let mut term = Vec::new();
+    for v in [n + 1, 1, 2] {
+        term.extend_from_slice(&i(v));
+    }
+    term.extend_from_slice(&f(1.0));
+    record(out, &term, big);
+}
+
+#[test]
+fn binary_op4_dense_and_sparse_both_endiannesses() {
+    let ascii = from_op4();
+    let f = Files::new();
+    for (big, sparse) in [(false, false), (true, false), (false, true), (true, true)] {
+        let mut bytes = Vec::new();
+        write_binary_matrix(&mut bytes, "MAA", &ascii.mass, big, sparse);
+        write_binary_matrix(&mut bytes, "KAA", &ascii.stiffness, big, sparse);
+        let p = f.dir.path().join("b.op4");
+        std::fs::write(&p, &bytes).unwrap();
+        let model = read_op4_model(&p, &sample("beam.bdf"), &ReadOptions::default()).unwrap();
+        assert_eq!(
+            max_rel_diff(&model.mass, &ascii.mass),
+            0.0,
+            "big {big} sparse {sparse}"
+        );
+        assert_eq!(max_rel_diff(&model.stiffness, &ascii.stiffness), 0.0);
+        // Truncated: cut in the middle of the stiffness matrix.
+        std::fs::write(&p, &bytes[..bytes.len() - 1000]).unwrap();
+        let e = read_op4_model(&p, &sample("beam.bdf"), &ReadOptions::default()).unwrap_err();
+        assert_eq!(e.code(), "fe::read::truncated", "{e}");
+        assert_eq!(e.line(), 0);
+    }
+    let modes = modal::solve(&ascii, 8).unwrap();
+    assert!(
+        (modes.elastic_frequencies_hz()[0] - reference_hz()[0]).abs() < 1e-8 * reference_hz()[0]
+    );
+}

@@ -11,7 +11,7 @@
 //! values, non-negative diagonals, node ids) and finally runs [`validate`]. Errors are
 //! [`FeReadError`] values naming the file, the 1-based line and, where meaningful, the column.
 //!
-//! Binary OUTPUT4 is not implemented (the reader reports `fe::read::unsupported`).
+//! OUTPUT4 is read in ASCII and binary form (dense and sparse columns, real matrices).
 
 mod assemble;
 mod bulk;
@@ -19,6 +19,7 @@ mod error;
 mod matrix_market;
 mod numbers;
 mod op4;
+mod op4_binary;
 
 use std::path::Path;
 
@@ -33,6 +34,7 @@ pub use matrix_market::{
 };
 pub use numbers::parse_nastran_real;
 pub use op4::{Op4Matrix, parse_op4_ascii, read_op4_model};
+pub use op4_binary::{looks_like_binary_op4, parse_op4_binary};
 
 use crate::structure::fe_model::{DOF_PER_NODE, FeModel};
 

@@ -10,7 +10,7 @@
 //! (pyNastran) or words (two per double value, NASTRAN): both are accepted and checked.
 //!
 //! Forms: 6 (symmetric; one triangle may be omitted), 1 (square) and 2 (rectangular, which
-//! must be square here) are read; real types 1 and 2 only. Binary OP4 is not implemented.
+//! must be square here) are read; real types 1 and 2 only. Binary files go to `op4_binary`.
 
 use std::path::Path;
 
@@ -29,7 +29,8 @@ pub struct Op4Matrix {
     pub matrix: RawMatrix,
 }
 
-/// Reads M and K (by the names in `opts`) from an ASCII OP4 file, and the node positions from
+/// Reads M and K (by the names in `opts`) from an OP4 file (ASCII or binary, detected from the
+/// first record length), and the node positions from
 /// the GRID cards of a bulk data file. Rows follow the grids in ascending id order, NASTRAN's
 /// internal order of the a-set without resequencing.
 pub fn read_op4_model(
@@ -38,7 +39,13 @@ pub fn read_op4_model(
     opts: &ReadOptions,
 ) -> Result<FeModel, FeReadError> {
     let bulk = parse_bulk(&read_text(grid_bulk)?, grid_bulk)?;
-    let matrices = parse_op4_ascii(&read_text(op4)?, op4)?;
+    let bytes = std::fs::read(op4)
+        .map_err(|e| FeReadError::Io(SourceLocation::line(op4, 0), e.to_string()))?;
+    let matrices = if super::op4_binary::looks_like_binary_op4(&bytes) {
+        super::op4_binary::parse_op4_binary(&bytes, op4)?
+    } else {
+        parse_op4_ascii(&read_text(op4)?, op4)?
+    };
     let take = |name: &str| {
         matrices
             .iter()

@@ -50,7 +50,8 @@ pub enum ModalError {
     /// Cholesky of K - sigma M failed for every shift tried (sparse path).
     #[error("K - sigma M is not positive definite for any shift tried: {0}")]
     ShiftedNotPositiveDefinite(String),
-    /// More than 6 zero-frequency modes.
+    /// More than 6 zero-frequency modes. `n_zero` is the number found: the dense path sees
+    /// all of them; the sparse path looks at the 8 lowest eigenpairs, so it reports at most 8.
     #[error(
         "more than 6 zero-frequency modes: the model has mechanisms ({n_zero} zero-frequency modes found)"
     )]
