@@ -273,6 +273,22 @@ pub(crate) fn clamp_axis(
     value.clamp(lo, hi)
 }
 
+/// The table query point `(Mach, alpha in degrees, altitude)`, each clamped into its axis
+/// (faults recorded as in [`clamp_axis`]); shared by the body and fin blocks.
+pub(crate) fn clamped_query(
+    table: &CoefficientTable,
+    mach: f64,
+    alpha_deg: f64,
+    altitude: f64,
+    fault: &mut Option<AeroFault>,
+) -> [f64; 3] {
+    [
+        clamp_axis(table, Axis::Mach, mach, fault),
+        clamp_axis(table, Axis::AlphaDeg, alpha_deg, fault),
+        clamp_axis(table, Axis::AltitudeM, altitude, fault),
+    ]
+}
+
 /// What the last evaluation saw (for output and tests).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct BodyAeroSample {
@@ -395,14 +411,13 @@ impl ForceModel for BodyAero {
         let alpha = r.atan2(v_bn[0]);
         let q = 0.5 * air.density * speed * speed;
         let mach = speed / air.speed_of_sound;
-        let m_q = clamp_axis(&self.table, Axis::Mach, mach, &mut self.fault);
-        let a_q = clamp_axis(
+        let [m_q, a_q, h_q] = clamped_query(
             &self.table,
-            Axis::AlphaDeg,
+            mach,
             alpha.to_degrees(),
+            altitude,
             &mut self.fault,
         );
-        let h_q = clamp_axis(&self.table, Axis::AltitudeM, altitude, &mut self.fault);
         let Ok(coef) = self.table.body(m_q, a_q, h_q) else {
             self.fault.get_or_insert(AeroFault::NonFinite);
             return;

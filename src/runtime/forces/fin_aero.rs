@@ -46,7 +46,7 @@
 //! and per-fin results are sized at construction.
 
 use super::body_aero::{
-    AeroFault, AeroForceError, NodeRows, clamp_axis, planform, relative_velocity,
+    AeroFault, AeroForceError, NodeRows, clamped_query, planform, relative_velocity,
 };
 use super::stress::FinRootStress;
 use crate::check::ir;
@@ -392,14 +392,13 @@ impl ForceModel for FinAero {
             let alpha = v_f[2].atan2(v_f[0]);
             let q = 0.5 * air.density * speed * speed;
             let mach = speed / air.speed_of_sound;
-            let m_q = clamp_axis(&self.table, Axis::Mach, mach, &mut self.fault);
-            let a_q = clamp_axis(
+            let [m_q, a_q, h_q] = clamped_query(
                 &self.table,
-                Axis::AlphaDeg,
+                mach,
                 alpha.to_degrees(),
+                altitude,
                 &mut self.fault,
             );
-            let h_q = clamp_axis(&self.table, Axis::AltitudeM, altitude, &mut self.fault);
             let Ok(coef) = self.table.fin(m_q, a_q, h_q) else {
                 self.fault.get_or_insert(AeroFault::NonFinite);
                 continue;
