@@ -249,8 +249,9 @@ pub struct Aero {
 
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub enum AeroSource {
-    /// The built-in estimator (slender body + Barrowman/linear supersonic theory).
-    Builtin,
+    /// The built-in estimator (slender body + Barrowman/linear supersonic theory); its
+    /// tables clamp outside their grid unless `out_of_range = stop` is written.
+    Builtin { out_of_range: Spanned<OutOfRange> },
     /// CSV coefficient tables.
     Tables {
         body: Spanned<PathBuf>,

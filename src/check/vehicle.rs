@@ -1044,8 +1044,19 @@ fn check_aero(cx: &mut Cx, b: &Block, diameter: Option<Option<f64>>) -> Option<A
     let source_v = fl.required(cx, "source", "builtin");
     let source_kind =
         source_v.and_then(|v| f::keyword(cx, v, &[("builtin", false), ("tables", true)]));
+    let policy = |cx: &mut Cx, fl: &mut Fields, default: OutOfRange| match fl.value("out_of_range")
+    {
+        Some(v) => f::keyword(
+            cx,
+            v,
+            &[("stop", OutOfRange::Stop), ("clamp", OutOfRange::Clamp)],
+        )
+        .map(|k| Spanned::new(k, v.span)),
+        None => Some(Spanned::new(default, b.header)),
+    };
     let source = match source_kind {
-        Some(false) => Some(AeroSource::Builtin),
+        Some(false) => policy(cx, &mut fl, OutOfRange::Clamp)
+            .map(|out_of_range| AeroSource::Builtin { out_of_range }),
         Some(true) => {
             let table = |cx: &mut Cx, fl: &mut Fields, name: &'static str| {
                 let v = fl.required(cx, name, "\"aero/table.csv\"")?;
@@ -1055,15 +1066,7 @@ fn check_aero(cx: &mut Cx, b: &Block, diameter: Option<Option<f64>>) -> Option<A
             };
             let body = table(cx, &mut fl, "body_table");
             let fins = table(cx, &mut fl, "fin_table");
-            let oor = match fl.value("out_of_range") {
-                Some(v) => f::keyword(
-                    cx,
-                    v,
-                    &[("stop", OutOfRange::Stop), ("clamp", OutOfRange::Clamp)],
-                )
-                .map(|k| Spanned::new(k, v.span)),
-                None => Some(Spanned::new(OutOfRange::Stop, b.header)),
-            };
+            let oor = policy(cx, &mut fl, OutOfRange::Stop);
             match (body, fins, oor) {
                 (Some(body), Some(fins), Some(out_of_range)) => Some(AeroSource::Tables {
                     body,

@@ -47,6 +47,10 @@ pub fn cache_key(v: &Vehicle) -> std::io::Result<CacheKey> {
     let mut b = CacheKeyBuilder::new("compiled-vehicle");
     let canon = |x: serde_json::Value| strip_spans(x).to_string();
     let json = |x: &dyn erased::Ser| x.to_json();
+    b.text(
+        "pipeline revision",
+        &crate::structure::compile::PIPELINE_REVISION.to_string(),
+    );
     b.text("name", &v.name.value);
     b.text("material", &canon(json(&v.material)));
     b.text("structure", &canon(json(&v.structure)));

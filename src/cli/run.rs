@@ -155,7 +155,9 @@ pub fn cmd_run(
     };
     // The coefficient tables the built-in estimator produced, for users to inspect or
     // replace (`aero { source = tables ... }`).
-    if let (Some(t), crate::check::ir::AeroSource::Builtin) = (&tables, &sc.vehicle.aero.source) {
+    if let (Some(t), crate::check::ir::AeroSource::Builtin { .. }) =
+        (&tables, &sc.vehicle.aero.source)
+    {
         let dir = out.join("aero_tables");
         if let Err(e) = std::fs::create_dir_all(&dir)
             .map_err(|e| e.to_string())

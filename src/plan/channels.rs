@@ -50,13 +50,55 @@ pub const INVARIANT_CHANNELS: &[&str] = &[
     "h_cm_inertial_z",
 ];
 
+/// Which aerodynamic channels a run writes (after the invariants).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct AeroChannels {
+    /// The body aerodynamics block is on.
+    pub body: bool,
+    /// Number of fins when the fin aerodynamics block is on (0 otherwise).
+    pub fins: usize,
+}
+
+/// Body-aero force and moment channels (body axes; moment about the undeformed mass centre).
+pub const BODY_AERO_CHANNELS: &[&str] = &[
+    "body_aero_force_body_x",
+    "body_aero_force_body_y",
+    "body_aero_force_body_z",
+    "body_aero_moment_cm_body_x",
+    "body_aero_moment_cm_body_y",
+    "body_aero_moment_cm_body_z",
+];
+
+/// Fin-aero force and moment channels (all fins together; body axes; moment about the
+/// undeformed mass centre).
+pub const FIN_AERO_CHANNELS: &[&str] = &[
+    "fin_aero_force_body_x",
+    "fin_aero_force_body_y",
+    "fin_aero_force_body_z",
+    "fin_aero_moment_cm_body_x",
+    "fin_aero_moment_cm_body_y",
+    "fin_aero_moment_cm_body_z",
+];
+
 /// All column names for the given mode names: rigid channels, `eta_<mode>` for every mode,
-/// `eta_dot_<mode>` for every mode, then energies and momenta.
-pub fn channel_names(mode_names: &[String]) -> Vec<String> {
+/// `eta_dot_<mode>` for every mode, energies and momenta, then the aerodynamic channels
+/// (body aero force and moment; fin aero force and moment; per fin `fin<i>_alpha` in degrees
+/// and `fin<i>_root_stress` in Pa).
+pub fn channel_names(mode_names: &[String], aero: AeroChannels) -> Vec<String> {
     let mut v: Vec<String> = RIGID_CHANNELS.iter().map(|s| s.to_string()).collect();
     v.extend(mode_names.iter().map(|m| format!("eta_{m}")));
     v.extend(mode_names.iter().map(|m| format!("eta_dot_{m}")));
     v.extend(INVARIANT_CHANNELS.iter().map(|s| s.to_string()));
+    if aero.body {
+        v.extend(BODY_AERO_CHANNELS.iter().map(|s| s.to_string()));
+    }
+    if aero.fins > 0 {
+        v.extend(FIN_AERO_CHANNELS.iter().map(|s| s.to_string()));
+        for i in 1..=aero.fins {
+            v.push(format!("fin{i}_alpha"));
+            v.push(format!("fin{i}_root_stress"));
+        }
+    }
     v
 }
 
@@ -66,7 +108,10 @@ mod tests {
 
     #[test]
     fn modal_channels_sit_between_the_rigid_and_invariant_ones() {
-        let names = channel_names(&["body_bending_y1".into(), "fin1_flap".into()]);
+        let names = channel_names(
+            &["body_bending_y1".into(), "fin1_flap".into()],
+            AeroChannels::default(),
+        );
         assert_eq!(
             names.len(),
             RIGID_CHANNELS.len() + 4 + INVARIANT_CHANNELS.len()
@@ -87,5 +132,28 @@ mod tests {
         sorted.sort();
         sorted.dedup();
         assert_eq!(sorted.len(), names.len(), "column names are unique");
+    }
+
+    #[test]
+    fn aero_channels_follow_the_invariants_fin_by_fin() {
+        let names = channel_names(
+            &["fin1_flap".into()],
+            AeroChannels {
+                body: true,
+                fins: 2,
+            },
+        );
+        let k = RIGID_CHANNELS.len() + 2 + INVARIANT_CHANNELS.len();
+        assert_eq!(names[k], "body_aero_force_body_x");
+        assert_eq!(names[k + 6], "fin_aero_force_body_x");
+        assert_eq!(
+            names[k + 12..],
+            [
+                "fin1_alpha",
+                "fin1_root_stress",
+                "fin2_alpha",
+                "fin2_root_stress"
+            ]
+        );
     }
 }

@@ -23,7 +23,7 @@ use crate::runtime::thrust::{ThrustCurve, ThrustCurveError};
 use crate::structure::compile::CompiledVehicle;
 use crate::syntax::Span;
 
-pub use channels::channel_names;
+pub use channels::{AeroChannels, channel_names};
 
 /// Why a plan could not be made.
 #[derive(Debug, thiserror::Error)]
@@ -309,7 +309,17 @@ pub fn build(scenario: &Scenario, compiled: &CompiledVehicle) -> Result<Plan, Pl
             .map(|o| (o.path.clone(), o.value.clone()))
             .collect(),
         n_modes: n,
-        channels: channel_names(&mode_names),
+        channels: channel_names(
+            &mode_names,
+            AeroChannels {
+                body: vehicle.forces.body_aero.is_some(),
+                fins: if vehicle.forces.fin_aero.is_some() {
+                    vehicle.fins.as_ref().map_or(0, |f| f.count.value)
+                } else {
+                    0
+                },
+            },
+        ),
         mode_names,
         initial_state,
         integrator: IntegratorPlan {

@@ -20,7 +20,9 @@ use std::time::Instant;
 
 use super::atmosphere::{Atmosphere, Standard1976};
 use super::eom::{Eom, EomError, FreeFlight, StateView};
-use super::forces::{BodyAero, FinAero, ForceBlock, ForceBlocks, GravityBlock, ThrustBlock};
+use super::forces::{
+    AeroFault, BodyAero, FinAero, ForceBlock, ForceBlocks, GravityBlock, ThrustBlock,
+};
 use super::integrate::{AdaptiveOptions, DormandPrince54, Integrator, Rk4, StepStats, StopReason};
 use super::kinematics::{euler_angles, mat_vec, normalize_euler_parameters};
 use crate::check::ir;
@@ -66,6 +68,11 @@ pub enum RunStop {
     NonFinite,
     /// The step budget ran out.
     MaxSteps,
+    /// An aerodynamic coefficient table with the `stop` out-of-range policy was queried
+    /// outside its range (Mach, angle of attack or altitude).
+    AeroOutOfRange,
+    /// A fin root stress (5.6) exceeded the fin_aero `stress_limit` fraction of yield.
+    FinStress,
 }
 
 impl RunStop {
@@ -80,6 +87,8 @@ impl RunStop {
             RunStop::StepUnderflow => "step_underflow",
             RunStop::NonFinite => "non_finite",
             RunStop::MaxSteps => "max_steps",
+            RunStop::AeroOutOfRange => "aero_out_of_range",
+            RunStop::FinStress => "fin_stress",
         }
     }
 }
@@ -207,6 +216,132 @@ struct Monitor<'a> {
     eval: Eom<'a, FreeFlight>,
     gravity: Option<GravityBlock>,
     atmosphere: Standard1976,
+    /// A copy of the run's aerodynamic blocks, evaluated at accepted states for the stop
+    /// conditions they raise (table range, fin stress) and for the aero channels; the RHS
+    /// copies are never read from outside the integrator.
+    aero: AeroProbe,
+    /// What the stop condition saw (for the summary), set with the stop.
+    stop_note: Option<String>,
+}
+
+/// The aerodynamic blocks of a run outside its right-hand side, and what they gave at the
+/// last evaluated state.
+struct AeroProbe {
+    body: Option<BodyAero>,
+    fin: Option<FinAero>,
+    /// Undeformed centre of mass, body frame (moment reference of the aero channels).
+    cm: [f64; 3],
+    buf: Vec<f64>,
+    /// Body aero force and moment about `cm`, body axes.
+    body_load: [f64; 6],
+    /// Fin aero force and moment about `cm` (all fins), body axes.
+    fin_load: [f64; 6],
+}
+
+impl AeroProbe {
+    fn new(blocks: &ForceBlocks, model: &ReducedModel) -> Self {
+        let mut body = None;
+        let mut fin = None;
+        for b in &blocks.blocks {
+            match b {
+                ForceBlock::BodyAero(a) => body = Some((**a).clone()),
+                ForceBlock::FinAero(a) => fin = Some((**a).clone()),
+                _ => {}
+            }
+        }
+        let m = model.mass.max(f64::MIN_POSITIVE);
+        AeroProbe {
+            body,
+            fin,
+            cm: model.first_moment.map(|c| c / m),
+            buf: vec![0.0; 6 + model.n()],
+            body_load: [0.0; 6],
+            fin_load: [0.0; 6],
+        }
+    }
+
+    /// Force and moment about `cm` from the first six generalised forces (force, moment
+    /// about the body origin): `M_cm = M_o - r_cm × F`.
+    fn load_about_cm(cm: &[f64; 3], q: &[f64]) -> [f64; 6] {
+        let f = [q[0], q[1], q[2]];
+        let rf = crate::runtime::kinematics::cross(cm, &f);
+        [f[0], f[1], f[2], q[3] - rf[0], q[4] - rf[1], q[5] - rf[2]]
+    }
+
+    /// Evaluates the blocks at `(t, state)`; returns a stop condition they raise, with a note.
+    fn evaluate(&mut self, t: f64, s: &StateView) -> Option<(RunStop, String)> {
+        use crate::runtime::eom::ForceModel;
+        let mut hit = None;
+        if let Some(b) = &mut self.body {
+            b.clear_fault();
+            self.buf.fill(0.0);
+            b.generalized_forces(t, s, &mut self.buf);
+            self.body_load = Self::load_about_cm(&self.cm, &self.buf);
+            if let Some(f) = b.fault() {
+                hit = hit.or_else(|| fault_stop(f, "body"));
+            }
+        }
+        if let Some(b) = &mut self.fin {
+            b.clear_fault();
+            self.buf.fill(0.0);
+            b.generalized_forces(t, s, &mut self.buf);
+            self.fin_load = Self::load_about_cm(&self.cm, &self.buf);
+            if let Some(f) = b.fault() {
+                hit = hit.or_else(|| fault_stop(f, "fin"));
+            }
+            if let Some(i) = b.stress_limit_exceeded() {
+                let fraction = b
+                    .stress_model(i)
+                    .and_then(|m| m.yield_fraction(b.root_stress(i)))
+                    .unwrap_or(f64::NAN);
+                hit = hit.or_else(|| {
+                    Some((
+                        RunStop::FinStress,
+                        format!(
+                            "fin {} root stress {:.4e} Pa = {:.3} of yield",
+                            i + 1,
+                            b.root_stress(i),
+                            fraction
+                        ),
+                    ))
+                });
+            }
+        }
+        hit
+    }
+
+    /// The aero channels of the last evaluation (column order of [`crate::plan::channel_names`]).
+    fn channels(&self, r: &mut Vec<f64>) {
+        if self.body.is_some() {
+            r.extend_from_slice(&self.body_load);
+        }
+        if let Some(f) = &self.fin {
+            r.extend_from_slice(&self.fin_load);
+            for i in 0..f.n_fins() {
+                let sample = f.last(i).unwrap_or_default();
+                r.push(sample.alpha.to_degrees());
+                r.push(sample.root_stress);
+            }
+        }
+    }
+}
+
+/// The stop condition of an aerodynamic fault, with a note naming the block.
+fn fault_stop(f: AeroFault, block: &str) -> Option<(RunStop, String)> {
+    match f {
+        AeroFault::TableOutOfRange { axis, value } => Some((
+            RunStop::AeroOutOfRange,
+            format!(
+                "{block} coefficient table queried at {axis:?} = {value} outside its range (policy stop)"
+            ),
+        )),
+        AeroFault::NonFinite => Some((
+            RunStop::NonFinite,
+            format!("non-finite state in the {block} aerodynamics"),
+        )),
+        // The altitude range is its own stop condition, checked before.
+        AeroFault::Atmosphere { .. } => None,
+    }
 }
 
 impl Monitor<'_> {
@@ -236,8 +371,8 @@ impl Monitor<'_> {
         [0, 1, 2].map(|i| s.velocity[i] - wb[i] - wi_b[i])
     }
 
-    /// The stop condition met by the accepted state `x`, if any.
-    fn stop_condition(&self, t: f64, x: &[f64]) -> Option<RunStop> {
+    /// The stop condition met by the accepted state `x`, if any (its note in `stop_note`).
+    fn stop_condition(&mut self, t: f64, x: &[f64]) -> Option<RunStop> {
         let s = StateView::new(self.plan.layout(), x);
         let st = &self.plan.stop;
         if st.ground && s.position[2] >= 0.0 {
@@ -257,6 +392,10 @@ impl Monitor<'_> {
             if self.max_deformation(s.eta) > limit {
                 return Some(RunStop::MaxDeformation);
             }
+        }
+        if let Some((stop, note)) = self.aero.evaluate(t, &s) {
+            self.stop_note = Some(note);
+            return Some(stop);
         }
         None
     }
@@ -312,6 +451,9 @@ impl Monitor<'_> {
         r.extend_from_slice(&inv.momentum_inertial);
         r.extend_from_slice(&inv.angular_momentum_cm_body);
         r.extend_from_slice(&inv.angular_momentum_cm_inertial);
+        // The aero channels at this state (a stop raised here is the step check's business).
+        let _ = self.aero.evaluate(t, &s);
+        self.aero.channels(&mut r);
         Ok(r)
     }
 }
@@ -342,6 +484,7 @@ pub fn run(
 ) -> Result<RunOutput, RunError> {
     let started = Instant::now();
     let forces = build_force_blocks(plan, model, aero)?;
+    let probe = AeroProbe::new(&forces, model);
     let mut eom = Eom::new(model, forces)?;
     let layout = eom.layout();
     if plan.initial_state.len() != layout.len() {
@@ -357,6 +500,8 @@ pub fn run(
             .gravity()
             .map(|g| GravityBlock::new(model, g.altitude_correction)),
         atmosphere: Standard1976::new(),
+        aero: probe,
+        stop_note: None,
     };
     let mut integrator: Box<dyn Integrator> = match plan.integrator.method {
         ir::Integrator::Dopri5 => Box::new(DormandPrince54::new(AdaptiveOptions {
@@ -476,7 +621,14 @@ pub fn run(
     let (stop, detail) = match (stop_cond, report.stop) {
         (Some(s), _) => (
             s,
-            format!("{} at t = {} s", s.code(), stopped_at.unwrap_or(report.t)),
+            match &monitor.stop_note {
+                Some(note) => format!(
+                    "{} at t = {} s: {note}",
+                    s.code(),
+                    stopped_at.unwrap_or(report.t)
+                ),
+                None => format!("{} at t = {} s", s.code(), stopped_at.unwrap_or(report.t)),
+            },
         ),
         (None, StopReason::Completed) => (RunStop::Completed, "reached the stop time".into()),
         (None, StopReason::StepSizeUnderflow { t, h }) => (

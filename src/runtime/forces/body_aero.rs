@@ -142,7 +142,7 @@ pub fn aero_tables(v: &ir::Vehicle) -> Result<EstimatedTables, AeroForceError> {
                 out_of_range.value,
             )?,
         }),
-        AeroSource::Builtin => {
+        AeroSource::Builtin { out_of_range } => {
             let Structure::Generate(g) = &v.structure else {
                 return Err(AeroForceError::NoBodyGeometry);
             };
@@ -164,7 +164,7 @@ pub fn aero_tables(v: &ir::Vehicle) -> Result<EstimatedTables, AeroForceError> {
                 // No fins: a placeholder planform; the fin table is then never used.
                 None => FinPlanform::unswept_trailing_edge(0.1, 0.1, 0.1, 0.5 * b.diameter.value),
             };
-            Ok(EstimatedTables::estimate(&body, &fin, OutOfRange::Clamp)?)
+            Ok(EstimatedTables::estimate(&body, &fin, out_of_range.value)?)
         }
     }
 }

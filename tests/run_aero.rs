@@ -1,0 +1,119 @@
+//! Aerodynamic stops and channels of `flexflight run`: the fin root stress limit (5.6) and the
+//! coefficient tables' `stop` policy end a run cleanly, and the aero channels of
+//! `history.csv` agree with the flight condition.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn repo(p: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(p)
+}
+
+fn run(scenario: &str, out: &Path, sets: &[&str]) -> std::process::Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_flexflight"));
+    c.arg("run")
+        .arg(repo("examples/thesis/section_6_5.vdl"))
+        .args(["--scenario", scenario])
+        .arg("--out")
+        .arg(out)
+        .arg("--cache-dir")
+        .arg(Path::new(env!("CARGO_TARGET_TMPDIR")).join("run-aero-cache"));
+    for s in sets {
+        c.args(["--set", s]);
+    }
+    c.output().unwrap()
+}
+
+fn summary(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
+}
+
+/// Column `name` of `history.csv`, every value finite.
+fn column(dir: &Path, name: &str) -> Vec<f64> {
+    let text = std::fs::read_to_string(dir.join("history.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let i = header
+        .iter()
+        .position(|c| *c == name)
+        .unwrap_or_else(|| panic!("no column {name}"));
+    lines
+        .map(|l| {
+            let v: f64 = l.split(',').nth(i).unwrap().parse().unwrap();
+            assert!(v.is_finite());
+            v
+        })
+        .collect()
+}
+
+#[test]
+fn a_fluttering_fin_stops_the_run_at_yield() {
+    // 0.3 mm fins at 200 m/s, 5 km: the model flutters (see the README's 6.5 table) and the
+    // vehicle file sets `stress_limit = 1.0`.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("t03");
+    let o = run("subsonic_t03", &out, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s = summary(&out);
+    assert_eq!(s["stop_reason"], "fin_stress", "{s}");
+    let t_end = s["t_end"].as_f64().unwrap();
+    assert!(t_end > 0.01 && t_end < 1.0, "t_end {t_end}");
+    // The last row is the stopping state: one fin at yield (275 MPa), the others below.
+    let worst = (1..=4)
+        .map(|i| {
+            let c = column(&out, &format!("fin{i}_root_stress"));
+            c.last().unwrap().abs()
+        })
+        .fold(0.0, f64::max);
+    assert!((worst / 275e6 - 1.0).abs() < 1e-3, "worst stress {worst}");
+    let t = column(&out, "t");
+    assert!((t.last().unwrap() - t_end).abs() < 1e-12);
+}
+
+#[test]
+fn leaving_the_coefficient_grid_stops_with_the_stop_policy() {
+    // The built-in tables end at Mach 5; sphads1 asks for `out_of_range = stop`.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("fast");
+    let o = run(
+        "subsonic_t06",
+        &out,
+        &["initial.velocity=(2000, 0, 0) m/s", "run.stop_time=0.01 s"],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s = summary(&out);
+    assert_eq!(s["stop_reason"], "aero_out_of_range", "{s}");
+    let detail = s["stop_detail"].as_str().unwrap();
+    assert!(detail.contains("Mach"), "{detail}");
+    assert!(s["t_end"].as_f64().unwrap() < 1e-6);
+}
+
+#[test]
+fn aero_channels_follow_the_angle_of_attack() {
+    // alpha = atan(5/200) = 1.432 deg, level attitude, fins straight: the horizontal fins
+    // (1 and 3, span along +-y) see the body's alpha, the vertical ones (2 and 4) none. Each
+    // fin's alpha is measured in its own frame (5.4.1): fin 3 (delta = 180 deg) has its
+    // normal along -z, so its alpha is -1.432 deg, and both push the vehicle up (-z).
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("alpha");
+    let o = run(
+        "subsonic_t06",
+        &out,
+        &["initial.velocity=(200, 0, 5) m/s", "run.stop_time=0.002 s"],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let alpha = (5.0f64 / 200.0).atan().to_degrees();
+    for (fin, expected) in [(1, alpha), (2, 0.0), (3, -alpha), (4, 0.0)] {
+        let a = column(&out, &format!("fin{fin}_alpha"))[0];
+        assert!((a - expected).abs() < 1e-9, "fin {fin}: {a} vs {expected}");
+    }
+    assert!(column(&out, "body_aero_force_body_z")[0] < 0.0);
+    assert!(column(&out, "fin_aero_force_body_z")[0] < 0.0);
+    // Fins aft of the mass centre: their normal force pitches the nose down (negative
+    // moment about body y in the x-forward, z-down frame).
+    assert!(column(&out, "fin_aero_moment_cm_body_y")[0] < 0.0);
+    let s1 = column(&out, "fin1_root_stress")[0].abs();
+    let s2 = column(&out, "fin2_root_stress")[0].abs();
+    assert!(s1 > 1e3, "fin 1 stress {s1} Pa");
+    assert!(s2 < 1e-9 * s1, "fin 2 stress {s2} Pa (no incidence)");
+}
