@@ -111,7 +111,7 @@ pub struct RunOutput {
 
 /// The aerodynamic blocks of a run, built before it from the scenario's vehicle and the
 /// compiled structure (tables read or estimated, fin load weights, key-node shape rows).
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub struct AeroBlocks {
     pub body: Option<BodyAero>,
     pub fin: Option<FinAero>,
@@ -173,6 +173,31 @@ pub fn build_aero_blocks(
         None
     };
     Ok((AeroBlocks { body, fin }, Some(tables)))
+}
+
+/// The stop condition the aerodynamic blocks raise at the plan's initial state, if any: an
+/// initial condition outside a coefficient table with the `stop` policy, or a fin already
+/// beyond its stress limit. Callers report it as a diagnostic before anything runs.
+pub fn check_initial_state(
+    plan: &Plan,
+    model: &ReducedModel,
+    aero: &AeroBlocks,
+) -> Option<(RunStop, String)> {
+    if plan.initial_state.len() != plan.layout().len() {
+        return None; // `run` reports the shape error itself
+    }
+    let mut blocks = ForceBlocks::default();
+    if let Some(b) = &aero.body {
+        blocks
+            .blocks
+            .push(ForceBlock::BodyAero(Box::new(b.clone())));
+    }
+    if let Some(f) = &aero.fin {
+        blocks.blocks.push(ForceBlock::FinAero(Box::new(f.clone())));
+    }
+    let mut probe = AeroProbe::new(&blocks, model);
+    let s = StateView::new(plan.layout(), &plan.initial_state);
+    probe.evaluate(0.0, &s)
 }
 
 /// The force blocks of the plan, in plan order.

@@ -499,6 +499,36 @@ impl FinLoadTable {
         })
     }
 
+    /// The Mach grid of the table.
+    pub fn machs(&self) -> &[f64] {
+        &self.machs
+    }
+
+    /// The weights at grid Mach `i` (empty past the grid).
+    pub fn grid_weights(&self, i: usize) -> &[f64] {
+        self.weights
+            .get(i * self.n_nodes..(i + 1) * self.n_nodes)
+            .unwrap_or(&[])
+    }
+
+    /// Interpolation bracket at `mach` (clamped to the grid): the weights there are
+    /// `(1 - t) w_i + t w_(i+1)` (`t = 0` on a one-point grid).
+    pub fn bracket(&self, mach: f64) -> Result<(usize, f64), FinLoadError> {
+        if !mach.is_finite() {
+            return Err(FinLoadError::BadMach(mach));
+        }
+        let m = mach.clamp(self.machs[0], self.machs[self.machs.len() - 1]);
+        if self.machs.len() == 1 {
+            return Ok((0, 0.0));
+        }
+        let upper = self
+            .machs
+            .partition_point(|&x| x <= m)
+            .clamp(1, self.machs.len() - 1);
+        let i = upper - 1;
+        Ok((i, (m - self.machs[i]) / (self.machs[i + 1] - self.machs[i])))
+    }
+
     /// Weights at `mach` into `out` (length = number of nodes).
     pub fn weights_at(&self, mach: f64, out: &mut [f64]) -> Result<(), FinLoadError> {
         if out.len() != self.n_nodes {
@@ -508,20 +538,7 @@ impl FinLoadTable {
                 self.n_nodes
             )));
         }
-        if !mach.is_finite() {
-            return Err(FinLoadError::BadMach(mach));
-        }
-        let m = mach.clamp(self.machs[0], self.machs[self.machs.len() - 1]);
-        let upper = self
-            .machs
-            .partition_point(|&x| x <= m)
-            .clamp(1, self.machs.len().max(2) - 1);
-        let (i, t) = if self.machs.len() == 1 {
-            (0, 0.0)
-        } else {
-            let i = upper - 1;
-            (i, (m - self.machs[i]) / (self.machs[i + 1] - self.machs[i]))
-        };
+        let (i, t) = self.bracket(mach)?;
         let n = self.n_nodes;
         for (k, o) in out.iter_mut().enumerate() {
             let lo = self.weights[i * n + k];

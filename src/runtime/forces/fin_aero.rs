@@ -38,7 +38,10 @@
 //!    the nearest body node m: translation rows `S_u,m - o^× S_θ,m`, `o` the offset from m.
 //! 7. Generalised forces: `F_B += Σ f_k`, `G_B += Σ (r_k + u_k) × f_k` (the moment of the
 //!    distributed loads, (5.4.16) evaluated node by node so that the rigid moment and the
-//!    modal forces come from the same virtual work), `Q += Σ S_kᵀ f_k` (5.4.21).
+//!    modal forces come from the same virtual work), `Q += Σ S_kᵀ f_k` (5.4.21). Since
+//!    `f_k = w_k F_Bf`, the node sums are lumped once per grid Mach (`Σ w_k S_k`,
+//!    `Σ w_k r_k`, `Σ w_k (y_k - y_root)`) and interpolated in Mach like the weights: exact,
+//!    O(n) per fin and evaluation.
 //! 8. Root stress (5.6): the root bending moment of the normal loads,
 //!    `M = Σ_k w_k F_fz (y_k - y_root)`, through [`FinRootStress`].
 //!
@@ -88,14 +91,18 @@ struct Fin {
     c_nominal: Mat3,
     /// Nominal angular position δ_i, rad.
     delta: f64,
-    /// Translation shape rows of the fin nodes, row-major `(3 k + d) * n`.
-    rows: Vec<f64>,
     positions: Vec<[f64; 3]>,
-    /// `y_k - y_root`, m.
-    span_arm: Vec<f64>,
     nodes: Vec<FinNode>,
     loads: FinLoadTable,
-    weights: Vec<f64>,
+    /// The distribution lumped per grid Mach g (stride `3 n + 4`): `Σ_k w_k S_k` (3 x n,
+    /// row-major), `Σ_k w_k r_k` (3), `Σ_k w_k (y_k - y_root)` (1). Every node carries the
+    /// same force direction, `f_k = w_k F_Bf`, so the sums of step 7 of the module doc factor:
+    /// `Σ_k S_kᵀ f_k = (Σ_k w_k S_k)ᵀ F_Bf`, `Σ_k (r_k + u_k) × f_k = (Σ_k w_k (r_k + S_k η))
+    /// × F_Bf`, and the root moment `F_fz Σ_k w_k (y_k - y_root)`: exact, and O(n) per fin
+    /// instead of O(nodes n).
+    lumped: Vec<f64>,
+    /// The lumped distribution at the current Mach (stride `3 n + 4`).
+    lumped_now: Vec<f64>,
     stress: FinRootStress,
     last: FinSample,
 }
@@ -214,14 +221,29 @@ impl FinAero {
                 }
             }
             let loads = FinLoadTable::new(&planform(f, y_root), &nodes, &machs, model)?;
+            let stride = 3 * n + 4;
+            let mut lumped = vec![0.0; loads.machs().len() * stride];
+            for (g, chunk) in lumped.chunks_exact_mut(stride).enumerate() {
+                for (k, &w) in loads.grid_weights(g).iter().enumerate() {
+                    for (acc, s) in chunk[..3 * n]
+                        .iter_mut()
+                        .zip(&rows[3 * k * n..3 * (k + 1) * n])
+                    {
+                        *acc += w * s;
+                    }
+                    for d in 0..3 {
+                        chunk[3 * n + d] += w * positions[k][d];
+                    }
+                    chunk[3 * n + 3] += w * span_arm[k];
+                }
+            }
             fins.push(Fin {
                 key: NodeRows::new(c, c.key_fins[i] as usize, "fin key node")?,
                 c_nominal,
                 delta,
-                rows,
                 positions,
-                span_arm,
-                weights: vec![0.0; nodes.len()],
+                lumped,
+                lumped_now: vec![0.0; 3 * n + 4],
                 nodes,
                 loads,
                 stress: FinRootStress {
@@ -295,9 +317,15 @@ impl FinAero {
         self.fins.get(fin).map_or(&[], |f| &f.positions)
     }
 
-    /// The load weights of the last evaluation (sum 1), one per fin node.
-    pub fn weights(&self, fin: usize) -> &[f64] {
-        self.fins.get(fin).map_or(&[], |f| &f.weights)
+    /// The load weights at the Mach number of the last evaluation (sum 1), one per fin node.
+    pub fn weights(&self, fin: usize) -> Vec<f64> {
+        self.fins.get(fin).map_or_else(Vec::new, |f| {
+            let mut w = vec![0.0; f.nodes.len()];
+            match f.loads.weights_at(f.last.mach, &mut w) {
+                Ok(()) => w,
+                Err(_) => Vec::new(),
+            }
+        })
     }
 
     /// The first fault met since construction.
@@ -422,34 +450,40 @@ impl ForceModel for FinAero {
             let f_n = mat_t_vec(&fin.c_nominal, &f_f);
             let tf = cross(&theta, &f_n);
             let f_b = [0, 1, 2].map(|k| f_n[k] + tf[k]);
-            if fin.loads.weights_at(m_q, &mut fin.weights).is_err() {
+            let Ok((g, tg)) = fin.loads.bracket(m_q) else {
                 self.fault.get_or_insert(AeroFault::NonFinite);
                 continue;
-            }
-            let mut root_moment = 0.0;
-            for (k, &w_k) in fin.weights.iter().enumerate() {
-                let f_k = [w_k * f_b[0], w_k * f_b[1], w_k * f_b[2]];
-                let rows = &fin.rows[3 * k * n..3 * (k + 1) * n];
-                let mut pos = fin.positions[k];
-                for (d, x) in pos.iter_mut().enumerate() {
-                    *x += rows[d * n..(d + 1) * n]
-                        .iter()
-                        .zip(state.eta)
-                        .map(|(s, e)| s * e)
-                        .sum::<f64>();
+            };
+            let stride = 3 * n + 4;
+            let lo = &fin.lumped[g * stride..(g + 1) * stride];
+            if tg == 0.0 {
+                fin.lumped_now.copy_from_slice(lo);
+            } else {
+                let hi = &fin.lumped[(g + 1) * stride..(g + 2) * stride];
+                for ((o, a), b) in fin.lumped_now.iter_mut().zip(lo).zip(hi) {
+                    *o = (1.0 - tg) * a + tg * b;
                 }
-                let m_k = cross(&pos, &f_k);
-                for d in 0..3 {
-                    out[d] += f_k[d];
-                    out[3 + d] += m_k[d];
-                    if f_k[d] != 0.0 {
-                        for (qm, s) in out[6..6 + n].iter_mut().zip(&rows[d * n..(d + 1) * n]) {
-                            *qm += s * f_k[d];
-                        }
-                    }
-                }
-                root_moment += w_k * f_f[2] * fin.span_arm[k];
             }
+            let (sw, rest) = fin.lumped_now.split_at(3 * n);
+            // Load-weighted deformed position Σ w_k (r_k + S_k η) and its moment (5.4.16).
+            let mut pos = [rest[0], rest[1], rest[2]];
+            for (d, p) in pos.iter_mut().enumerate() {
+                *p += sw[d * n..(d + 1) * n]
+                    .iter()
+                    .zip(state.eta)
+                    .map(|(s, e)| s * e)
+                    .sum::<f64>();
+            }
+            let m_b = cross(&pos, &f_b);
+            for d in 0..3 {
+                out[d] += f_b[d];
+                out[3 + d] += m_b[d];
+                // Modal forces (5.4.21): (Σ w_k S_k)ᵀ F_Bf.
+                for (qm, s) in out[6..6 + n].iter_mut().zip(&sw[d * n..(d + 1) * n]) {
+                    *qm += s * f_b[d];
+                }
+            }
+            let root_moment = f_f[2] * rest[3];
             fin.last = FinSample {
                 alpha,
                 mach,
