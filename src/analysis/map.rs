@@ -117,6 +117,51 @@ pub struct Boundary {
     pub tn4197: BoundaryMach,
 }
 
+/// Where the stability boundary lies along the thickness axis at one Mach number.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case", tag = "status", content = "thickness")]
+pub enum CriticalThickness {
+    /// Every thicker fin of the map is stable: the highest thickness where the quantity
+    /// crosses zero downwards (unstable below, stable above), by linear interpolation.
+    Crossing(f64),
+    /// Stable at every thickness of the map.
+    BelowRange,
+    /// Unstable at the thickest fin of the map.
+    AboveRange,
+}
+
+/// Per Mach: the critical thickness of the model (sigma_d = 0) and of TN 4197
+/// (flutter Mach = Mach), the thesis' way of reading Figs 6.3-6.8.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MachBoundary {
+    pub mach: f64,
+    pub model: CriticalThickness,
+    pub tn4197: CriticalThickness,
+}
+
+/// The thickness above which `f` stays negative (stable): the highest downward zero
+/// crossing of `f` along `ys` (ascending), by linear interpolation; NaN points skipped.
+pub fn critical_thickness(ys: &[f64], f: &[f64]) -> CriticalThickness {
+    let pts: Vec<(f64, f64)> = ys
+        .iter()
+        .zip(f)
+        .filter(|(_, v)| v.is_finite())
+        .map(|(y, v)| (*y, *v))
+        .collect();
+    match pts.last() {
+        None => return CriticalThickness::BelowRange,
+        Some((_, v)) if *v >= 0.0 => return CriticalThickness::AboveRange,
+        Some(_) => {}
+    }
+    for w in pts.windows(2).rev() {
+        let ((y0, v0), (y1, v1)) = (w[0], w[1]);
+        if v0 >= 0.0 && v1 < 0.0 {
+            return CriticalThickness::Crossing(y0 + (y1 - y0) * v0 / (v0 - v1));
+        }
+    }
+    CriticalThickness::BelowRange
+}
+
 /// A grid axis `A:B:N`: N equally spaced values from A to B.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GridRange {
@@ -297,6 +342,49 @@ impl PlanarMap {
             .collect()
     }
 
+    /// Per Mach: the model's and the TN 4197 critical thickness.
+    pub fn mach_boundaries(&self) -> Vec<MachBoundary> {
+        let ys = &self.map.ys;
+        self.map
+            .xs
+            .iter()
+            .enumerate()
+            .map(|(ix, &mach)| {
+                let sigma: Vec<f64> = self.map.sigma.iter().map(|r| r[ix]).collect();
+                let excess: Vec<f64> = self.tn4197_mach.iter().map(|r| mach - r[ix]).collect();
+                MachBoundary {
+                    mach,
+                    model: critical_thickness(ys, &sigma),
+                    tn4197: critical_thickness(ys, &excess),
+                }
+            })
+            .collect()
+    }
+
+    /// `critical_thickness.csv`: per Mach, the model's and the TN 4197 critical thickness.
+    pub fn write_critical_thickness_csv(&self, path: &Path) -> Result<(), csv::Error> {
+        let mut w = csv::Writer::from_path(path)?;
+        w.write_record([
+            "mach",
+            "model_critical_thickness_m",
+            "model_status",
+            "tn4197_critical_thickness_m",
+            "tn4197_status",
+        ])?;
+        let cell = |c: CriticalThickness| match c {
+            CriticalThickness::Crossing(t) => (t.to_string(), "crossing"),
+            CriticalThickness::BelowRange => (String::new(), "below_range"),
+            CriticalThickness::AboveRange => (String::new(), "above_range"),
+        };
+        for b in self.mach_boundaries() {
+            let (m, ms) = cell(b.model);
+            let (t, ts) = cell(b.tn4197);
+            w.write_record([b.mach.to_string(), m, ms.to_string(), t, ts.to_string()])?;
+        }
+        w.flush()?;
+        Ok(())
+    }
+
     /// `map.csv`: one row per point, thickness slowest.
     pub fn write_csv(&self, path: &Path) -> Result<(), csv::Error> {
         let mut w = csv::Writer::from_path(path)?;
@@ -361,6 +449,21 @@ mod tests {
         for bad in ["1:2", "a:2:3", "1:2:0", "2:1:5", "0:1:5", "1:2:1", "1:inf:3"] {
             assert!(GridRange::parse(bad).is_err(), "{bad} accepted");
         }
+    }
+
+    #[test]
+    fn critical_thickness_is_the_highest_downward_crossing() {
+        let ys = [0.1, 0.2, 0.3, 0.4];
+        // Unstable, stable, unstable, stable: the last crossing (0.3 -> 0.4) counts.
+        assert_eq!(
+            critical_thickness(&ys, &[1.0, -1.0, 1.0, -3.0]),
+            CriticalThickness::Crossing(0.325)
+        );
+        assert_eq!(critical_thickness(&ys, &[-1.0; 4]), CriticalThickness::BelowRange);
+        assert_eq!(
+            critical_thickness(&ys, &[-1.0, -1.0, -1.0, 0.5]),
+            CriticalThickness::AboveRange
+        );
     }
 
     #[test]

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{ArgGroup, Args, Subcommand};
 
-use crate::analysis::map::{BoundaryMach, GridRange, planar_map};
+use crate::analysis::map::{BoundaryMach, CriticalThickness, GridRange, planar_map};
 use crate::analysis::planar::{
     self, Altitude, PlanarAnalysis, PlanarError, PlanarKind, PlanarVehicle, Speed,
 };
@@ -376,6 +376,10 @@ fn cmd_map(a: &MapArgs, term: Terminal) -> u8 {
     for (name, r) in [
         ("map.csv", m.write_csv(&a.out.join("map.csv"))),
         ("boundary.csv", m.write_boundary_csv(&a.out.join("boundary.csv"))),
+        (
+            "critical_thickness.csv",
+            m.write_critical_thickness_csv(&a.out.join("critical_thickness.csv")),
+        ),
     ] {
         if let Err(e) = r {
             eprintln!("error: cannot write `{}`: {e}", a.out.join(name).display());
@@ -395,7 +399,16 @@ fn cmd_map(a: &MapArgs, term: Terminal) -> u8 {
     for b in m.boundaries() {
         let _ = writeln!(s, "{:>14.4} {:>16} {:>16}", b.thickness * 1e3, show(b.model), show(b.tn4197));
     }
-    let _ = writeln!(s, "wrote {} and {}", a.out.join("map.csv").display(), a.out.join("boundary.csv").display());
+    let _ = writeln!(s, "{:>8} {:>22} {:>22}", "Mach", "model t_crit (mm)", "TN 4197 t_crit (mm)");
+    let show_t = |c: CriticalThickness| match c {
+        CriticalThickness::Crossing(t) => format!("{:.4}", t * 1e3),
+        CriticalThickness::BelowRange => "below range".to_string(),
+        CriticalThickness::AboveRange => "above range".to_string(),
+    };
+    for b in m.mach_boundaries() {
+        let _ = writeln!(s, "{:>8.4} {:>22} {:>22}", b.mach, show_t(b.model), show_t(b.tn4197));
+    }
+    let _ = writeln!(s, "wrote map.csv, boundary.csv and critical_thickness.csv in {}", a.out.display());
     match format {
         Format::Human => print!("{s}"),
         Format::Json => println!(
@@ -405,6 +418,7 @@ fn cmd_map(a: &MapArgs, term: Terminal) -> u8 {
                 "points": total,
                 "failed": failed,
                 "boundaries": m.boundaries(),
+                "critical_thickness": m.mach_boundaries(),
                 "out": a.out,
             }))
             .unwrap_or_default()

@@ -196,6 +196,13 @@ pub fn state_matrix(
         .mass
         .llt(faer::Side::Lower)
         .map_err(|_| mass_error())?;
+    // A singular M can factor in floating point: demand every pivot L_ii^2 above
+    // round-off relative to the largest diagonal entry of M.
+    let scale = (0..n).map(|i| sys.mass[(i, i)].abs()).fold(0.0, f64::max);
+    let l = llt.L();
+    if (0..n).any(|i| !(l[(i, i)] * l[(i, i)] > 1e-12 * scale)) {
+        return Err(mass_error());
+    }
     // [-C, -K] solved by M.
     let mut rhs = Mat::<f64>::zeros(n, 2 * n);
     for i in 0..n {
