@@ -8,9 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use flexflight::analysis::map::{CriticalThickness, planar_map};
-use flexflight::analysis::planar::{
-    self, Altitude, PlanarKind, PlanarVehicle, Speed, Stability,
-};
+use flexflight::analysis::planar::{self, Altitude, PlanarKind, PlanarVehicle, Speed, Stability};
 use flexflight::check::{DiskLoader, check_files};
 
 fn repo(p: &str) -> PathBuf {
@@ -47,7 +45,10 @@ fn thickness_variant_mass_properties_match_a_recompile() {
     assert!((predicted.mass - actual.mass).abs() < 1e-6 * actual.mass);
     assert!((predicted.x_cg - actual.x_cg).abs() < 1e-4, "x_cg");
     // The neglected spread of the plate about its centroid: well under 1 %.
-    assert!((predicted.inertia - actual.inertia).abs() < 2e-3 * actual.inertia, "J");
+    assert!(
+        (predicted.inertia - actual.inertia).abs() < 2e-3 * actual.inertia,
+        "J"
+    );
 }
 
 #[test]
@@ -59,11 +60,18 @@ fn unpinned_equilibrium_balances_drag_and_weight() {
         let c = v.condition_at_mach(h, mach).unwrap();
         let drag = v.axial_force(&c).unwrap();
         eprintln!("Mach {mach}: equilibrium altitude {h:.1} m");
-        assert!((drag - m * c.gravity).abs() < 1e-6 * drag, "{drag} vs {}", m * c.gravity);
+        assert!(
+            (drag - m * c.gravity).abs() < 1e-6 * drag,
+            "{drag} vs {}",
+            m * c.gravity
+        );
     }
     // Subsonic enough that even sea-level air cannot hold the weight: a typed error.
     let e = planar::equilibrium_altitude(&v, m, Speed::Mach(0.3)).unwrap_err();
-    assert!(matches!(e, planar::PlanarError::NoEquilibrium { .. }), "{e}");
+    assert!(
+        matches!(e, planar::PlanarError::NoEquilibrium { .. }),
+        "{e}"
+    );
 }
 
 #[test]
@@ -100,7 +108,13 @@ fn analyze_planar_prints_matrices_and_eigenvalues_as_json() {
         let o = bin()
             .args(["analyze", "planar", flag])
             .arg(repo("examples/thesis/section_6_5.vdl"))
-            .args(["--scenario", "supersonic_t10", "--format", "json", "--cache-dir"])
+            .args([
+                "--scenario",
+                "supersonic_t10",
+                "--format",
+                "json",
+                "--cache-dir",
+            ])
             .arg(cache())
             .output()
             .unwrap();
@@ -110,8 +124,10 @@ fn analyze_planar_prints_matrices_and_eigenvalues_as_json() {
         assert_eq!(a["eigenvalues"].as_array().unwrap().len(), n_state);
         assert_eq!(a["state_matrix"].as_array().unwrap().len(), n_state);
         assert!(a["parameters"]["fin_stiffness"].as_f64().unwrap() > 0.0);
-        assert!(["stable", "neutral", "flutter", "divergence"]
-            .contains(&a["verdict"]["class"].as_str().unwrap()));
+        assert!(
+            ["stable", "neutral", "flutter", "divergence"]
+                .contains(&a["verdict"]["class"].as_str().unwrap())
+        );
     }
 }
 
@@ -141,7 +157,12 @@ fn analyze_map_writes_the_grid() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = std::fs::read_to_string(out.join("map.csv")).unwrap();
     let mut lines = text.lines();
-    assert!(lines.next().unwrap().starts_with("thickness_m,mach,altitude_m"));
+    assert!(
+        lines
+            .next()
+            .unwrap()
+            .starts_with("thickness_m,mach,altitude_m")
+    );
     assert_eq!(lines.count(), 20);
     assert!(out.join("boundary.csv").is_file());
     assert!(out.join("critical_thickness.csv").is_file());
@@ -172,7 +193,11 @@ fn bad_input_gives_diagnostics_and_nonzero_exit() {
         .output()
         .unwrap();
     assert_eq!(o.status.code(), Some(1), "{}", stderr_of(&o));
-    assert!(stderr_of(&o).contains("analysis::planar::no_fins"), "{}", stderr_of(&o));
+    assert!(
+        stderr_of(&o).contains("analysis::planar::no_fins"),
+        "{}",
+        stderr_of(&o)
+    );
 
     // An empty thickness range.
     let o = bin()
@@ -184,7 +209,11 @@ fn bad_input_gives_diagnostics_and_nonzero_exit() {
         .output()
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr_of(&o).contains("analysis::range"), "{}", stderr_of(&o));
+    assert!(
+        stderr_of(&o).contains("analysis::range"),
+        "{}",
+        stderr_of(&o)
+    );
     assert!(!dir.path().join("never").exists());
 
     // 200 m/s: drag cannot balance SPHADS-1's weight anywhere in the atmosphere.

@@ -430,7 +430,13 @@ impl PlanarMap {
         for b in self.boundaries() {
             let (m, ms) = b.model.csv();
             let (t, ts) = b.tn4197.csv();
-            w.write_record([b.thickness.to_string(), m, ms.to_string(), t, ts.to_string()])?;
+            w.write_record([
+                b.thickness.to_string(),
+                m,
+                ms.to_string(),
+                t,
+                ts.to_string(),
+            ])?;
         }
         w.flush()?;
         Ok(())
@@ -446,7 +452,9 @@ mod tests {
         let r = GridRange::parse("0.5:1.5:3").unwrap();
         assert_eq!(r.values(), vec![0.5, 1.0, 1.5]);
         assert_eq!(GridRange::parse("2:2:1").unwrap().values(), vec![2.0]);
-        for bad in ["1:2", "a:2:3", "1:2:0", "2:1:5", "0:1:5", "1:2:1", "1:inf:3"] {
+        for bad in [
+            "1:2", "a:2:3", "1:2:0", "2:1:5", "0:1:5", "1:2:1", "1:inf:3",
+        ] {
             assert!(GridRange::parse(bad).is_err(), "{bad} accepted");
         }
     }
@@ -459,7 +467,10 @@ mod tests {
             critical_thickness(&ys, &[1.0, -1.0, 1.0, -3.0]),
             CriticalThickness::Crossing(0.325)
         );
-        assert_eq!(critical_thickness(&ys, &[-1.0; 4]), CriticalThickness::BelowRange);
+        assert_eq!(
+            critical_thickness(&ys, &[-1.0; 4]),
+            CriticalThickness::BelowRange
+        );
         assert_eq!(
             critical_thickness(&ys, &[-1.0, -1.0, -1.0, 0.5]),
             CriticalThickness::AboveRange
@@ -474,7 +485,10 @@ mod tests {
             lowest_crossing(&xs, &[-2.0, -1.0, 1.0, 3.0]),
             BoundaryMach::Crossing(1.25)
         );
-        assert_eq!(lowest_crossing(&xs, &[0.1, 1.0, 1.0, 3.0]), BoundaryMach::BelowRange);
+        assert_eq!(
+            lowest_crossing(&xs, &[0.1, 1.0, 1.0, 3.0]),
+            BoundaryMach::BelowRange
+        );
         assert_eq!(lowest_crossing(&xs, &[-1.0; 4]), BoundaryMach::AboveRange);
         // NaN points are skipped: the crossing is between 0.5 and 1.5.
         assert_eq!(

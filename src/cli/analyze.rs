@@ -24,8 +24,7 @@ use crate::syntax::SourceMap;
 
 use super::compile::compile_cached;
 use super::{
-    CacheArgs, Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, emit,
-    load_program,
+    CacheArgs, Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, emit, load_program,
 };
 
 /// The analyses.
@@ -264,35 +263,112 @@ pub fn analysis_text(v: &PlanarVehicle, r: &PlanarAnalysis) -> String {
     let mp = &p.mass_properties;
     let f = &v.fins;
     let mut s = String::new();
-    let opt = |x: Option<f64>| x.map_or("none (body load is a couple)".to_string(), |x| format!("{x:.6} m"));
-    let _ = writeln!(s, "planar {} model (thesis {}), vehicle {}", p.kind.name(),
-        if p.kind == PlanarKind::Pinned { "6.1" } else { "6.2" }, v.name);
+    let opt = |x: Option<f64>| {
+        x.map_or("none (body load is a couple)".to_string(), |x| {
+            format!("{x:.6} m")
+        })
+    };
+    let _ = writeln!(
+        s,
+        "planar {} model (thesis {}), vehicle {}",
+        p.kind.name(),
+        if p.kind == PlanarKind::Pinned {
+            "6.1"
+        } else {
+            "6.2"
+        },
+        v.name
+    );
     let _ = writeln!(s, "flight condition");
     let _ = writeln!(s, "  altitude            {:.3} m", c.altitude);
-    let _ = writeln!(s, "  airspeed V          {:.4} m/s   Mach {:.5}", c.speed, c.mach);
-    let _ = writeln!(s, "  density             {:.6e} kg/m^3   pressure {:.6e} Pa   a {:.4} m/s", c.density, c.pressure, c.speed_of_sound);
-    let _ = writeln!(s, "  dynamic pressure q  {:.6e} Pa   g {:.5} m/s^2", c.dynamic_pressure, c.gravity);
+    let _ = writeln!(
+        s,
+        "  airspeed V          {:.4} m/s   Mach {:.5}",
+        c.speed, c.mach
+    );
+    let _ = writeln!(
+        s,
+        "  density             {:.6e} kg/m^3   pressure {:.6e} Pa   a {:.4} m/s",
+        c.density, c.pressure, c.speed_of_sound
+    );
+    let _ = writeln!(
+        s,
+        "  dynamic pressure q  {:.6e} Pa   g {:.5} m/s^2",
+        c.dynamic_pressure, c.gravity
+    );
     let _ = writeln!(s, "vehicle (fin thickness t = {:.4e} m)", p.thickness);
-    let _ = writeln!(s, "  mass m              {:.6} kg   weight W {:.6e} N", mp.mass, p.weight);
-    let _ = writeln!(s, "  centre of mass x    {:.6} m   pitch inertia J {:.6e} kg m^2", mp.x_cg, mp.inertia);
-    let _ = writeln!(s, "  fins                {} (pitch-plane n_eff {:.4}), span L {:.5} m, mean chord c {:.5} m, area S_f {:.6e} m^2", f.count, p.pitch_plane_fins, f.span, f.mean_chord, p.fin_area);
-    let _ = writeln!(s, "  fin material        E {:.4e} Pa, rho {:.1} kg/m^3, nu {:.4}", f.youngs_modulus, f.density, f.poisson);
-    let _ = writeln!(s, "  I = c t^3/12        {:.6e} m^4 (6.11)", p.fin_bending_inertia);
-    let _ = writeln!(s, "  k = n_eff 24EI/L^3  {:.6e} N/m (6.10)", p.fin_stiffness);
+    let _ = writeln!(
+        s,
+        "  mass m              {:.6} kg   weight W {:.6e} N",
+        mp.mass, p.weight
+    );
+    let _ = writeln!(
+        s,
+        "  centre of mass x    {:.6} m   pitch inertia J {:.6e} kg m^2",
+        mp.x_cg, mp.inertia
+    );
+    let _ = writeln!(
+        s,
+        "  fins                {} (pitch-plane n_eff {:.4}), span L {:.5} m, mean chord c {:.5} m, area S_f {:.6e} m^2",
+        f.count, p.pitch_plane_fins, f.span, f.mean_chord, p.fin_area
+    );
+    let _ = writeln!(
+        s,
+        "  fin material        E {:.4e} Pa, rho {:.1} kg/m^3, nu {:.4}",
+        f.youngs_modulus, f.density, f.poisson
+    );
+    let _ = writeln!(
+        s,
+        "  I = c t^3/12        {:.6e} m^4 (6.11)",
+        p.fin_bending_inertia
+    );
+    let _ = writeln!(
+        s,
+        "  k = n_eff 24EI/L^3  {:.6e} N/m (6.10)",
+        p.fin_stiffness
+    );
     let _ = writeln!(s, "  m_f                 {:.6e} kg", p.fin_mass);
     let _ = writeln!(s, "geometry");
-    let _ = writeln!(s, "  S {:.6e} m^2, b {:.5} m", p.reference_area, p.reference_length);
+    let _ = writeln!(
+        s,
+        "  S {:.6e} m^2, b {:.5} m",
+        p.reference_area, p.reference_length
+    );
     let _ = writeln!(s, "  body c.p. x         {}", opt(p.x_cp_body));
     let _ = writeln!(s, "  a (forward of c.g.) {}", opt(p.a));
-    let _ = writeln!(s, "  fin c.p. x          {:.6} m   d (aft of c.g.) {:.6} m", p.x_cp_fin, p.d);
+    let _ = writeln!(
+        s,
+        "  fin c.p. x          {:.6} m   d (aft of c.g.) {:.6} m",
+        p.x_cp_fin, p.d
+    );
     let ae = &p.aero;
     let _ = writeln!(s, "coefficients (runtime tables, alpha = 0, per rad)");
-    let _ = writeln!(s, "  body C_Nalpha {:.6}  C_Malpha(ref) {:.6}  C_A {:.6}  dC_A/dMach {:.6}  C_Aalpha {:.6}", ae.cn_alpha_body, ae.cm_alpha_body, ae.ca_body, ae.ca_mach_body, ae.ca_alpha_body);
-    let _ = writeln!(s, "  fin  C_Nalpha {:.6}  C_A {:.6}  dC_A/dMach {:.6}  C_Aalpha {:.6}  x_cp {:.6} m aft of root LE (one fin, on S)", ae.cn_alpha_fin, ae.ca_fin, ae.ca_mach_fin, ae.ca_alpha_fin, ae.x_cp_fin);
-    let _ = writeln!(s, "  rate derivatives    C_Nalpha-dot {:.4}  C_Malpha-dot {:.4}", p.cn_alpha_dot, p.cm_alpha_dot);
+    let _ = writeln!(
+        s,
+        "  body C_Nalpha {:.6}  C_Malpha(ref) {:.6}  C_A {:.6}  dC_A/dMach {:.6}  C_Aalpha {:.6}",
+        ae.cn_alpha_body, ae.cm_alpha_body, ae.ca_body, ae.ca_mach_body, ae.ca_alpha_body
+    );
+    let _ = writeln!(
+        s,
+        "  fin  C_Nalpha {:.6}  C_A {:.6}  dC_A/dMach {:.6}  C_Aalpha {:.6}  x_cp {:.6} m aft of root LE (one fin, on S)",
+        ae.cn_alpha_fin, ae.ca_fin, ae.ca_mach_fin, ae.ca_alpha_fin, ae.x_cp_fin
+    );
+    let _ = writeln!(
+        s,
+        "  rate derivatives    C_Nalpha-dot {:.4}  C_Malpha-dot {:.4}",
+        p.cn_alpha_dot, p.cm_alpha_dot
+    );
     let _ = writeln!(s, "loads per unit state");
-    let _ = writeln!(s, "  P_b = qS C_Nalpha,B {:.6e} N/rad   P_f {:.6e} N/rad   M_b {:.6e} N m/rad", p.body_lift, p.fin_lift, p.body_moment);
-    let _ = writeln!(s, "  A_f0 {:.6e} N   A_0 {:.6e} N   axial damping {:.6e} N s/m", p.fin_axial_force, p.axial_force, p.axial_damping);
+    let _ = writeln!(
+        s,
+        "  P_b = qS C_Nalpha,B {:.6e} N/rad   P_f {:.6e} N/rad   M_b {:.6e} N m/rad",
+        p.body_lift, p.fin_lift, p.body_moment
+    );
+    let _ = writeln!(
+        s,
+        "  A_f0 {:.6e} N   A_0 {:.6e} N   axial damping {:.6e} N s/m",
+        p.fin_axial_force, p.axial_force, p.axial_damping
+    );
     let matrix = |s: &mut String, name: &str, rows: &[Vec<f64>]| {
         let _ = writeln!(s, "{name}");
         for row in rows {
@@ -300,7 +376,12 @@ pub fn analysis_text(v: &PlanarVehicle, r: &PlanarAnalysis) -> String {
             let _ = writeln!(s, "  [{}]", cells.join(" "));
         }
     };
-    let _ = writeln!(s, "coordinates x = ({})   state X = ({})", r.coordinates.join(", "), r.state.join(", "));
+    let _ = writeln!(
+        s,
+        "coordinates x = ({})   state X = ({})",
+        r.coordinates.join(", "),
+        r.state.join(", ")
+    );
     matrix(&mut s, "M (6.7/6.27)", &r.mass);
     matrix(&mut s, "C (6.8/6.29)", &r.damping);
     matrix(&mut s, "K (6.9/6.28)", &r.stiffness);
@@ -309,10 +390,23 @@ pub fn analysis_text(v: &PlanarVehicle, r: &PlanarAnalysis) -> String {
     let mut ev = r.eigenvalues.clone();
     ev.sort_by(|a, b| b.re.total_cmp(&a.re).then(b.im.total_cmp(&a.im)));
     for e in &ev {
-        let _ = writeln!(s, "  {:>14.6e} {:+14.6e} i   ({:.4} Hz)", e.re, e.im, e.im.abs() / (2.0 * std::f64::consts::PI));
+        let _ = writeln!(
+            s,
+            "  {:>14.6e} {:+14.6e} i   ({:.4} Hz)",
+            e.re,
+            e.im,
+            e.im.abs() / (2.0 * std::f64::consts::PI)
+        );
     }
     let vd = &r.verdict;
-    let _ = writeln!(s, "sigma_d {:.6e} 1/s   omega_d {:.6e} rad/s ({:.4} Hz)   {}", vd.sigma_d, vd.omega_d, vd.omega_d / (2.0 * std::f64::consts::PI), vd.class.name());
+    let _ = writeln!(
+        s,
+        "sigma_d {:.6e} 1/s   omega_d {:.6e} rad/s ({:.4} Hz)   {}",
+        vd.sigma_d,
+        vd.omega_d,
+        vd.omega_d / (2.0 * std::f64::consts::PI),
+        vd.class.name()
+    );
     s
 }
 
@@ -363,19 +457,33 @@ fn cmd_map(a: &MapArgs, term: Terminal) -> u8 {
         (None, PlanarKind::Pinned) => match initial_condition(&l.scenario, &l.vehicle) {
             Ok((h, _)) => Altitude::Fixed(h),
             Err(e) => {
-                emit(&[planar_diagnostic(&e, &l.scenario)], &l.sources, format, term);
+                emit(
+                    &[planar_diagnostic(&e, &l.scenario)],
+                    &l.sources,
+                    format,
+                    term,
+                );
                 return EXIT_DIAGNOSTICS;
             }
         },
     };
-    let m = planar_map(&l.vehicle, kind, &thickness.values(), &mach.values(), altitude);
+    let m = planar_map(
+        &l.vehicle,
+        kind,
+        &thickness.values(),
+        &mach.values(),
+        altitude,
+    );
     if let Err(e) = std::fs::create_dir_all(&a.out) {
         eprintln!("error: cannot create `{}`: {e}", a.out.display());
         return EXIT_USAGE;
     }
     for (name, r) in [
         ("map.csv", m.write_csv(&a.out.join("map.csv"))),
-        ("boundary.csv", m.write_boundary_csv(&a.out.join("boundary.csv"))),
+        (
+            "boundary.csv",
+            m.write_boundary_csv(&a.out.join("boundary.csv")),
+        ),
         (
             "critical_thickness.csv",
             m.write_critical_thickness_csv(&a.out.join("critical_thickness.csv")),
@@ -389,26 +497,57 @@ fn cmd_map(a: &MapArgs, term: Terminal) -> u8 {
     let total = thickness.count * mach.count;
     let failed = m.failures.len();
     let mut s = String::new();
-    let _ = writeln!(s, "planar {} map: {} thickness x {} Mach points, {} without a result", kind.name(), thickness.count, mach.count, failed);
-    let _ = writeln!(s, "{:>14} {:>16} {:>16}", "thickness (mm)", "model boundary", "TN 4197 boundary");
+    let _ = writeln!(
+        s,
+        "planar {} map: {} thickness x {} Mach points, {} without a result",
+        kind.name(),
+        thickness.count,
+        mach.count,
+        failed
+    );
+    let _ = writeln!(
+        s,
+        "{:>14} {:>16} {:>16}",
+        "thickness (mm)", "model boundary", "TN 4197 boundary"
+    );
     let show = |b: BoundaryMach| match b {
         BoundaryMach::Crossing(x) => format!("M {x:.4}"),
         BoundaryMach::BelowRange => "below range".to_string(),
         BoundaryMach::AboveRange => "above range".to_string(),
     };
     for b in m.boundaries() {
-        let _ = writeln!(s, "{:>14.4} {:>16} {:>16}", b.thickness * 1e3, show(b.model), show(b.tn4197));
+        let _ = writeln!(
+            s,
+            "{:>14.4} {:>16} {:>16}",
+            b.thickness * 1e3,
+            show(b.model),
+            show(b.tn4197)
+        );
     }
-    let _ = writeln!(s, "{:>8} {:>22} {:>22}", "Mach", "model t_crit (mm)", "TN 4197 t_crit (mm)");
+    let _ = writeln!(
+        s,
+        "{:>8} {:>22} {:>22}",
+        "Mach", "model t_crit (mm)", "TN 4197 t_crit (mm)"
+    );
     let show_t = |c: CriticalThickness| match c {
         CriticalThickness::Crossing(t) => format!("{:.4}", t * 1e3),
         CriticalThickness::BelowRange => "below range".to_string(),
         CriticalThickness::AboveRange => "above range".to_string(),
     };
     for b in m.mach_boundaries() {
-        let _ = writeln!(s, "{:>8.4} {:>22} {:>22}", b.mach, show_t(b.model), show_t(b.tn4197));
+        let _ = writeln!(
+            s,
+            "{:>8.4} {:>22} {:>22}",
+            b.mach,
+            show_t(b.model),
+            show_t(b.tn4197)
+        );
     }
-    let _ = writeln!(s, "wrote map.csv, boundary.csv and critical_thickness.csv in {}", a.out.display());
+    let _ = writeln!(
+        s,
+        "wrote map.csv, boundary.csv and critical_thickness.csv in {}",
+        a.out.display()
+    );
     match format {
         Format::Human => print!("{s}"),
         Format::Json => println!(
@@ -427,13 +566,22 @@ fn cmd_map(a: &MapArgs, term: Terminal) -> u8 {
     if failed == total {
         // Nothing to show: say why (the first failure) and fail.
         if let Some((_, _, msg)) = m.failures.first() {
-            let code = if m.map.class.iter().flatten().all(|c| *c == crate::analysis::map::CellClass::NoEquilibrium) {
+            let code = if m
+                .map
+                .class
+                .iter()
+                .flatten()
+                .all(|c| *c == crate::analysis::map::CellClass::NoEquilibrium)
+            {
                 "analysis::planar::no_equilibrium"
             } else {
                 "analysis::planar::failed"
             };
-            let d = Diagnostic::error(code, format!("no point of the map could be analysed: {msg}"))
-                .label(l.scenario.name.span, "while mapping this scenario");
+            let d = Diagnostic::error(
+                code,
+                format!("no point of the map could be analysed: {msg}"),
+            )
+            .label(l.scenario.name.span, "while mapping this scenario");
             emit(&[d], &l.sources, format, term);
         }
         return EXIT_DIAGNOSTICS;

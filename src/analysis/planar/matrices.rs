@@ -156,7 +156,12 @@ pub fn unpinned_system(p: &PlanarParameters) -> SecondOrderSystem {
         &[0.0, mf, -mf * d, mf],
     ]);
     let damping = mat(&[
-        &[p.axial_damping, -(qb + qf) / v, -(a * qb - d * qf) / v, -qf / v],
+        &[
+            p.axial_damping,
+            -(qb + qf) / v,
+            -(a * qb - d * qf) / v,
+            -qf / v,
+        ],
         &[0.0, (pb + pf) / v, (mb - d * pf) / v - n_rate, pf / v],
         &[
             0.0,
@@ -192,10 +197,7 @@ pub fn state_matrix(
         inertia: p.mass_properties.inertia,
         fin_term: p.fin_mass * p.d * p.d,
     };
-    let llt = sys
-        .mass
-        .llt(faer::Side::Lower)
-        .map_err(|_| mass_error())?;
+    let llt = sys.mass.llt(faer::Side::Lower).map_err(|_| mass_error())?;
     // A singular M can factor in floating point: demand every pivot L_ii^2 above
     // round-off relative to the largest diagonal entry of M.
     let scale = (0..n).map(|i| sys.mass[(i, i)].abs()).fold(0.0, f64::max);

@@ -78,7 +78,9 @@ pub enum PlanarError {
         min_m: f64,
         max_m: f64,
     },
-    #[error("the mass matrix is not positive definite (J = {inertia} kg m^2, m_f d^2 = {fin_term} kg m^2)")]
+    #[error(
+        "the mass matrix is not positive definite (J = {inertia} kg m^2, m_f d^2 = {fin_term} kg m^2)"
+    )]
     MassMatrix { inertia: f64, fin_term: f64 },
     #[error("the eigen solver failed on the state matrix")]
     Eigen,

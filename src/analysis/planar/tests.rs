@@ -119,7 +119,8 @@ fn unpinned_aero_off_coupled_fin_frequency_and_axial_mode() {
     assert!((max_im(&ev) - w).abs() < 1e-9 * w, "{} vs {w}", max_im(&ev));
     let axial = -p.axial_damping / m;
     assert!(
-        ev.iter().any(|e| (e.re - axial).abs() < 1e-9 && e.im == 0.0),
+        ev.iter()
+            .any(|e| (e.re - axial).abs() < 1e-9 && e.im == 0.0),
         "{ev:?}"
     );
 }
@@ -147,7 +148,10 @@ fn pinned_rigid_fin_limit_is_the_rigid_pitch_oscillator() {
         .min_by(|a, b| a.re.hypot(a.im).total_cmp(&b.re.hypot(b.im)))
         .unwrap();
     assert!((slow.re - re).abs() < 1e-4 * im, "{slow:?} vs {re} {im}");
-    assert!((slow.im.abs() - im).abs() < 1e-4 * im, "{slow:?} vs {re} {im}");
+    assert!(
+        (slow.im.abs() - im).abs() < 1e-4 * im,
+        "{slow:?} vs {re} {im}"
+    );
     assert_eq!(classify(&ev).class, Stability::Stable);
 }
 
@@ -171,7 +175,10 @@ fn product_of_pinned_eigenvalues_is_det_k_over_det_m() {
     for e in &r.eigenvalues {
         (pr, pi) = (pr * e.re - pi * e.im, pr * e.im + pi * e.re);
     }
-    assert!((pr - expected).abs() < 1e-9 * expected.abs(), "{pr} vs {expected}");
+    assert!(
+        (pr - expected).abs() < 1e-9 * expected.abs(),
+        "{pr} vs {expected}"
+    );
     assert!(pi.abs() < 1e-9 * expected.abs());
 }
 
@@ -194,11 +201,20 @@ fn body_ahead_of_fins_without_fin_lift_diverges() {
 #[test]
 fn classification_rules() {
     let e = |re, im| Eigenvalue { re, im };
-    assert_eq!(classify(&[e(-1.0, 2.0), e(-1.0, -2.0)]).class, Stability::Stable);
+    assert_eq!(
+        classify(&[e(-1.0, 2.0), e(-1.0, -2.0)]).class,
+        Stability::Stable
+    );
     let v = classify(&[e(-1.0, 0.0), e(0.5, 3.0), e(0.5, -3.0)]);
-    assert_eq!((v.class, v.sigma_d, v.omega_d), (Stability::Flutter, 0.5, 3.0));
+    assert_eq!(
+        (v.class, v.sigma_d, v.omega_d),
+        (Stability::Flutter, 0.5, 3.0)
+    );
     let v = classify(&[e(2.0, 0.0), e(0.5, 3.0), e(0.5, -3.0)]);
-    assert_eq!((v.class, v.sigma_d, v.omega_d), (Stability::Divergence, 2.0, 0.0));
+    assert_eq!(
+        (v.class, v.sigma_d, v.omega_d),
+        (Stability::Divergence, 2.0, 0.0)
+    );
 }
 
 #[test]

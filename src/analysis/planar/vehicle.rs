@@ -288,7 +288,8 @@ impl PlanarVehicle {
             return Err(PlanarError::BadThickness { thickness });
         }
         let c = self.compiled;
-        let dm_one = self.fins.mass_one(thickness) - self.fins.mass_one(self.fins.declared_thickness);
+        let dm_one =
+            self.fins.mass_one(thickness) - self.fins.mass_one(self.fins.declared_thickness);
         let n = self.fins.count as f64;
         let mass = c.mass + n * dm_one;
         if !(mass > 0.0) {
@@ -401,9 +402,17 @@ impl PlanarVehicle {
 
 /// A table lookup with the runtime's policy: clamped into the axes (as
 /// `runtime::forces::body_aero::clamped_query`), an error when the table's policy is `stop`.
-fn lookup(t: &CoefficientTable, mach: f64, alpha_deg: f64, alt: f64) -> Result<[f64; 3], PlanarError> {
+fn lookup(
+    t: &CoefficientTable,
+    mach: f64,
+    alpha_deg: f64,
+    alt: f64,
+) -> Result<[f64; 3], PlanarError> {
     let mut q = [mach, alpha_deg, alt];
-    for (v, axis) in q.iter_mut().zip([Axis::Mach, Axis::AlphaDeg, Axis::AltitudeM]) {
+    for (v, axis) in q
+        .iter_mut()
+        .zip([Axis::Mach, Axis::AlphaDeg, Axis::AltitudeM])
+    {
         let a = t.axis(axis);
         let (lo, hi) = (a[0], a[a.len() - 1]);
         if (*v < lo || *v > hi) && t.policy() == OutOfRange::Stop {
