@@ -47,7 +47,7 @@ fn bench_planar(c: &mut Criterion) {
 
 criterion_group! {
     name = benches;
-    config = Criterion::default().sample_size(20);
+    config = Criterion::default().sample_size(20).without_plots();
     targets = bench_planar
 }
 criterion_main!(benches);
