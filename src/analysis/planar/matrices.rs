@@ -202,7 +202,9 @@ pub fn state_matrix(
     // round-off relative to the largest diagonal entry of M.
     let scale = (0..n).map(|i| sys.mass[(i, i)].abs()).fold(0.0, f64::max);
     let l = llt.L();
-    if (0..n).any(|i| !(l[(i, i)] * l[(i, i)] > 1e-12 * scale)) {
+    if (0..n).any(|i| {
+        (l[(i, i)] * l[(i, i)]).partial_cmp(&(1e-12 * scale)) != Some(std::cmp::Ordering::Greater)
+    }) {
         return Err(mass_error());
     }
     // [-C, -K] solved by M.

@@ -292,7 +292,7 @@ impl PlanarVehicle {
             self.fins.mass_one(thickness) - self.fins.mass_one(self.fins.declared_thickness);
         let n = self.fins.count as f64;
         let mass = c.mass + n * dm_one;
-        if !(mass > 0.0) {
+        if !(mass.is_finite() && mass > 0.0) {
             return Err(PlanarError::BadThickness { thickness });
         }
         let x_fc = self.fins.centroid_x;
@@ -305,7 +305,7 @@ impl PlanarVehicle {
             .map(|d| (x_fc - x_cg).powi(2) + (r * d.sin()).powi(2))
             .sum();
         let inertia = c.inertia + c.mass * (c.x_cg - x_cg).powi(2) + dm_one * spread;
-        if !(inertia > 0.0) {
+        if !(inertia.is_finite() && inertia > 0.0) {
             return Err(PlanarError::BadThickness { thickness });
         }
         Ok(PitchMassProperties {
