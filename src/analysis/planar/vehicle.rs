@@ -263,6 +263,8 @@ impl PlanarVehicle {
             reference_area: v.aero.reference_area.value,
             reference_length: v.aero.reference_length.value,
             reference_x: v.aero.reference_point.value[0],
+            // The runtime builds its body block with `RateDerivatives::default()` (the tables
+            // hold no rate derivatives) and uses them only with `rate_terms`.
             rates: if rate_terms {
                 RateDerivatives::default()
             } else {
