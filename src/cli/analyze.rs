@@ -185,7 +185,7 @@ fn planar_diagnostic(e: &PlanarError, sc: &Scenario) -> Diagnostic {
             Diagnostic::error("analysis::planar::no_equilibrium", e.to_string())
                 .label(sc.initial.span, "at this initial speed")
                 .with_help(
-                    "the unpinned model needs drag = weight somewhere between -0.5 and 86 km: raise the speed (or use --pinned)",
+                    "the unpinned model (6.2) flies at terminal velocity: drag must equal weight somewhere between -0.5 km and 86 km at this speed (drag too small: a higher speed; too large: a lower one); the pinned model has no such condition",
                 )
         }
         _ => Diagnostic::error("analysis::planar::failed", e.to_string())
