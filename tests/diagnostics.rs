@@ -720,8 +720,8 @@ assert_error!(
 
 // ---------------------------------------------------------------- the registry of codes
 
-/// Every `"vdl::..."`, `"fe::..."`, `"artifact::..."`, `"generate::..."` string literal in
-/// `src/**/*.rs`.
+/// Every `"vdl::..."`, `"fe::..."`, `"artifact::..."`, `"generate::..."`, `"modal::..."`,
+/// `"structure::..."` and `"analysis::..."` string literal in `src/**/*.rs`.
 fn codes_in_source() -> Vec<(String, PathBuf)> {
     fn walk(dir: &std::path::Path, out: &mut Vec<PathBuf>) {
         for e in std::fs::read_dir(dir).expect("read src") {
@@ -748,6 +748,7 @@ fn codes_in_source() -> Vec<(String, PathBuf)> {
             "\"generate::",
             "\"modal::",
             "\"structure::",
+            "\"analysis::",
         ] {
             for (k, _) in text.match_indices(prefix) {
                 let rest = &text[k + 1..];

@@ -4,6 +4,7 @@
 //! Architecture invariant: this is the only module that touches the terminal and the
 //! process; the stages it calls return data.
 
+pub mod analyze;
 pub mod compile;
 mod fmt;
 pub mod run;
@@ -95,6 +96,11 @@ pub enum Command {
         common: Common,
         #[command(flatten)]
         cache: CacheArgs,
+    },
+    /// Stability analyses: planar eigen-stability models (thesis 6.1-6.2) and stability maps.
+    Analyze {
+        #[command(subcommand)]
+        command: analyze::AnalyzeCommand,
     },
     /// Format vehicle files canonically (in place, or report with --check).
     Fmt {
@@ -191,6 +197,7 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
             &out,
             term,
         ),
+        Command::Analyze { command } => analyze::cmd_analyze(&command, term),
         Command::Inspect { artifact, output } => compile::cmd_inspect(&artifact, output.format),
         Command::Modes {
             file,
