@@ -1,0 +1,376 @@
+//! Drawing primitives: multi-series time plots and the filled sigma_d stability map with
+//! contour lines (thesis Figs 6.3-6.8). Every figure is drawn by a [`Figure`] onto any
+//! plotters backend; [`save_svg_png`] writes both an SVG and a PNG of it.
+
+use std::path::{Path, PathBuf};
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::contour::{contour_segments, nice_levels};
+use super::map::StabilityMap;
+use super::{FONT_FAMILY, ReportError, ensure_font};
+
+/// Default figure size in pixels (PNG) and user units (SVG).
+pub const FIGURE_SIZE: (u32, u32) = (960, 600);
+
+/// Above this many points a series is thinned for drawing (min and max of each bucket
+/// kept, so peaks survive).
+pub const MAX_POINTS_PER_SERIES: usize = 4000;
+
+/// Line colours, in the order series are drawn.
+pub const PALETTE: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(23, 190, 207),
+];
+
+/// Something that can draw itself onto a plotters drawing area.
+pub trait Figure {
+    /// Draw the whole figure onto `root` (which it may fill with a background).
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), ReportError>;
+}
+
+/// One line of a time plot.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Series {
+    /// Legend text.
+    pub label: String,
+    pub xs: Vec<f64>,
+    pub ys: Vec<f64>,
+}
+
+/// A plot of several series against one x axis, with legend, axis labels and grid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TimePlot {
+    pub title: String,
+    /// Axis label with unit, e.g. "t (s)".
+    pub x_label: String,
+    pub y_label: String,
+    pub series: Vec<Series>,
+}
+
+pub(crate) fn draw_err<E: std::fmt::Display>(e: E) -> ReportError {
+    ReportError::Draw(e.to_string())
+}
+
+pub(crate) fn font(size: u32) -> TextStyle<'static> {
+    (FONT_FAMILY, size).into_font().color(&BLACK)
+}
+
+/// The finite range of some values, widened by 5 % (and to a unit interval when flat).
+pub fn padded_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if lo > hi {
+        return (-1.0, 1.0);
+    }
+    if hi - lo <= 1e-12 * lo.abs().max(hi.abs()).max(1e-300) {
+        let d = if lo == 0.0 { 1.0 } else { 0.1 * lo.abs() };
+        return (lo - d, hi + d);
+    }
+    let pad = 0.05 * (hi - lo);
+    (lo - pad, hi + pad)
+}
+
+/// Thin a series to at most about `max_points` points: the x range is cut into buckets and
+/// each bucket keeps its first point and its minimum and maximum, in x order.
+pub fn decimate(xs: &[f64], ys: &[f64], max_points: usize) -> Vec<(f64, f64)> {
+    let n = xs.len().min(ys.len());
+    let all = || xs.iter().copied().zip(ys.iter().copied()).take(n);
+    if n <= max_points || max_points < 3 {
+        return all().filter(|(x, y)| x.is_finite() && y.is_finite()).collect();
+    }
+    let buckets = max_points / 3;
+    let per = n.div_ceil(buckets);
+    let mut out = Vec::with_capacity(3 * buckets + 1);
+    for start in (0..n).step_by(per) {
+        let end = (start + per).min(n);
+        let idx: Vec<usize> = (start..end)
+            .filter(|&k| xs[k].is_finite() && ys[k].is_finite())
+            .collect();
+        let Some(&first) = idx.first() else { continue };
+        let lo = idx.iter().copied().fold(first, |a, k| if ys[k] < ys[a] { k } else { a });
+        let hi = idx.iter().copied().fold(first, |a, k| if ys[k] > ys[a] { k } else { a });
+        let mut keep = vec![first, lo, hi];
+        keep.sort_unstable();
+        keep.dedup();
+        out.extend(keep.into_iter().map(|k| (xs[k], ys[k])));
+    }
+    out
+}
+
+impl Figure for TimePlot {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), ReportError> {
+        ensure_font()?;
+        root.fill(&WHITE).map_err(draw_err)?;
+        let thinned: Vec<Vec<(f64, f64)>> = self
+            .series
+            .iter()
+            .map(|s| decimate(&s.xs, &s.ys, MAX_POINTS_PER_SERIES))
+            .collect();
+        let (x0, x1) = {
+            let xs = thinned.iter().flatten().map(|p| p.0);
+            let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            });
+            if lo < hi { (lo, hi) } else { padded_range([lo, hi].into_iter()) }
+        };
+        let (y0, y1) = padded_range(thinned.iter().flatten().map(|p| p.1));
+        let mut chart = ChartBuilder::on(root)
+            .caption(&self.title, font(24))
+            .margin(12)
+            .x_label_area_size(50)
+            .y_label_area_size(90)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(draw_err)?;
+        chart
+            .configure_mesh()
+            .x_desc(self.x_label.as_str())
+            .y_desc(self.y_label.as_str())
+            .axis_desc_style(font(18))
+            .label_style(font(14))
+            .light_line_style(RGBColor(235, 235, 235))
+            .bold_line_style(RGBColor(200, 200, 200))
+            .draw()
+            .map_err(draw_err)?;
+        for (k, (s, pts)) in self.series.iter().zip(&thinned).enumerate() {
+            let color = PALETTE[k % PALETTE.len()];
+            chart
+                .draw_series(LineSeries::new(pts.iter().copied(), color.stroke_width(2)))
+                .map_err(draw_err)?
+                .label(s.label.as_str())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2))
+                });
+        }
+        if !self.series.is_empty() {
+            chart
+                .configure_series_labels()
+                .label_font(font(14))
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()
+                .map_err(draw_err)?;
+        }
+        root.present().map_err(draw_err)
+    }
+}
+
+/// The diverging colour of a sigma_d value: white at 0, blue towards `lo` < 0 (stable),
+/// red towards `hi` > 0 (unstable); grey for NaN.
+pub fn diverging_colour(v: f64, lo: f64, hi: f64) -> RGBColor {
+    if !v.is_finite() {
+        return RGBColor(190, 190, 190);
+    }
+    let blend = |to: (f64, f64, f64), t: f64| {
+        let t = t.clamp(0.0, 1.0);
+        let c = |a: f64| (255.0 + t * (a - 255.0)).round() as u8;
+        RGBColor(c(to.0), c(to.1), c(to.2))
+    };
+    if v < 0.0 {
+        blend((33.0, 102.0, 172.0), if lo < 0.0 { v / lo } else { 1.0 })
+    } else {
+        blend((178.0, 24.0, 43.0), if hi > 0.0 { v / hi } else { 0.0 })
+    }
+}
+
+/// Sub-cells per grid cell along each axis for the filled map, so the picture has about
+/// `target` cells a side whatever the grid.
+fn subdivisions(n: usize, target: usize) -> usize {
+    if n < 2 { 1 } else { target.div_ceil(n - 1).clamp(1, 16) }
+}
+
+impl Figure for StabilityMap {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), ReportError> {
+        ensure_font()?;
+        self.validate()?;
+        root.fill(&WHITE).map_err(draw_err)?;
+        let (w, _) = root.dim_in_pixel();
+        let (main, bar) = root.split_horizontally(w.saturating_sub(130));
+        let (lo, hi) = self.value_range().unwrap_or((-1.0, 1.0));
+        let (nx, ny) = (self.xs.len(), self.ys.len());
+        let (x0, x1) = (self.xs[0], self.xs[nx - 1]);
+        let (y0, y1) = (self.ys[0], self.ys[ny - 1]);
+        let mut chart = ChartBuilder::on(&main)
+            .caption(&self.title, font(24))
+            .margin(12)
+            .x_label_area_size(50)
+            .y_label_area_size(70)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(draw_err)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_desc(self.x_label.as_str())
+            .y_desc(self.y_label.as_str())
+            .axis_desc_style(font(18))
+            .label_style(font(14))
+            .draw()
+            .map_err(draw_err)?;
+        // Filled map: each grid cell cut into sub-cells coloured by the bilinear value at
+        // their centre.
+        let (kx, ky) = (subdivisions(nx, 80), subdivisions(ny, 80));
+        let mut cells = Vec::with_capacity((nx - 1) * (ny - 1) * kx * ky);
+        for j in 0..ny - 1 {
+            for i in 0..nx - 1 {
+                let f = [
+                    self.at(i, j),
+                    self.at(i + 1, j),
+                    self.at(i, j + 1),
+                    self.at(i + 1, j + 1),
+                ];
+                let (xa, xb, ya, yb) = (self.xs[i], self.xs[i + 1], self.ys[j], self.ys[j + 1]);
+                for b in 0..ky {
+                    for a in 0..kx {
+                        let (s0, s1) = (a as f64 / kx as f64, (a + 1) as f64 / kx as f64);
+                        let (t0, t1) = (b as f64 / ky as f64, (b + 1) as f64 / ky as f64);
+                        let (s, t) = (0.5 * (s0 + s1), 0.5 * (t0 + t1));
+                        let v = (1.0 - s) * (1.0 - t) * f[0]
+                            + s * (1.0 - t) * f[1]
+                            + (1.0 - s) * t * f[2]
+                            + s * t * f[3];
+                        let colour = diverging_colour(v, lo, hi);
+                        cells.push(Rectangle::new(
+                            [
+                                (xa + s0 * (xb - xa), ya + t0 * (yb - ya)),
+                                (xa + s1 * (xb - xa), ya + t1 * (yb - ya)),
+                            ],
+                            colour.filled(),
+                        ));
+                    }
+                }
+            }
+        }
+        chart.draw_series(cells).map_err(draw_err)?;
+        // Contour lines: thin grey at nice levels, the zero contour bold black.
+        for level in nice_levels(lo, hi, 10).into_iter().filter(|l| *l != 0.0) {
+            let segs = contour_segments(&self.xs, &self.ys, &self.values, level);
+            chart
+                .draw_series(segs.into_iter().map(|s| {
+                    PathElement::new(
+                        vec![(s.a[0], s.a[1]), (s.b[0], s.b[1])],
+                        RGBColor(70, 70, 70).stroke_width(1),
+                    )
+                }))
+                .map_err(draw_err)?;
+        }
+        let zero = contour_segments(&self.xs, &self.ys, &self.values, 0.0);
+        let has_zero = !zero.is_empty();
+        chart
+            .draw_series(zero.into_iter().map(|s| {
+                PathElement::new(
+                    vec![(s.a[0], s.a[1]), (s.b[0], s.b[1])],
+                    BLACK.stroke_width(4),
+                )
+            }))
+            .map_err(draw_err)?
+            .label("sigma_d = 0 (stability boundary)")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK.stroke_width(4)));
+        for (k, curve) in self.overlays.iter().enumerate() {
+            let colour = PALETTE[(k + 3) % PALETTE.len()];
+            chart
+                .draw_series(LineSeries::new(
+                    curve.points.iter().map(|p| (p[0], p[1])),
+                    colour.stroke_width(3),
+                ))
+                .map_err(draw_err)?
+                .label(curve.label.as_str())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
+                });
+        }
+        if has_zero || !self.overlays.is_empty() {
+            chart
+                .configure_series_labels()
+                .label_font(font(14))
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .position(SeriesLabelPosition::UpperLeft)
+                .draw()
+                .map_err(draw_err)?;
+        }
+        draw_colour_bar(&bar, lo, hi, &self.value_label)?;
+        root.present().map_err(draw_err)
+    }
+}
+
+/// The colour scale beside a map.
+fn draw_colour_bar<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    lo: f64,
+    hi: f64,
+    label: &str,
+) -> Result<(), ReportError> {
+    let (b0, b1) = if hi > lo { (lo, hi) } else { (lo - 1.0, hi + 1.0) };
+    let mut bar = ChartBuilder::on(area)
+        .margin_top(60)
+        .margin_bottom(62)
+        .margin_right(10)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0.0..1.0, b0..b1)
+        .map_err(draw_err)?;
+    bar.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_desc(label)
+        .axis_desc_style(font(16))
+        .label_style(font(13))
+        .draw()
+        .map_err(draw_err)?;
+    let steps = 100;
+    bar.draw_series((0..steps).map(|k| {
+        let a = b0 + (b1 - b0) * k as f64 / steps as f64;
+        let b = b0 + (b1 - b0) * (k + 1) as f64 / steps as f64;
+        Rectangle::new(
+            [(0.0, a), (1.0, b)],
+            diverging_colour(0.5 * (a + b), lo, hi).filled(),
+        )
+    }))
+    .map_err(draw_err)?;
+    if b0 < 0.0 && b1 > 0.0 {
+        bar.draw_series(std::iter::once(PathElement::new(
+            vec![(0.0, 0.0), (1.0, 0.0)],
+            BLACK.stroke_width(3),
+        )))
+        .map_err(draw_err)?;
+    }
+    Ok(())
+}
+
+/// Write `stem.svg` and `stem.png` of a figure of `size` pixels; returns both paths.
+pub fn save_svg_png<F: Figure>(
+    figure: &F,
+    stem: &Path,
+    size: (u32, u32),
+) -> Result<Vec<PathBuf>, ReportError> {
+    ensure_font()?;
+    let with_ext = |ext: &str| {
+        let mut s = stem.as_os_str().to_owned();
+        s.push(ext);
+        PathBuf::from(s)
+    };
+    let (svg, png) = (with_ext(".svg"), with_ext(".png"));
+    let write_err = |path: &Path, e: ReportError| ReportError::Write {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    };
+    {
+        let root = SVGBackend::new(&svg, size).into_drawing_area();
+        figure.draw(&root).map_err(|e| write_err(&svg, e))?;
+    }
+    {
+        let root = BitMapBackend::new(&png, size).into_drawing_area();
+        figure.draw(&root).map_err(|e| write_err(&png, e))?;
+    }
+    Ok(vec![svg, png])
+}
