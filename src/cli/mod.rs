@@ -6,6 +6,7 @@
 
 pub mod compile;
 mod fmt;
+pub mod report;
 pub mod run;
 
 use std::io::Write;
@@ -93,6 +94,24 @@ pub enum Command {
         out: PathBuf,
         #[command(flatten)]
         common: Common,
+        #[command(flatten)]
+        cache: CacheArgs,
+    },
+    /// Draw a run's figures (or a stability map) as SVG and PNG with an HTML index in
+    /// DIR/report/.
+    Report {
+        /// A run directory (history.csv, summary.json) or a map directory (map.csv).
+        dir: PathBuf,
+        /// Times (s) of the deformation frames, comma-separated (default: 4 evenly spaced).
+        #[arg(long, value_name = "T1,T2,...")]
+        frames: Option<String>,
+        /// Displacement magnification of the frames: `auto` (largest = 10 % of the span) or
+        /// a number.
+        #[arg(long, value_name = "auto|X")]
+        magnify: Option<String>,
+        /// The run's vehicle file: the FE mesh is rebuilt from it to draw element edges.
+        #[arg(long)]
+        vehicle_file: Option<PathBuf>,
         #[command(flatten)]
         cache: CacheArgs,
     },
@@ -189,6 +208,22 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
             &common,
             cache.cache_dir.as_deref(),
             &out,
+            term,
+        ),
+        Command::Report {
+            dir,
+            frames,
+            magnify,
+            vehicle_file,
+            cache,
+        } => report::cmd_report(
+            &report::ReportArgs {
+                dir: &dir,
+                frames: frames.as_deref(),
+                magnify: magnify.as_deref(),
+                vehicle_file: vehicle_file.as_deref(),
+                cache_dir: cache.cache_dir.as_deref(),
+            },
             term,
         ),
         Command::Inspect { artifact, output } => compile::cmd_inspect(&artifact, output.format),

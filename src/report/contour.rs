@@ -56,9 +56,16 @@ pub fn contour_segments(xs: &[f64], ys: &[f64], values: &[f64], level: f64) -> V
                 .iter()
                 .enumerate()
                 .fold(0usize, |c, (k, &v)| c | (usize::from(v >= level) << k));
-            // Edge k joins corner k and corner (k + 1) % 4.
+            // Edge k joins corner k and corner (k + 1) % 4; it is always interpolated from
+            // its corner of lower grid index, so the cells on both sides of an edge compute
+            // bit-identical crossings.
             let cross = |k: usize| -> [f64; 2] {
-                let (a, b) = (k, (k + 1) % 4);
+                let (a, b) = match k {
+                    0 => (0, 1),
+                    1 => (1, 2),
+                    2 => (3, 2),
+                    _ => (0, 3),
+                };
                 let t = (level - f[a]) / (f[b] - f[a]);
                 [
                     p[a][0] + t * (p[b][0] - p[a][0]),
@@ -173,14 +180,15 @@ mod tests {
     /// they lie within the grid-spacing error of the circle and enclose it.
     #[test]
     fn circle_is_closed_and_close() {
-        let n = 41;
+        // 40 points: no grid node lies exactly on the circle.
+        let n = 40;
         let g: Vec<f64> = (0..n).map(|k| -2.0 + 4.0 * k as f64 / (n - 1) as f64).collect();
         let values: Vec<f64> = g
             .iter()
             .flat_map(|y| g.iter().map(move |x| x * x + y * y))
             .collect();
         let segs = contour_segments(&g, &g, &values, 1.0);
-        let h = 0.1;
+        let h = 4.0 / 39.0;
         for s in &segs {
             for p in [s.a, s.b] {
                 let r = p[0].hypot(p[1]);
@@ -201,9 +209,25 @@ mod tests {
 
     #[test]
     fn saddle_is_resolved_by_the_centre_and_nan_cells_skipped() {
-        // f = x y on [-1, 1]^2 with one cell: corners -+ alternate; centre value 0 >= 0.
-        let segs = contour_segments(&[-1.0, 1.0], &[-1.0, 1.0], &[1.0, -1.0, 1.0, -1.0], 0.0);
+        // f = x y on [-1, 1]^2 with one cell: corners alternate in sign; centre value 0
+        // counts as above, so the two above corners (-1,-1) and (1,1) are joined: the
+        // segments cut off the corners (1,-1) and (-1,1).
+        let segs = contour_segments(&[-1.0, 1.0], &[-1.0, 1.0], &[1.0, -1.0, -1.0, 1.0], 0.0);
         assert_eq!(segs.len(), 2);
+        let mut got: Vec<[f64; 2]> = segs.iter().flat_map(|s| [s.a, s.b]).collect();
+        got.sort_by(|p, q| p[0].total_cmp(&q[0]).then(p[1].total_cmp(&q[1])));
+        assert_eq!(got, vec![[-1.0, 0.0], [0.0, -1.0], [0.0, 1.0], [1.0, 0.0]]);
+        let pairs: Vec<bool> = segs
+            .iter()
+            .map(|s| (s.a[0] + s.b[0]).abs() == 1.0 && (s.a[1] + s.b[1]).abs() == 1.0)
+            .collect();
+        // Each segment joins a midpoint of an x edge and one of a y edge next to the same
+        // below corner: (0,-1)-(1,0) around (1,-1) and (-1,0)-(0,1) around (-1,1).
+        assert_eq!(pairs, vec![true, true]);
+        let around = |s: &Segment| [(s.a[0] + s.b[0]).signum(), (s.a[1] + s.b[1]).signum()];
+        let mut corners: Vec<[f64; 2]> = segs.iter().map(around).collect();
+        corners.sort_by(|p, q| p[0].total_cmp(&q[0]));
+        assert_eq!(corners, vec![[-1.0, 1.0], [1.0, -1.0]]);
         let nan = contour_segments(
             &[0.0, 1.0],
             &[0.0, 1.0],

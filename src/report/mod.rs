@@ -14,6 +14,7 @@
 //! fontconfig, no system fonts), so reports render the same on a bare machine; drawing is
 //! generic over the plotters backend, and the only IO is writing the figure files.
 
+pub mod build;
 pub mod contour;
 pub mod figures;
 pub mod history;
