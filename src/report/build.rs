@@ -57,7 +57,6 @@ impl ReportOutput {
     }
 
     fn push_skipped(&mut self, caption: String, reason: String) {
-        self.notes.push(format!("skipped {caption}: {reason}"));
         self.entries.push(IndexEntry {
             caption,
             files: Err(reason),
@@ -161,26 +160,11 @@ pub fn run_figures(
                 .collect()
         })
         .collect();
-    let magnify = match options.magnify {
-        Some(m) => m,
-        None => {
-            // Same scale for every frame, from the largest displacement over the whole
-            // history (so frames can be compared).
-            let all: Vec<Vec<f64>> = (0..h.rows())
-                .map(|r| {
-                    mesh.mode_names
-                        .iter()
-                        .map(|m| {
-                            h.column(&format!("eta_{m}"))
-                                .and_then(|c| c.get(r).copied())
-                                .unwrap_or(0.0)
-                        })
-                        .collect()
-                })
-                .collect();
-            auto_magnification(mesh, &all, AUTO_MAGNIFY_FRACTION)
-        }
-    };
+    // One scale for every frame (so frames can be compared), from the largest
+    // displacement over the frames drawn.
+    let magnify = options
+        .magnify
+        .unwrap_or_else(|| auto_magnification(mesh, &etas, AUTO_MAGNIFY_FRACTION));
     report
         .notes
         .push(format!("deformation frames magnified x {magnify:.4e}"));

@@ -224,7 +224,9 @@ impl DeformationFrame<'_> {
             .map_err(draw_err)?;
         chart
             .draw_series(edges.iter().filter_map(|e| {
-                let c = component_colour(*g.components.get(e[0])?);
+                // An edge from the body to a fin root belongs to the fin.
+                let c = (*g.components.get(e[0])?).max(*g.components.get(e[1])?);
+                let c = component_colour(c);
                 Some(PathElement::new(line(&after, e)?, c.stroke_width(2)))
             }))
             .map_err(draw_err)?;
