@@ -748,6 +748,7 @@ fn codes_in_source() -> Vec<(String, PathBuf)> {
             "\"generate::",
             "\"modal::",
             "\"structure::",
+            "\"report::",
         ] {
             for (k, _) in text.match_indices(prefix) {
                 let rest = &text[k + 1..];

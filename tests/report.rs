@@ -95,7 +95,10 @@ fn time_plot_writes_a_real_png_and_svg() {
     assert!(svg.starts_with("<svg"), "{}", &svg[..40]);
     let texts = svg_texts(&svg);
     for text in ["t (s)", "angle (deg)", "Angle of attack", "alpha", "beta"] {
-        assert!(texts.iter().any(|t| t == text), "SVG lacks the text `{text}`: {texts:?}");
+        assert!(
+            texts.iter().any(|t| t == text),
+            "SVG lacks the text `{text}`: {texts:?}"
+        );
     }
     let png = std::fs::read(&files[1]).unwrap();
     assert_eq!(png_size(&png), FIGURE_SIZE);
@@ -105,7 +108,10 @@ fn time_plot_writes_a_real_png_and_svg() {
     let buf = render(&sine_plot(), FIGURE_SIZE);
     let n = (FIGURE_SIZE.0 * FIGURE_SIZE.1) as usize;
     let white = count_colour(&buf, WHITE);
-    assert!(white > n / 2 && white < n - 5_000, "white pixels {white} of {n}");
+    assert!(
+        white > n / 2 && white < n - 5_000,
+        "white pixels {white} of {n}"
+    );
     assert!(count_colour(&buf, PALETTE[0]) > 1_000);
     assert!(count_colour(&buf, PALETTE[1]) > 1_000);
 }
@@ -117,8 +123,16 @@ fn stability_map_has_both_signs_a_bold_zero_contour_and_the_overlay() {
     let files = save_svg_png(&map, &dir.path().join("map"), FIGURE_SIZE).unwrap();
     let svg = std::fs::read_to_string(&files[0]).unwrap();
     let texts = svg_texts(&svg);
-    for text in ["fin thickness (mm)", "Mach", "sigma_d (1/s)", "NACA TN 4197"] {
-        assert!(texts.iter().any(|t| t == text), "SVG lacks `{text}`: {texts:?}");
+    for text in [
+        "fin thickness (mm)",
+        "Mach",
+        "sigma_d (1/s)",
+        "NACA TN 4197",
+    ] {
+        assert!(
+            texts.iter().any(|t| t == text),
+            "SVG lacks `{text}`: {texts:?}"
+        );
     }
     assert!(svg.contains("stroke-width=\"4\""), "bold zero contour");
     assert_eq!(png_size(&std::fs::read(&files[1]).unwrap()), FIGURE_SIZE);
@@ -126,7 +140,10 @@ fn stability_map_has_both_signs_a_bold_zero_contour_and_the_overlay() {
     let buf = render(&map, FIGURE_SIZE);
     let reddish = buf.chunks(3).filter(|p| p[0] > 150 && p[2] < 120).count();
     let bluish = buf.chunks(3).filter(|p| p[2] > 150 && p[0] < 120).count();
-    assert!(reddish > 10_000 && bluish > 10_000, "red {reddish} blue {bluish}");
+    assert!(
+        reddish > 10_000 && bluish > 10_000,
+        "red {reddish} blue {bluish}"
+    );
     assert!(count_colour(&buf, BLACK) > 1_500, "zero contour and text");
     assert!(count_colour(&buf, PALETTE[3]) > 300, "overlay curve");
 }
@@ -160,14 +177,18 @@ fn deformation_frame_draws_both_views() {
         title: "frame".into(),
     };
     let buf = render(&frame, (1200, 600));
-    for c in 0..4 {
-        assert!(count_colour(&buf, PALETTE[c]) > 50, "fin {c}");
+    for (fin, colour) in PALETTE.iter().take(4).enumerate() {
+        assert!(count_colour(&buf, *colour) > 50, "fin {fin}");
     }
     let dir = tempfile::tempdir().unwrap();
     let files = save_svg_png(&frame, &dir.path().join("frame_01"), (1200, 600)).unwrap();
     assert!(files[0].ends_with("frame_01.svg") && files[1].ends_with("frame_01.png"));
     let svg = std::fs::read_to_string(&files[0]).unwrap();
-    assert!(svg_texts(&svg).iter().any(|t| t == "front view (looking aft)"));
+    assert!(
+        svg_texts(&svg)
+            .iter()
+            .any(|t| t == "front view (looking aft)")
+    );
 }
 
 fn flexflight(args: &[&str]) -> std::process::Output {
@@ -206,15 +227,28 @@ fn report_of_a_run_directory() {
     assert!(out.status.success(), "{stderr}");
     assert!(stderr.contains("no summary.json"), "{stderr}");
     let report = dir.path().join("report");
-    for stem in ["alpha", "mach", "velocity_axial", "fin_flap", "fin_twist", "energy"] {
+    for stem in [
+        "alpha",
+        "mach",
+        "velocity_axial",
+        "fin_flap",
+        "fin_twist",
+        "energy",
+    ] {
         for ext in ["svg", "png"] {
-            assert!(report.join(format!("{stem}.{ext}")).is_file(), "{stem}.{ext}");
+            assert!(
+                report.join(format!("{stem}.{ext}")).is_file(),
+                "{stem}.{ext}"
+            );
         }
     }
     let html = std::fs::read_to_string(report.join("index.html")).unwrap();
     assert!(html.contains("<img src=\"fin_flap.svg\""));
     assert!(html.contains("href=\"fin_flap.png\""));
-    assert!(html.contains("Skipped: Body bending modal coordinates"), "no bending column");
+    assert!(
+        html.contains("Skipped: Body bending modal coordinates"),
+        "no bending column"
+    );
     assert!(html.contains("Skipped: Deformation frames"));
     assert!(!report.join("body_bending.svg").exists());
     // The run's own file is untouched.
@@ -229,7 +263,11 @@ fn report_of_a_map_directory() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("map.csv"), test_map().to_csv()).unwrap();
     let out = flexflight(&["report", dir.path().to_str().unwrap()]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let svg = std::fs::read_to_string(dir.path().join("report/map.svg")).unwrap();
     assert!(svg_texts(&svg).iter().any(|t| t == "sigma_d (1/s)"));
     assert!(dir.path().join("report/map.png").is_file());
@@ -244,7 +282,10 @@ fn bad_input_is_diagnosed() {
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("history.csv:3:"), "{stderr}");
     assert!(stderr.contains("report::csv"), "{stderr}");
-    assert!(!dir.path().join("report").exists(), "nothing written on bad input");
+    assert!(
+        !dir.path().join("report").exists(),
+        "nothing written on bad input"
+    );
 
     let maps = tempfile::tempdir().unwrap();
     std::fs::write(maps.path().join("map.csv"), "x,y,sigma_d\n0,0,1\n1,0\n").unwrap();

@@ -79,7 +79,10 @@ fn parse_hex_key(hex: &str) -> Option<CacheKey> {
 
 /// The compiled vehicle recorded in `summary.json`: the artifact at its recorded path, or
 /// the one with its hash in the cache directory.
-fn load_compiled(summary: &serde_json::Value, cache_dir: Option<&Path>) -> Result<CompiledVehicle, String> {
+fn load_compiled(
+    summary: &serde_json::Value,
+    cache_dir: Option<&Path>,
+) -> Result<CompiledVehicle, String> {
     let key = summary
         .get("artifact_hash")
         .and_then(|v| v.as_str())
@@ -234,7 +237,9 @@ pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
         Some(s) => match load_compiled(s, args.cache_dir) {
             Ok(c) => Some(c),
             Err(e) => {
-                warnings.push(format!("no deformation frames: cannot load the artifact ({e})"));
+                warnings.push(format!(
+                    "no deformation frames: cannot load the artifact ({e})"
+                ));
                 None
             }
         },
@@ -271,7 +276,10 @@ pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
         if let Err(e) = map_figures(m, &out, &mut report) {
             return fail(&e);
         }
-        facts.push(("map".into(), format!("{} x {} points", m.xs.len(), m.ys.len())));
+        facts.push((
+            "map".into(),
+            format!("{} x {} points", m.xs.len(), m.ys.len()),
+        ));
     }
     if let Some(h) = &history {
         let classes: Vec<(String, ModeGroup)> = compiled
@@ -297,7 +305,14 @@ pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
             return fail(&e);
         }
         if let Some(s) = &summary {
-            for key in ["scenario", "vehicle", "stop_reason", "t_end", "rows", "artifact_hash"] {
+            for key in [
+                "scenario",
+                "vehicle",
+                "stop_reason",
+                "t_end",
+                "rows",
+                "artifact_hash",
+            ] {
                 if let Some(v) = s.get(key) {
                     let text = v.as_str().map_or_else(|| v.to_string(), str::to_string);
                     facts.push((key.to_string(), text));

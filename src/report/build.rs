@@ -4,13 +4,13 @@
 
 use std::path::{Path, PathBuf};
 
+use super::ReportError;
 use super::figures::{ModeGroup, plan_figures};
 use super::history::History;
 use super::index::{IndexEntry, index_html};
 use super::map::StabilityMap;
 use super::mesh::{DeformationFrame, MeshGeometry, auto_magnification};
 use super::plot::{FIGURE_SIZE, save_svg_png};
-use super::ReportError;
 
 /// Fraction of the reference span the largest magnified displacement is scaled to when the
 /// magnification is automatic.
@@ -83,7 +83,11 @@ impl ReportOutput {
 }
 
 /// Draw a stability map into `out/map.svg` and `out/map.png`.
-pub fn map_figures(map: &StabilityMap, out: &Path, report: &mut ReportOutput) -> Result<(), ReportError> {
+pub fn map_figures(
+    map: &StabilityMap,
+    out: &Path,
+    report: &mut ReportOutput,
+) -> Result<(), ReportError> {
     let files = save_svg_png(map, &out.join("map"), FIGURE_SIZE)?;
     report.push_drawn(
         format!(
@@ -107,7 +111,9 @@ pub fn frame_times(h: &History, requested: &[f64], n: usize) -> Vec<f64> {
     if t1 <= t0 {
         return vec![t0];
     }
-    (1..=n).map(|k| t0 + (t1 - t0) * k as f64 / n as f64).collect()
+    (1..=n)
+        .map(|k| t0 + (t1 - t0) * k as f64 / n as f64)
+        .collect()
 }
 
 /// Draw a run's figure set and (with a mesh) its deformation frames into `out`.
@@ -182,7 +188,11 @@ pub fn run_figures(
             magnify,
             title: format!("Deformed mesh at t = {t:.4} s (displacements x {magnify:.3e})"),
         };
-        let files = save_svg_png(&frame, &out.join(format!("frame_{:02}", k + 1)), (1200, 600))?;
+        let files = save_svg_png(
+            &frame,
+            &out.join(format!("frame_{:02}", k + 1)),
+            (1200, 600),
+        )?;
         report.push_drawn(
             format!(
                 "Deformed FE mesh at t = {t:.4} s, front and isometric views, displacements magnified x {magnify:.3e}"

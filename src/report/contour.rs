@@ -140,8 +140,14 @@ mod tests {
         assert!(!segs.is_empty());
         for s in &segs {
             for p in [s.a, s.b] {
-                assert!((p[0] - p[1]).abs() < 1e-12, "endpoint {p:?} off the diagonal");
-                assert!((0.5..=2.5).contains(&p[0]), "endpoint {p:?} outside the grid");
+                assert!(
+                    (p[0] - p[1]).abs() < 1e-12,
+                    "endpoint {p:?} off the diagonal"
+                );
+                assert!(
+                    (0.5..=2.5).contains(&p[0]),
+                    "endpoint {p:?} outside the grid"
+                );
             }
         }
         let total: f64 = segs.iter().map(Segment::length).sum();
@@ -182,7 +188,9 @@ mod tests {
     fn circle_is_closed_and_close() {
         // 40 points: no grid node lies exactly on the circle.
         let n = 40;
-        let g: Vec<f64> = (0..n).map(|k| -2.0 + 4.0 * k as f64 / (n - 1) as f64).collect();
+        let g: Vec<f64> = (0..n)
+            .map(|k| -2.0 + 4.0 * k as f64 / (n - 1) as f64)
+            .collect();
         let values: Vec<f64> = g
             .iter()
             .flat_map(|y| g.iter().map(move |x| x * x + y * y))
@@ -228,12 +236,7 @@ mod tests {
         let mut corners: Vec<[f64; 2]> = segs.iter().map(around).collect();
         corners.sort_by(|p, q| p[0].total_cmp(&q[0]));
         assert_eq!(corners, vec![[-1.0, 1.0], [1.0, -1.0]]);
-        let nan = contour_segments(
-            &[0.0, 1.0],
-            &[0.0, 1.0],
-            &[f64::NAN, -1.0, 1.0, 1.0],
-            0.0,
-        );
+        let nan = contour_segments(&[0.0, 1.0], &[0.0, 1.0], &[f64::NAN, -1.0, 1.0, 1.0], 0.0);
         assert!(nan.is_empty());
         assert!(contour_segments(&[0.0, 1.0], &[0.0], &[0.0, 1.0], 0.5).is_empty());
     }

@@ -50,18 +50,22 @@ pub struct PlannedFigure {
     pub plot: Result<TimePlot, String>,
 }
 
+/// Picks the columns of a figure from a history.
+type ColumnSelector = Box<dyn Fn(&History) -> Vec<String>>;
+
 /// A figure's recipe: which columns, with which legend labels.
 struct Recipe {
     stem: &'static str,
     caption: &'static str,
     title: &'static str,
     y_label: &'static str,
-    /// Column selector; its `Err` names what was looked for.
-    columns: Box<dyn Fn(&History) -> Vec<String>>,
+    /// Column selector (empty when none of its columns exist).
+    columns: ColumnSelector,
+    /// What the selector looks for, for the skipped-figure note.
     wanted: &'static str,
 }
 
-fn exact(names: &'static [&'static str]) -> Box<dyn Fn(&History) -> Vec<String>> {
+fn exact(names: &'static [&'static str]) -> ColumnSelector {
     Box::new(move |h| {
         names
             .iter()
@@ -71,13 +75,13 @@ fn exact(names: &'static [&'static str]) -> Box<dyn Fn(&History) -> Vec<String>>
     })
 }
 
-fn matching(pred: impl Fn(&str) -> bool + 'static) -> Box<dyn Fn(&History) -> Vec<String>> {
+fn matching(pred: impl Fn(&str) -> bool + 'static) -> ColumnSelector {
     Box::new(move |h| h.channels.iter().filter(|c| pred(c)).cloned().collect())
 }
 
 /// An aerodynamic load column: contains `aero`, the part (`body`/`fin`) and the quantity
 /// (`force`/`moment`), e.g. `aero_body_force_x` or `force_fin_aero_z`.
-fn aero(part: &'static str, what: &'static str) -> Box<dyn Fn(&History) -> Vec<String>> {
+fn aero(part: &'static str, what: &'static str) -> ColumnSelector {
     matching(move |c| c.contains("aero") && c.contains(part) && c.contains(what))
 }
 
@@ -98,9 +102,7 @@ pub fn plan_figures(h: &History, group_of: &dyn Fn(&str) -> ModeGroup) -> Vec<Pl
         modes(ModeGroup::BodyBending),
         modes(ModeGroup::Other),
     );
-    let fixed = |v: Vec<String>| -> Box<dyn Fn(&History) -> Vec<String>> {
-        Box::new(move |_| v.clone())
-    };
+    let fixed = |v: Vec<String>| -> ColumnSelector { Box::new(move |_| v.clone()) };
     let recipes = vec![
         Recipe {
             stem: "alpha",
@@ -268,7 +270,7 @@ pub fn plan_figures(h: &History, group_of: &dyn Fn(&str) -> ModeGroup) -> Vec<Pl
     recipes
         .into_iter()
         // Modes of class `other` are not part of the thesis' set: no entry when absent.
-        .filter(|r| r.stem != "other_modes" || (r.columns)(h).len() > 0)
+        .filter(|r| r.stem != "other_modes" || !(r.columns)(h).is_empty())
         .map(|r| {
             let cols = (r.columns)(h);
             let plot = if cols.is_empty() {
@@ -325,6 +327,9 @@ mod tests {
         );
         assert!(get("energy").plot.is_err());
         assert!(get("body_aero_force").plot.is_err());
-        assert!(figs.iter().all(|f| f.stem != "other_modes"), "omitted when empty");
+        assert!(
+            figs.iter().all(|f| f.stem != "other_modes"),
+            "omitted when empty"
+        );
     }
 }

@@ -146,7 +146,11 @@ pub fn parse_map_csv(text: &str, path: &Path) -> Result<StabilityMap, ReportErro
             s.parse::<f64>()
                 .map_err(|_| err(line, format!("`{s}` is not a number ({what})")))
         };
-        let (x, y, v) = (field(col_x, "x")?, field(col_y, "y")?, field(col_v, "sigma_d")?);
+        let (x, y, v) = (
+            field(col_x, "x")?,
+            field(col_y, "y")?,
+            field(col_v, "sigma_d")?,
+        );
         if !x.is_finite() || !y.is_finite() {
             return Err(err(line, "x and y must be finite numbers".into()));
         }

@@ -140,7 +140,10 @@ fn equal_aspect(points: &[(f64, f64)], w: u32, h: u32) -> ((f64, f64), (f64, f64
         f64::INFINITY,
         f64::NEG_INFINITY,
     );
-    for &(x, y) in points.iter().filter(|(x, y)| x.is_finite() && y.is_finite()) {
+    for &(x, y) in points
+        .iter()
+        .filter(|(x, y)| x.is_finite() && y.is_finite())
+    {
         x0 = x0.min(x);
         x1 = x1.max(x);
         y0 = y0.min(y);
@@ -232,9 +235,12 @@ impl DeformationFrame<'_> {
             .map_err(draw_err)?;
         if g.edges.is_empty() {
             chart
-                .draw_series(after.iter().zip(&g.components).map(|(p, c)| {
-                    Circle::new(*p, 2, component_colour(*c).filled())
-                }))
+                .draw_series(
+                    after
+                        .iter()
+                        .zip(&g.components)
+                        .map(|(p, c)| Circle::new(*p, 2, component_colour(*c).filled())),
+                )
                 .map_err(draw_err)?;
         }
         Ok(())
@@ -245,9 +251,7 @@ impl Figure for DeformationFrame<'_> {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), ReportError> {
         ensure_font()?;
         root.fill(&WHITE).map_err(draw_err)?;
-        let root = root
-            .titled(&self.title, font(22))
-            .map_err(draw_err)?;
+        let root = root.titled(&self.title, font(22)).map_err(draw_err)?;
         let (w, _) = root.dim_in_pixel();
         let (left, right) = root.split_horizontally(w * 2 / 5);
         self.draw_view(

@@ -87,7 +87,9 @@ pub fn decimate(xs: &[f64], ys: &[f64], max_points: usize) -> Vec<(f64, f64)> {
     let n = xs.len().min(ys.len());
     let all = || xs.iter().copied().zip(ys.iter().copied()).take(n);
     if n <= max_points || max_points < 3 {
-        return all().filter(|(x, y)| x.is_finite() && y.is_finite()).collect();
+        return all()
+            .filter(|(x, y)| x.is_finite() && y.is_finite())
+            .collect();
     }
     let buckets = max_points / 3;
     let per = n.div_ceil(buckets);
@@ -98,8 +100,14 @@ pub fn decimate(xs: &[f64], ys: &[f64], max_points: usize) -> Vec<(f64, f64)> {
             .filter(|&k| xs[k].is_finite() && ys[k].is_finite())
             .collect();
         let Some(&first) = idx.first() else { continue };
-        let lo = idx.iter().copied().fold(first, |a, k| if ys[k] < ys[a] { k } else { a });
-        let hi = idx.iter().copied().fold(first, |a, k| if ys[k] > ys[a] { k } else { a });
+        let lo = idx
+            .iter()
+            .copied()
+            .fold(first, |a, k| if ys[k] < ys[a] { k } else { a });
+        let hi = idx
+            .iter()
+            .copied()
+            .fold(first, |a, k| if ys[k] > ys[a] { k } else { a });
         let mut keep = vec![first, lo, hi];
         keep.sort_unstable();
         keep.dedup();
@@ -122,7 +130,11 @@ impl Figure for TimePlot {
             let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
                 (lo.min(v), hi.max(v))
             });
-            if lo < hi { (lo, hi) } else { padded_range([lo, hi].into_iter()) }
+            if lo < hi {
+                (lo, hi)
+            } else {
+                padded_range([lo, hi].into_iter())
+            }
         };
         let (y0, y1) = padded_range(thinned.iter().flatten().map(|p| p.1));
         let mut chart = ChartBuilder::on(root)
@@ -187,7 +199,11 @@ pub fn diverging_colour(v: f64, lo: f64, hi: f64) -> RGBColor {
 /// Sub-cells per grid cell along each axis for the filled map, so the picture has about
 /// `target` cells a side whatever the grid.
 fn subdivisions(n: usize, target: usize) -> usize {
-    if n < 2 { 1 } else { target.div_ceil(n - 1).clamp(1, 16) }
+    if n < 2 {
+        1
+    } else {
+        target.div_ceil(n - 1).clamp(1, 16)
+    }
 }
 
 impl Figure for StabilityMap {
@@ -311,7 +327,11 @@ fn draw_colour_bar<DB: DrawingBackend>(
     hi: f64,
     label: &str,
 ) -> Result<(), ReportError> {
-    let (b0, b1) = if hi > lo { (lo, hi) } else { (lo - 1.0, hi + 1.0) };
+    let (b0, b1) = if hi > lo {
+        (lo, hi)
+    } else {
+        (lo - 1.0, hi + 1.0)
+    };
     let mut bar = ChartBuilder::on(area)
         .margin_top(60)
         .margin_bottom(62)
