@@ -308,3 +308,55 @@ fn bad_input_is_diagnosed() {
     let out = flexflight(&["report", dir.path().to_str().unwrap(), "--magnify", "big"]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// A short real run of the thesis example, then its report with deformation frames: the
+/// artifact recorded in summary.json is found, the mesh is rebuilt from the vehicle file
+/// with its element edges, and the run's files stay as they were.
+#[test]
+fn report_of_a_real_run_draws_frames() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let file = root.join("examples/thesis/section_6_5.vdl");
+    let tmp = tempfile::tempdir().unwrap();
+    let (run, cache) = (tmp.path().join("run"), tmp.path().join("cache"));
+    let out = flexflight(&[
+        "run",
+        file.to_str().unwrap(),
+        "--scenario",
+        "supersonic_t10",
+        "--set",
+        "run.stop_time=0.02 s",
+        "--out",
+        run.to_str().unwrap(),
+        "--cache-dir",
+        cache.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let summary = std::fs::read(run.join("summary.json")).unwrap();
+    let history = std::fs::read(run.join("history.csv")).unwrap();
+    let out = flexflight(&[
+        "report",
+        run.to_str().unwrap(),
+        "--frames",
+        "0.01,0.02",
+        "--vehicle-file",
+        file.to_str().unwrap(),
+        "--cache-dir",
+        cache.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(!stderr.contains("warning"), "{stderr}");
+    let report = run.join("report");
+    for stem in ["frame_01", "frame_02", "fin_flap", "fin_twist", "body_bending"] {
+        let png = std::fs::read(report.join(format!("{stem}.png"))).unwrap();
+        assert!(png_size(&png).0 > 0, "{stem}");
+        assert!(report.join(format!("{stem}.svg")).is_file(), "{stem}");
+    }
+    assert!(!report.join("frame_03.svg").exists());
+    let html = std::fs::read_to_string(report.join("index.html")).unwrap();
+    assert!(html.contains("Deformed FE mesh at t = 0.0100 s"), "{html}");
+    assert!(html.contains("supersonic_t10"));
+    assert!(!html.contains("no element topology"));
+    assert_eq!(std::fs::read(run.join("summary.json")).unwrap(), summary);
+    assert_eq!(std::fs::read(run.join("history.csv")).unwrap(), history);
+}
