@@ -262,6 +262,11 @@ fn report_of_a_run_directory() {
 fn report_of_a_map_directory() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("map.csv"), test_map().to_csv()).unwrap();
+    std::fs::write(
+        dir.path().join("overlay_TN_4197.csv"),
+        "thickness_mm,mach\n0.4,1.0\n1.4,2.4\n",
+    )
+    .unwrap();
     let out = flexflight(&["report", dir.path().to_str().unwrap()]);
     assert!(
         out.status.success(),
@@ -269,7 +274,12 @@ fn report_of_a_map_directory() {
         String::from_utf8_lossy(&out.stderr)
     );
     let svg = std::fs::read_to_string(dir.path().join("report/map.svg")).unwrap();
-    assert!(svg_texts(&svg).iter().any(|t| t == "sigma_d (1/s)"));
+    let texts = svg_texts(&svg);
+    assert!(texts.iter().any(|t| t == "sigma_d (1/s)"));
+    assert!(
+        texts.iter().any(|t| t == "TN 4197"),
+        "overlay legend: {texts:?}"
+    );
     assert!(dir.path().join("report/map.png").is_file());
 }
 
@@ -330,7 +340,11 @@ fn report_of_a_real_run_draws_frames() {
         "--cache-dir",
         cache.to_str().unwrap(),
     ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let summary = std::fs::read(run.join("summary.json")).unwrap();
     let history = std::fs::read(run.join("history.csv")).unwrap();
     let out = flexflight(&[
@@ -347,7 +361,13 @@ fn report_of_a_real_run_draws_frames() {
     assert!(out.status.success(), "{stderr}");
     assert!(!stderr.contains("warning"), "{stderr}");
     let report = run.join("report");
-    for stem in ["frame_01", "frame_02", "fin_flap", "fin_twist", "body_bending"] {
+    for stem in [
+        "frame_01",
+        "frame_02",
+        "fin_flap",
+        "fin_twist",
+        "body_bending",
+    ] {
         let png = std::fs::read(report.join(format!("{stem}.png"))).unwrap();
         assert!(png_size(&png).0 > 0, "{stem}");
         assert!(report.join(format!("{stem}.svg")).is_file(), "{stem}");

@@ -10,7 +10,7 @@ use crate::report::ReportError;
 use crate::report::build::{ReportOutput, RunReportOptions, map_figures, run_figures};
 use crate::report::figures::ModeGroup;
 use crate::report::history::read_history;
-use crate::report::map::read_map_csv;
+use crate::report::map::{OverlayCurve, parse_overlay_csv, read_map_csv};
 use crate::report::mesh::MeshGeometry;
 use crate::structure::compile::{CompiledVehicle, build_model};
 use crate::structure::fe_model::ElementKind;
@@ -165,6 +165,40 @@ fn mesh_edges(
     Ok(edges)
 }
 
+/// The overlay curves of a map directory: every `overlay_<label>.csv` (columns x, y), in
+/// name order; `_` in the label is shown as a space.
+fn read_overlays(dir: &Path) -> Result<Vec<OverlayCurve>, ReportError> {
+    let read_err = |source| ReportError::Read {
+        path: dir.to_path_buf(),
+        source,
+    };
+    let mut files: Vec<(String, PathBuf)> = Vec::new();
+    for entry in std::fs::read_dir(dir).map_err(read_err)? {
+        let path = entry.map_err(read_err)?.path();
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().to_string())
+            .unwrap_or_default();
+        if let Some(label) = name
+            .strip_prefix("overlay_")
+            .and_then(|n| n.strip_suffix(".csv"))
+        {
+            files.push((label.replace('_', " "), path));
+        }
+    }
+    files.sort();
+    files
+        .into_iter()
+        .map(|(label, path)| {
+            let text = std::fs::read_to_string(&path).map_err(|source| ReportError::Read {
+                path: path.clone(),
+                source,
+            })?;
+            parse_overlay_csv(&text, &label, &path)
+        })
+        .collect()
+}
+
 /// `flexflight report DIR`.
 pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
     let dir = args.dir;
@@ -200,7 +234,10 @@ pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
     }
     // Read everything before writing anything.
     let map = if map_path.is_file() {
-        match read_map_csv(&map_path) {
+        match read_map_csv(&map_path).and_then(|mut m| {
+            m.overlays = read_overlays(dir)?;
+            Ok(m)
+        }) {
             Ok(m) => Some(m),
             Err(e) => return fail(&e),
         }

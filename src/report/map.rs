@@ -36,6 +36,24 @@ pub struct StabilityMap {
 }
 
 impl StabilityMap {
+    /// A sigma_d map over fin thickness (mm) x Mach with the default labels and no
+    /// overlays; `values` row-major, one row per Mach value. Checked by
+    /// [`StabilityMap::validate`].
+    pub fn new(xs: Vec<f64>, ys: Vec<f64>, values: Vec<f64>) -> Result<Self, ReportError> {
+        let map = StabilityMap {
+            xs,
+            ys,
+            values,
+            x_label: "fin thickness (mm)".into(),
+            y_label: "Mach".into(),
+            value_label: "sigma_d (1/s)".into(),
+            title: "Stability map: sigma_d".into(),
+            overlays: Vec::new(),
+        };
+        map.validate()?;
+        Ok(map)
+    }
+
     /// Check that the grid is consistent: sizes match, axes strictly increasing and finite.
     pub fn validate(&self) -> Result<(), ReportError> {
         let (nx, ny) = (self.xs.len(), self.ys.len());
@@ -200,6 +218,51 @@ pub fn parse_map_csv(text: &str, path: &Path) -> Result<StabilityMap, ReportErro
     Ok(map)
 }
 
+/// Parse an overlay curve from CSV text with a header and two numeric columns (x, y, in
+/// the map's coordinates), in drawing order. `path` is for messages.
+pub fn parse_overlay_csv(
+    text: &str,
+    label: &str,
+    path: &Path,
+) -> Result<OverlayCurve, ReportError> {
+    let err = |line: u64, message: String| ReportError::Csv {
+        path: path.to_path_buf(),
+        line,
+        message,
+    };
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .trim(csv::Trim::All)
+        .from_reader(text.as_bytes());
+    let width = reader
+        .headers()
+        .map_err(|e| err(1, format!("cannot read the header: {e}")))?
+        .len();
+    if width < 2 {
+        return Err(err(1, "an overlay needs two columns, x and y".into()));
+    }
+    let mut points = Vec::new();
+    for record in reader.records() {
+        let record =
+            record.map_err(|e| err(e.position().map_or(0, |p| p.line()), e.to_string()))?;
+        let line = record.position().map_or(0, |p| p.line());
+        let mut xy = [0.0; 2];
+        for (k, v) in xy.iter_mut().enumerate() {
+            let s = record.get(k).unwrap_or("");
+            *v = s
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| err(line, format!("`{s}` is not a finite number")))?;
+        }
+        points.push(xy);
+    }
+    Ok(OverlayCurve {
+        label: label.to_string(),
+        points,
+    })
+}
+
 /// Read a map CSV file (see [`parse_map_csv`]).
 pub fn read_map_csv(path: &Path) -> Result<StabilityMap, ReportError> {
     let text = std::fs::read_to_string(path).map_err(|source| ReportError::Read {
@@ -239,6 +302,16 @@ mod tests {
         assert_eq!(m.x_label, "fin_thickness_mm");
         assert_eq!(m.y_label, "mach");
         assert_eq!(m.at(1, 1), 4.0);
+    }
+
+    #[test]
+    fn overlay_curves_parse_with_line_numbers() {
+        let path = Path::new("overlay_tn4197.csv");
+        let c = parse_overlay_csv("thickness,mach\n0.5,1.2\n0.7,1.6\n", "TN 4197", path).unwrap();
+        assert_eq!(c.points, vec![[0.5, 1.2], [0.7, 1.6]]);
+        let e = parse_overlay_csv("x,y\n0.5,1.2\n0.7,inf\n", "TN 4197", path).unwrap_err();
+        assert!(e.to_string().starts_with("overlay_tn4197.csv:3:"), "{e}");
+        assert!(StabilityMap::new(vec![0.0, 1.0], vec![0.0, 1.0], vec![0.0; 3]).is_err());
     }
 
     #[test]
