@@ -31,7 +31,9 @@ pub struct RunReportOptions {
 /// The result of a report: index entries in page order and every file written.
 #[derive(Clone, Debug, Default)]
 pub struct ReportOutput {
+    /// Index entries, drawn and skipped, in page order.
     pub entries: Vec<IndexEntry>,
+    /// Every file written.
     pub files: Vec<PathBuf>,
     /// Notes for the user (skipped figures, missing modal columns, magnification).
     pub notes: Vec<String>,

@@ -11,7 +11,9 @@
 /// One contour segment, from `a` to `b`, in the grid's (x, y) coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Segment {
+    /// First end, (x, y).
     pub a: [f64; 2],
+    /// Second end, (x, y).
     pub b: [f64; 2],
 }
 

@@ -8,9 +8,13 @@ use super::plot::{Series, TimePlot};
 /// What kind of deformation a mode is, for grouping the `eta_*` columns.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ModeGroup {
+    /// Fin bending out of its plane (class `fin_flap`).
     FinFlap,
+    /// Fin torsion (class `fin_twist`).
     FinTwist,
+    /// Body bending (class `body_bending`).
     BodyBending,
+    /// Anything else.
     Other,
 }
 
@@ -234,7 +238,7 @@ pub fn plan_figures(h: &History, group_of: &dyn Fn(&str) -> ModeGroup) -> Vec<Pl
         },
         Recipe {
             stem: "energy",
-            caption: "Kinetic, strain, gravitational and total energy",
+            caption: "Kinetic, strain, gravitational and total energy (total conserved without thrust, aerodynamics and damping)",
             title: "Energies",
             y_label: "energy (J)",
             columns: exact(&[
@@ -244,6 +248,14 @@ pub fn plan_figures(h: &History, group_of: &dyn Fn(&str) -> ModeGroup) -> Vec<Pl
                 "energy_total",
             ]),
             wanted: "energy_kinetic, energy_strain, energy_gravitational, energy_total",
+        },
+        Recipe {
+            stem: "energy_strain",
+            caption: "Strain energy of the elastic modes (too small to see beside the others)",
+            title: "Strain energy",
+            y_label: "energy (J)",
+            columns: exact(&["energy_strain"]),
+            wanted: "energy_strain",
         },
         Recipe {
             stem: "momentum",

@@ -4,6 +4,7 @@
 /// One entry of the index.
 #[derive(Clone, Debug, PartialEq)]
 pub struct IndexEntry {
+    /// Caption under the figure (or of the skipped figure).
     pub caption: String,
     /// File names relative to the report directory (`x.svg`, `x.png`); `Err(reason)` for
     /// a figure that was not drawn.

@@ -25,13 +25,17 @@ pub struct StabilityMap {
     pub xs: Vec<f64>,
     /// Increasing y values (e.g. Mach).
     pub ys: Vec<f64>,
+    /// sigma_d (1/s), row-major, one row per y value.
     pub values: Vec<f64>,
     /// Axis label with unit, e.g. "fin thickness (mm)".
     pub x_label: String,
+    /// Axis label with unit, e.g. "Mach".
     pub y_label: String,
     /// What the colours show, e.g. "sigma_d (1/s)".
     pub value_label: String,
+    /// Caption above the map.
     pub title: String,
+    /// Curves drawn over the map, with legend entries.
     pub overlays: Vec<OverlayCurve>,
 }
 

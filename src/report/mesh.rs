@@ -9,7 +9,7 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::plot::{Figure, PALETTE, draw_err, font};
+use super::plot::{Figure, PALETTE, draw_err, font, tick_label};
 use super::{ReportError, ensure_font};
 use crate::structure::compile::CompiledVehicle;
 
@@ -125,10 +125,15 @@ pub fn isometric_view(p: [f64; 3]) -> (f64, f64) {
 /// `magnify`.
 #[derive(Clone, Debug)]
 pub struct DeformationFrame<'a> {
+    /// The undeformed mesh and its shapes.
     pub geometry: &'a MeshGeometry,
+    /// Modal coordinates at `t`, in the order of `geometry.mode_names`.
     pub eta: Vec<f64>,
+    /// Time of the frame, s.
     pub t: f64,
+    /// Factor on the displacements.
     pub magnify: f64,
+    /// Caption above both views.
     pub title: String,
 }
 
@@ -209,6 +214,8 @@ impl DeformationFrame<'_> {
             .y_desc(labels.1)
             .axis_desc_style(font(14))
             .label_style(font(12))
+            .x_label_formatter(&|v| tick_label(*v, xr.1 - xr.0))
+            .y_label_formatter(&|v| tick_label(*v, yr.1 - yr.0))
             .light_line_style(RGBColor(240, 240, 240))
             .bold_line_style(RGBColor(215, 215, 215))
             .draw()

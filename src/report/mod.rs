@@ -40,13 +40,16 @@ pub const FONT_FAMILY: &str = "sans-serif";
 /// Why a report or one of its figures could not be produced.
 #[derive(Debug, thiserror::Error)]
 pub enum ReportError {
+    /// An input file or directory cannot be read.
     #[error("cannot read `{path}`: {source}")]
     Read {
         path: PathBuf,
         source: std::io::Error,
     },
+    /// A figure or the index cannot be written.
     #[error("cannot write `{path}`: {message}")]
     Write { path: PathBuf, message: String },
+    /// A malformed CSV file, at a line.
     #[error("{path}:{line}: {message}")]
     Csv {
         path: PathBuf,
@@ -54,12 +57,16 @@ pub enum ReportError {
         line: u64,
         message: String,
     },
+    /// `summary.json` is not valid JSON.
     #[error("{path}: {message}")]
     Summary { path: PathBuf, message: String },
+    /// plotters refused the embedded font.
     #[error("the embedded font could not be registered with plotters")]
     Font,
+    /// A plotters backend failed.
     #[error("drawing failed: {0}")]
     Draw(String),
+    /// Data that cannot make a figure.
     #[error("{0}")]
     Data(String),
 }

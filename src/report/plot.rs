@@ -41,17 +41,22 @@ pub trait Figure {
 pub struct Series {
     /// Legend text.
     pub label: String,
+    /// Abscissae (usually time, s).
     pub xs: Vec<f64>,
+    /// Ordinates, one per abscissa.
     pub ys: Vec<f64>,
 }
 
 /// A plot of several series against one x axis, with legend, axis labels and grid.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TimePlot {
+    /// Caption above the plot.
     pub title: String,
     /// Axis label with unit, e.g. "t (s)".
     pub x_label: String,
+    /// Axis label with unit, e.g. "angle (deg)".
     pub y_label: String,
+    /// The lines, drawn in [`PALETTE`] order.
     pub series: Vec<Series>,
 }
 
@@ -61,6 +66,27 @@ pub(crate) fn draw_err<E: std::fmt::Display>(e: E) -> ReportError {
 
 pub(crate) fn font(size: u32) -> TextStyle<'static> {
     (FONT_FAMILY, size).into_font().color(&BLACK)
+}
+
+/// A tick label for `v` on an axis spanning `span`: two decimals more than the tick step
+/// (about a tenth of the span) needs, trailing zeros dropped; scientific notation for very
+/// small or large numbers; rounding noise next to zero shown as 0.
+pub fn tick_label(v: f64, span: f64) -> String {
+    let span = span.abs().max(1e-300);
+    if v == 0.0 || v.abs() < 1e-9 * span {
+        return "0".into();
+    }
+    let mag = v.abs().max(span);
+    if !(1e-3..1e6).contains(&mag) {
+        return format!("{v:.2e}");
+    }
+    let decimals = (2.0 - (span / 10.0).log10().floor()).clamp(0.0, 10.0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
 }
 
 /// The finite range of some values, widened by 5 % (and to a unit interval when flat).
@@ -150,6 +176,8 @@ impl Figure for TimePlot {
             .y_desc(self.y_label.as_str())
             .axis_desc_style(font(18))
             .label_style(font(14))
+            .x_label_formatter(&|v| tick_label(*v, x1 - x0))
+            .y_label_formatter(&|v| tick_label(*v, y1 - y0))
             .light_line_style(RGBColor(235, 235, 235))
             .bold_line_style(RGBColor(200, 200, 200))
             .draw()
@@ -231,6 +259,8 @@ impl Figure for StabilityMap {
             .y_desc(self.y_label.as_str())
             .axis_desc_style(font(18))
             .label_style(font(14))
+            .x_label_formatter(&|v| tick_label(*v, x1 - x0))
+            .y_label_formatter(&|v| tick_label(*v, y1 - y0))
             .draw()
             .map_err(draw_err)?;
         // Filled map: each grid cell cut into sub-cells coloured by the bilinear value at
@@ -345,6 +375,7 @@ fn draw_colour_bar<DB: DrawingBackend>(
         .y_desc(label)
         .axis_desc_style(font(16))
         .label_style(font(13))
+        .y_label_formatter(&|v| tick_label(*v, b1 - b0))
         .draw()
         .map_err(draw_err)?;
     let steps = 100;
@@ -393,4 +424,32 @@ pub fn save_svg_png<F: Figure>(
         figure.draw(&root).map_err(|e| write_err(&png, e))?;
     }
     Ok(vec![svg, png])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tick_labels_tell_small_ticks_apart() {
+        assert_eq!(tick_label(-0.0125, 0.05), "-0.0125");
+        assert_eq!(tick_label(2.5e-6, 1e-5), "2.50e-6");
+        assert_eq!(tick_label(250.0, 100.0), "250");
+        assert_eq!(tick_label(0.0, 1.0), "0");
+        assert_eq!(tick_label(1.5, 2.0), "1.5");
+        assert_eq!(tick_label(0.25, 2.0), "0.25");
+        assert_eq!(tick_label(-4.24e-22, 4e-6), "0");
+    }
+
+    #[test]
+    fn decimation_keeps_peaks() {
+        let xs: Vec<f64> = (0..100_000).map(f64::from).collect();
+        let mut ys = vec![0.0; xs.len()];
+        ys[54_321] = 7.0;
+        ys[77_777] = -3.0;
+        let d = decimate(&xs, &ys, 3000);
+        assert!(d.len() <= 3100, "{}", d.len());
+        assert!(d.contains(&(54_321.0, 7.0)) && d.contains(&(77_777.0, -3.0)));
+        assert!(d.windows(2).all(|w| w[0].0 < w[1].0));
+    }
 }
