@@ -163,6 +163,18 @@ impl Figure for TimePlot {
             }
         };
         let (y0, y1) = padded_range(thinned.iter().flatten().map(|p| p.1));
+        // When the legend would hide data in every corner, make room above the data.
+        let n = self.series.len();
+        let (corner, hidden) = legend_corner(&thinned, (x0, x1), (y0, y1), n);
+        let (legend_at, y1) = if hidden == 0 {
+            (corner, y1)
+        } else {
+            let h = legend_height_fraction(n);
+            (
+                SeriesLabelPosition::UpperRight,
+                y1 + (y1 - y0) * h / (1.0 - h),
+            )
+        };
         let mut chart = ChartBuilder::on(root)
             .caption(&self.title, font(24))
             .margin(12)
@@ -198,12 +210,54 @@ impl Figure for TimePlot {
                 .label_font(font(14))
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
-                .position(SeriesLabelPosition::UpperRight)
+                .position(legend_at)
                 .draw()
                 .map_err(draw_err)?;
         }
         root.present().map_err(draw_err)
     }
+}
+
+/// Fraction of the plot height a legend of `n` entries takes (with its margins).
+fn legend_height_fraction(n: usize) -> f64 {
+    (0.045 * n as f64 + 0.06).min(0.9)
+}
+
+/// The corner of the plot where the legend hides the fewest data points, and how many it
+/// hides: each corner's box is 35 % of the width and [`legend_height_fraction`] of the
+/// height; ties keep the order upper right, upper left, lower right, lower left.
+pub fn legend_corner(
+    series: &[Vec<(f64, f64)>],
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+    n: usize,
+) -> (SeriesLabelPosition, usize) {
+    let h = legend_height_fraction(n);
+    let w = 0.35;
+    let corners = [
+        (SeriesLabelPosition::UpperRight, true, true),
+        (SeriesLabelPosition::UpperLeft, false, true),
+        (SeriesLabelPosition::LowerRight, true, false),
+        (SeriesLabelPosition::LowerLeft, false, false),
+    ];
+    let mut best = (usize::MAX, SeriesLabelPosition::UpperRight);
+    for (pos, right, upper) in corners {
+        let hidden = series
+            .iter()
+            .flatten()
+            .filter(|(x, y)| {
+                let u = (x - x0) / (x1 - x0);
+                let v = (y - y0) / (y1 - y0);
+                let in_x = if right { u > 1.0 - w } else { u < w };
+                let in_y = if upper { v > 1.0 - h } else { v < h };
+                in_x && in_y
+            })
+            .count();
+        if hidden < best.0 {
+            best = (hidden, pos);
+        }
+    }
+    (best.1, best.0)
 }
 
 /// The diverging colour of a sigma_d value: white at 0, blue towards `lo` < 0 (stable),
@@ -439,6 +493,22 @@ mod tests {
         assert_eq!(tick_label(1.5, 2.0), "1.5");
         assert_eq!(tick_label(0.25, 2.0), "0.25");
         assert_eq!(tick_label(-4.24e-22, 4e-6), "0");
+    }
+
+    #[test]
+    fn legend_avoids_the_data() {
+        let rising: Vec<(f64, f64)> = (0..=100).map(|k| (k as f64, k as f64)).collect();
+        let (pos, hidden) = legend_corner(&[rising], (0.0, 100.0), (0.0, 100.0), 2);
+        assert!(
+            matches!(pos, SeriesLabelPosition::UpperLeft) && hidden == 0,
+            "{pos:?}"
+        );
+        let flat_top: Vec<(f64, f64)> = (0..=100).map(|k| (k as f64, 95.0)).collect();
+        let (pos, _) = legend_corner(&[flat_top.clone()], (0.0, 100.0), (0.0, 100.0), 1);
+        assert!(matches!(pos, SeriesLabelPosition::LowerRight), "{pos:?}");
+        let flat_bottom: Vec<(f64, f64)> = (0..=100).map(|k| (k as f64, 5.0)).collect();
+        let (_, hidden) = legend_corner(&[flat_top, flat_bottom], (0.0, 100.0), (0.0, 100.0), 2);
+        assert!(hidden > 0, "every corner has data");
     }
 
     #[test]
