@@ -504,7 +504,12 @@ mod tests {
             "{pos:?}"
         );
         let flat_top: Vec<(f64, f64)> = (0..=100).map(|k| (k as f64, 95.0)).collect();
-        let (pos, _) = legend_corner(&[flat_top.clone()], (0.0, 100.0), (0.0, 100.0), 1);
+        let (pos, _) = legend_corner(
+            std::slice::from_ref(&flat_top),
+            (0.0, 100.0),
+            (0.0, 100.0),
+            1,
+        );
         assert!(matches!(pos, SeriesLabelPosition::LowerRight), "{pos:?}");
         let flat_bottom: Vec<(f64, f64)> = (0..=100).map(|k| (k as f64, 5.0)).collect();
         let (_, hidden) = legend_corner(&[flat_top, flat_bottom], (0.0, 100.0), (0.0, 100.0), 2);
