@@ -379,4 +379,27 @@ fn report_of_a_real_run_draws_frames() {
     assert!(!html.contains("no element topology"));
     assert_eq!(std::fs::read(run.join("summary.json")).unwrap(), summary);
     assert_eq!(std::fs::read(run.join("history.csv")).unwrap(), history);
+
+    // A second report with one frame removes the first report's second frame.
+    let out = flexflight(&[
+        "report",
+        run.to_str().unwrap(),
+        "--frames",
+        "0.015",
+        "--cache-dir",
+        cache.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(report.join("frame_01.svg").is_file());
+    assert!(!report.join("frame_02.svg").exists() && !report.join("frame_02.png").exists());
+    let html = std::fs::read_to_string(report.join("index.html")).unwrap();
+    assert!(
+        html.contains("no element topology"),
+        "no --vehicle-file this time"
+    );
+    assert_eq!(std::fs::read(run.join("history.csv")).unwrap(), history);
 }

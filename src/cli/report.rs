@@ -7,7 +7,9 @@ use std::path::{Path, PathBuf};
 
 use crate::artifact::{self, Cache, CacheKey};
 use crate::report::ReportError;
-use crate::report::build::{ReportOutput, RunReportOptions, map_figures, run_figures};
+use crate::report::build::{
+    ReportOutput, RunReportOptions, map_figures, replace_manifest, run_figures,
+};
 use crate::report::figures::ModeGroup;
 use crate::report::history::read_history;
 use crate::report::map::{OverlayCurve, parse_overlay_csv, read_map_csv};
@@ -374,6 +376,14 @@ pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
         Ok(p) => p,
         Err(e) => return fail(&e),
     };
+    match replace_manifest(&out, &report.files) {
+        Ok(removed) => {
+            for r in removed {
+                eprintln!("removed stale {}", r.display());
+            }
+        }
+        Err(e) => warnings.push(e.to_string()),
+    }
     for w in warnings {
         eprintln!("warning: {w}");
     }

@@ -84,6 +84,35 @@ impl ReportOutput {
     }
 }
 
+/// Name of the list of files a report wrote, kept in the report directory.
+pub const MANIFEST: &str = ".flexflight-report-files";
+
+/// Record the files of this report in `out/MANIFEST` and delete the files an earlier
+/// report listed there that this one did not write again (e.g. `frame_04.*` after a report
+/// with fewer frames). Only files named in the manifest and lying directly in `out` are
+/// removed, so nothing a user put there is touched. Returns the files removed.
+pub fn replace_manifest(out: &Path, written: &[PathBuf]) -> Result<Vec<PathBuf>, ReportError> {
+    let manifest = out.join(MANIFEST);
+    let names: Vec<String> = written.iter().map(|p| file_name(p)).collect();
+    let mut removed = Vec::new();
+    if let Ok(old) = std::fs::read_to_string(&manifest) {
+        for name in old.lines().map(str::trim).filter(|n| !n.is_empty()) {
+            let plain = !name.contains(['/', '\\']) && name != ".." && name != ".";
+            if plain && !names.iter().any(|n| n == name) {
+                let path = out.join(name);
+                if path.is_file() && std::fs::remove_file(&path).is_ok() {
+                    removed.push(path);
+                }
+            }
+        }
+    }
+    std::fs::write(&manifest, names.join("\n") + "\n").map_err(|e| ReportError::Write {
+        path: manifest.clone(),
+        message: e.to_string(),
+    })?;
+    Ok(removed)
+}
+
 /// Draw a stability map into `out/map.svg` and `out/map.png`.
 pub fn map_figures(
     map: &StabilityMap,
@@ -209,6 +238,28 @@ pub fn run_figures(
 mod tests {
     use super::*;
     use crate::report::history::parse_history;
+
+    #[test]
+    fn stale_files_of_an_earlier_report_are_removed_and_nothing_else() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = &dir.path().join("report");
+        std::fs::create_dir(out).unwrap();
+        for f in ["a.svg", "b.svg", "mine.txt"] {
+            std::fs::write(out.join(f), "x").unwrap();
+        }
+        let removed = replace_manifest(out, &[out.join("a.svg"), out.join("b.svg")]).unwrap();
+        assert!(removed.is_empty());
+        let removed = replace_manifest(out, &[out.join("a.svg")]).unwrap();
+        assert_eq!(removed, vec![out.join("b.svg")]);
+        assert!(out.join("a.svg").is_file() && out.join("mine.txt").is_file());
+        assert!(!out.join("b.svg").exists());
+        // A manifest naming a file outside the report directory removes nothing there.
+        std::fs::write(out.join(MANIFEST), "../keep\nmine.txt\n").unwrap();
+        std::fs::write(dir.path().join("keep"), "x").unwrap();
+        replace_manifest(out, &[out.join("a.svg")]).unwrap();
+        assert!(dir.path().join("keep").is_file());
+        assert!(!out.join("mine.txt").exists(), "listed in the manifest");
+    }
 
     #[test]
     fn default_frames_are_evenly_spaced_after_the_start() {
