@@ -224,7 +224,7 @@ fn legend_height_fraction(n: usize) -> f64 {
 }
 
 /// The corner of the plot where the legend hides the fewest data points, and how many it
-/// hides: each corner's box is 35 % of the width and [`legend_height_fraction`] of the
+/// hides: each corner's box is 35 % of the width and `legend_height_fraction` of the
 /// height; ties keep the order upper right, upper left, lower right, lower left.
 pub fn legend_corner(
     series: &[Vec<(f64, f64)>],
