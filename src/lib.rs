@@ -28,6 +28,7 @@ pub mod check;
 pub mod cli;
 pub mod diagnostics;
 pub mod plan;
+pub mod report;
 pub mod runtime;
 pub mod structure;
 pub mod syntax;

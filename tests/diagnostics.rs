@@ -749,6 +749,7 @@ fn codes_in_source() -> Vec<(String, PathBuf)> {
             "\"modal::",
             "\"structure::",
             "\"analysis::",
+            "\"report::",
         ] {
             for (k, _) in text.match_indices(prefix) {
                 let rest = &text[k + 1..];

@@ -7,6 +7,7 @@
 pub mod analyze;
 pub mod compile;
 mod fmt;
+pub mod report;
 pub mod run;
 
 use std::io::Write;
@@ -101,6 +102,24 @@ pub enum Command {
     Analyze {
         #[command(subcommand)]
         command: analyze::AnalyzeCommand,
+    },
+    /// Draw a run's figures (or a stability map) as SVG and PNG with an HTML index in
+    /// DIR/report/.
+    Report {
+        /// A run directory (history.csv, summary.json) or a map directory (map.csv).
+        dir: PathBuf,
+        /// Times (s) of the deformation frames, comma-separated (default: 4 evenly spaced).
+        #[arg(long, value_name = "T1,T2,...")]
+        frames: Option<String>,
+        /// Displacement magnification of the frames: `auto` (largest = 10 % of the span) or
+        /// a number.
+        #[arg(long, value_name = "auto|X")]
+        magnify: Option<String>,
+        /// The run's vehicle file: the FE mesh is rebuilt from it to draw element edges.
+        #[arg(long)]
+        vehicle_file: Option<PathBuf>,
+        #[command(flatten)]
+        cache: CacheArgs,
     },
     /// Format vehicle files canonically (in place, or report with --check).
     Fmt {
@@ -198,6 +217,22 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
             term,
         ),
         Command::Analyze { command } => analyze::cmd_analyze(&command, term),
+        Command::Report {
+            dir,
+            frames,
+            magnify,
+            vehicle_file,
+            cache,
+        } => report::cmd_report(
+            &report::ReportArgs {
+                dir: &dir,
+                frames: frames.as_deref(),
+                magnify: magnify.as_deref(),
+                vehicle_file: vehicle_file.as_deref(),
+                cache_dir: cache.cache_dir.as_deref(),
+            },
+            term,
+        ),
         Command::Inspect { artifact, output } => compile::cmd_inspect(&artifact, output.format),
         Command::Modes {
             file,

@@ -1,0 +1,415 @@
+//! `flexflight report DIR`: figures (SVG + PNG) and `DIR/report/index.html` for a run
+//! directory (`history.csv`, `summary.json`) or a map directory (`map.csv`).
+//!
+//! Only `DIR/report/` is written; the run's own files are never touched.
+
+use std::path::{Path, PathBuf};
+
+use crate::artifact::{self, Cache, CacheKey};
+use crate::report::ReportError;
+use crate::report::build::{
+    ReportOutput, RunReportOptions, map_figures, replace_manifest, run_figures,
+};
+use crate::report::figures::ModeGroup;
+use crate::report::history::read_history;
+use crate::report::map::{OverlayCurve, parse_overlay_csv, read_map_csv};
+use crate::report::mesh::MeshGeometry;
+use crate::structure::compile::{CompiledVehicle, build_model};
+use crate::structure::fe_model::ElementKind;
+
+use super::{Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Terminal, load_program};
+
+/// Options of `flexflight report`.
+pub struct ReportArgs<'a> {
+    pub dir: &'a Path,
+    /// Comma-separated frame times (s), e.g. "0.1,0.5".
+    pub frames: Option<&'a str>,
+    /// "auto" or a number.
+    pub magnify: Option<&'a str>,
+    /// The vehicle file of the run, to draw the mesh with its element edges.
+    pub vehicle_file: Option<&'a Path>,
+    pub cache_dir: Option<&'a Path>,
+}
+
+fn fail(e: &ReportError) -> u8 {
+    eprintln!("error[{}]: {e}", e.code());
+    match e {
+        ReportError::Csv { .. } | ReportError::Summary { .. } | ReportError::Data(_) => {
+            EXIT_DIAGNOSTICS
+        }
+        _ => EXIT_USAGE,
+    }
+}
+
+/// Parse `--frames 0.1,0.5,...`.
+pub fn parse_frames(s: &str) -> Result<Vec<f64>, String> {
+    s.split(',')
+        .map(str::trim)
+        .filter(|p| !p.is_empty())
+        .map(|p| {
+            p.parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| format!("--frames: `{p}` is not a time in seconds"))
+        })
+        .collect()
+}
+
+/// Parse `--magnify auto|X` (X > 0).
+pub fn parse_magnify(s: &str) -> Result<Option<f64>, String> {
+    if s.eq_ignore_ascii_case("auto") {
+        return Ok(None);
+    }
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(Some(v)),
+        _ => Err(format!(
+            "--magnify: `{s}` is neither `auto` nor a positive number"
+        )),
+    }
+}
+
+fn parse_hex_key(hex: &str) -> Option<CacheKey> {
+    if hex.len() != 64 {
+        return None;
+    }
+    let mut key = [0u8; 32];
+    for (k, byte) in key.iter_mut().enumerate() {
+        *byte = u8::from_str_radix(hex.get(2 * k..2 * k + 2)?, 16).ok()?;
+    }
+    Some(CacheKey(key))
+}
+
+/// The compiled vehicle recorded in `summary.json`: the artifact at its recorded path, or
+/// the one with its hash in the cache directory.
+fn load_compiled(
+    summary: &serde_json::Value,
+    cache_dir: Option<&Path>,
+) -> Result<CompiledVehicle, String> {
+    let key = summary
+        .get("artifact_hash")
+        .and_then(|v| v.as_str())
+        .and_then(parse_hex_key)
+        .ok_or("summary.json has no valid `artifact_hash`")?;
+    let mut candidates: Vec<PathBuf> = Vec::new();
+    if let Some(p) = summary.get("artifact").and_then(|v| v.as_str()) {
+        candidates.push(PathBuf::from(p));
+    }
+    candidates.push(Cache::resolve(cache_dir).path_for(&key));
+    let mut last = String::new();
+    for path in candidates {
+        match artifact::load::<CompiledVehicle>(&path, &key) {
+            Ok(art) => {
+                return rkyv::deserialize::<CompiledVehicle, rkyv::rancor::Error>(art.get())
+                    .map_err(|e| format!("artifact {}: {e}", path.display()));
+            }
+            Err(e) => last = format!("{}: {e}", path.display()),
+        }
+    }
+    Err(last)
+}
+
+/// Element edges of the run's FE model, rebuilt from the vehicle file (the scenario's
+/// vehicle, with its overrides, when the file declares the scenario). Checked against the
+/// artifact's node ids.
+fn mesh_edges(
+    file: &Path,
+    summary: &serde_json::Value,
+    compiled: &CompiledVehicle,
+    term: Terminal,
+) -> Result<Vec<[usize; 2]>, String> {
+    let checked = load_program(&[file.to_path_buf()], &Common::default(), term)
+        .map_err(|_| format!("`{}` does not check", file.display()))?;
+    let scenario = summary.get("scenario").and_then(|v| v.as_str());
+    let vehicle = scenario
+        .and_then(|s| checked.program.scenario(s))
+        .map(|s| &s.vehicle)
+        .or_else(|| {
+            checked
+                .program
+                .vehicles
+                .iter()
+                .find(|v| v.name.value == compiled.vehicle)
+        })
+        .ok_or_else(|| {
+            format!(
+                "`{}` declares neither the scenario nor the vehicle `{}`",
+                file.display(),
+                compiled.vehicle
+            )
+        })?;
+    let model = build_model(vehicle).map_err(|e| e.to_string())?;
+    let ids: Vec<u64> = model.nodes.iter().map(|n| n.id).collect();
+    if ids != compiled.node_ids {
+        return Err(format!(
+            "the FE model of `{}` ({} nodes) is not the one in the artifact ({} nodes)",
+            file.display(),
+            ids.len(),
+            compiled.node_ids.len()
+        ));
+    }
+    let mut edges: Vec<[usize; 2]> = Vec::new();
+    for e in &model.elements {
+        let n = &e.nodes;
+        match e.kind {
+            ElementKind::Shell if n.len() >= 3 => {
+                for k in 0..n.len() {
+                    edges.push([n[k], n[(k + 1) % n.len()]]);
+                }
+            }
+            _ => edges.extend(n.windows(2).map(|w| [w[0], w[1]])),
+        }
+    }
+    for e in &mut edges {
+        e.sort_unstable();
+    }
+    edges.sort_unstable();
+    edges.dedup();
+    Ok(edges)
+}
+
+/// The overlay curves of a map directory: every `overlay_<label>.csv` (columns x, y), in
+/// name order; `_` in the label is shown as a space.
+fn read_overlays(dir: &Path) -> Result<Vec<OverlayCurve>, ReportError> {
+    let read_err = |source| ReportError::Read {
+        path: dir.to_path_buf(),
+        source,
+    };
+    let mut files: Vec<(String, PathBuf)> = Vec::new();
+    for entry in std::fs::read_dir(dir).map_err(read_err)? {
+        let path = entry.map_err(read_err)?.path();
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().to_string())
+            .unwrap_or_default();
+        if let Some(label) = name
+            .strip_prefix("overlay_")
+            .and_then(|n| n.strip_suffix(".csv"))
+        {
+            files.push((label.replace('_', " "), path));
+        }
+    }
+    files.sort();
+    files
+        .into_iter()
+        .map(|(label, path)| {
+            let text = std::fs::read_to_string(&path).map_err(|source| ReportError::Read {
+                path: path.clone(),
+                source,
+            })?;
+            parse_overlay_csv(&text, &label, &path)
+        })
+        .collect()
+}
+
+/// `flexflight report DIR`.
+pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
+    let dir = args.dir;
+    if !dir.is_dir() {
+        eprintln!(
+            "error[report::read]: `{}` is not a directory (expected a run directory with history.csv and summary.json, or a map directory with map.csv)",
+            dir.display()
+        );
+        return EXIT_USAGE;
+    }
+    let frame_times = match args.frames.map(parse_frames).transpose() {
+        Ok(f) => f.unwrap_or_default(),
+        Err(msg) => {
+            eprintln!("error: {msg}");
+            return EXIT_USAGE;
+        }
+    };
+    let magnify = match args.magnify.map(parse_magnify).transpose() {
+        Ok(m) => m.flatten(),
+        Err(msg) => {
+            eprintln!("error: {msg}");
+            return EXIT_USAGE;
+        }
+    };
+    let history_path = dir.join("history.csv");
+    let map_path = dir.join("map.csv");
+    if !history_path.is_file() && !map_path.is_file() {
+        eprintln!(
+            "error[report::read]: `{}` has neither history.csv nor map.csv: nothing to report",
+            dir.display()
+        );
+        return EXIT_USAGE;
+    }
+    // Read everything before writing anything.
+    let map = if map_path.is_file() {
+        match read_map_csv(&map_path).and_then(|mut m| {
+            m.overlays = read_overlays(dir)?;
+            Ok(m)
+        }) {
+            Ok(m) => Some(m),
+            Err(e) => return fail(&e),
+        }
+    } else {
+        None
+    };
+    let history = if history_path.is_file() {
+        match read_history(&history_path) {
+            Ok(h) => Some(h),
+            Err(e) => return fail(&e),
+        }
+    } else {
+        None
+    };
+    let summary_path = dir.join("summary.json");
+    let summary: Option<serde_json::Value> = if history.is_some() && summary_path.is_file() {
+        let parsed = std::fs::read_to_string(&summary_path)
+            .map_err(|e| e.to_string())
+            .and_then(|t| serde_json::from_str(&t).map_err(|e| e.to_string()));
+        match parsed {
+            Ok(v) => Some(v),
+            Err(message) => {
+                return fail(&ReportError::Summary {
+                    path: summary_path,
+                    message,
+                });
+            }
+        }
+    } else {
+        None
+    };
+    let mut warnings = Vec::new();
+    let compiled = match &summary {
+        Some(s) => match load_compiled(s, args.cache_dir) {
+            Ok(c) => Some(c),
+            Err(e) => {
+                warnings.push(format!(
+                    "no deformation frames: cannot load the artifact ({e})"
+                ));
+                None
+            }
+        },
+        None if history.is_some() => {
+            warnings.push("no summary.json: no deformation frames".to_string());
+            None
+        }
+        None => None,
+    };
+    let edges = match (&compiled, args.vehicle_file, &summary) {
+        (Some(c), Some(file), Some(s)) => match mesh_edges(file, s, c, term) {
+            Ok(e) => e,
+            Err(msg) => {
+                warnings.push(format!("mesh drawn without element edges: {msg}"));
+                Vec::new()
+            }
+        },
+        _ => Vec::new(),
+    };
+    let mesh = compiled
+        .as_ref()
+        .map(|c| MeshGeometry::from_compiled(c, edges));
+
+    let out = dir.join("report");
+    if let Err(e) = std::fs::create_dir_all(&out) {
+        return fail(&ReportError::Write {
+            path: out,
+            message: e.to_string(),
+        });
+    }
+    let mut report = ReportOutput::default();
+    let mut facts: Vec<(String, String)> = Vec::new();
+    if let Some(m) = &map {
+        if let Err(e) = map_figures(m, &out, &mut report) {
+            return fail(&e);
+        }
+        facts.push((
+            "map".into(),
+            format!("{} x {} points", m.xs.len(), m.ys.len()),
+        ));
+    }
+    if let Some(h) = &history {
+        let classes: Vec<(String, ModeGroup)> = compiled
+            .as_ref()
+            .map(|c| {
+                c.modes
+                    .iter()
+                    .map(|m| (m.name.clone(), ModeGroup::from_class(&m.class)))
+                    .collect()
+            })
+            .unwrap_or_default();
+        let group = |name: &str| {
+            classes
+                .iter()
+                .find(|(n, _)| n == name)
+                .map_or_else(|| ModeGroup::from_name(name), |(_, g)| *g)
+        };
+        let options = RunReportOptions {
+            frame_times,
+            magnify,
+        };
+        if let Err(e) = run_figures(h, &group, mesh.as_ref(), &options, &out, &mut report) {
+            return fail(&e);
+        }
+        if let Some(s) = &summary {
+            for key in [
+                "scenario",
+                "vehicle",
+                "stop_reason",
+                "t_end",
+                "rows",
+                "artifact_hash",
+            ] {
+                if let Some(v) = s.get(key) {
+                    let text = v.as_str().map_or_else(|| v.to_string(), str::to_string);
+                    facts.push((key.to_string(), text));
+                }
+            }
+        }
+    }
+    let title = match &summary {
+        Some(s) => format!(
+            "flexflight report: {}",
+            s.get("scenario").and_then(|v| v.as_str()).unwrap_or("run")
+        ),
+        None => format!("flexflight report: {}", dir.display()),
+    };
+    for w in &warnings {
+        facts.push(("note".into(), w.clone()));
+    }
+    for n in &report.notes {
+        facts.push(("note".into(), n.clone()));
+    }
+    let index = match report.write_index(&out, &title, &facts) {
+        Ok(p) => p,
+        Err(e) => return fail(&e),
+    };
+    match replace_manifest(&out, &report.files) {
+        Ok(removed) => {
+            for r in removed {
+                eprintln!("removed stale {}", r.display());
+            }
+        }
+        Err(e) => warnings.push(e.to_string()),
+    }
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
+    let drawn = report.entries.iter().filter(|e| e.files.is_ok()).count();
+    let skipped = report.entries.len() - drawn;
+    eprintln!(
+        "{drawn} figure(s) drawn, {skipped} skipped ({} files) -> {}",
+        report.files.len(),
+        index.display()
+    );
+    EXIT_OK
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn options_parse() {
+        assert_eq!(parse_frames("0.1, 0.5,1").unwrap(), vec![0.1, 0.5, 1.0]);
+        assert!(parse_frames("0.1,x").is_err());
+        assert_eq!(parse_magnify("auto").unwrap(), None);
+        assert_eq!(parse_magnify("250").unwrap(), Some(250.0));
+        assert!(parse_magnify("-1").is_err());
+        let k = parse_hex_key(&"0a".repeat(32)).unwrap();
+        assert_eq!(k.0, [10u8; 32]);
+        assert!(parse_hex_key("zz").is_none());
+    }
+}

@@ -1,0 +1,347 @@
+//! The thesis' figure set for a run (ch. 6: angle of attack, fin flap and twist
+//! coordinates, body bending, velocities, Mach, aerodynamic loads, attitude, energies and
+//! momenta), chosen from the columns a `history.csv` actually has.
+
+use super::history::History;
+use super::plot::{Series, TimePlot};
+
+/// What kind of deformation a mode is, for grouping the `eta_*` columns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ModeGroup {
+    /// Fin bending out of its plane (class `fin_flap`).
+    FinFlap,
+    /// Fin torsion (class `fin_twist`).
+    FinTwist,
+    /// Body bending (class `body_bending`).
+    BodyBending,
+    /// Anything else.
+    Other,
+}
+
+impl ModeGroup {
+    /// From the class the structural compiler gave a mode (`CompiledMode::class`).
+    pub fn from_class(class: &str) -> Self {
+        match class {
+            "fin_flap" => ModeGroup::FinFlap,
+            "fin_twist" => ModeGroup::FinTwist,
+            "body_bending" => ModeGroup::BodyBending,
+            _ => ModeGroup::Other,
+        }
+    }
+
+    /// Guessed from a mode's name when no artifact is at hand.
+    pub fn from_name(name: &str) -> Self {
+        if name.contains("flap") {
+            ModeGroup::FinFlap
+        } else if name.contains("twist") {
+            ModeGroup::FinTwist
+        } else if name.contains("bending") || name.starts_with("body") {
+            ModeGroup::BodyBending
+        } else {
+            ModeGroup::Other
+        }
+    }
+}
+
+/// One figure of the set: drawn from the history, or skipped with the reason.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlannedFigure {
+    /// File stem (no extension), e.g. `alpha`.
+    pub stem: String,
+    /// Caption for the index page.
+    pub caption: String,
+    /// `Err(reason)` when the columns it needs are absent.
+    pub plot: Result<TimePlot, String>,
+}
+
+/// Picks the columns of a figure from a history.
+type ColumnSelector = Box<dyn Fn(&History) -> Vec<String>>;
+
+/// A figure's recipe: which columns, with which legend labels.
+struct Recipe {
+    stem: &'static str,
+    caption: &'static str,
+    title: &'static str,
+    y_label: &'static str,
+    /// Column selector (empty when none of its columns exist).
+    columns: ColumnSelector,
+    /// What the selector looks for, for the skipped-figure note.
+    wanted: &'static str,
+}
+
+fn exact(names: &'static [&'static str]) -> ColumnSelector {
+    Box::new(move |h| {
+        names
+            .iter()
+            .filter(|n| h.column(n).is_some())
+            .map(|n| n.to_string())
+            .collect()
+    })
+}
+
+fn matching(pred: impl Fn(&str) -> bool + 'static) -> ColumnSelector {
+    Box::new(move |h| h.channels.iter().filter(|c| pred(c)).cloned().collect())
+}
+
+/// An aerodynamic load column: contains `aero`, the part (`body`/`fin`) and the quantity
+/// (`force`/`moment`), e.g. `aero_body_force_x` or `force_fin_aero_z`.
+fn aero(part: &'static str, what: &'static str) -> ColumnSelector {
+    matching(move |c| c.contains("aero") && c.contains(part) && c.contains(what))
+}
+
+/// The figure set for a history. `group_of` classifies a mode name (the part after
+/// `eta_`): from the artifact's mode classes when available.
+pub fn plan_figures(h: &History, group_of: &dyn Fn(&str) -> ModeGroup) -> Vec<PlannedFigure> {
+    let modes = |g: ModeGroup| -> Vec<String> {
+        h.channels
+            .iter()
+            .filter(|c| !c.starts_with("eta_dot_"))
+            .filter(|c| c.strip_prefix("eta_").is_some_and(|m| group_of(m) == g))
+            .cloned()
+            .collect()
+    };
+    let (flap, twist, bending, other) = (
+        modes(ModeGroup::FinFlap),
+        modes(ModeGroup::FinTwist),
+        modes(ModeGroup::BodyBending),
+        modes(ModeGroup::Other),
+    );
+    let fixed = |v: Vec<String>| -> ColumnSelector { Box::new(move |_| v.clone()) };
+    let recipes = vec![
+        Recipe {
+            stem: "alpha",
+            caption: "Angle of attack and sideslip",
+            title: "Angle of attack",
+            y_label: "angle (deg)",
+            columns: exact(&["alpha", "beta"]),
+            wanted: "alpha, beta",
+        },
+        Recipe {
+            stem: "fin_flap",
+            caption: "Fin flap modal coordinates",
+            title: "Fin flap modes",
+            y_label: "modal coordinate eta (kg^1/2 m)",
+            columns: fixed(flap),
+            wanted: "eta_<mode> of fin_flap modes",
+        },
+        Recipe {
+            stem: "fin_twist",
+            caption: "Fin twist modal coordinates",
+            title: "Fin twist modes",
+            y_label: "modal coordinate eta (kg^1/2 m)",
+            columns: fixed(twist),
+            wanted: "eta_<mode> of fin_twist modes",
+        },
+        Recipe {
+            stem: "body_bending",
+            caption: "Body bending modal coordinates",
+            title: "Body bending modes",
+            y_label: "modal coordinate eta (kg^1/2 m)",
+            columns: fixed(bending),
+            wanted: "eta_<mode> of body_bending modes",
+        },
+        Recipe {
+            stem: "other_modes",
+            caption: "Other modal coordinates",
+            title: "Other modes",
+            y_label: "modal coordinate eta (kg^1/2 m)",
+            columns: fixed(other),
+            wanted: "eta_<mode> of modes of class other",
+        },
+        Recipe {
+            stem: "velocity_axial",
+            caption: "Axial velocity in body axes",
+            title: "Axial velocity",
+            y_label: "velocity (m/s)",
+            columns: exact(&["v_body_x"]),
+            wanted: "v_body_x",
+        },
+        Recipe {
+            stem: "velocity_lateral",
+            caption: "Lateral and normal velocities in body axes",
+            title: "Lateral velocities",
+            y_label: "velocity (m/s)",
+            columns: exact(&["v_body_y", "v_body_z"]),
+            wanted: "v_body_y, v_body_z",
+        },
+        Recipe {
+            stem: "angular_velocity",
+            caption: "Angular velocity in body axes",
+            title: "Angular velocity",
+            y_label: "angular velocity (rad/s)",
+            columns: exact(&["omega_body_x", "omega_body_y", "omega_body_z"]),
+            wanted: "omega_body_x, omega_body_y, omega_body_z",
+        },
+        Recipe {
+            stem: "mach",
+            caption: "Mach number",
+            title: "Mach number",
+            y_label: "Mach (-)",
+            columns: exact(&["mach"]),
+            wanted: "mach",
+        },
+        Recipe {
+            stem: "altitude",
+            caption: "Altitude of the nose tip",
+            title: "Altitude",
+            y_label: "altitude (m)",
+            columns: exact(&["altitude"]),
+            wanted: "altitude",
+        },
+        Recipe {
+            stem: "body_aero_force",
+            caption: "Body aerodynamic forces",
+            title: "Body aerodynamic force",
+            y_label: "force (N)",
+            columns: aero("body", "force"),
+            wanted: "columns containing `aero`, `body` and `force` (not written by `flexflight run` yet)",
+        },
+        Recipe {
+            stem: "body_aero_moment",
+            caption: "Body aerodynamic moments",
+            title: "Body aerodynamic moment",
+            y_label: "moment (N m)",
+            columns: aero("body", "moment"),
+            wanted: "columns containing `aero`, `body` and `moment` (not written by `flexflight run` yet)",
+        },
+        Recipe {
+            stem: "fin_aero_force",
+            caption: "Fin aerodynamic forces",
+            title: "Fin aerodynamic force",
+            y_label: "force (N)",
+            columns: aero("fin", "force"),
+            wanted: "columns containing `aero`, `fin` and `force` (not written by `flexflight run` yet)",
+        },
+        Recipe {
+            stem: "fin_aero_moment",
+            caption: "Fin aerodynamic moments",
+            title: "Fin aerodynamic moment",
+            y_label: "moment (N m)",
+            columns: aero("fin", "moment"),
+            wanted: "columns containing `aero`, `fin` and `moment` (not written by `flexflight run` yet)",
+        },
+        Recipe {
+            stem: "attitude",
+            caption: "Roll, pitch and yaw (Euler angles of C_BI, eq. 4.4.4)",
+            title: "Attitude",
+            y_label: "angle (deg)",
+            columns: exact(&["roll", "pitch", "yaw"]),
+            wanted: "roll, pitch, yaw",
+        },
+        Recipe {
+            stem: "max_deformation",
+            caption: "Largest elastic displacement over the FE nodes",
+            title: "Maximum deformation",
+            y_label: "displacement (m)",
+            columns: exact(&["max_deformation"]),
+            wanted: "max_deformation",
+        },
+        Recipe {
+            stem: "energy",
+            caption: "Kinetic, strain, gravitational and total energy (total conserved without thrust, aerodynamics and damping)",
+            title: "Energies",
+            y_label: "energy (J)",
+            columns: exact(&[
+                "energy_kinetic",
+                "energy_strain",
+                "energy_gravitational",
+                "energy_total",
+            ]),
+            wanted: "energy_kinetic, energy_strain, energy_gravitational, energy_total",
+        },
+        Recipe {
+            stem: "energy_strain",
+            caption: "Strain energy of the elastic modes (too small to see beside the others)",
+            title: "Strain energy",
+            y_label: "energy (J)",
+            columns: exact(&["energy_strain"]),
+            wanted: "energy_strain",
+        },
+        Recipe {
+            stem: "momentum",
+            caption: "Linear momentum in inertial axes",
+            title: "Linear momentum",
+            y_label: "momentum (kg m/s)",
+            columns: exact(&[
+                "momentum_inertial_x",
+                "momentum_inertial_y",
+                "momentum_inertial_z",
+            ]),
+            wanted: "momentum_inertial_x, _y, _z",
+        },
+        Recipe {
+            stem: "angular_momentum",
+            caption: "Angular momentum about the centre of mass, inertial axes",
+            title: "Angular momentum",
+            y_label: "angular momentum (kg m^2/s)",
+            columns: exact(&["h_cm_inertial_x", "h_cm_inertial_y", "h_cm_inertial_z"]),
+            wanted: "h_cm_inertial_x, _y, _z",
+        },
+    ];
+    let t = h.time().to_vec();
+    recipes
+        .into_iter()
+        // Modes of class `other` are not part of the thesis' set: no entry when absent.
+        .filter(|r| r.stem != "other_modes" || !(r.columns)(h).is_empty())
+        .map(|r| {
+            let cols = (r.columns)(h);
+            let plot = if cols.is_empty() {
+                Err(format!("no columns: wanted {}", r.wanted))
+            } else {
+                Ok(TimePlot {
+                    title: r.title.to_string(),
+                    x_label: "t (s)".to_string(),
+                    y_label: r.y_label.to_string(),
+                    series: cols
+                        .iter()
+                        .filter_map(|c| {
+                            Some(Series {
+                                label: c.clone(),
+                                xs: t.clone(),
+                                ys: h.column(c)?.to_vec(),
+                            })
+                        })
+                        .collect(),
+                })
+            };
+            PlannedFigure {
+                stem: r.stem.to_string(),
+                caption: r.caption.to_string(),
+                plot,
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::history::parse_history;
+    use std::path::Path;
+
+    #[test]
+    fn figures_follow_the_columns() {
+        let h = parse_history(
+            "t,alpha,beta,eta_fin1_flap,eta_fin1_twist,eta_body_bending_y1,eta_dot_fin1_flap,mach\n0,1,0,0,0,0,0,0.8\n1,2,0,1,2,3,4,0.9\n",
+            Path::new("h.csv"),
+        )
+        .unwrap();
+        let figs = plan_figures(&h, &ModeGroup::from_name);
+        let get = |s: &str| figs.iter().find(|f| f.stem == s).unwrap();
+        let alpha = get("alpha").plot.as_ref().unwrap();
+        assert_eq!(alpha.series.len(), 2);
+        let flap = get("fin_flap").plot.as_ref().unwrap();
+        assert_eq!(flap.series.len(), 1, "rates are not coordinates");
+        assert_eq!(flap.series[0].label, "eta_fin1_flap");
+        assert_eq!(
+            get("body_bending").plot.as_ref().unwrap().series[0].ys,
+            vec![0.0, 3.0]
+        );
+        assert!(get("energy").plot.is_err());
+        assert!(get("body_aero_force").plot.is_err());
+        assert!(
+            figs.iter().all(|f| f.stem != "other_modes"),
+            "omitted when empty"
+        );
+    }
+}
