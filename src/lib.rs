@@ -21,6 +21,7 @@
 // Library code reports errors; it does not unwrap (tests, benches and the fuzzer may).
 #![warn(clippy::unwrap_used, clippy::expect_used)]
 
+pub mod analysis;
 pub mod artifact;
 pub mod check;
 pub mod cli;
