@@ -88,7 +88,7 @@ impl Default for LineariseOptions {
     fn default() -> Self {
         Self {
             max_trim_iterations: 30,
-            trim_tolerance: 1e-10,
+            trim_tolerance: 1e-12,
             neutral_tolerance: 1e-4,
         }
     }

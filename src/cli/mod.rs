@@ -6,6 +6,7 @@
 
 pub mod compile;
 mod fmt;
+pub mod linear;
 pub mod run;
 
 use std::io::Write;
@@ -96,6 +97,9 @@ pub enum Command {
         #[command(flatten)]
         cache: CacheArgs,
     },
+    /// Stability analyses of a scenario.
+    #[command(subcommand)]
+    Analyze(Analyze),
     /// Format vehicle files canonically (in place, or report with --check).
     Fmt {
         #[arg(required = true)]
@@ -105,6 +109,42 @@ pub enum Command {
         check: bool,
         #[command(flatten)]
         output: Output,
+    },
+}
+
+/// `flexflight analyze ...`.
+#[derive(Subcommand, Debug)]
+pub enum Analyze {
+    /// Linearise the 3-D model about a trimmed ballistic condition (the scenario's speed,
+    /// altitude and attitude, alpha = 0): trim, eigenvalues, damping, frequency and the
+    /// states that participate in each root.
+    Linear {
+        file: PathBuf,
+        #[arg(long)]
+        scenario: String,
+        #[command(flatten)]
+        common: Common,
+        #[command(flatten)]
+        cache: CacheArgs,
+    },
+    /// Map sigma_d of the linearised 3-D model over fin thickness x Mach (the FE model is
+    /// recompiled, through the cache, for every thickness); writes DIR/map.csv.
+    LinearMap {
+        file: PathBuf,
+        #[arg(long)]
+        scenario: String,
+        /// Fin thickness range in mm, A:B:N (N points from A to B).
+        #[arg(long, value_name = "A:B:N")]
+        thickness: String,
+        /// Mach range A:B:N (speed = Mach x speed of sound at the scenario's altitude).
+        #[arg(long, value_name = "A:B:N")]
+        mach: String,
+        #[arg(long)]
+        out: PathBuf,
+        #[command(flatten)]
+        common: Common,
+        #[command(flatten)]
+        cache: CacheArgs,
     },
 }
 
@@ -190,6 +230,29 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
             cache.cache_dir.as_deref(),
             &out,
             term,
+        ),
+        Command::Analyze(Analyze::Linear {
+            file,
+            scenario,
+            common,
+            cache,
+        }) => linear::cmd_linear(&file, &scenario, &common, cache.cache_dir.as_deref(), term),
+        Command::Analyze(Analyze::LinearMap {
+            file,
+            scenario,
+            thickness,
+            mach,
+            out,
+            common,
+            cache,
+        }) => linear::cmd_linear_map(
+            &file,
+            &scenario,
+            &thickness,
+            &mach,
+            &common,
+            cache.cache_dir.as_deref(),
+            &out,
         ),
         Command::Inspect { artifact, output } => compile::cmd_inspect(&artifact, output.format),
         Command::Modes {
