@@ -6,6 +6,7 @@
 
 use std::sync::OnceLock;
 
+use faer::linalg::solvers::Solve;
 use flexflight::analysis::linearise::{
     LineariseOptions, Linearizer, attitude_perturbation, perturb_attitude, quaternion_product,
     system_jacobian, tangent_rate,
@@ -14,7 +15,6 @@ use flexflight::analysis::map::StabilityClass;
 use flexflight::analysis::roots::eigen_structure;
 use flexflight::runtime::eom::{Eom, ForceModel, FreeFlight, StateView};
 use flexflight::runtime::integrate::{OdeSystem, RhsError};
-use faer::linalg::solvers::Solve;
 use flexflight::runtime::kinematics::{c_bi, euler_parameter_rates, euler_parameters_from_angles};
 use flexflight::structure::coefficients::ReducedModel;
 use flexflight::structure::compile::CompiledVehicle;
@@ -130,16 +130,27 @@ impl OdeSystem for LinearSystem {
 fn a_linear_system_is_linearised_exactly() {
     let (w, z) = (7.0, 0.05);
     let a = vec![
-        0.0, 1.0, 0.0, //
-        -w * w, -2.0 * z * w, 0.3, //
-        0.0, 0.0, -2.5,
+        0.0,
+        1.0,
+        0.0, //
+        -w * w,
+        -2.0 * z * w,
+        0.3, //
+        0.0,
+        0.0,
+        -2.5,
     ];
     let mut sys = LinearSystem { a: a.clone(), d: 3 };
     let x0 = [0.3, -1.2, 4.0];
     let h = [1e-3, 2e-2, 0.5];
     let j = system_jacobian(&mut sys, 0.0, &x0, &h).unwrap();
     for k in 0..9 {
-        assert!((j[k] - a[k]).abs() <= 1e-12 * a[k].abs().max(1.0), "{k}: {} vs {}", j[k], a[k]);
+        assert!(
+            (j[k] - a[k]).abs() <= 1e-12 * a[k].abs().max(1.0),
+            "{k}: {} vs {}",
+            j[k],
+            a[k]
+        );
     }
     let model = flexflight::analysis::linearise::LinearModel {
         state_names: vec!["x".into(), "x_dot".into(), "y".into()],
@@ -158,7 +169,11 @@ fn a_linear_system_is_linearised_exactly() {
     let real = e.roots.iter().find(|r| r.imag == 0.0).unwrap();
     assert!((real.real + 2.5).abs() < 1e-12);
     // The decoupled real root lives on `y` only.
-    assert!((real.participation[2] - 1.0).abs() < 1e-12, "{:?}", real.participation);
+    assert!(
+        (real.participation[2] - 1.0).abs() < 1e-12,
+        "{:?}",
+        real.participation
+    );
     assert_eq!(e.class, StabilityClass::Stable);
 }
 
@@ -185,7 +200,10 @@ fn tangent_space_attitude_round_trips() {
         assert!((n - 1.0).abs() < 1e-15);
         let back = attitude_perturbation(&q0, &q);
         for i in 0..3 {
-            assert!((back[i] - dth[i]).abs() < 1e-14 * (1.0 + dth[i].abs()), "{back:?} {dth:?}");
+            assert!(
+                (back[i] - dth[i]).abs() < 1e-14 * (1.0 + dth[i].abs()),
+                "{back:?} {dth:?}"
+            );
         }
     }
     // First order: C_BI(q) = (1 - δθ^×) C_BI(q0).
@@ -198,7 +216,9 @@ fn tangent_space_attitude_round_trips() {
     ];
     for i in 0..3 {
         for k in 0..3 {
-            let p: f64 = (0..3).map(|j| ((i == j) as u8 as f64 - sk[i][j]) * c0[j][k]).sum();
+            let p: f64 = (0..3)
+                .map(|j| ((i == j) as u8 as f64 - sk[i][j]) * c0[j][k])
+                .sum();
             assert!((c[i][k] - p).abs() < 1e-11, "({i},{k})");
         }
     }
@@ -210,7 +230,10 @@ fn tangent_space_attitude_round_trips() {
     let h = 1e-6;
     let qp: [f64; 4] = std::array::from_fn(|i| q[i] + h * qd[i]);
     let qm: [f64; 4] = std::array::from_fn(|i| q[i] - h * qd[i]);
-    let (tp, tm) = (attitude_perturbation(&q0, &qp), attitude_perturbation(&q0, &qm));
+    let (tp, tm) = (
+        attitude_perturbation(&q0, &qp),
+        attitude_perturbation(&q0, &qm),
+    );
     let rate = tangent_rate(&dth, &w);
     for i in 0..3 {
         let fd = (tp[i] - tm[i]) / (2.0 * h);
@@ -302,7 +325,12 @@ fn free_vehicle_roots(speed: f64) {
             .min_by(|a, b| (a - w).abs().total_cmp(&(b - w).abs()))
             .unwrap();
         let rel = nearest / w - 1.0;
-        report.push_str(&format!("{} {:.4} Hz -> {:.4} Hz ({rel:+.2e}); ", m.name, m.frequency_hz, nearest / std::f64::consts::TAU));
+        report.push_str(&format!(
+            "{} {:.4} Hz -> {:.4} Hz ({rel:+.2e}); ",
+            m.name,
+            m.frequency_hz,
+            nearest / std::f64::consts::TAU
+        ));
         if m.class == "body_bending" {
             assert!(rel.abs() < 1e-6, "mode {k} {}: {rel:e}", m.name);
         }
@@ -345,8 +373,16 @@ fn modal_damping_gives_real_parts_minus_zeta_omega() {
     let (w, z) = ([2.0 * 60.0 * std::f64::consts::PI, 900.0], [0.02, 0.05]);
     let model = decoupled(w, z);
     let eom = Eom::new(&model, FreeFlight).unwrap();
-    let mut lin = Linearizer::new(eom, &unit_shapes(2), &model.omega2, &names(2), Default::default());
-    let trim = lin.trim(150.0, 1000.0, euler_parameters_from_angles(0.1, 0.2, 0.3)).unwrap();
+    let mut lin = Linearizer::new(
+        eom,
+        &unit_shapes(2),
+        &model.omega2,
+        &names(2),
+        Default::default(),
+    );
+    let trim = lin
+        .trim(150.0, 1000.0, euler_parameters_from_angles(0.1, 0.2, 0.3))
+        .unwrap();
     let lm = lin.linearise(&trim.state).unwrap();
     let e = eigen_structure(&lm, 1e-4).unwrap();
     for k in 0..2 {
@@ -395,7 +431,13 @@ fn trim_solves_a_nonlinear_static_balance() {
         c: [4.0e4, 1.0e5],
     };
     let eom = Eom::new(&model, load.clone()).unwrap();
-    let mut lin = Linearizer::new(eom, &unit_shapes(2), &model.omega2, &names(2), Default::default());
+    let mut lin = Linearizer::new(
+        eom,
+        &unit_shapes(2),
+        &model.omega2,
+        &names(2),
+        Default::default(),
+    );
     let trim = lin.trim(100.0, 0.0, IDENTITY).unwrap();
     assert!(trim.iterations >= 2, "{}", trim.iterations);
     // Converged to the trim tolerance (1e-12 of the modal scale, here 1 m per unit η).
@@ -441,12 +483,22 @@ fn a_statically_divergent_mode_is_classified_divergence() {
     }
     let k0 = model.modal_stiffness[0];
     let eom = Eom::new(&model, Softening(load, 1.5 * k0)).unwrap();
-    let mut lin = Linearizer::new(eom, &unit_shapes(2), &model.omega2, &names(2), Default::default());
+    let mut lin = Linearizer::new(
+        eom,
+        &unit_shapes(2),
+        &model.omega2,
+        &names(2),
+        Default::default(),
+    );
     let trim = lin.trim(100.0, 0.0, IDENTITY).unwrap();
     let e = eigen_structure(&lin.linearise(&trim.state).unwrap(), 1e-4).unwrap();
     assert_eq!(e.class, StabilityClass::Divergence);
     // λ² + 2ζω λ - 0.5 ω² = 0.
     let (w, z) = (300.0f64, 0.01);
     let want = -z * w + ((z * w).powi(2) + 0.5 * w * w).sqrt();
-    assert!((e.sigma_d / want - 1.0).abs() < 1e-6, "{} vs {want}", e.sigma_d);
+    assert!(
+        (e.sigma_d / want - 1.0).abs() < 1e-6,
+        "{} vs {want}",
+        e.sigma_d
+    );
 }

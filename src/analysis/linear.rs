@@ -15,9 +15,7 @@
 
 use serde::Serialize;
 
-use super::linearise::{
-    LineariseError, LineariseOptions, LinearModel, Linearizer, Trim,
-};
+use super::linearise::{LinearModel, LineariseError, LineariseOptions, Linearizer, Trim};
 use super::map::{StabilityClass, StabilityMap};
 use super::roots::{EigenStructure, eigen_structure};
 use crate::check::ir::Scenario;

@@ -80,3 +80,35 @@ impl StabilityMap {
         std::fs::rename(&tmp, path)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csv_lists_every_point_row_by_row() {
+        let m = StabilityMap {
+            xs: vec![1.0, 2.0, 3.0],
+            ys: vec![0.5, 0.7],
+            sigma: vec![-1.0, 0.0, 2.5, -0.5, 1.0, 3.0],
+            omega: vec![1.0, 0.0, 0.0, 2.0, 4.0, 0.0],
+            class: vec![
+                StabilityClass::Stable,
+                StabilityClass::Stable,
+                StabilityClass::Divergence,
+                StabilityClass::Stable,
+                StabilityClass::Flutter,
+                StabilityClass::Divergence,
+            ],
+        };
+        assert_eq!(m.index(2, 1), 5);
+        let mut buf = Vec::new();
+        m.write_csv(&mut buf, "thickness_m", "mach").unwrap();
+        let text = String::from_utf8(buf).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[0], "thickness_m,mach,sigma_d,omega_d,class");
+        assert_eq!(lines.len(), 7);
+        assert_eq!(lines[3], "3,0.5,2.5,0,divergence");
+        assert_eq!(lines[5], "2,0.7,1,4,flutter");
+    }
+}

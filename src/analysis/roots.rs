@@ -12,7 +12,7 @@ use faer::Mat;
 use faer::linalg::solvers::DenseSolveCore;
 use serde::Serialize;
 
-use super::linearise::{LineariseError, LinearModel};
+use super::linearise::{LinearModel, LineariseError};
 use super::map::StabilityClass;
 
 /// One root of `A`.
@@ -106,7 +106,10 @@ pub fn eigen_structure(
         });
     }
     roots.sort_by(|a, b| b.real.total_cmp(&a.real).then(b.imag.total_cmp(&a.imag)));
-    let max_real_all = roots.iter().map(|r| r.real).fold(f64::NEG_INFINITY, f64::max);
+    let max_real_all = roots
+        .iter()
+        .map(|r| r.real)
+        .fold(f64::NEG_INFINITY, f64::max);
     let least = roots.iter().find(|r| !r.neutral);
     let (sigma_d, omega_d, complex) = match least {
         Some(r) => (r.real, r.imag.abs(), r.imag != 0.0),

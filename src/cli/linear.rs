@@ -266,7 +266,10 @@ pub fn cmd_linear_map(
             .map
             .write_csv_file(&out.join("map.csv"), "thickness_m", "mach")
     }) {
-        eprintln!("error: cannot write `{}`: {e}", out.join("map.csv").display());
+        eprintln!(
+            "error: cannot write `{}`: {e}",
+            out.join("map.csv").display()
+        );
         return EXIT_USAGE;
     }
     let unstable = result
@@ -292,4 +295,20 @@ pub fn cmd_linear_map(
         ),
     }
     EXIT_OK
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_range;
+
+    #[test]
+    fn ranges_are_inclusive_and_checked() {
+        assert_eq!(parse_range("0.3:1.0:8").unwrap().len(), 8);
+        let r = parse_range("0.5:1.5:3").unwrap();
+        assert_eq!(r, vec![0.5, 1.0, 1.5]);
+        assert_eq!(parse_range("2:9:1").unwrap(), vec![2.0]);
+        for bad in ["1:2", "1:2:0", "a:2:3", "1:2:x", "1:inf:3", "1:2:3:4"] {
+            assert!(parse_range(bad).is_err(), "{bad}");
+        }
+    }
 }
