@@ -1,8 +1,9 @@
 //! The linearised 3-D stability map of issue #5 (target: 20 x 20 points where fin
 //! thickness changes the FE model, under 60 s on a 2-core machine).
 //!
-//! Three figures: one linear analysis (trim, Jacobian, eigen-structure with participation
-//! factors) of SPHADS-1 at the subsonic thesis condition; the full 20 x 20 map with every
+//! Four figures: one linear analysis (trim, Jacobian, eigen-structure with participation
+//! factors) of SPHADS-1 at the subsonic thesis condition, with and without building the
+//! force blocks (the aerodynamic tables are estimated then); the full 20 x 20 map with every
 //! thickness already in the artifact cache (check + cache load per thickness, 400
 //! linearisations); and a 4 x 20 map with a fresh, empty cache on every iteration (4
 //! structural compilations). A cold 20 x 20 map costs about the warm 20 x 20 figure plus
@@ -13,7 +14,7 @@ use std::hint::black_box;
 use std::path::PathBuf;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use flexflight::analysis::linear::{analyse, linear_map};
+use flexflight::analysis::linear::{analyse, analyse_with, linear_map, linearizer};
 use flexflight::analysis::linearise::LineariseOptions;
 use flexflight::cli::linear::load_variant;
 
@@ -42,9 +43,21 @@ fn bench_linear_map(c: &mut Criterion) {
     let options = LineariseOptions::default();
 
     let variant = load(warm.path().to_path_buf())(0.6e-3).expect("variant");
-    c.bench_function("linear analysis sphads1 subsonic_t06 (one point)", |b| {
-        b.iter(|| analyse(black_box(&variant), options).map(|r| r.eigen.sigma_d))
-    });
+    c.bench_function(
+        "linear analysis sphads1 subsonic_t06, with force-block setup",
+        |b| b.iter(|| analyse(black_box(&variant), options).map(|r| r.eigen.sigma_d)),
+    );
+    let mut lin = linearizer(&variant, options).expect("linearizer");
+    let q0 = [0.0, 0.0, 0.0, 1.0];
+    c.bench_function(
+        "linear analysis sphads1 at 200 m/s, 5 km (trim, Jacobian, eigen)",
+        |b| {
+            b.iter(|| {
+                analyse_with(&mut lin, black_box(200.0), 5000.0, q0, options)
+                    .map(|r| r.eigen.sigma_d)
+            })
+        },
+    );
 
     let (ts, ms) = (thicknesses(20), machs(20));
     // Fill the cache once.
@@ -68,5 +81,10 @@ fn bench_linear_map(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_linear_map);
+criterion_group! {
+    name = benches;
+    // No plots: the plotters backend needs system fonts, absent on a bare machine.
+    config = Criterion::default().without_plots();
+    targets = bench_linear_map
+}
 criterion_main!(benches);

@@ -502,3 +502,53 @@ fn a_statically_divergent_mode_is_classified_divergence() {
         e.sigma_d
     );
 }
+
+#[test]
+fn gravity_rotates_with_the_attitude_perturbation() {
+    use flexflight::runtime::eom::UniformGravity;
+    use flexflight::runtime::kinematics::mat_vec;
+    // Origin at the mass centre (c = 0): V̇ = g_B exactly, so the δV̇/δθ block is
+    // ∂(C_BI g_I)/∂δθ = (g_B0)^× (from C_BI = (1 - δθ^×) C_BI(q0)).
+    let model = ReducedModel {
+        first_moment: [0.0; 3],
+        ..decoupled([300.0, 500.0], [0.0, 0.0])
+    };
+    let g_i = [0.0, 0.0, 9.806];
+    let q0 = euler_parameters_from_angles(0.4, -0.3, 1.0);
+    let g_b = mat_vec(&c_bi(&q0), &g_i);
+    let skew = [
+        [0.0, -g_b[2], g_b[1]],
+        [g_b[2], 0.0, -g_b[0]],
+        [-g_b[1], g_b[0], 0.0],
+    ];
+    for follows in [true, false] {
+        let eom = Eom::new(&model, UniformGravity::new(&model, g_i)).unwrap();
+        let options = LineariseOptions {
+            gravity_follows_attitude: follows,
+            ..Default::default()
+        };
+        let mut lin = Linearizer::new(eom, &unit_shapes(2), &model.omega2, &names(2), options);
+        let trim = lin.trim(120.0, 2000.0, q0).unwrap();
+        // Free fall: no static deflection (inertial relief cancels Q = P̄ᵀ g_B).
+        assert!(trim.eta.iter().all(|e| e.abs() < 1e-15));
+        for i in 0..3 {
+            assert!((trim.rigid_acceleration[i] - g_b[i]).abs() < 1e-12);
+        }
+        let lm = lin.linearise(&trim.state).unwrap();
+        let d = lm.dim();
+        for i in 0..3 {
+            for j in 0..3 {
+                let want = if follows { skew[i][j] } else { 0.0 };
+                let got = lm.a[(3 + i) * d + j];
+                assert!((got - want).abs() < 1e-8, "follows {follows} ({i},{j}): {got} vs {want}");
+            }
+        }
+        // δθ̇ = δω.
+        for i in 0..3 {
+            for j in 0..d {
+                let want = if j == 6 + i { 1.0 } else { 0.0 };
+                assert!((lm.a[i * d + j] - want).abs() < 1e-9, "({i},{j})");
+            }
+        }
+    }
+}

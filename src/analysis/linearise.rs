@@ -25,9 +25,11 @@
 //! is constant, `δq` obeys the same kinematics (4.4.11)-(4.4.12) as `q`:
 //! `δε̇ = ½(δε^× + δη) ω`, `δη̇ = -½ δεᵀω`, so
 //! `δθ̇ = 2(δε̇ δη - δε δη̇)/δη² = ω + ½ δθ × ω + ¼ δθ (δθ·ω)` (derived here, exact).
-//! Gravity's dependence on attitude is kept: `g_B = C_BI g_I` (eq. 5.1.3) is evaluated at the
-//! perturbed `q`, so the `δθ` columns of the Jacobian carry `∂g_B/∂δθ = (g_B)^×` into the
-//! force, moment and modal rows.
+//! Gravity's dependence on attitude is kept by default: `g_B = C_BI g_I` (eq. 5.1.3) is
+//! evaluated at the perturbed `q`, so the `δθ` columns of the Jacobian carry
+//! `∂g_B/∂δθ = (g_B)^×` into the force, moment and modal rows;
+//! [`LineariseOptions::gravity_follows_attitude`] = `false` drops that path (gravity frozen
+//! in body axes).
 //!
 //! # Jacobian
 //! Central differences, column `j`: `A e_j = (f̃(δ + h_j e_j) - f̃(δ - h_j e_j)) / (2 h_j)`
@@ -86,6 +88,12 @@ pub struct LineariseOptions {
     /// `max_real_all` includes them). Default `1e-2` rad/s: a time constant of 100 s, ten
     /// times the 10 s flights of thesis 6.5.
     pub neutral_tolerance: f64,
+    /// Rotate gravity with the attitude perturbation (`true`, the complete linearisation)
+    /// or keep `g_B` at its reference value (`false`): then the `δθ` columns of every row
+    /// but `δθ̇` are zero, which removes the slow gravity-driven roots of the frozen
+    /// ballistic reference (the flight path of the real trajectory curves under gravity, the
+    /// frozen reference does not) and leaves three exact zero attitude roots.
+    pub gravity_follows_attitude: bool,
 }
 
 impl Default for LineariseOptions {
@@ -94,6 +102,7 @@ impl Default for LineariseOptions {
             max_trim_iterations: 30,
             trim_tolerance: 1e-12,
             neutral_tolerance: 1e-2,
+            gravity_follows_attitude: true,
         }
     }
 }
@@ -454,7 +463,16 @@ impl<S: OdeSystem> Linearizer<S> {
             out[3..d].copy_from_slice(&dx[7..13 + 2 * n]);
             Ok(())
         };
-        let a = central_jacobian(&vec![0.0; d], &steps, f)?;
+        let mut a = central_jacobian(&vec![0.0; d], &steps, f)?;
+        if !self.options.gravity_follows_attitude {
+            // Attitude reaches the loads only through g_B = C_BI g_I (no inertial wind in a
+            // ballistic reference, altitude frozen): drop that path.
+            for i in 3..d {
+                for j in 0..3 {
+                    a[i * d + j] = 0.0;
+                }
+            }
+        }
         Ok(LinearModel {
             state_names: state_names(&self.mode_names),
             a,

@@ -88,6 +88,7 @@ pub fn load_variant(
 pub fn cmd_linear(
     file: &Path,
     scenario: &str,
+    frozen_gravity: bool,
     common: &Common,
     cache_dir: Option<&Path>,
     term: Terminal,
@@ -117,7 +118,10 @@ pub fn cmd_linear(
         scenario: sc,
         compiled: outcome.compiled,
     };
-    let options = LineariseOptions::default();
+    let options = LineariseOptions {
+        gravity_follows_attitude: !frozen_gravity,
+        ..LineariseOptions::default()
+    };
     let result = match analyse(&variant, options) {
         Ok(r) => r,
         Err(e) => {

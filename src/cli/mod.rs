@@ -122,6 +122,10 @@ pub enum Analyze {
         file: PathBuf,
         #[arg(long)]
         scenario: String,
+        /// Keep gravity fixed in body axes instead of rotating it with the attitude
+        /// perturbation (removes the slow gravity-driven roots of the frozen reference).
+        #[arg(long)]
+        frozen_gravity: bool,
         #[command(flatten)]
         common: Common,
         #[command(flatten)]
@@ -234,9 +238,17 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
         Command::Analyze(Analyze::Linear {
             file,
             scenario,
+            frozen_gravity,
             common,
             cache,
-        }) => linear::cmd_linear(&file, &scenario, &common, cache.cache_dir.as_deref(), term),
+        }) => linear::cmd_linear(
+            &file,
+            &scenario,
+            frozen_gravity,
+            &common,
+            cache.cache_dir.as_deref(),
+            term,
+        ),
         Command::Analyze(Analyze::LinearMap {
             file,
             scenario,
