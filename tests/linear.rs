@@ -296,7 +296,6 @@ fn free_vehicle_roots(speed: f64) {
         .map(|m| std::f64::consts::TAU * m.frequency_hz)
         .collect();
     expected.sort_by(f64::total_cmp);
-    let _ = &expected;
     let mut elastic: Vec<f64> = e
         .roots
         .iter()
@@ -540,7 +539,10 @@ fn gravity_rotates_with_the_attitude_perturbation() {
             for j in 0..3 {
                 let want = if follows { skew[i][j] } else { 0.0 };
                 let got = lm.a[(3 + i) * d + j];
-                assert!((got - want).abs() < 1e-8, "follows {follows} ({i},{j}): {got} vs {want}");
+                assert!(
+                    (got - want).abs() < 1e-8,
+                    "follows {follows} ({i},{j}): {got} vs {want}"
+                );
             }
         }
         // δθ̇ = δω.
