@@ -35,6 +35,9 @@ pub enum AnalyzeCommand {
     Planar(PlanarArgs),
     /// A stability map over fin thickness x Mach: writes DIR/map.csv and DIR/boundary.csv.
     Map(MapArgs),
+    /// The linearised 3-D model (`linear`, `linear-map`).
+    #[command(flatten)]
+    Linear(super::Analyze),
 }
 
 /// Which planar model.
@@ -106,6 +109,7 @@ pub fn cmd_analyze(cmd: &AnalyzeCommand, term: Terminal) -> u8 {
     match cmd {
         AnalyzeCommand::Planar(a) => cmd_planar(a, term),
         AnalyzeCommand::Map(a) => cmd_map(a, term),
+        AnalyzeCommand::Linear(a) => super::cmd_analyze_linear(a, term),
     }
 }
 

@@ -7,6 +7,7 @@
 pub mod analyze;
 pub mod compile;
 mod fmt;
+pub mod linear;
 pub mod report;
 pub mod run;
 
@@ -130,6 +131,47 @@ pub enum Command {
         check: bool,
         #[command(flatten)]
         output: Output,
+    },
+}
+
+/// `flexflight analyze linear ...` and `analyze linear-map ...` (flattened into
+/// [`analyze::AnalyzeCommand`]).
+#[derive(Subcommand, Debug)]
+pub enum Analyze {
+    /// Linearise the 3-D model about a trimmed ballistic condition (the scenario's speed,
+    /// altitude and attitude, alpha = 0): trim, eigenvalues, damping, frequency and the
+    /// states that participate in each root.
+    Linear {
+        file: PathBuf,
+        #[arg(long)]
+        scenario: String,
+        /// Keep gravity fixed in body axes instead of rotating it with the attitude
+        /// perturbation (removes the slow gravity-driven roots of the frozen reference).
+        #[arg(long)]
+        frozen_gravity: bool,
+        #[command(flatten)]
+        common: Common,
+        #[command(flatten)]
+        cache: CacheArgs,
+    },
+    /// Map sigma_d of the linearised 3-D model over fin thickness x Mach (the FE model is
+    /// recompiled, through the cache, for every thickness); writes DIR/map.csv.
+    LinearMap {
+        file: PathBuf,
+        #[arg(long)]
+        scenario: String,
+        /// Fin thickness range in mm, A:B:N (N points from A to B).
+        #[arg(long, value_name = "A:B:N")]
+        thickness: String,
+        /// Mach range A:B:N (speed = Mach x speed of sound at the scenario's altitude).
+        #[arg(long, value_name = "A:B:N")]
+        mach: String,
+        #[arg(long)]
+        out: PathBuf,
+        #[command(flatten)]
+        common: Common,
+        #[command(flatten)]
+        cache: CacheArgs,
     },
 }
 
@@ -369,5 +411,42 @@ fn cmd_compile(
                 EXIT_USAGE
             }
         },
+    }
+}
+
+/// Runs `analyze linear` / `analyze linear-map`.
+pub fn cmd_analyze_linear(cmd: &Analyze, term: Terminal) -> u8 {
+    match cmd {
+        Analyze::Linear {
+            file,
+            scenario,
+            frozen_gravity,
+            common,
+            cache,
+        } => linear::cmd_linear(
+            file,
+            scenario,
+            *frozen_gravity,
+            common,
+            cache.cache_dir.as_deref(),
+            term,
+        ),
+        Analyze::LinearMap {
+            file,
+            scenario,
+            thickness,
+            mach,
+            out,
+            common,
+            cache,
+        } => linear::cmd_linear_map(
+            file,
+            scenario,
+            thickness,
+            mach,
+            common,
+            cache.cache_dir.as_deref(),
+            out,
+        ),
     }
 }
