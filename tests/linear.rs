@@ -7,11 +7,11 @@
 use std::sync::OnceLock;
 
 use faer::linalg::solvers::Solve;
+use flexflight::analysis::linear_grid::StabilityClass;
 use flexflight::analysis::linearise::{
     LineariseOptions, Linearizer, attitude_perturbation, perturb_attitude, quaternion_product,
     system_jacobian, tangent_rate,
 };
-use flexflight::analysis::linear_grid::StabilityClass;
 use flexflight::analysis::roots::eigen_structure;
 use flexflight::runtime::eom::{Eom, ForceModel, FreeFlight, StateView};
 use flexflight::runtime::integrate::{OdeSystem, RhsError};

@@ -15,8 +15,8 @@
 
 use serde::Serialize;
 
-use super::linearise::{LinearModel, LineariseError, LineariseOptions, Linearizer, Trim};
 use super::linear_grid::{StabilityClass, StabilityMap};
+use super::linearise::{LinearModel, LineariseError, LineariseOptions, Linearizer, Trim};
 use super::roots::{EigenStructure, eigen_structure};
 use crate::check::ir::Scenario;
 use crate::plan::{ForcePlan, Plan};

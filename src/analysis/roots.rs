@@ -12,8 +12,8 @@ use faer::Mat;
 use faer::linalg::solvers::DenseSolveCore;
 use serde::Serialize;
 
-use super::linearise::{LinearModel, LineariseError};
 use super::linear_grid::StabilityClass;
+use super::linearise::{LinearModel, LineariseError};
 
 /// One root of `A`.
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -287,7 +287,9 @@ pub fn equilibrium_altitude(
         let drag = vehicle.axial_force(&c)?;
         Ok((drag - mass * c.gravity, drag, c.mach))
     };
-    let (mut lo, mut hi) = (STANDARD_MIN_ALTITUDE, STANDARD_MAX_ALTITUDE);
+    // The atmosphere's range, narrowed to the coefficient tables' altitudes when they stop
+    // outside them.
+    let (mut lo, mut hi) = vehicle.altitude_range(STANDARD_MIN_ALTITUDE, STANDARD_MAX_ALTITUDE);
     let (f_lo, drag_low, mach) = excess(lo)?;
     let (f_hi, drag_high, _) = excess(hi)?;
     if f_lo < 0.0 || f_hi > 0.0 {
@@ -300,7 +302,7 @@ pub fn equilibrium_altitude(
             max_m: hi,
         });
     }
-    // 40 halvings of 86.5 km: below 0.1 mm.
+    // 40 halvings of at most 86.5 km: below 0.1 mm.
     for _ in 0..40 {
         let mid = 0.5 * (lo + hi);
         if excess(mid)?.0 > 0.0 {

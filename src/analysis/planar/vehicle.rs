@@ -283,6 +283,19 @@ impl PlanarVehicle {
         })
     }
 
+    /// The altitudes the analysis may query, m: the atmosphere's `(lo, hi)` narrowed to the
+    /// altitude axis of every coefficient table with the `stop` out-of-range policy (a
+    /// clamping table accepts any altitude).
+    pub fn altitude_range(&self, lo: f64, hi: f64) -> (f64, f64) {
+        [&self.tables.body, &self.tables.fin]
+            .into_iter()
+            .filter(|t| t.policy() == OutOfRange::Stop)
+            .fold((lo, hi), |(lo, hi), t| {
+                let a = t.axis(Axis::AltitudeM);
+                (lo.max(a[0]), hi.min(a[a.len() - 1]))
+            })
+    }
+
     /// Mass properties with fins of thickness `t` (module doc); errors when the mass or the
     /// inertia would not be positive.
     pub fn mass_properties(&self, thickness: f64) -> Result<PitchMassProperties, PlanarError> {
