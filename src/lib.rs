@@ -30,6 +30,7 @@ pub mod runtime;
 pub mod structure;
 pub mod syntax;
 pub mod units;
+pub mod analysis;
 
 pub use check::ir::Program;
 pub use diagnostics::Diagnostic;
