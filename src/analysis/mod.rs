@@ -8,3 +8,4 @@
 pub mod gust_response;
 pub mod identify;
 
+pub mod sweep;
