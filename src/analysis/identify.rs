@@ -16,14 +16,15 @@
 //!    With an offset the pencil runs on the first difference `y_{k+1} − y_k`, which removes
 //!    the constant (the pole `z = 1`) and keeps every other pole.
 //! 2. **Nonlinear least squares** (variable projection, Golub & Pereyra 1973): the dominant
-//!    pole of stage 1 starts a Levenberg-Marquardt iteration on `(σ, ω)` alone, the linear
-//!    amplitudes `(a, b, c)` of `e^{σt}(a cos ωt + b sin ωt) + c` being solved exactly at
-//!    every trial point. Then `A = √(a² + b²)`, `φ = atan2(b, a)`, because
+//!    pole of stage 1 starts a Levenberg-Marquardt iteration on its `(σ, ω)` alone, the other
+//!    poles held; every linear amplitude, `(a, b)` of `e^{σt}(a cos ωt + b sin ωt)`, those
+//!    of the other poles and `c`, is solved exactly at every trial point (holding the other
+//!    poles keeps a second mode from biasing the dominant one). Then `A = √(a² + b²)`, `φ = atan2(b, a)`, because
 //!    `A cos(ωt − φ) = A cos φ cos ωt + A sin φ sin ωt`.
 //!
-//! The dominant mode is the least-damped (largest `σ`) of the pencil modes whose energy
-//! over the window, `Σ_k |contribution_k|²`, is at least [`IdentifyOptions::energy_fraction`]
-//! of the most energetic mode's. Fit quality: `nrmse = ‖r‖ / ‖y − ȳ‖` and
+//! The dominant mode is the pencil mode of largest energy over the window,
+//! `Σ_k |contribution_k|²`; the least-damped mode (largest `σ` among the modes with at least
+//! [`IdentifyOptions::energy_fraction`] of that energy) is reported beside it. Fit quality: `nrmse = ‖r‖ / ‖y − ȳ‖` and
 //! `r_squared = 1 − nrmse²`.
 
 use faer::Mat;
@@ -38,8 +39,8 @@ pub struct IdentifyOptions {
     pub threshold: f64,
     /// Upper bound of the model order (poles, counting a complex pair as two).
     pub max_order: usize,
-    /// Modes with less than this fraction of the largest mode energy are not candidates for
-    /// the dominant mode.
+    /// Modes with at least this fraction of the dominant mode's energy are candidates for
+    /// [`Identification::least_damped`].
     pub energy_fraction: f64,
     /// Refine the dominant mode by nonlinear least squares.
     pub refine: bool,
@@ -109,14 +110,21 @@ pub struct Identification {
     pub samples: usize,
     /// Model order chosen by the singular-value threshold.
     pub model_order: usize,
+    /// The largest-`σ` pencil mode among those with at least
+    /// [`IdentifyOptions::energy_fraction`] of the dominant mode's energy (the dominant
+    /// mode itself when no other comes close).
+    pub least_damped: Option<PencilMode>,
     /// Every pole of the pencil model (a complex pair once, `ω > 0`).
     pub modes: Vec<PencilMode>,
     /// `‖r‖ / ‖y − ȳ‖` of the full pencil model.
     pub pencil_nrmse: f64,
-    /// `‖r‖ / ‖y − ȳ‖` of the single-mode fit reported here.
+    /// `‖r‖ / ‖y − ȳ‖` of the final model (refined dominant pole and the other poles).
     pub nrmse: f64,
-    /// `1 − nrmse²` of the single-mode fit.
+    /// `1 − nrmse²` of the final model.
     pub r_squared: f64,
+    /// `1 − nrmse²` of the dominant damped sinusoid alone (amplitudes re-fitted): how much
+    /// of the window the thesis' single-mode model explains.
+    pub single_mode_r_squared: f64,
     /// Whether the nonlinear refinement ran and improved on the pencil estimate.
     pub refined: bool,
 }
@@ -127,7 +135,11 @@ pub const MIN_SAMPLES: usize = 8;
 /// Identify the dominant damped sinusoid of `x(t)`. The times must increase; they are
 /// resampled onto a uniform grid of their median spacing (linear interpolation), so the
 /// irregular last row of a history is harmless.
-pub fn identify(t: &[f64], x: &[f64], opts: &IdentifyOptions) -> Result<Identification, IdentifyError> {
+pub fn identify(
+    t: &[f64],
+    x: &[f64],
+    opts: &IdentifyOptions,
+) -> Result<Identification, IdentifyError> {
     if t.len() != x.len() {
         return Err(IdentifyError::LengthMismatch {
             times: t.len(),
@@ -171,7 +183,11 @@ pub fn identify(t: &[f64], x: &[f64], opts: &IdentifyOptions) -> Result<Identifi
     for &(sigma, omega) in &poles {
         let width = if oscillatory(omega, dt) { 2 } else { 1 };
         let part = combine(&cols[col..col + width], &beta[col..col + width]);
-        let amplitude = beta[col..col + width].iter().map(|b| b * b).sum::<f64>().sqrt();
+        let amplitude = beta[col..col + width]
+            .iter()
+            .map(|b| b * b)
+            .sum::<f64>()
+            .sqrt();
         modes.push(PencilMode {
             sigma,
             omega,
@@ -180,30 +196,53 @@ pub fn identify(t: &[f64], x: &[f64], opts: &IdentifyOptions) -> Result<Identifi
         });
         col += width;
     }
-    let top = modes.iter().fold(0.0_f64, |m, p| m.max(p.energy));
-    let dominant = modes
+    let (di, dominant) = modes
         .iter()
-        .filter(|m| m.energy >= opts.energy_fraction * top)
-        .max_by(|a, b| a.sigma.total_cmp(&b.sigma))
+        .enumerate()
+        .max_by(|a, b| a.1.energy.total_cmp(&b.1.energy))
         .ok_or(IdentifyError::NoModes)?;
+    let least_damped = modes
+        .iter()
+        .filter(|m| m.energy >= opts.energy_fraction * dominant.energy)
+        .max_by(|a, b| a.sigma.total_cmp(&b.sigma))
+        .cloned();
 
-    // Stage 2: single-mode fit, refined by variable projection.
+    // Stage 2: refine the dominant pole with the other poles held (amplitudes of all free).
+    let others: Vec<(f64, f64)> = poles
+        .iter()
+        .enumerate()
+        .filter(|&(k, _)| k != di)
+        .map(|(_, p)| *p)
+        .collect();
     let start = (dominant.sigma, dominant.omega);
     let (sigma, omega, refined) = if opts.refine {
-        let (p, improved) = refine(&y, dt, start, opts.offset);
+        let (p, improved) = refine(&y, dt, start, &others, opts.offset);
         (p.0, p.1, improved)
     } else {
         (start.0, start.1, false)
     };
-    let single = basis(&[(sigma, omega)], y.len(), dt, opts.offset);
-    let b = lstsq(&single, &y)?;
-    let nrmse = norm_diff(&y, &combine(&single, &b)) / spread;
-    let (amplitude, phase, offset) = if oscillatory(omega, dt) {
-        (b[0].hypot(b[1]), b[1].atan2(b[0]), if opts.offset { b[2] } else { 0.0 })
+    let mut all = vec![(sigma, omega)];
+    all.extend_from_slice(&others);
+    let full = basis(&all, y.len(), dt, opts.offset);
+    let b = lstsq(&full, &y)?;
+    let nrmse = norm_diff(&y, &combine(&full, &b)) / spread;
+    let offset = if opts.offset { b[b.len() - 1] } else { 0.0 };
+    let (amplitude, phase) = if oscillatory(omega, dt) {
+        (b[0].hypot(b[1]), b[1].atan2(b[0]))
     } else {
-        let c = if opts.offset { b[1] } else { 0.0 };
-        (b[0].abs(), if b[0] < 0.0 { std::f64::consts::PI } else { 0.0 }, c)
+        (
+            b[0].abs(),
+            if b[0] < 0.0 {
+                std::f64::consts::PI
+            } else {
+                0.0
+            },
+        )
     };
+    // The thesis' measure: how much of the window one damped sinusoid explains.
+    let single = basis(&[(sigma, omega)], y.len(), dt, opts.offset);
+    let bs = lstsq(&single, &y)?;
+    let single_nrmse = norm_diff(&y, &combine(&single, &bs)) / spread;
     Ok(Identification {
         sigma_d: sigma,
         omega_d: omega,
@@ -216,10 +255,12 @@ pub fn identify(t: &[f64], x: &[f64], opts: &IdentifyOptions) -> Result<Identifi
         dt,
         samples: y.len(),
         model_order,
+        least_damped,
         modes,
         pencil_nrmse,
         nrmse,
         r_squared: 1.0 - nrmse * nrmse,
+        single_mode_r_squared: 1.0 - single_nrmse * single_nrmse,
         refined,
     })
 }
@@ -261,16 +302,22 @@ fn pencil_poles(
     let l = (n / 3).max(2);
     let rows = n - l;
     let hankel = Mat::<f64>::from_fn(rows, l + 1, |i, j| s[i + j]);
-    let svd = hankel.thin_svd().map_err(|_| IdentifyError::NoConvergence)?;
+    let svd = hankel
+        .thin_svd()
+        .map_err(|_| IdentifyError::NoConvergence)?;
     let sv = svd.S().column_vector();
     let s_max = sv[0];
     if s_max <= 0.0 {
         return Err(IdentifyError::Flat);
     }
-    let rank = (0..sv.nrows()).filter(|&i| sv[i] > opts.threshold * s_max).count();
+    let rank = (0..sv.nrows())
+        .filter(|&i| sv[i] > opts.threshold * s_max)
+        .count();
     let m = rank.clamp(1, opts.max_order.max(1).min(l));
     let v = svd.V();
-    let v1: Vec<Vec<f64>> = (0..m).map(|c| (0..l).map(|r| v[(r, c)]).collect()).collect();
+    let v1: Vec<Vec<f64>> = (0..m)
+        .map(|c| (0..l).map(|r| v[(r, c)]).collect())
+        .collect();
     let v2 = Mat::<f64>::from_fn(l, m, |r, c| v[(r + 1, c)]);
     // Pencil matrix V1'⁺ V2' (m × m), column by column.
     let mut pencil = Mat::<f64>::zeros(m, m);
@@ -281,7 +328,9 @@ fn pencil_poles(
             pencil[(r, c)] = sol[r];
         }
     }
-    let z = pencil.eigenvalues().map_err(|_| IdentifyError::NoConvergence)?;
+    let z = pencil
+        .eigenvalues()
+        .map_err(|_| IdentifyError::NoConvergence)?;
     let mut poles = Vec::new();
     for zi in z {
         let r = zi.re.hypot(zi.im);
@@ -311,10 +360,22 @@ fn basis(poles: &[(f64, f64)], n: usize, dt: f64, offset: bool) -> Vec<Vec<f64>>
     for &(sigma, omega) in poles {
         let env = |k: usize| (sigma * dt * k as f64).exp();
         if oscillatory(omega, dt) {
-            cols.push((0..n).map(|k| env(k) * (omega * dt * k as f64).cos()).collect());
-            cols.push((0..n).map(|k| env(k) * (omega * dt * k as f64).sin()).collect());
+            cols.push(
+                (0..n)
+                    .map(|k| env(k) * (omega * dt * k as f64).cos())
+                    .collect(),
+            );
+            cols.push(
+                (0..n)
+                    .map(|k| env(k) * (omega * dt * k as f64).sin())
+                    .collect(),
+            );
         } else {
-            cols.push((0..n).map(|k| env(k) * (omega * dt * k as f64).cos()).collect());
+            cols.push(
+                (0..n)
+                    .map(|k| env(k) * (omega * dt * k as f64).cos())
+                    .collect(),
+            );
         }
     }
     if offset {
@@ -337,7 +398,11 @@ fn combine(cols: &[Vec<f64>], beta: &[f64]) -> Vec<f64> {
 }
 
 fn norm_diff(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt()
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).powi(2))
+        .sum::<f64>()
+        .sqrt()
 }
 
 /// Least squares `min ‖C β − y‖` by a truncated SVD (singular values below `1e-12 s_max`
@@ -351,7 +416,13 @@ fn lstsq(cols: &[Vec<f64>], y: &[f64]) -> Result<Vec<f64>, IdentifyError> {
     // Column scaling keeps growing exponentials from dominating the rank decision.
     let norms: Vec<f64> = cols
         .iter()
-        .map(|c| c.iter().map(|v| v * v).sum::<f64>().sqrt().max(f64::MIN_POSITIVE))
+        .map(|c| {
+            c.iter()
+                .map(|v| v * v)
+                .sum::<f64>()
+                .sqrt()
+                .max(f64::MIN_POSITIVE)
+        })
         .collect();
     let a = Mat::<f64>::from_fn(n, p, |i, j| cols[j][i] / norms[j]);
     let svd = a.thin_svd().map_err(|_| IdentifyError::NoConvergence)?;
@@ -374,8 +445,16 @@ fn lstsq(cols: &[Vec<f64>], y: &[f64]) -> Result<Vec<f64>, IdentifyError> {
 }
 
 /// Residual norm² of the single-mode model at `(σ, ω)` with its amplitudes projected out.
-fn projected_cost(y: &[f64], dt: f64, p: (f64, f64), offset: bool) -> Option<Vec<f64>> {
-    let cols = basis(&[p], y.len(), dt, offset);
+fn projected_cost(
+    y: &[f64],
+    dt: f64,
+    p: (f64, f64),
+    others: &[(f64, f64)],
+    offset: bool,
+) -> Option<Vec<f64>> {
+    let mut poles = vec![p];
+    poles.extend_from_slice(others);
+    let cols = basis(&poles, y.len(), dt, offset);
     let beta = lstsq(&cols, y).ok()?;
     let fit = combine(&cols, &beta);
     let r: Vec<f64> = y.iter().zip(&fit).map(|(a, b)| a - b).collect();
@@ -385,11 +464,17 @@ fn projected_cost(y: &[f64], dt: f64, p: (f64, f64), offset: bool) -> Option<Vec
 /// Levenberg-Marquardt on `(σ, ω)` (only `σ` for a real pole) of the variable-projection
 /// residual, with central-difference Jacobians. Returns the parameters and whether the cost
 /// went down.
-fn refine(y: &[f64], dt: f64, start: (f64, f64), offset: bool) -> ((f64, f64), bool) {
+fn refine(
+    y: &[f64],
+    dt: f64,
+    start: (f64, f64),
+    others: &[(f64, f64)],
+    offset: bool,
+) -> ((f64, f64), bool) {
     let real = start.1 == 0.0;
     let span = dt * (y.len() - 1) as f64;
     let cost = |p: (f64, f64)| {
-        projected_cost(y, dt, p, offset).map(|r| (r.iter().map(|v| v * v).sum::<f64>(), r))
+        projected_cost(y, dt, p, others, offset).map(|r| (r.iter().map(|v| v * v).sum::<f64>(), r))
     };
     let Some((mut c0, mut r0)) = cost(start) else {
         return (start, false);
@@ -399,17 +484,31 @@ fn refine(y: &[f64], dt: f64, start: (f64, f64), offset: bool) -> ((f64, f64), b
     let mut lambda = 1e-3;
     let nyquist = std::f64::consts::PI / dt;
     for _ in 0..60 {
-        let h = [1e-6 * p.0.abs().max(1.0 / span), 1e-6 * p.1.abs().max(1.0 / span)];
+        let h = [
+            1e-6 * p.0.abs().max(1.0 / span),
+            1e-6 * p.1.abs().max(1.0 / span),
+        ];
         let mut jac: Vec<Vec<f64>> = Vec::new();
         for (axis, &hk) in h.iter().enumerate().take(if real { 1 } else { 2 }) {
-            let shift = |s: f64| if axis == 0 { (p.0 + s, p.1) } else { (p.0, p.1 + s) };
+            let shift = |s: f64| {
+                if axis == 0 {
+                    (p.0 + s, p.1)
+                } else {
+                    (p.0, p.1 + s)
+                }
+            };
             let (Some(rp), Some(rm)) = (
-                projected_cost(y, dt, shift(hk), offset),
-                projected_cost(y, dt, shift(-hk), offset),
+                projected_cost(y, dt, shift(hk), others, offset),
+                projected_cost(y, dt, shift(-hk), others, offset),
             ) else {
                 return (p, c0 < first);
             };
-            jac.push(rp.iter().zip(&rm).map(|(a, b)| (a - b) / (2.0 * hk)).collect());
+            jac.push(
+                rp.iter()
+                    .zip(&rm)
+                    .map(|(a, b)| (a - b) / (2.0 * hk))
+                    .collect(),
+            );
         }
         let dim = jac.len();
         let mut jtj = [[0.0; 2]; 2];
@@ -541,6 +640,25 @@ mod tests {
     }
 
     #[test]
+    fn a_weaker_growing_mode_is_reported_as_least_damped() {
+        let (t, x): (Vec<f64>, Vec<f64>) = (0..600)
+            .map(|k| {
+                let s = 0.005 * k as f64;
+                let main = (-1.0 * s).exp() * (2.0 * std::f64::consts::PI * 3.0 * s).cos();
+                let grow = 0.1 * (0.5 * s).exp() * (2.0 * std::f64::consts::PI * 7.0 * s).sin();
+                (s, main + grow)
+            })
+            .unzip();
+        let id = identify(&t, &x, &IdentifyOptions::default()).unwrap();
+        assert!((id.sigma_d + 1.0).abs() < 1e-5, "{id:?}");
+        assert!((id.frequency_hz - 3.0).abs() < 1e-5, "{id:?}");
+        let ld = id.least_damped.unwrap();
+        assert!(
+            (ld.sigma - 0.5).abs() < 1e-5 && (ld.omega - 14.0 * std::f64::consts::PI).abs() < 1e-4
+        );
+    }
+
+    #[test]
     fn pure_exponential_divergence_has_zero_frequency() {
         let t: Vec<f64> = (0..120).map(|k| 0.01 * k as f64).collect();
         let x: Vec<f64> = t.iter().map(|s| 0.01 * (4.26 * s).exp() - 0.002).collect();
@@ -583,13 +701,19 @@ mod tests {
         let opts = IdentifyOptions::default();
         assert_eq!(
             identify(&[0.0, 1.0], &[1.0, 2.0], &opts),
-            Err(IdentifyError::TooShort { found: 2, needed: MIN_SAMPLES })
+            Err(IdentifyError::TooShort {
+                found: 2,
+                needed: MIN_SAMPLES
+            })
         );
         let t: Vec<f64> = (0..20).map(f64::from).collect();
         assert_eq!(identify(&t, &[3.0; 20], &opts), Err(IdentifyError::Flat));
         let mut x = vec![0.0; 20];
         x[5] = f64::NAN;
-        assert_eq!(identify(&t, &x, &opts), Err(IdentifyError::BadSample { index: 5 }));
+        assert_eq!(
+            identify(&t, &x, &opts),
+            Err(IdentifyError::BadSample { index: 5 })
+        );
         assert!(matches!(
             identify(&t, &x[..19], &opts),
             Err(IdentifyError::LengthMismatch { .. })

@@ -186,7 +186,10 @@ pub fn case_row(case: &SweepCase, outcome: &Result<serde_json::Value, String>) -
         }
         Err(e) => {
             row.push("failed".into());
-            row.extend(std::iter::repeat_n(String::new(), TRAILING_COLUMNS.len() - 2));
+            row.extend(std::iter::repeat_n(
+                String::new(),
+                TRAILING_COLUMNS.len() - 2,
+            ));
             // One line: the table is read by spreadsheets and shell tools.
             row.push(e.split_whitespace().collect::<Vec<_>>().join(" "));
         }
@@ -379,7 +382,10 @@ mod tests {
 
     #[test]
     fn grid_is_row_major_with_the_last_axis_fastest() {
-        let s = sweep(Combine::Grid, &[("a", &["1", "2"]), ("b", &["x", "y", "z"])]);
+        let s = sweep(
+            Combine::Grid,
+            &[("a", &["1", "2"]), ("b", &["x", "y", "z"])],
+        );
         let cases = expand(&s);
         assert_eq!(cases.len(), 6);
         assert_eq!(cases[4].id, "case_0004");
@@ -388,7 +394,10 @@ mod tests {
             vec![("a".into(), "2".into()), ("b".into(), "y".into())]
         );
         assert_eq!(cases[1].set_strings(), vec!["a=1", "b=y"]);
-        let z = expand(&sweep(Combine::Zip, &[("a", &["1", "2"]), ("b", &["x", "y"])]));
+        let z = expand(&sweep(
+            Combine::Zip,
+            &[("a", &["1", "2"]), ("b", &["x", "y"])],
+        ));
         assert_eq!(z[1].overrides[1].1, "y");
         assert_eq!(z.len(), 2);
     }
@@ -401,14 +410,27 @@ mod tests {
             _ => None,
         };
         assert_eq!(Shard::parse("env", env), Ok(Shard { index: 2, count: 3 }));
-        assert_eq!(Shard::parse(" 1/4", |_| None), Ok(Shard { index: 1, count: 4 }));
-        assert!(matches!(Shard::parse("4/4", |_| None), Err(ShardError::OutOfRange { .. })));
-        assert!(matches!(Shard::parse("1-4", |_| None), Err(ShardError::Syntax(_))));
+        assert_eq!(
+            Shard::parse(" 1/4", |_| None),
+            Ok(Shard { index: 1, count: 4 })
+        );
+        assert!(matches!(
+            Shard::parse("4/4", |_| None),
+            Err(ShardError::OutOfRange { .. })
+        ));
+        assert!(matches!(
+            Shard::parse("1-4", |_| None),
+            Err(ShardError::Syntax(_))
+        ));
         assert_eq!(
             Shard::parse("env", |_| None),
             Err(ShardError::MissingEnv(SHARD_INDEX_ENV))
         );
-        let shards = [Shard { index: 0, count: 3 }, Shard { index: 1, count: 3 }, Shard { index: 2, count: 3 }];
+        let shards = [
+            Shard { index: 0, count: 3 },
+            Shard { index: 1, count: 3 },
+            Shard { index: 2, count: 3 },
+        ];
         for i in 0..20 {
             assert_eq!(shards.iter().filter(|s| s.takes(i)).count(), 1);
         }
@@ -425,7 +447,10 @@ mod tests {
                 columns: vec!["index".into(), "v".into()],
             },
             header: vec!["index".into(), "v".into()],
-            rows: rows.iter().map(|i| vec![i.to_string(), format!("r{i}")]).collect(),
+            rows: rows
+                .iter()
+                .map(|i| vec![i.to_string(), format!("r{i}")])
+                .collect(),
         }
     }
 
@@ -434,7 +459,10 @@ mod tests {
         let a = table("a", Shard { index: 0, count: 2 }, &[0, 2, 4]);
         let b = table("b", Shard { index: 1, count: 2 }, &[3, 1]);
         let m = merge(&[b.clone(), a.clone()]).unwrap();
-        assert_eq!(m.rows.iter().map(|r| r[1].as_str()).collect::<Vec<_>>(), ["r0", "r1", "r2", "r3", "r4"]);
+        assert_eq!(
+            m.rows.iter().map(|r| r[1].as_str()).collect::<Vec<_>>(),
+            ["r0", "r1", "r2", "r3", "r4"]
+        );
         assert!(m.missing.is_empty());
         assert_eq!(m.manifest.shard, Shard::ALL);
         let gap = merge(&[a.clone()]).unwrap();
@@ -445,18 +473,32 @@ mod tests {
         ));
         let mut other = b.clone();
         other.manifest.case_count = 6;
-        assert!(matches!(merge(&[a, other]), Err(MergeError::Mismatch { .. })));
+        assert!(matches!(
+            merge(&[a, other]),
+            Err(MergeError::Mismatch { .. })
+        ));
         assert_eq!(ranges(&[1, 2, 3, 7, 9, 10]), "1-3, 7, 9-10");
     }
 
     #[test]
     fn a_failed_case_row_keeps_its_error_on_one_line() {
-        let case = SweepCase { index: 3, id: "case_0003".into(), overrides: vec![("a".into(), "1 mm".into())] };
+        let case = SweepCase {
+            index: 3,
+            id: "case_0003".into(),
+            overrides: vec![("a".into(), "1 mm".into())],
+        };
         let row = case_row(&case, &Err("plan::invalid: bad\n  here".into()));
         assert_eq!(row.len(), 3 + TRAILING_COLUMNS.len());
         assert_eq!(row[3], "failed");
         assert_eq!(row.last().unwrap(), "plan::invalid: bad here");
-        let text = table_csv(&["index".into(), "case_id".into()], &[vec!["3".into(), "a,b".into()]]).unwrap();
-        assert_eq!(parse_table(&text).unwrap().1, vec![vec!["3".to_string(), "a,b".to_string()]]);
+        let text = table_csv(
+            &["index".into(), "case_id".into()],
+            &[vec!["3".into(), "a,b".into()]],
+        )
+        .unwrap();
+        assert_eq!(
+            parse_table(&text).unwrap().1,
+            vec![vec!["3".to_string(), "a,b".to_string()]]
+        );
     }
 }
