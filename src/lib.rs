@@ -13,6 +13,7 @@
 //! - [`plan`]: a checked scenario and its compiled vehicle resolved into a run plan;
 //! - [`runtime`]: equations of motion (3.2.1), integrators, force blocks, the run driver,
 //!   atmosphere, thrust curves, stimuli;
+//! - [`analysis`]: time-domain identification after stimuli, variant sweeps;
 //! - [`cli`]: the command-line front end.
 //!
 //! Shared services: [`units`] (dimensions and unit table), [`diagnostics`] (the one place
@@ -21,6 +22,7 @@
 // Library code reports errors; it does not unwrap (tests, benches and the fuzzer may).
 #![warn(clippy::unwrap_used, clippy::expect_used)]
 
+pub mod analysis;
 pub mod artifact;
 pub mod check;
 pub mod cli;
@@ -30,7 +32,6 @@ pub mod runtime;
 pub mod structure;
 pub mod syntax;
 pub mod units;
-pub mod analysis;
 
 pub use check::ir::Program;
 pub use diagnostics::Diagnostic;

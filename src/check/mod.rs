@@ -502,9 +502,8 @@ fn check_trees(
         .iter()
         .filter(|s| !overrides::is_scenario_path(&s.path))
         .collect();
-    let wanted = |b: &Block| {
-        only_scenario.is_none_or(|n| b.name.as_ref().is_some_and(|x| x.name == n))
-    };
+    let wanted =
+        |b: &Block| only_scenario.is_none_or(|n| b.name.as_ref().is_some_and(|x| x.name == n));
     for b in decls.vehicles.iter().filter(|_| only_scenario.is_none()) {
         let patched = patch(cx, b, &vehicle_sets);
         if let Some(v) = vehicle::check_vehicle(cx, &patched, &program.materials) {
