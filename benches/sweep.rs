@@ -56,7 +56,11 @@ fn bench_sweep(c: &mut Criterion) {
     let dir = tempfile::tempdir().expect("tempdir");
     let vehicle = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("vehicles/sphads1.vdl");
     let file = dir.path().join("sweep.vdl");
-    std::fs::write(&file, FILE.replace("VEHICLE", &vehicle.display().to_string())).expect("write");
+    std::fs::write(
+        &file,
+        FILE.replace("VEHICLE", &vehicle.display().to_string()),
+    )
+    .expect("write");
     let checked = check_files(std::slice::from_ref(&file), &[], &DiskLoader);
     assert!(!checked.has_errors(), "{:?}", checked.diagnostics);
     let sweep = checked.program.sweep("eight").expect("sweep").clone();

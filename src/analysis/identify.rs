@@ -435,7 +435,8 @@ fn lstsq(cols: &[Vec<f64>], y: &[f64]) -> Result<Vec<f64>, IdentifyError> {
     let s_max = s[0];
     let mut beta = vec![0.0; p];
     for i in 0..s.nrows() {
-        if !(s[i] > 1e-12 * s_max) {
+        let significant = s[i] > 1e-12 * s_max;
+        if !significant {
             continue;
         }
         let coef = (0..n).map(|r| u[(r, i)] * y[r]).sum::<f64>() / s[i];
@@ -649,7 +650,7 @@ mod tests {
         let (t, x): (Vec<f64>, Vec<f64>) = (0..600)
             .map(|k| {
                 let s = 0.005 * k as f64;
-                let main = (-1.0 * s).exp() * (2.0 * std::f64::consts::PI * 3.0 * s).cos();
+                let main = (-s).exp() * (2.0 * std::f64::consts::PI * 3.0 * s).cos();
                 let grow = 0.1 * (0.5 * s).exp() * (2.0 * std::f64::consts::PI * 7.0 * s).sin();
                 (s, main + grow)
             })
@@ -701,7 +702,11 @@ mod tests {
         let started = std::time::Instant::now();
         let id = identify(&t, &x, &IdentifyOptions::default()).unwrap();
         assert!((id.sigma_d + 0.29).abs() < 0.005 && (id.omega_d - omega).abs() < 1e-3 * omega);
-        assert!(started.elapsed().as_secs_f64() < 10.0, "{:?}", started.elapsed());
+        assert!(
+            started.elapsed().as_secs_f64() < 10.0,
+            "{:?}",
+            started.elapsed()
+        );
     }
 
     #[test]

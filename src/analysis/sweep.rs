@@ -465,7 +465,7 @@ mod tests {
         );
         assert!(m.missing.is_empty());
         assert_eq!(m.manifest.shard, Shard::ALL);
-        let gap = merge(&[a.clone()]).unwrap();
+        let gap = merge(std::slice::from_ref(&a)).unwrap();
         assert_eq!(gap.missing, vec![1, 3]);
         assert!(matches!(
             merge(&[a.clone(), a.clone()]),

@@ -231,11 +231,13 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
             common,
             cache,
         } => sweep::cmd_sweep(
-            &file,
-            &sweep,
-            jobs,
-            shard.as_deref(),
-            &out,
+            sweep::SweepRequest {
+                file: &file,
+                sweep: &sweep,
+                jobs,
+                shard: shard.as_deref(),
+                out: &out,
+            },
             &common,
             cache.cache_dir.as_deref(),
             term,

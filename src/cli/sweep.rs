@@ -368,17 +368,31 @@ pub fn write_merged(out: &Path, merged: &MergedTable) -> Result<(), SweepError> 
     write_atomic(&t, &table_csv(&merged.manifest.columns, &merged.rows)?).map_err(io_err(&t))
 }
 
+/// What `flexflight sweep` was asked to run.
+#[derive(Clone, Copy, Debug)]
+pub struct SweepRequest<'a> {
+    pub file: &'a Path,
+    pub sweep: &'a str,
+    pub jobs: Option<usize>,
+    /// `I/N` or `env`.
+    pub shard: Option<&'a str>,
+    pub out: &'a Path,
+}
+
 /// `flexflight sweep`.
 pub fn cmd_sweep(
-    file: &Path,
-    sweep_name: &str,
-    jobs: Option<usize>,
-    shard: Option<&str>,
-    out: &Path,
+    req: SweepRequest<'_>,
     common: &Common,
     cache_dir: Option<&Path>,
     term: Terminal,
 ) -> u8 {
+    let SweepRequest {
+        file,
+        sweep: sweep_name,
+        jobs,
+        shard,
+        out,
+    } = req;
     let shard = match shard.map(|s| Shard::parse(s, |k| std::env::var(k).ok())) {
         None => Shard::ALL,
         Some(Ok(s)) => s,
