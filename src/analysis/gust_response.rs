@@ -114,3 +114,88 @@ pub fn identify_after_stimuli(
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::check::ir::Frame;
+    use crate::runtime::run::RunStop;
+    use crate::syntax::{Span, Spanned};
+
+    fn gust(name: &str, start: f64, duration: f64) -> Stimulus {
+        fn q<T>(v: T) -> Spanned<T> {
+            Spanned::new(v, Span::default())
+        }
+        Stimulus {
+            name: q(name.to_string()),
+            kind: StimulusKind::Gust {
+                start: q(start),
+                duration: q(duration),
+                velocity: q([0.0, 0.0, 5.0]),
+                frame: Frame::Body,
+            },
+        }
+    }
+
+    #[test]
+    fn windows_run_from_each_stimulus_end_to_the_next_start_or_the_run_end() {
+        // Written out of order, as in a file; the second gust starts inside the first.
+        let s = [
+            gust("late", 5.0, 0.1),
+            gust("early", 1.0, 0.1),
+            gust("inner", 1.05, 0.01),
+        ];
+        let w = response_windows(&s, 8.0);
+        assert_eq!(
+            w,
+            vec![
+                ("early".to_string(), 1.1, 5.0),
+                ("inner".to_string(), 1.06, 5.0),
+                ("late".to_string(), 5.1, 8.0),
+            ]
+        );
+        // A run that stopped during a gust leaves an empty window.
+        let w = response_windows(&s[..1], 5.05);
+        assert!(w[0].2 < w[0].1);
+    }
+
+    #[test]
+    fn a_decaying_response_after_a_gust_is_fitted_and_a_missing_channel_reported() {
+        let omega = 2.0 * std::f64::consts::PI * 2.0;
+        let rows: Vec<Vec<f64>> = (0..=400)
+            .map(|k| {
+                let t = 0.005 * k as f64;
+                let x = if t < 0.5 {
+                    0.0
+                } else {
+                    (-0.4 * (t - 0.5)).exp() * (omega * (t - 0.5)).sin()
+                };
+                vec![t, x]
+            })
+            .collect();
+        let out = RunOutput {
+            channels: vec!["t".into(), "alpha".into()],
+            rows,
+            stop: RunStop::Completed,
+            stop_detail: String::new(),
+            t_end: 2.0,
+            stats: Default::default(),
+            wall_seconds: 0.0,
+        };
+        let fits = identify_after_stimuli(
+            &[gust("g", 0.4, 0.1)],
+            &out,
+            DEFAULT_CHANNELS,
+            &IdentifyOptions::default(),
+        );
+        assert_eq!(fits.len(), 2);
+        assert_eq!(fits[0].channel, "eta_fin1_flap");
+        assert!(fits[0].error.as_deref().unwrap().contains("no channel"));
+        let f = fits[1].fit.as_ref().unwrap();
+        assert!(
+            (f.sigma_d + 0.4).abs() < 1e-6 && (f.omega_d - omega).abs() < 1e-6,
+            "{f:?}"
+        );
+        assert!((f.t_start - 0.5).abs() < 1e-12 && fits[1].window_end == 2.0);
+    }
+}
