@@ -222,6 +222,16 @@ fn shards_merge_into_the_unsharded_table_and_a_rerun_resumes() {
     assert_eq!(read(&all.join("sweep.csv")), before);
     assert!(read(&marked).contains("\"marker\": \"kept\""));
     assert!(all.join("cases/case_0003/summary.json").is_file());
+
+    // An edited scenario is a different variant: nothing is reused.
+    std::fs::write(
+        &file,
+        read(&file).replace("stop_time = 0.2 s", "stop_time = 0.15 s"),
+    )
+    .unwrap();
+    let edited = sweep_in(&file, &all, &opts(2, Shard::ALL));
+    assert_eq!((edited.skipped, edited.ran), (0, 6));
+    assert!(read(&all.join("sweep.csv")).contains(",ok,completed,0.15,"));
 }
 
 #[test]

@@ -10,7 +10,8 @@
 //! Determinism: each case runs single-threaded (faer's global parallelism is set to
 //! sequential) and the rows are collected in case order, so `sweep.csv` is byte-identical
 //! whatever `--jobs` is. Resume: a case whose `summary.json` says `"status": "ok"` for the
-//! same overrides is not run again; its row is rebuilt from that file. Every file is written
+//! same overrides and the same checked variant (a hash of the scenario IR, so an edited
+//! file or `--set` invalidates it) is not run again; its row is rebuilt from that file. Every file is written
 //! atomically (temporary file, then rename), so an interrupted sweep loses no finished case.
 //! A failed case leaves `error.txt` and no `summary.json`, so a re-run tries it again.
 
@@ -33,7 +34,7 @@ use crate::check::{DiskLoader, check_scenario_files};
 use crate::runtime::run;
 use crate::structure::compile::{CompiledVehicle, compile};
 
-use super::compile::{CompileOutcome, cache_key};
+use super::compile::{CompileOutcome, cache_key, strip_spans};
 use super::fmt::write_atomic;
 use super::{Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, load_program};
 
@@ -137,14 +138,27 @@ pub fn run_sweep(
         .into_iter()
         .filter(|c| opts.shard.takes(c.index))
         .collect();
+    // Check every case (cheap): its variant's fingerprint decides whether a finished case
+    // on disk is still this case.
+    let checked: Vec<Result<Prepared, String>> = pool.install(|| {
+        cases
+            .par_iter()
+            .map(|c| prepare_case(file, scenario, &opts.sets, c))
+            .collect()
+    });
     let mut outcomes: Vec<Option<Result<serde_json::Value, String>>> = cases
         .iter()
-        .map(|c| finished(&cases_dir, c).map(Ok))
+        .zip(&checked)
+        .map(|(c, p)| {
+            let variant = p.as_ref().ok()?.variant.as_str();
+            finished(&cases_dir, c, variant).map(Ok)
+        })
         .collect();
     let todo: Vec<usize> = (0..cases.len())
         .filter(|&k| outcomes[k].is_none())
         .collect();
     let skipped = cases.len() - todo.len();
+    let prepared: Vec<&Result<Prepared, String>> = todo.iter().map(|&k| &checked[k]).collect();
 
     let bar = if opts.progress {
         ProgressBar::with_draw_target(Some(todo.len() as u64), ProgressDrawTarget::stderr())
@@ -158,15 +172,12 @@ pub fn run_sweep(
     }
     bar.set_prefix(format!("sweep {}", sweep.name.value));
 
-    // Check every case (cheap), then compile each distinct structural variant once.
-    let prepared: Vec<Result<(Scenario, CacheKey), String>> = pool.install(|| {
-        todo.par_iter()
-            .map(|&k| prepare_case(file, scenario, &opts.sets, &cases[k]))
-            .collect()
-    });
+    // Compile each distinct structural variant once.
     let mut variants: BTreeMap<String, (CacheKey, &CompiledVehicleInput)> = BTreeMap::new();
-    for (sc, key) in prepared.iter().flatten() {
-        variants.entry(key.to_hex()).or_insert((*key, &sc.vehicle));
+    for p in prepared.iter().copied().flatten() {
+        variants
+            .entry(p.key.to_hex())
+            .or_insert((p.key, &p.scenario.vehicle));
     }
     let cache = Cache::resolve(opts.cache_dir.as_deref());
     let compiled: BTreeMap<String, Result<Arc<CompileOutcome>, String>> = pool.install(|| {
@@ -181,12 +192,12 @@ pub fn run_sweep(
             .zip(prepared.par_iter())
             .map(|(&k, prep)| {
                 let case = &cases[k];
-                let result = prep.clone().and_then(|(sc, key)| {
+                let result = prep.as_ref().map_err(Clone::clone).and_then(|p| {
                     let c = compiled
-                        .get(&key.to_hex())
+                        .get(&p.key.to_hex())
                         .cloned()
                         .unwrap_or_else(|| Err("the structural variant was not compiled".into()))?;
-                    run_case(&sc, &c, sweep, case)
+                    run_case(p, &c, sweep, case)
                 });
                 let written = write_case(&cases_dir, case, &result);
                 bar.inc(1);
@@ -222,13 +233,25 @@ pub fn run_sweep(
 
 type CompiledVehicleInput = crate::check::ir::Vehicle;
 
-/// The summary of a finished case (`status` ok, same overrides), if there is one.
-fn finished(cases_dir: &Path, case: &SweepCase) -> Option<serde_json::Value> {
+/// The summary of a finished case (`status` ok, same overrides, same checked variant), if
+/// there is one.
+fn finished(cases_dir: &Path, case: &SweepCase, variant: &str) -> Option<serde_json::Value> {
     let text = std::fs::read_to_string(cases_dir.join(&case.id).join("summary.json")).ok()?;
     let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+    let c = v.get("sweep_case")?;
     let same = v.get("status")?.as_str()? == "ok"
-        && v.get("sweep_case")?.get("overrides")? == &serde_json::to_value(&case.overrides).ok()?;
+        && c.get("overrides")? == &serde_json::to_value(&case.overrides).ok()?
+        && c.get("variant")?.as_str()? == variant;
     same.then_some(v)
+}
+
+/// A case checked and ready to compile and run.
+struct Prepared {
+    scenario: Scenario,
+    key: CacheKey,
+    /// blake3 of the checked scenario (with its vehicle) without spans: a finished case on
+    /// disk is reused only if the file and `--set` still give exactly this variant.
+    variant: String,
 }
 
 /// Check the case's variant of the scenario and key its structure.
@@ -237,7 +260,7 @@ fn prepare_case(
     scenario: &str,
     sets: &[String],
     case: &SweepCase,
-) -> Result<(Scenario, CacheKey), String> {
+) -> Result<Prepared, String> {
     let mut all = sets.to_vec();
     all.extend(case.set_strings());
     let checked = check_scenario_files(&[file.to_path_buf()], &all, scenario, &DiskLoader);
@@ -256,7 +279,15 @@ fn prepare_case(
         .cloned()
         .ok_or_else(|| format!("scenario `{scenario}` did not check"))?;
     let key = cache_key(&sc.vehicle).map_err(|e| format!("cannot read an FE file: {e}"))?;
-    Ok((sc, key))
+    let ir = serde_json::to_value(&sc).map_err(|e| e.to_string())?;
+    let variant = blake3::hash(strip_spans(ir).to_string().as_bytes())
+        .to_hex()
+        .to_string();
+    Ok(Prepared {
+        scenario: sc,
+        key,
+        variant,
+    })
 }
 
 /// Compile one structural variant through the cache (built once, then memory-mapped).
@@ -286,11 +317,12 @@ fn compile_variant(
 /// Plan, run and identify one case; its summary as `flexflight run` writes it, plus the
 /// case's identity. The history is attached under `"_history"` for [`write_case`].
 fn run_case(
-    sc: &Scenario,
+    prepared: &Prepared,
     compiled: &CompileOutcome,
     sweep: &Sweep,
     case: &SweepCase,
 ) -> Result<serde_json::Value, String> {
+    let sc = &prepared.scenario;
     let p =
         crate::plan::build(sc, &compiled.compiled).map_err(|e| format!("plan::invalid: {e}"))?;
     let (aero, _) = run::build_aero_blocks(&p, sc, &compiled.compiled)
@@ -307,6 +339,7 @@ fn run_case(
                 "index": case.index,
                 "case_id": case.id,
                 "overrides": case.overrides,
+                "variant": prepared.variant,
             }),
         );
         map.insert("_history".into(), super::run::history_csv(&output).into());
