@@ -5,8 +5,8 @@
 //! 1. **Matrix pencil** (Hua & Sarkar 1990; Sarkar & Pereira 1995). The window is sampled
 //!    uniformly, `y_k = x(t_0 + k Δt)`, `k = 0..N`. A sum of `M` damped exponentials
 //!    `y_k = Σ_m h_m z_m^k` makes the Hankel matrix `Y[i, j] = y_{i+j}` (`(N−L) × (L+1)`,
-//!    pencil parameter `L = N/3`, at most [`MAX_PENCIL_COLUMNS`]) of rank `M`. With the SVD `Y = U Σ Vᵀ`, the first `M` right
-//!    singular vectors `V'` span the row space `span{(z_m^j)_j}`; deleting the last row
+//!    pencil parameter `L = N/3`, at most [`MAX_PENCIL_COLUMNS`]) of rank `M`. With the
+//!    SVD `Y = U Σ Vᵀ`, the first `M` right singular vectors `V'` span the row space `span{(z_m^j)_j}`; deleting the last row
 //!    (`V₁'`) or the first row (`V₂'`) gives `V₂' = V₁' T⁻¹ Z T` with `Z = diag(z_m)`
 //!    (shifting `z^j` by one index multiplies it by `z`), so the poles are the eigenvalues of
 //!    `V₁'⁺ V₂'`. The model order `M` is the number of singular values above
@@ -19,13 +19,13 @@
 //!    pole of stage 1 starts a Levenberg-Marquardt iteration on its `(σ, ω)` alone, the other
 //!    poles held; every linear amplitude, `(a, b)` of `e^{σt}(a cos ωt + b sin ωt)`, those
 //!    of the other poles and `c`, is solved exactly at every trial point (holding the other
-//!    poles keeps a second mode from biasing the dominant one). Then `A = √(a² + b²)`, `φ = atan2(b, a)`, because
-//!    `A cos(ωt − φ) = A cos φ cos ωt + A sin φ sin ωt`.
+//!    poles keeps a second mode from biasing the dominant one). Then `A = √(a² + b²)`,
+//!    `φ = atan2(b, a)`, because `A cos(ωt − φ) = A cos φ cos ωt + A sin φ sin ωt`.
 //!
 //! The dominant mode is the pencil mode of largest energy over the window,
 //! `Σ_k |contribution_k|²`; the least-damped mode (largest `σ` among the modes with at least
-//! [`IdentifyOptions::energy_fraction`] of that energy) is reported beside it. Fit quality: `nrmse = ‖r‖ / ‖y − ȳ‖` and
-//! `r_squared = 1 − nrmse²`.
+//! [`IdentifyOptions::energy_fraction`] of that energy) is reported beside it. Fit quality:
+//! `nrmse = ‖r‖ / ‖y − ȳ‖` and `r_squared = 1 − nrmse²`.
 
 use faer::Mat;
 use serde::Serialize;
@@ -88,7 +88,8 @@ pub struct PencilMode {
     pub energy: f64,
 }
 
-/// The identified dominant mode of a window, `A e^(σ_d (t − t_start)) cos(ω_d (t − t_start) − φ) + c`.
+/// The identified dominant mode of a window,
+/// `A e^(σ_d (t − t_start)) cos(ω_d (t − t_start) − φ) + c`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Identification {
     /// `σ_d`, 1/s: negative is damped, positive grows.

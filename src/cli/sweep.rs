@@ -11,8 +11,8 @@
 //! sequential) and the rows are collected in case order, so `sweep.csv` is byte-identical
 //! whatever `--jobs` is. Resume: a case whose `summary.json` says `"status": "ok"` for the
 //! same overrides and the same checked variant (a hash of the scenario IR, so an edited
-//! file or `--set` invalidates it) is not run again; its row is rebuilt from that file. Every file is written
-//! atomically (temporary file, then rename), so an interrupted sweep loses no finished case.
+//! file or `--set` invalidates it) is not run again; its row is rebuilt from that file.
+//! Every file is written atomically (temporary file, then rename), so an interrupted sweep loses no finished case.
 //! A failed case leaves `error.txt` and no `summary.json`, so a re-run tries it again.
 
 use std::collections::BTreeMap;
