@@ -1,6 +1,6 @@
 //! Identification of the response after each stimulus, as in thesis Tables 6.1-6.2: the
 //! window of a channel from the end of a stimulus to the start of the next one (or the end
-//! of the run) is fitted by [`identify`](super::identify::identify), eq. (6.30).
+//! of the run) is fitted by [`identify`], eq. (6.30).
 
 use serde::Serialize;
 
