@@ -13,7 +13,8 @@
 //! - [`plan`]: a checked scenario and its compiled vehicle resolved into a run plan;
 //! - [`runtime`]: equations of motion (3.2.1), integrators, force blocks, the run driver,
 //!   atmosphere, thrust curves, stimuli;
-//! - [`analysis`]: stability analyses (planar models of ch. 6, stability maps, baselines);
+//! - [`analysis`]: stability analyses (planar and linearised 3-D models of ch. 6, stability
+//!   maps, the TN 4197 baseline, time-domain identification after stimuli, variant sweeps);
 //! - [`cli`]: the command-line front end.
 //!
 //! Shared services: [`units`] (dimensions and unit table), [`diagnostics`] (the one place

@@ -176,6 +176,28 @@ pub const TOP_LEVEL_KINDS: &[&str] = &["material", "vehicle", "scenario", "sweep
 
 /// Check the given root files with `--set` overrides (each `PATH=VALUE`).
 pub fn check_files(roots: &[PathBuf], sets: &[String], loader: &dyn Loader) -> Checked {
+    check_files_only(roots, sets, None, loader)
+}
+
+/// Check only what one scenario needs: the materials and that scenario (with its vehicle),
+/// with `--set` overrides; other vehicles, scenarios and the sweeps are not checked, so an
+/// override that only fits this scenario's vehicle is no error elsewhere. A sweep checks
+/// each of its cases this way.
+pub fn check_scenario_files(
+    roots: &[PathBuf],
+    sets: &[String],
+    scenario: &str,
+    loader: &dyn Loader,
+) -> Checked {
+    check_files_only(roots, sets, Some(scenario), loader)
+}
+
+fn check_files_only(
+    roots: &[PathBuf],
+    sets: &[String],
+    only_scenario: Option<&str>,
+    loader: &dyn Loader,
+) -> Checked {
     let mut cx = Cx {
         sources: SourceMap::new(),
         diags: Vec::new(),
@@ -189,7 +211,7 @@ pub fn check_files(roots: &[PathBuf], sets: &[String], loader: &dyn Loader) -> C
     let program = if cx.has_syntax_errors() {
         ir::Program::default()
     } else {
-        check_trees(&mut cx, &trees, &overrides)
+        check_trees(&mut cx, &trees, &overrides, only_scenario)
     };
     let mut diagnostics = std::mem::take(&mut cx.diags);
     dedup(&mut diagnostics);
@@ -220,7 +242,7 @@ pub fn check_source(name: &str, text: &str, loader: &dyn Loader) -> Checked {
     let program = if cx.has_syntax_errors() {
         ir::Program::default()
     } else {
-        check_trees(&mut cx, &trees, &[])
+        check_trees(&mut cx, &trees, &[], None)
     };
     let mut diagnostics = std::mem::take(&mut cx.diags);
     dedup(&mut diagnostics);
@@ -401,7 +423,13 @@ fn set_shape_error(span: Span) -> Diagnostic {
         .with_help("for example --set 'fins.thickness=0.6 mm'")
 }
 
-fn check_trees(cx: &mut Cx, trees: &[SourceTree], sets: &[SetOverride]) -> ir::Program {
+/// Check the declarations; with `only_scenario`, just the materials and that scenario.
+fn check_trees(
+    cx: &mut Cx,
+    trees: &[SourceTree],
+    sets: &[SetOverride],
+    only_scenario: Option<&str>,
+) -> ir::Program {
     let mut decls = Decls::default();
     let mut names: HashMap<(String, String), Span> = HashMap::new();
     for tree in trees {
@@ -474,18 +502,20 @@ fn check_trees(cx: &mut Cx, trees: &[SourceTree], sets: &[SetOverride]) -> ir::P
         .iter()
         .filter(|s| !overrides::is_scenario_path(&s.path))
         .collect();
-    for b in &decls.vehicles {
+    let wanted =
+        |b: &Block| only_scenario.is_none_or(|n| b.name.as_ref().is_some_and(|x| x.name == n));
+    for b in decls.vehicles.iter().filter(|_| only_scenario.is_none()) {
         let patched = patch(cx, b, &vehicle_sets);
         if let Some(v) = vehicle::check_vehicle(cx, &patched, &program.materials) {
             program.vehicles.push(v);
         }
     }
-    for b in &decls.scenarios {
+    for b in decls.scenarios.iter().filter(|b| wanted(b)) {
         if let Some(s) = scenario::check_scenario(cx, b, &decls, &program.materials, sets) {
             program.scenarios.push(s);
         }
     }
-    for b in &decls.sweeps {
+    for b in decls.sweeps.iter().filter(|_| only_scenario.is_none()) {
         if let Some(s) = sweep::check_sweep(cx, b, &decls, &program, sets) {
             program.sweeps.push(s);
         }

@@ -10,6 +10,7 @@ mod fmt;
 pub mod linear;
 pub mod report;
 pub mod run;
+pub mod sweep;
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -121,6 +122,36 @@ pub enum Command {
         vehicle_file: Option<PathBuf>,
         #[command(flatten)]
         cache: CacheArgs,
+    },
+    /// Run the cases of a sweep in parallel: DIR/cases/<case_id>/ per case, DIR/sweep.csv.
+    /// Finished cases are skipped on a re-run.
+    Sweep {
+        file: PathBuf,
+        /// The sweep to run.
+        #[arg(long)]
+        sweep: String,
+        /// Worker threads (default: the number of cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Run only cases with index % N == I: `I/N`, or `env` to read SLURM_ARRAY_TASK_ID
+        /// and SLURM_ARRAY_TASK_COUNT.
+        #[arg(long, value_name = "I/N|env")]
+        shard: Option<String>,
+        /// Output directory.
+        #[arg(long)]
+        out: PathBuf,
+        #[command(flatten)]
+        common: Common,
+        #[command(flatten)]
+        cache: CacheArgs,
+    },
+    /// Join the tables of sweep shards (DIR/sweep.csv) into one, in case order.
+    Merge {
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Output directory for the merged sweep.csv and sweep.json.
+        #[arg(long)]
+        out: PathBuf,
     },
     /// Format vehicle files canonically (in place, or report with --check).
     Fmt {
@@ -275,6 +306,27 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
             },
             term,
         ),
+        Command::Sweep {
+            file,
+            sweep,
+            jobs,
+            shard,
+            out,
+            common,
+            cache,
+        } => sweep::cmd_sweep(
+            sweep::SweepRequest {
+                file: &file,
+                sweep: &sweep,
+                jobs,
+                shard: shard.as_deref(),
+                out: &out,
+            },
+            &common,
+            cache.cache_dir.as_deref(),
+            term,
+        ),
+        Command::Merge { dirs, out } => sweep::cmd_merge(&dirs, &out),
         Command::Inspect { artifact, output } => compile::cmd_inspect(&artifact, output.format),
         Command::Modes {
             file,

@@ -281,6 +281,12 @@ pub fn summary_json(p: &Plan, c: &CompileOutcome, o: &RunOutput) -> serde_json::
         "output_interval": p.output_interval,
         "energy_total_max_relative_drift": energy_drift,
         "extrema": extrema,
+        "identification": crate::analysis::gust_response::identify_after_stimuli(
+            &p.stimuli,
+            o,
+            crate::analysis::gust_response::DEFAULT_CHANNELS,
+            &crate::analysis::identify::IdentifyOptions::default(),
+        ),
     })
 }
 

@@ -1,0 +1,747 @@
+//! Time-domain identification: fit `x(t) ≈ A e^(σ_d t) cos(ω_d t − φ) (+ c)` to a window of
+//! a run's history, as the thesis does after each gust (eq. (6.30), Tables 6.1-6.2).
+//!
+//! Method, in two stages:
+//! 1. **Matrix pencil** (Hua & Sarkar 1990; Sarkar & Pereira 1995). The window is sampled
+//!    uniformly, `y_k = x(t_0 + k Δt)`, `k = 0..N`. A sum of `M` damped exponentials
+//!    `y_k = Σ_m h_m z_m^k` makes the Hankel matrix `Y[i, j] = y_{i+j}` (`(N−L) × (L+1)`,
+//!    pencil parameter `L = N/3`, at most [`MAX_PENCIL_COLUMNS`]) of rank `M`. With the
+//!    SVD `Y = U Σ Vᵀ`, the first `M` right singular vectors `V'` span the row space `span{(z_m^j)_j}`; deleting the last row
+//!    (`V₁'`) or the first row (`V₂'`) gives `V₂' = V₁' T⁻¹ Z T` with `Z = diag(z_m)`
+//!    (shifting `z^j` by one index multiplies it by `z`), so the poles are the eigenvalues of
+//!    `V₁'⁺ V₂'`. The model order `M` is the number of singular values above
+//!    `threshold · s_max`. Continuous poles follow from `z = e^{(σ + iω) Δt}`:
+//!    `σ = ln|z| / Δt`, `ω = arg z / Δt`. Amplitudes are linear least squares on the real
+//!    basis `e^{σt} cos ωt`, `e^{σt} sin ωt` (one column for a real pole) plus a constant.
+//!    With an offset the pencil runs on the first difference `y_{k+1} − y_k`, which removes
+//!    the constant (the pole `z = 1`) and keeps every other pole.
+//! 2. **Nonlinear least squares** (variable projection, Golub & Pereyra 1973): the dominant
+//!    pole of stage 1 starts a Levenberg-Marquardt iteration on its `(σ, ω)` alone, the other
+//!    poles held; every linear amplitude, `(a, b)` of `e^{σt}(a cos ωt + b sin ωt)`, those
+//!    of the other poles and `c`, is solved exactly at every trial point (holding the other
+//!    poles keeps a second mode from biasing the dominant one). Then `A = √(a² + b²)`,
+//!    `φ = atan2(b, a)`, because `A cos(ωt − φ) = A cos φ cos ωt + A sin φ sin ωt`.
+//!
+//! The dominant mode is the pencil mode of largest energy over the window,
+//! `Σ_k |contribution_k|²`; the least-damped mode (largest `σ` among the modes with at least
+//! [`IdentifyOptions::energy_fraction`] of that energy) is reported beside it. Fit quality:
+//! `nrmse = ‖r‖ / ‖y − ȳ‖` and `r_squared = 1 − nrmse²`.
+
+use faer::Mat;
+use serde::Serialize;
+
+/// Settings of [`identify`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct IdentifyOptions {
+    /// Fit a constant offset `c` as well.
+    pub offset: bool,
+    /// Singular values above `threshold · s_max` count towards the model order.
+    pub threshold: f64,
+    /// Upper bound of the model order (poles, counting a complex pair as two).
+    pub max_order: usize,
+    /// Modes with at least this fraction of the dominant mode's energy are candidates for
+    /// [`Identification::least_damped`].
+    pub energy_fraction: f64,
+    /// Refine the dominant mode by nonlinear least squares.
+    pub refine: bool,
+}
+
+impl Default for IdentifyOptions {
+    fn default() -> Self {
+        IdentifyOptions {
+            offset: true,
+            threshold: 1e-2,
+            max_order: 12,
+            energy_fraction: 0.1,
+            refine: true,
+        }
+    }
+}
+
+/// Why a window could not be identified.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum IdentifyError {
+    #[error("the window has {found} samples; at least {needed} are needed")]
+    TooShort { found: usize, needed: usize },
+    #[error("times and values differ in length ({times} and {values})")]
+    LengthMismatch { times: usize, values: usize },
+    #[error("sample {index} is not finite or the times do not increase there")]
+    BadSample { index: usize },
+    #[error("the signal is constant over the window: nothing to identify")]
+    Flat,
+    #[error("the singular value decomposition or eigen-solve did not converge")]
+    NoConvergence,
+    #[error("no pole could be extracted from the window")]
+    NoModes,
+}
+
+/// One pole of the pencil model with its least-squares amplitude.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PencilMode {
+    /// Growth rate, 1/s.
+    pub sigma: f64,
+    /// Angular frequency, rad/s (0 for a real pole).
+    pub omega: f64,
+    /// Amplitude at the window start.
+    pub amplitude: f64,
+    /// Energy of the mode's contribution over the window, `Σ_k |x_m(t_k)|²`.
+    pub energy: f64,
+}
+
+/// The identified dominant mode of a window,
+/// `A e^(σ_d (t − t_start)) cos(ω_d (t − t_start) − φ) + c`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Identification {
+    /// `σ_d`, 1/s: negative is damped, positive grows.
+    pub sigma_d: f64,
+    /// `ω_d`, rad/s (0 for a real, non-oscillating pole).
+    pub omega_d: f64,
+    /// `ω_d / 2π`, Hz.
+    pub frequency_hz: f64,
+    /// `A`, at `t_start`, in the channel's unit.
+    pub amplitude: f64,
+    /// `φ`, rad.
+    pub phase: f64,
+    /// `c` (0 unless fitted).
+    pub offset: f64,
+    pub t_start: f64,
+    pub t_end: f64,
+    /// Uniform sample interval used, s.
+    pub dt: f64,
+    pub samples: usize,
+    /// Model order chosen by the singular-value threshold.
+    pub model_order: usize,
+    /// The largest-`σ` pencil mode among those with at least
+    /// [`IdentifyOptions::energy_fraction`] of the dominant mode's energy (the dominant
+    /// mode itself when no other comes close).
+    pub least_damped: Option<PencilMode>,
+    /// Every pole of the pencil model (a complex pair once, `ω > 0`).
+    pub modes: Vec<PencilMode>,
+    /// `‖r‖ / ‖y − ȳ‖` of the full pencil model.
+    pub pencil_nrmse: f64,
+    /// `‖r‖ / ‖y − ȳ‖` of the final model (refined dominant pole and the other poles).
+    pub nrmse: f64,
+    /// `1 − nrmse²` of the final model.
+    pub r_squared: f64,
+    /// `1 − nrmse²` of the dominant damped sinusoid alone (amplitudes re-fitted): how much
+    /// of the window the thesis' single-mode model explains.
+    pub single_mode_r_squared: f64,
+    /// Whether the nonlinear refinement ran and improved on the pencil estimate.
+    pub refined: bool,
+}
+
+/// Upper bound of the pencil parameter `L`. `N/3 <= L <= N/2` filters noise best (Hua &
+/// Sarkar), but any `L >= M` finds the poles; the bound keeps the SVD of a long window
+/// (10 s at 1 ms) at `O(N L²)` instead of `O(N³)`.
+pub const MAX_PENCIL_COLUMNS: usize = 200;
+
+/// The fewest samples [`identify`] accepts.
+pub const MIN_SAMPLES: usize = 8;
+
+/// Identify the dominant damped sinusoid of `x(t)`. The times must increase; they are
+/// resampled onto a uniform grid of their median spacing (linear interpolation), so the
+/// irregular last row of a history is harmless.
+pub fn identify(
+    t: &[f64],
+    x: &[f64],
+    opts: &IdentifyOptions,
+) -> Result<Identification, IdentifyError> {
+    if t.len() != x.len() {
+        return Err(IdentifyError::LengthMismatch {
+            times: t.len(),
+            values: x.len(),
+        });
+    }
+    if t.len() < MIN_SAMPLES {
+        return Err(IdentifyError::TooShort {
+            found: t.len(),
+            needed: MIN_SAMPLES,
+        });
+    }
+    for k in 0..t.len() {
+        let increasing = k == 0 || t[k] > t[k - 1];
+        if !(t[k].is_finite() && x[k].is_finite() && increasing) {
+            return Err(IdentifyError::BadSample { index: k });
+        }
+    }
+    let (dt, y) = resample(t, x);
+    if y.len() < MIN_SAMPLES {
+        return Err(IdentifyError::TooShort {
+            found: y.len(),
+            needed: MIN_SAMPLES,
+        });
+    }
+    let mean = y.iter().sum::<f64>() / y.len() as f64;
+    let spread = y.iter().map(|v| (v - mean).powi(2)).sum::<f64>().sqrt();
+    let scale = y.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    if spread <= 1e-13 * scale.max(f64::MIN_POSITIVE) || spread == 0.0 {
+        return Err(IdentifyError::Flat);
+    }
+
+    // Stage 1: poles by the matrix pencil.
+    let (poles, model_order) = pencil_poles(&y, dt, opts)?;
+    let cols = basis(&poles, y.len(), dt, opts.offset);
+    let beta = lstsq(&cols, &y)?;
+    let fitted = combine(&cols, &beta);
+    let pencil_nrmse = norm_diff(&y, &fitted) / spread;
+    let mut modes = Vec::with_capacity(poles.len());
+    let mut col = 0;
+    for &(sigma, omega) in &poles {
+        let width = if oscillatory(omega, dt) { 2 } else { 1 };
+        let part = combine(&cols[col..col + width], &beta[col..col + width]);
+        let amplitude = beta[col..col + width]
+            .iter()
+            .map(|b| b * b)
+            .sum::<f64>()
+            .sqrt();
+        modes.push(PencilMode {
+            sigma,
+            omega,
+            amplitude,
+            energy: part.iter().map(|v| v * v).sum(),
+        });
+        col += width;
+    }
+    let (di, dominant) = modes
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.energy.total_cmp(&b.1.energy))
+        .ok_or(IdentifyError::NoModes)?;
+    let least_damped = modes
+        .iter()
+        .filter(|m| m.energy >= opts.energy_fraction * dominant.energy)
+        .max_by(|a, b| a.sigma.total_cmp(&b.sigma))
+        .cloned();
+
+    // Stage 2: refine the dominant pole with the other poles held (amplitudes of all free).
+    let others: Vec<(f64, f64)> = poles
+        .iter()
+        .enumerate()
+        .filter(|&(k, _)| k != di)
+        .map(|(_, p)| *p)
+        .collect();
+    let start = (dominant.sigma, dominant.omega);
+    let (sigma, omega, refined) = if opts.refine {
+        let (p, improved) = refine(&y, dt, start, &others, opts.offset);
+        (p.0, p.1, improved)
+    } else {
+        (start.0, start.1, false)
+    };
+    let mut all = vec![(sigma, omega)];
+    all.extend_from_slice(&others);
+    let full = basis(&all, y.len(), dt, opts.offset);
+    let b = lstsq(&full, &y)?;
+    let nrmse = norm_diff(&y, &combine(&full, &b)) / spread;
+    let offset = if opts.offset { b[b.len() - 1] } else { 0.0 };
+    let (amplitude, phase) = if oscillatory(omega, dt) {
+        (b[0].hypot(b[1]), b[1].atan2(b[0]))
+    } else {
+        (
+            b[0].abs(),
+            if b[0] < 0.0 {
+                std::f64::consts::PI
+            } else {
+                0.0
+            },
+        )
+    };
+    // The thesis' measure: how much of the window one damped sinusoid explains.
+    let single = basis(&[(sigma, omega)], y.len(), dt, opts.offset);
+    let bs = lstsq(&single, &y)?;
+    let single_nrmse = norm_diff(&y, &combine(&single, &bs)) / spread;
+    Ok(Identification {
+        sigma_d: sigma,
+        omega_d: omega,
+        frequency_hz: omega / (2.0 * std::f64::consts::PI),
+        amplitude,
+        phase,
+        offset,
+        t_start: t[0],
+        t_end: t[0] + dt * (y.len() - 1) as f64,
+        dt,
+        samples: y.len(),
+        model_order,
+        least_damped,
+        modes,
+        pencil_nrmse,
+        nrmse,
+        r_squared: 1.0 - nrmse * nrmse,
+        single_mode_r_squared: 1.0 - single_nrmse * single_nrmse,
+        refined,
+    })
+}
+
+/// Uniform resampling at the median spacing, from `t[0]` to the last time it reaches.
+fn resample(t: &[f64], x: &[f64]) -> (f64, Vec<f64>) {
+    let mut gaps: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+    gaps.sort_by(f64::total_cmp);
+    let dt = gaps[gaps.len() / 2];
+    let span = t[t.len() - 1] - t[0];
+    let n = (span / dt * (1.0 + 1e-9)).floor() as usize + 1;
+    let mut y = Vec::with_capacity(n);
+    let mut j = 0;
+    for k in 0..n {
+        let tk = t[0] + dt * k as f64;
+        while j + 2 < t.len() && t[j + 1] <= tk {
+            j += 1;
+        }
+        let f = ((tk - t[j]) / (t[j + 1] - t[j])).clamp(0.0, 1.0);
+        y.push(x[j] + f * (x[j + 1] - x[j]));
+    }
+    (dt, y)
+}
+
+/// Poles `(σ, ω)` with `ω ≥ 0` (a complex pair once) and the model order.
+fn pencil_poles(
+    y: &[f64],
+    dt: f64,
+    opts: &IdentifyOptions,
+) -> Result<(Vec<(f64, f64)>, usize), IdentifyError> {
+    let d: Vec<f64>;
+    let s: &[f64] = if opts.offset {
+        d = y.windows(2).map(|w| w[1] - w[0]).collect();
+        &d
+    } else {
+        y
+    };
+    let n = s.len();
+    let l = (n / 3).clamp(2, MAX_PENCIL_COLUMNS);
+    let rows = n - l;
+    let hankel = Mat::<f64>::from_fn(rows, l + 1, |i, j| s[i + j]);
+    let svd = hankel
+        .thin_svd()
+        .map_err(|_| IdentifyError::NoConvergence)?;
+    let sv = svd.S().column_vector();
+    let s_max = sv[0];
+    if s_max <= 0.0 {
+        return Err(IdentifyError::Flat);
+    }
+    let rank = (0..sv.nrows())
+        .filter(|&i| sv[i] > opts.threshold * s_max)
+        .count();
+    let m = rank.clamp(1, opts.max_order.max(1).min(l));
+    let v = svd.V();
+    let v1: Vec<Vec<f64>> = (0..m)
+        .map(|c| (0..l).map(|r| v[(r, c)]).collect())
+        .collect();
+    let v2 = Mat::<f64>::from_fn(l, m, |r, c| v[(r + 1, c)]);
+    // Pencil matrix V1'⁺ V2' (m × m), column by column.
+    let mut pencil = Mat::<f64>::zeros(m, m);
+    for c in 0..m {
+        let rhs: Vec<f64> = (0..l).map(|r| v2[(r, c)]).collect();
+        let sol = lstsq(&v1, &rhs)?;
+        for r in 0..m {
+            pencil[(r, c)] = sol[r];
+        }
+    }
+    let z = pencil
+        .eigenvalues()
+        .map_err(|_| IdentifyError::NoConvergence)?;
+    let mut poles = Vec::new();
+    for zi in z {
+        let r = zi.re.hypot(zi.im);
+        if !(r > 1e-12 && r.is_finite()) {
+            continue;
+        }
+        let angle = zi.im.atan2(zi.re);
+        // Conjugates appear twice; keep ω ≥ 0. A real negative z has angle π: the Nyquist
+        // oscillation, kept as a real-basis column with ω = π/Δt (one column: sin vanishes).
+        if angle < -1e-9 {
+            continue;
+        }
+        let omega = if angle.abs() <= 1e-9 { 0.0 } else { angle / dt };
+        poles.push((r.ln() / dt, omega));
+    }
+    if poles.is_empty() {
+        return Err(IdentifyError::NoModes);
+    }
+    poles.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.total_cmp(&b.1)));
+    Ok((poles, m))
+}
+
+/// Real basis columns for the poles (`e^{σt}cos ωt`, `e^{σt}sin ωt`, or `e^{σt}` when
+/// `ω = 0` or at the Nyquist frequency), then a constant column if `offset`.
+fn basis(poles: &[(f64, f64)], n: usize, dt: f64, offset: bool) -> Vec<Vec<f64>> {
+    let mut cols = Vec::new();
+    for &(sigma, omega) in poles {
+        let env = |k: usize| (sigma * dt * k as f64).exp();
+        if oscillatory(omega, dt) {
+            cols.push(
+                (0..n)
+                    .map(|k| env(k) * (omega * dt * k as f64).cos())
+                    .collect(),
+            );
+            cols.push(
+                (0..n)
+                    .map(|k| env(k) * (omega * dt * k as f64).sin())
+                    .collect(),
+            );
+        } else {
+            cols.push(
+                (0..n)
+                    .map(|k| env(k) * (omega * dt * k as f64).cos())
+                    .collect(),
+            );
+        }
+    }
+    if offset {
+        cols.push(vec![1.0; n]);
+    }
+    cols
+}
+
+/// Does a pole of angular frequency `omega` take a cosine and a sine column? Not at zero
+/// and not at the Nyquist frequency `π/Δt`, where the sine vanishes at every sample.
+fn oscillatory(omega: f64, dt: f64) -> bool {
+    omega > 0.0 && omega < std::f64::consts::PI / dt * (1.0 - 1e-9)
+}
+
+fn combine(cols: &[Vec<f64>], beta: &[f64]) -> Vec<f64> {
+    let n = cols.first().map_or(0, Vec::len);
+    (0..n)
+        .map(|k| cols.iter().zip(beta).map(|(c, b)| c[k] * b).sum())
+        .collect()
+}
+
+fn norm_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// Least squares `min ‖C β − y‖` by a truncated SVD (singular values below `1e-12 s_max`
+/// dropped), so collinear columns give the minimum-norm solution instead of a blow-up.
+fn lstsq(cols: &[Vec<f64>], y: &[f64]) -> Result<Vec<f64>, IdentifyError> {
+    let n = y.len();
+    let p = cols.len();
+    if p == 0 {
+        return Ok(Vec::new());
+    }
+    // Column scaling keeps growing exponentials from dominating the rank decision.
+    let norms: Vec<f64> = cols
+        .iter()
+        .map(|c| {
+            c.iter()
+                .map(|v| v * v)
+                .sum::<f64>()
+                .sqrt()
+                .max(f64::MIN_POSITIVE)
+        })
+        .collect();
+    let a = Mat::<f64>::from_fn(n, p, |i, j| cols[j][i] / norms[j]);
+    let svd = a.thin_svd().map_err(|_| IdentifyError::NoConvergence)?;
+    let (u, s, v) = (svd.U(), svd.S().column_vector(), svd.V());
+    let s_max = s[0];
+    let mut beta = vec![0.0; p];
+    for i in 0..s.nrows() {
+        let significant = s[i] > 1e-12 * s_max;
+        if !significant {
+            continue;
+        }
+        let coef = (0..n).map(|r| u[(r, i)] * y[r]).sum::<f64>() / s[i];
+        for (j, b) in beta.iter_mut().enumerate() {
+            *b += v[(j, i)] * coef;
+        }
+    }
+    for (b, nrm) in beta.iter_mut().zip(&norms) {
+        *b /= nrm;
+    }
+    Ok(beta)
+}
+
+/// Residual norm² of the single-mode model at `(σ, ω)` with its amplitudes projected out.
+fn projected_cost(
+    y: &[f64],
+    dt: f64,
+    p: (f64, f64),
+    others: &[(f64, f64)],
+    offset: bool,
+) -> Option<Vec<f64>> {
+    let mut poles = vec![p];
+    poles.extend_from_slice(others);
+    let cols = basis(&poles, y.len(), dt, offset);
+    let beta = lstsq(&cols, y).ok()?;
+    let fit = combine(&cols, &beta);
+    let r: Vec<f64> = y.iter().zip(&fit).map(|(a, b)| a - b).collect();
+    r.iter().all(|v| v.is_finite()).then_some(r)
+}
+
+/// Levenberg-Marquardt on `(σ, ω)` (only `σ` for a real pole) of the variable-projection
+/// residual, with central-difference Jacobians. Returns the parameters and whether the cost
+/// went down.
+fn refine(
+    y: &[f64],
+    dt: f64,
+    start: (f64, f64),
+    others: &[(f64, f64)],
+    offset: bool,
+) -> ((f64, f64), bool) {
+    let real = start.1 == 0.0;
+    let span = dt * (y.len() - 1) as f64;
+    let cost = |p: (f64, f64)| {
+        projected_cost(y, dt, p, others, offset).map(|r| (r.iter().map(|v| v * v).sum::<f64>(), r))
+    };
+    let Some((mut c0, mut r0)) = cost(start) else {
+        return (start, false);
+    };
+    let first = c0;
+    let mut p = start;
+    let mut lambda = 1e-3;
+    let nyquist = std::f64::consts::PI / dt;
+    for _ in 0..60 {
+        let h = [
+            1e-6 * p.0.abs().max(1.0 / span),
+            1e-6 * p.1.abs().max(1.0 / span),
+        ];
+        let mut jac: Vec<Vec<f64>> = Vec::new();
+        for (axis, &hk) in h.iter().enumerate().take(if real { 1 } else { 2 }) {
+            let shift = |s: f64| {
+                if axis == 0 {
+                    (p.0 + s, p.1)
+                } else {
+                    (p.0, p.1 + s)
+                }
+            };
+            let (Some(rp), Some(rm)) = (
+                projected_cost(y, dt, shift(hk), others, offset),
+                projected_cost(y, dt, shift(-hk), others, offset),
+            ) else {
+                return (p, c0 < first);
+            };
+            jac.push(
+                rp.iter()
+                    .zip(&rm)
+                    .map(|(a, b)| (a - b) / (2.0 * hk))
+                    .collect(),
+            );
+        }
+        let dim = jac.len();
+        let mut jtj = [[0.0; 2]; 2];
+        let mut jtr = [0.0; 2];
+        for a in 0..dim {
+            jtr[a] = jac[a].iter().zip(&r0).map(|(j, r)| j * r).sum();
+            for b in 0..dim {
+                jtj[a][b] = jac[a].iter().zip(&jac[b]).map(|(x, z)| x * z).sum();
+            }
+        }
+        let mut accepted = false;
+        for _ in 0..12 {
+            let m = [
+                [jtj[0][0] * (1.0 + lambda), jtj[0][1]],
+                [jtj[1][0], jtj[1][1] * (1.0 + lambda)],
+            ];
+            let step = if dim == 1 {
+                [-jtr[0] / m[0][0], 0.0]
+            } else {
+                let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+                [
+                    -(m[1][1] * jtr[0] - m[0][1] * jtr[1]) / det,
+                    -(m[0][0] * jtr[1] - m[1][0] * jtr[0]) / det,
+                ]
+            };
+            if !(step[0].is_finite() && step[1].is_finite()) {
+                lambda *= 10.0;
+                continue;
+            }
+            let trial = (p.0 + step[0], (p.1 + step[1]).clamp(0.0, nyquist));
+            if let Some((c1, r1)) = cost(trial) {
+                if c1 < c0 {
+                    let small = (c0 - c1) <= 1e-14 * c0;
+                    p = trial;
+                    c0 = c1;
+                    r0 = r1;
+                    lambda = (lambda / 10.0).max(1e-12);
+                    accepted = true;
+                    if small {
+                        return (p, c0 < first);
+                    }
+                    break;
+                }
+            }
+            lambda *= 10.0;
+        }
+        if !accepted {
+            break;
+        }
+    }
+    (p, c0 < first)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Seeded Gaussian noise: splitmix64 and Box-Muller.
+    fn noise(seed: u64, n: usize) -> Vec<f64> {
+        let mut s = seed;
+        let mut next = || {
+            s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = s;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+        };
+        (0..n)
+            .map(|_| {
+                let (u1, u2) = (next().max(1e-300), next());
+                (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+            })
+            .collect()
+    }
+
+    fn signal(sigma: f64, omega: f64, phi: f64, c: f64, dt: f64, n: usize) -> (Vec<f64>, Vec<f64>) {
+        let t: Vec<f64> = (0..n).map(|k| 1.0 + dt * k as f64).collect();
+        let x = t
+            .iter()
+            .map(|&tk| {
+                let s = tk - 1.0;
+                2.0 * (sigma * s).exp() * (omega * s - phi).cos() + c
+            })
+            .collect();
+        (t, x)
+    }
+
+    #[test]
+    fn damped_sinusoid_without_noise_is_recovered_exactly() {
+        let (t, x) = signal(-0.8, 2.0 * std::f64::consts::PI * 2.2, 0.7, 0.3, 0.01, 400);
+        let id = identify(&t, &x, &IdentifyOptions::default()).unwrap();
+        assert!((id.sigma_d + 0.8).abs() < 1e-6, "{id:?}");
+        assert!((id.frequency_hz - 2.2).abs() < 1e-6, "{id:?}");
+        assert!((id.amplitude - 2.0).abs() < 1e-6 && (id.phase - 0.7).abs() < 1e-6);
+        assert!((id.offset - 0.3).abs() < 1e-6);
+        assert!(id.r_squared > 1.0 - 1e-10 && id.pencil_nrmse < 1e-6);
+        assert!((id.t_start - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn growing_sinusoid_with_noise_is_recovered_to_one_percent() {
+        let omega = 2.0 * std::f64::consts::PI * 1.27;
+        let (t, mut x) = signal(0.12, omega, -1.0, 0.0, 0.01, 900);
+        let peak = x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        for (v, e) in x.iter_mut().zip(noise(7, 900)) {
+            *v += 0.02 * peak * e;
+        }
+        let id = identify(&t, &x, &IdentifyOptions::default()).unwrap();
+        assert!((id.sigma_d - 0.12).abs() < 0.01, "{id:?}");
+        assert!((id.omega_d - omega).abs() < 0.01 * omega, "{id:?}");
+        assert!(id.r_squared > 0.99 && id.r_squared < 1.0, "{id:?}");
+    }
+
+    #[test]
+    fn damped_sinusoid_with_noise_and_a_second_weak_mode() {
+        let omega = 2.0 * std::f64::consts::PI * 2.15;
+        let (t, mut x) = signal(-0.33, omega, 0.2, 0.05, 0.01, 800);
+        let nz = noise(42, 800);
+        for (k, v) in x.iter_mut().enumerate() {
+            let s = 0.01 * k as f64;
+            // A fast, strongly damped mode (-6 1/s, 9 Hz) and 1 % noise.
+            *v += 0.3 * (-6.0 * s).exp() * (2.0 * std::f64::consts::PI * 9.0 * s).cos()
+                + 0.02 * nz[k];
+        }
+        let id = identify(&t, &x, &IdentifyOptions::default()).unwrap();
+        assert!((id.sigma_d + 0.33).abs() < 0.02, "{id:?}");
+        assert!((id.omega_d - omega).abs() < 0.005 * omega, "{id:?}");
+        assert!(id.model_order >= 3, "{id:?}");
+    }
+
+    #[test]
+    fn a_weaker_growing_mode_is_reported_as_least_damped() {
+        let (t, x): (Vec<f64>, Vec<f64>) = (0..600)
+            .map(|k| {
+                let s = 0.005 * k as f64;
+                let main = (-s).exp() * (2.0 * std::f64::consts::PI * 3.0 * s).cos();
+                let grow = 0.1 * (0.5 * s).exp() * (2.0 * std::f64::consts::PI * 7.0 * s).sin();
+                (s, main + grow)
+            })
+            .unzip();
+        let id = identify(&t, &x, &IdentifyOptions::default()).unwrap();
+        assert!((id.sigma_d + 1.0).abs() < 1e-5, "{id:?}");
+        assert!((id.frequency_hz - 3.0).abs() < 1e-5, "{id:?}");
+        let ld = id.least_damped.unwrap();
+        assert!(
+            (ld.sigma - 0.5).abs() < 1e-5 && (ld.omega - 14.0 * std::f64::consts::PI).abs() < 1e-4
+        );
+    }
+
+    #[test]
+    fn pure_exponential_divergence_has_zero_frequency() {
+        let t: Vec<f64> = (0..120).map(|k| 0.01 * k as f64).collect();
+        let x: Vec<f64> = t.iter().map(|s| 0.01 * (4.26 * s).exp() - 0.002).collect();
+        let id = identify(&t, &x, &IdentifyOptions::default()).unwrap();
+        assert_eq!(id.omega_d, 0.0, "{id:?}");
+        assert!((id.sigma_d - 4.26).abs() < 1e-6, "{id:?}");
+        assert!((id.offset + 0.002).abs() < 1e-8 && id.phase == 0.0);
+    }
+
+    #[test]
+    fn refinement_improves_a_noisy_pencil_estimate() {
+        let omega = 2.0 * std::f64::consts::PI * 3.4;
+        let (t, mut x) = signal(-0.25, omega, 0.0, 0.0, 0.02, 300);
+        for (v, e) in x.iter_mut().zip(noise(3, 300)) {
+            *v += 0.2 * e;
+        }
+        let coarse = IdentifyOptions {
+            refine: false,
+            ..IdentifyOptions::default()
+        };
+        let a = identify(&t, &x, &coarse).unwrap();
+        let b = identify(&t, &x, &IdentifyOptions::default()).unwrap();
+        assert!(b.refined && !a.refined && b.nrmse < a.nrmse, "{a:?} {b:?}");
+        assert!((b.sigma_d + 0.25).abs() < 0.05 && (b.omega_d - omega).abs() < 0.01 * omega);
+    }
+
+    #[test]
+    fn a_long_window_is_identified_quickly() {
+        // 10 s at 1 ms, as a thesis run's output: the pencil parameter is capped.
+        let omega = 2.0 * std::f64::consts::PI * 4.4;
+        let (t, mut x) = signal(-0.29, omega, 1.2, 0.0, 0.001, 10_000);
+        for (v, e) in x.iter_mut().zip(noise(11, 10_000)) {
+            *v += 0.01 * e;
+        }
+        let started = std::time::Instant::now();
+        let id = identify(&t, &x, &IdentifyOptions::default()).unwrap();
+        assert!((id.sigma_d + 0.29).abs() < 0.005 && (id.omega_d - omega).abs() < 1e-3 * omega);
+        assert!(
+            started.elapsed().as_secs_f64() < 10.0,
+            "{:?}",
+            started.elapsed()
+        );
+    }
+
+    #[test]
+    fn irregular_last_sample_is_resampled() {
+        let (mut t, mut x) = signal(-0.5, 10.0, 0.0, 0.0, 0.01, 200);
+        let tl = t[199] + 0.0037;
+        t.push(tl);
+        x.push(2.0 * (-0.5 * (tl - 1.0)).exp() * (10.0 * (tl - 1.0)).cos());
+        let id = identify(&t, &x, &IdentifyOptions::default()).unwrap();
+        assert_eq!(id.samples, 200);
+        assert!((id.sigma_d + 0.5).abs() < 1e-6 && (id.omega_d - 10.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn bad_windows_are_errors() {
+        let opts = IdentifyOptions::default();
+        assert_eq!(
+            identify(&[0.0, 1.0], &[1.0, 2.0], &opts),
+            Err(IdentifyError::TooShort {
+                found: 2,
+                needed: MIN_SAMPLES
+            })
+        );
+        let t: Vec<f64> = (0..20).map(f64::from).collect();
+        assert_eq!(identify(&t, &[3.0; 20], &opts), Err(IdentifyError::Flat));
+        let mut x = vec![0.0; 20];
+        x[5] = f64::NAN;
+        assert_eq!(
+            identify(&t, &x, &opts),
+            Err(IdentifyError::BadSample { index: 5 })
+        );
+        assert!(matches!(
+            identify(&t, &x[..19], &opts),
+            Err(IdentifyError::LengthMismatch { .. })
+        ));
+    }
+}
