@@ -750,6 +750,8 @@ fn codes_in_source() -> Vec<(String, PathBuf)> {
             "\"structure::",
             "\"analysis::",
             "\"report::",
+            "\"plan::",
+            "\"run::",
         ] {
             for (k, _) in text.match_indices(prefix) {
                 let rest = &text[k + 1..];

@@ -72,20 +72,46 @@ fn a_fluttering_fin_stops_the_run_at_yield() {
 
 #[test]
 fn leaving_the_coefficient_grid_stops_with_the_stop_policy() {
-    // The built-in tables end at Mach 5; sphads1 asks for `out_of_range = stop`.
+    // The built-in tables end at 30 km and sphads1 asks for `out_of_range = stop`: climbing
+    // vertically at 1000 m/s from 29,990 m leaves them after about 10 ms.
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("fast");
+    let out = dir.path().join("climb");
     let o = run(
         "subsonic_t06",
         &out,
-        &["initial.velocity=(2000, 0, 0) m/s", "run.stop_time=0.01 s"],
+        &[
+            "initial.velocity=(1000, 0, 0) m/s",
+            "initial.altitude=29990 m",
+            "initial.attitude=euler(0 deg, 90 deg, 0 deg)",
+            "run.stop_time=0.1 s",
+        ],
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let s = summary(&out);
     assert_eq!(s["stop_reason"], "aero_out_of_range", "{s}");
     let detail = s["stop_detail"].as_str().unwrap();
-    assert!(detail.contains("Mach"), "{detail}");
-    assert!(s["t_end"].as_f64().unwrap() < 1e-6);
+    assert!(detail.contains("AltitudeM"), "{detail}");
+    let t_end = s["t_end"].as_f64().unwrap();
+    assert!((t_end - 0.01).abs() < 2e-4, "t_end {t_end}");
+    let h = column(&out, "altitude");
+    assert!((h.last().unwrap() - 30_000.0).abs() < 0.1, "{:?}", h.last());
+}
+
+#[test]
+fn an_initial_state_outside_the_tables_is_a_diagnostic_and_writes_nothing() {
+    // Mach 6 at 5 km: beyond the tables' Mach 5 before the first step.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("fast");
+    let o = run(
+        "subsonic_t06",
+        &out,
+        &["initial.velocity=(1920, 0, 0) m/s", "run.stop_time=0.01 s"],
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("run::initial_state"), "{err}");
+    assert!(err.contains("section_6_5.vdl"), "{err}");
+    assert!(!out.exists(), "the output directory was created");
 }
 
 #[test]

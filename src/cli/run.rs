@@ -11,6 +11,7 @@ use crate::check::ir::Scenario;
 use crate::diagnostics::Diagnostic;
 use crate::plan::{self, Plan, PlanError};
 use crate::runtime::run::{self, RunOutput};
+use crate::syntax::SourceMap;
 
 use super::compile::{CompileOutcome, compile_cached};
 use super::{Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, emit, load_program};
@@ -38,17 +39,18 @@ fn prepare(
     cache_dir: Option<&Path>,
     term: Terminal,
 ) -> Result<(Plan, CompileOutcome), u8> {
-    prepare_with_scenario(file, scenario, common, cache_dir, term).map(|(p, c, _)| (p, c))
+    prepare_with_scenario(file, scenario, common, cache_dir, term).map(|(p, c, _, _)| (p, c))
 }
 
-/// Check, compile (through the cache) and plan; also returns the checked scenario.
+/// Check, compile (through the cache) and plan; also returns the checked scenario and the
+/// sources (for diagnostics raised later).
 fn prepare_with_scenario(
     file: &Path,
     scenario: &str,
     common: &Common,
     cache_dir: Option<&Path>,
     term: Terminal,
-) -> Result<(Plan, CompileOutcome, Scenario), u8> {
+) -> Result<(Plan, CompileOutcome, Scenario, SourceMap), u8> {
     let mut checked: Checked = load_program(&[file.to_path_buf()], common, term)?;
     let Some(sc) = checked.program.scenario(scenario).cloned() else {
         let names: Vec<&str> = checked
@@ -70,7 +72,7 @@ fn prepare_with_scenario(
     let format = common.output.format;
     let outcome = compile_cached(&mut checked, &sc.vehicle, cache_dir, format, term)?;
     match plan::build(&sc, &outcome.compiled) {
-        Ok(p) => Ok((p, outcome, sc)),
+        Ok(p) => Ok((p, outcome, sc, checked.sources)),
         Err(e) => {
             emit(&[plan_diagnostic(&e, &sc)], &checked.sources, format, term);
             Err(EXIT_DIAGNOSTICS)
@@ -115,10 +117,11 @@ pub fn cmd_run(
     out: &Path,
     term: Terminal,
 ) -> u8 {
-    let (p, compiled, sc) = match prepare_with_scenario(file, scenario, common, cache_dir, term) {
-        Ok(x) => x,
-        Err(code) => return code,
-    };
+    let (p, compiled, sc, sources) =
+        match prepare_with_scenario(file, scenario, common, cache_dir, term) {
+            Ok(x) => x,
+            Err(code) => return code,
+        };
     let (aero, tables) = match run::build_aero_blocks(&p, &sc, &compiled.compiled) {
         Ok(x) => x,
         Err(e) => {
@@ -126,6 +129,25 @@ pub fn cmd_run(
             return EXIT_DIAGNOSTICS;
         }
     };
+    // Initial conditions outside a coefficient table (policy `stop`) or a fin already past
+    // its stress limit: a diagnostic before anything runs or is written.
+    if let Some((stop, note)) = run::check_initial_state(&p, &compiled.compiled.reduced, &aero) {
+        let d = Diagnostic::error(
+            "run::initial_state",
+            format!(
+                "the initial state of scenario `{}` already meets a stop condition ({}): {note}",
+                sc.name.value,
+                stop.code()
+            ),
+        )
+        .label(sc.initial.span, "this initial condition")
+        .with_help(
+            "start inside the coefficient tables' Mach, alpha and altitude range, or write \
+             `out_of_range = clamp` in the vehicle's `aero` block",
+        );
+        emit(&[d], &sources, common.output.format, term);
+        return EXIT_DIAGNOSTICS;
+    }
     let on_terminal = std::io::stderr().is_terminal();
     let mut last_print = Instant::now();
     let mut progress = |t: f64, t_end: f64| {
