@@ -166,6 +166,24 @@ fn analyze_map_writes_the_grid() {
     assert_eq!(lines.count(), 20);
     assert!(out.join("boundary.csv").is_file());
     assert!(out.join("critical_thickness.csv").is_file());
+    // The TN 4197 curve, in the map's axes, where it lies inside the Mach range; it must
+    // agree with boundary.csv's TN 4197 column.
+    let overlay = std::fs::read_to_string(out.join("overlay_TN_4197.csv")).unwrap();
+    let boundary = std::fs::read_to_string(out.join("boundary.csv")).unwrap();
+    let mut expected = Vec::new();
+    for l in boundary.lines().skip(1) {
+        let f: Vec<&str> = l.split(',').collect();
+        if f[4] == "crossing" {
+            expected.push(format!("{},{}", f[0], f[3]));
+        }
+    }
+    let got: Vec<String> = overlay.lines().skip(1).map(String::from).collect();
+    assert_eq!(overlay.lines().next(), Some("thickness_m,mach"));
+    assert_eq!(got, expected);
+    assert!(
+        !got.is_empty(),
+        "TN 4197 should cross Mach 0.5..2.5 for some thickness"
+    );
 }
 
 fn stderr_of(o: &std::process::Output) -> String {

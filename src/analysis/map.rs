@@ -417,6 +417,21 @@ impl PlanarMap {
         Ok(())
     }
 
+    /// `overlay_TN_4197.csv`: the NACA TN 4197 flutter boundary as a curve (thickness in m,
+    /// Mach) in the axes of `map.csv`, for the thicknesses where it lies inside the Mach
+    /// range; `flexflight report` draws it over the map.
+    pub fn write_tn4197_overlay(&self, path: &Path) -> Result<(), csv::Error> {
+        let mut w = csv::Writer::from_path(path)?;
+        w.write_record(["thickness_m", "mach"])?;
+        for b in self.boundaries() {
+            if let BoundaryMach::Crossing(m) = b.tn4197 {
+                w.write_record([b.thickness.to_string(), m.to_string()])?;
+            }
+        }
+        w.flush()?;
+        Ok(())
+    }
+
     /// `boundary.csv`: per thickness, the model's and the TN 4197 boundary Mach.
     pub fn write_boundary_csv(&self, path: &Path) -> Result<(), csv::Error> {
         let mut w = csv::Writer::from_path(path)?;

@@ -492,6 +492,10 @@ fn cmd_map(a: &MapArgs, term: Terminal) -> u8 {
             "critical_thickness.csv",
             m.write_critical_thickness_csv(&a.out.join("critical_thickness.csv")),
         ),
+        (
+            "overlay_TN_4197.csv",
+            m.write_tn4197_overlay(&a.out.join("overlay_TN_4197.csv")),
+        ),
     ] {
         if let Err(e) = r {
             eprintln!("error: cannot write `{}`: {e}", a.out.join(name).display());
@@ -549,7 +553,7 @@ fn cmd_map(a: &MapArgs, term: Terminal) -> u8 {
     }
     let _ = writeln!(
         s,
-        "wrote map.csv, boundary.csv and critical_thickness.csv in {}",
+        "wrote map.csv, boundary.csv, critical_thickness.csv and overlay_TN_4197.csv in {}",
         a.out.display()
     );
     match format {
