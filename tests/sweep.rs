@@ -342,3 +342,50 @@ fn slurm_environment_selects_the_shard() {
     assert_eq!(report["shard"]["index"], 1);
     assert_eq!(report["cases"], 1);
 }
+
+/// Eigen-analysis sweeps: every case gets the least stable root and its class, no history;
+/// the planar pinned model and the linearised 3-D model agree that the thinnest fins
+/// flutter and the thickest are stable at 200 m/s, 5 km.
+#[test]
+fn planar_and_linear_sweeps_classify_every_case() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/thesis/section_6_5.vdl");
+    for (sweep, analysis) in [
+        ("subsonic_thickness_planar", "planar_pinned"),
+        ("subsonic_thickness_linear", "linear3d"),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join(sweep);
+        let o = bin()
+            .arg("sweep")
+            .arg(&file)
+            .args(["--sweep", sweep, "--jobs", "2", "--out"])
+            .arg(&out)
+            .arg("--cache-dir")
+            .arg(cache())
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let table = read(&out.join("sweep.csv"));
+        let mut lines = table.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+        let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+        assert_eq!(rows.len(), 8, "{sweep}");
+        for r in &rows {
+            assert_eq!(r[col("status")], "ok", "{sweep}: {r:?}");
+            assert_eq!(r[col("fit_channel")], analysis);
+            let sigma: f64 = r[col("sigma_d")].parse().unwrap();
+            let class = r[col("stability_class")];
+            assert_eq!(sigma > 0.0, class == "flutter" || class == "divergence");
+        }
+        assert_eq!(
+            rows[0][col("stability_class")],
+            "flutter",
+            "{sweep}: 0.3 mm"
+        );
+        assert_eq!(rows[7][col("stability_class")], "stable", "{sweep}: 1.0 mm");
+        let case = out.join("cases/case_0000");
+        assert!(case.join("summary.json").is_file());
+        assert!(!case.join("history.csv").exists());
+    }
+}

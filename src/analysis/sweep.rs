@@ -143,6 +143,7 @@ pub const TRAILING_COLUMNS: &[&str] = &[
     "omega_d",
     "frequency_hz",
     "fit_r_squared",
+    "stability_class",
     "error",
 ];
 
@@ -167,6 +168,30 @@ pub fn case_row(case: &SweepCase, outcome: &Result<serde_json::Value, String>) -
         Some(other) => other.to_string(),
     };
     match outcome {
+        Ok(summary) if summary.get("stability").is_some() => {
+            // An eigen-analysis case (planar or linearised 3-D): its least stable root.
+            let st = summary.get("stability");
+            let g = |k: &str| text(st.and_then(|x| x.get(k)));
+            let omega = st
+                .and_then(|x| x.get("omega_d"))
+                .and_then(serde_json::Value::as_f64);
+            row.extend([
+                "ok".to_string(),
+                String::new(),
+                String::new(),
+                String::new(),
+                String::new(),
+                text(summary.get("analysis")),
+                g("sigma_d"),
+                g("omega_d"),
+                omega.map_or(String::new(), |w| {
+                    (w / (2.0 * std::f64::consts::PI)).to_string()
+                }),
+                String::new(),
+                g("class"),
+                String::new(),
+            ]);
+        }
         Ok(summary) => {
             let fit = dominant_fit(summary);
             let f = |k: &str| text(fit.and_then(|x| x.get("fit")).and_then(|x| x.get(k)));
@@ -181,6 +206,7 @@ pub fn case_row(case: &SweepCase, outcome: &Result<serde_json::Value, String>) -
                 f("omega_d"),
                 f("frequency_hz"),
                 f("r_squared"),
+                String::new(),
                 String::new(),
             ]);
         }

@@ -211,9 +211,19 @@ fn initial_condition(sc: &Scenario, v: &PlanarVehicle) -> Result<(f64, f64), Pla
 }
 
 fn analyse_scenario(l: &Loaded, kind: PlanarKind) -> Result<PlanarAnalysis, PlanarError> {
-    let v = &l.vehicle;
+    analyse_at_initial_condition(&l.scenario, &l.vehicle, kind)
+}
+
+/// The planar analysis of `kind` at the scenario's initial speed and altitude (the unpinned
+/// model at its equilibrium altitude for that speed), with the declared fin thickness; used
+/// by `analyze planar` and by sweeps with `analysis = planar_pinned | planar_unpinned`.
+pub fn analyse_at_initial_condition(
+    scenario: &Scenario,
+    v: &PlanarVehicle,
+    kind: PlanarKind,
+) -> Result<PlanarAnalysis, PlanarError> {
     let t = v.fins.declared_thickness;
-    let (h, speed) = initial_condition(&l.scenario, v)?;
+    let (h, speed) = initial_condition(scenario, v)?;
     let h = match kind {
         PlanarKind::Pinned => h,
         PlanarKind::Unpinned => {

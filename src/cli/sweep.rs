@@ -70,10 +70,6 @@ pub struct SweepReport {
 /// Why a sweep could not run at all (a failing case is not an error: it is recorded).
 #[derive(Debug, thiserror::Error)]
 pub enum SweepError {
-    #[error(
-        "sweep `{sweep}` asks for `{analysis}` analyses; `flexflight sweep` runs `analysis = run` sweeps"
-    )]
-    Unsupported { sweep: String, analysis: String },
     #[error("cannot write `{path}`: {source}")]
     Io {
         path: PathBuf,
@@ -101,15 +97,6 @@ pub fn run_sweep(
     opts: &SweepOptions,
 ) -> Result<SweepReport, SweepError> {
     let started = Instant::now();
-    if sweep.analysis.value != SweepAnalysis::Run {
-        return Err(SweepError::Unsupported {
-            sweep: sweep.name.value.clone(),
-            analysis: serde_json::to_value(sweep.analysis.value)
-                .ok()
-                .and_then(|v| v.as_str().map(str::to_string))
-                .unwrap_or_default(),
-        });
-    }
     // Parallelism is across cases; inside a case faer works sequentially, so results do
     // not depend on the thread count and two levels of threads do not fight for 2 cores.
     faer::set_global_parallelism(faer::Par::Seq);
@@ -323,8 +310,69 @@ fn run_case(
     case: &SweepCase,
 ) -> Result<serde_json::Value, String> {
     let sc = &prepared.scenario;
+    let identity = serde_json::json!({
+        "sweep": sweep.name.value,
+        "index": case.index,
+        "case_id": case.id,
+        "overrides": case.overrides,
+        "variant": prepared.variant,
+    });
+    let analysis = serde_json::to_value(sweep.analysis.value)
+        .ok()
+        .and_then(|v| v.as_str().map(str::to_string))
+        .unwrap_or_default();
     let p =
         crate::plan::build(sc, &compiled.compiled).map_err(|e| format!("plan::invalid: {e}"))?;
+    let stability = match sweep.analysis.value {
+        SweepAnalysis::Run => None,
+        SweepAnalysis::PlanarPinned | SweepAnalysis::PlanarUnpinned => {
+            use crate::analysis::planar::{PlanarKind, PlanarVehicle};
+            let kind = if sweep.analysis.value == SweepAnalysis::PlanarPinned {
+                PlanarKind::Pinned
+            } else {
+                PlanarKind::Unpinned
+            };
+            let v = PlanarVehicle::new(&sc.vehicle, &compiled.compiled)
+                .map_err(|e| format!("analysis::planar::failed: {e}"))?;
+            let r = super::analyze::analyse_at_initial_condition(sc, &v, kind)
+                .map_err(|e| format!("analysis::planar::failed: {e}"))?;
+            Some(serde_json::json!({
+                "sigma_d": r.verdict.sigma_d,
+                "omega_d": r.verdict.omega_d,
+                "class": r.verdict.class.name(),
+                "altitude_m": r.parameters.condition.altitude,
+                "mach": r.parameters.condition.mach,
+            }))
+        }
+        SweepAnalysis::Linear3d => {
+            use crate::analysis::linear::{Variant, analyse};
+            let variant = Variant {
+                plan: p.clone(),
+                scenario: sc.clone(),
+                compiled: compiled.compiled.clone(),
+            };
+            let r = analyse(&variant, Default::default())
+                .map_err(|e| format!("analysis::linear::failed: {e}"))?;
+            Some(serde_json::json!({
+                "sigma_d": r.eigen.sigma_d,
+                "omega_d": r.eigen.omega_d,
+                "class": r.eigen.class.name(),
+                "altitude_m": r.condition.altitude,
+                "mach": r.condition.mach,
+                "trim_converged": r.trim_converged,
+            }))
+        }
+    };
+    if let Some(stability) = stability {
+        return Ok(serde_json::json!({
+            "status": "ok",
+            "analysis": analysis,
+            "scenario": sc.name.value,
+            "artifact_hash": compiled.key.to_hex(),
+            "stability": stability,
+            "sweep_case": identity,
+        }));
+    }
     let (aero, _) = run::build_aero_blocks(&p, sc, &compiled.compiled)
         .map_err(|e| format!("run::cannot_start: {e}"))?;
     let output = run::run(&p, &compiled.compiled.reduced, aero, &mut |_, _| {})
@@ -332,16 +380,7 @@ fn run_case(
     let mut summary = super::run::summary_json(&p, compiled, &output);
     if let Some(map) = summary.as_object_mut() {
         map.insert("status".into(), "ok".into());
-        map.insert(
-            "sweep_case".into(),
-            serde_json::json!({
-                "sweep": sweep.name.value,
-                "index": case.index,
-                "case_id": case.id,
-                "overrides": case.overrides,
-                "variant": prepared.variant,
-            }),
-        );
+        map.insert("sweep_case".into(), identity);
         map.insert("_history".into(), super::run::history_csv(&output).into());
     }
     Ok(summary)
@@ -364,7 +403,9 @@ fn write_case(
                 .and_then(|m| m.remove("_history"))
                 .and_then(|h| h.as_str().map(str::to_string))
                 .unwrap_or_default();
-            write_atomic(&dir.join("history.csv"), &history)?;
+            if !history.is_empty() {
+                write_atomic(&dir.join("history.csv"), &history)?;
+            }
             let _ = std::fs::remove_file(dir.join("error.txt"));
             let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
             write_atomic(&dir.join("summary.json"), &(text + "\n"))
