@@ -46,4 +46,7 @@ done
 
 # The run sweep of section_6_5.vdl: fin thickness x speed, every case flown.
 $FF sweep $F --sweep subsonic_thickness --out "$OUT/sweep_subsonic_thickness"
+# The same thicknesses through the linearised 3-D and the planar pinned models.
+$FF sweep $F --sweep subsonic_thickness_linear --out "$OUT/sweep_subsonic_thickness_linear"
+$FF sweep $F --sweep subsonic_thickness_planar --out "$OUT/sweep_subsonic_thickness_planar"
 echo "done: $OUT"
