@@ -130,21 +130,12 @@ fn load(
     let format = common.output.format;
     let mut checked = load_program(&[file.to_path_buf()], common, term)?;
     let Some(sc) = checked.program.scenario(scenario).cloned() else {
-        let names: Vec<&str> = checked
-            .program
-            .scenarios
-            .iter()
-            .map(|s| s.name.value.as_str())
-            .collect();
-        eprintln!(
-            "error: no scenario named `{scenario}`; declared: {}",
-            if names.is_empty() {
-                "none".to_string()
-            } else {
-                names.join(", ")
-            }
-        );
-        return Err(EXIT_USAGE);
+        let declared = checked.program.scenarios.iter();
+        return Err(super::unknown_name(
+            "scenario",
+            scenario,
+            declared.map(|s| s.name.value.as_str()),
+        ));
     };
     if sc.vehicle.fins.is_none() {
         let d = Diagnostic::error(

@@ -502,3 +502,22 @@ pub fn cmd_analyze_linear(cmd: &Analyze, term: Terminal) -> u8 {
         ),
     }
 }
+
+/// Reports a name that the program does not declare (`kind` "scenario" or "sweep") with the
+/// names it does declare; returns the usage exit code.
+pub(crate) fn unknown_name<'a>(
+    kind: &str,
+    name: &str,
+    declared: impl Iterator<Item = &'a str>,
+) -> u8 {
+    let names: Vec<&str> = declared.collect();
+    eprintln!(
+        "error: no {kind} named `{name}`; declared: {}",
+        if names.is_empty() {
+            "none".to_string()
+        } else {
+            names.join(", ")
+        }
+    );
+    EXIT_USAGE
+}

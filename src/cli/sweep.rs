@@ -481,20 +481,8 @@ pub fn cmd_sweep(
     };
     let program = &checked.program;
     let Some(sweep) = program.sweep(sweep_name) else {
-        let names: Vec<&str> = program
-            .sweeps
-            .iter()
-            .map(|s| s.name.value.as_str())
-            .collect();
-        eprintln!(
-            "error: no sweep named `{sweep_name}`; declared: {}",
-            if names.is_empty() {
-                "none".to_string()
-            } else {
-                names.join(", ")
-            }
-        );
-        return EXIT_USAGE;
+        let declared = program.sweeps.iter().map(|s| s.name.value.as_str());
+        return super::unknown_name("sweep", sweep_name, declared);
     };
     let Some(scenario) = program.scenarios.get(sweep.scenario) else {
         eprintln!("error: sweep `{sweep_name}` names a scenario that did not check");
