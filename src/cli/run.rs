@@ -2,7 +2,7 @@
 //! `history.csv` and `summary.json` written to the output directory.
 
 use std::fmt::Write as _;
-use std::io::{IsTerminal, Write as _};
+use std::io::IsTerminal;
 use std::path::Path;
 use std::time::Instant;
 
@@ -139,26 +139,32 @@ pub fn cmd_run(
         emit(&[d], &sources, common.output.format, term);
         return EXIT_DIAGNOSTICS;
     }
-    let on_terminal = std::io::stderr().is_terminal();
-    let mut last_print = Instant::now();
-    let mut progress = |t: f64, t_end: f64| {
-        if on_terminal && last_print.elapsed().as_secs_f64() > 0.1 {
-            last_print = Instant::now();
-            let pct = if t_end > 0.0 {
-                100.0 * t / t_end
-            } else {
-                100.0
-            };
-            let _ = write!(
-                std::io::stderr(),
-                "\rrun {scenario}: t = {t:.4} s ({pct:5.1} %)"
-            );
+    // A progress bar on a terminal (simulated time against the stop time, in ms), nothing
+    // otherwise; redrawn at most every 0.1 s so it costs nothing per step.
+    let bar = if std::io::stderr().is_terminal() {
+        indicatif::ProgressBar::with_draw_target(
+            Some((p.stop.stop_time * 1e3).max(1.0) as u64),
+            indicatif::ProgressDrawTarget::stderr_with_hz(10),
+        )
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    if let Ok(style) = indicatif::ProgressStyle::with_template(
+        "{prefix} [{bar:30}] t = {msg} s, {elapsed} elapsed, ETA {eta}",
+    ) {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar.set_prefix(format!("run {scenario}"));
+    let mut last_update = Instant::now();
+    let mut progress = |t: f64, _t_end: f64| {
+        if last_update.elapsed().as_secs_f64() > 0.1 {
+            last_update = Instant::now();
+            bar.set_position((t * 1e3) as u64);
+            bar.set_message(format!("{t:.4}"));
         }
     };
     let result = run::run(&p, &compiled.compiled.reduced, aero, &mut progress);
-    if on_terminal {
-        let _ = write!(std::io::stderr(), "\r\x1b[2K");
-    }
+    bar.finish_and_clear();
     let output = match result {
         Ok(o) => o,
         Err(e) => {
