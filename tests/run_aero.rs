@@ -143,3 +143,43 @@ fn aero_channels_follow_the_angle_of_attack() {
     assert!(s1 > 1e3, "fin 1 stress {s1} Pa");
     assert!(s2 < 1e-9 * s1, "fin 2 stress {s2} Pa (no incidence)");
 }
+
+#[test]
+fn load_weighted_incidence_equals_the_key_node_one_on_an_undeformed_fin() {
+    // At t = 0 the fins are undeformed (eta = 0, eta_dot = 0) and the body does not rotate:
+    // the incidence of every fin is the body's wherever it is taken, so both options give the
+    // same first row; later rows differ (the elastic incidence is taken elsewhere).
+    let dir = tempfile::tempdir().unwrap();
+    let key = dir.path().join("key");
+    let weighted = dir.path().join("weighted");
+    let base = ["initial.velocity=(200, 0, 5) m/s", "run.stop_time=0.05 s"];
+    let o = run("subsonic_t06", &key, &base);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut sets = base.to_vec();
+    sets.push("forces.fin_aero.incidence=load_weighted");
+    let o = run("subsonic_t06", &weighted, &sets);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for name in ["fin1_alpha", "fin_aero_force_body_z", "fin1_root_stress"] {
+        let (a, b) = (column(&key, name), column(&weighted, name));
+        assert!(
+            (a[0] - b[0]).abs() <= 1e-12 * a[0].abs().max(1.0),
+            "{name}: {} vs {}",
+            a[0],
+            b[0]
+        );
+        let last = a.len().min(b.len()) - 1;
+        assert!(
+            a[last] != b[last],
+            "{name}: the options should differ once the fins deform"
+        );
+    }
+    // An unknown option is a diagnostic at its span.
+    let o = run(
+        "subsonic_t06",
+        &dir.path().join("bad"),
+        &["forces.fin_aero.incidence=centroid"],
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("load_weighted"), "{err}");
+}

@@ -317,6 +317,19 @@ pub struct FinAero {
     pub leeward_reduction: bool,
     /// Stop the run when a fin root stress exceeds this fraction of yield (5.6).
     pub stress_limit_fraction: Option<Q>,
+    /// Where the fin's elastic incidence and velocity are taken.
+    pub incidence: Spanned<FinIncidence>,
+}
+
+/// Where the fin aerodynamics see the fin's deformation (5.4.3-5.4.10).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FinIncidence {
+    /// At the fin key node, as the thesis does (its rotation and velocity).
+    KeyNode,
+    /// The load-weighted mean over the fin's nodes, `Σ w_k θ_k` and `Σ w_k u̇_k` with the
+    /// distribution weights: the incidence at the centre of pressure of the load model.
+    LoadWeighted,
 }
 
 // ------------------------------------------------------------------------------------------

@@ -1219,6 +1219,18 @@ fn check_forces(cx: &mut Cx, b: &Block) -> Option<Forces> {
             .value("leeward_reduction")
             .and_then(|v| f::boolean(cx, v))
             .unwrap_or(true);
+        let incidence = match fl.value("incidence") {
+            Some(v) => f::keyword(
+                cx,
+                v,
+                &[
+                    ("key_node", FinIncidence::KeyNode),
+                    ("load_weighted", FinIncidence::LoadWeighted),
+                ],
+            )
+            .map(|d| Spanned::new(d, v.span)),
+            None => Some(Spanned::new(FinIncidence::KeyNode, fa.header)),
+        };
         let stress = fl.value("stress_limit").map(|v| {
             f::check_range(
                 f::number(cx, v),
@@ -1236,17 +1248,18 @@ fn check_forces(cx: &mut Cx, b: &Block) -> Option<Forces> {
             Some(s) => s,
             None => None,
         };
-        match dist {
-            Some(distribution) if on => {
+        match (dist, incidence) {
+            (Some(distribution), Some(incidence)) if on => {
                 forces.fin_aero = Some(FinAero {
                     span: fa.header,
                     distribution,
                     leeward_reduction: lw,
                     stress_limit_fraction: stress,
+                    incidence,
                 })
             }
-            Some(_) => {}
-            None => ok = false,
+            (Some(_), Some(_)) => {}
+            _ => ok = false,
         }
     }
     ok.then_some(forces)

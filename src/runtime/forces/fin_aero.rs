@@ -10,6 +10,13 @@
 //!    the canted chord is `cos γ x_f + sin γ z_f`, as the mesh generator lays the fin out
 //!    (`structure::generate::mesh::fin_frame`), so a flow along body x gives `α_f = -γ`.
 //!    (The chord fraction ξ below uses body x, exact for zero cant, off by `cos γ` otherwise.)
+//!    With `incidence = load_weighted` (beyond the thesis) the key node is replaced by the
+//!    load-weighted mean of the fin's nodes: `u_f = Σ w_k u_k`, `θ_f = Σ w_k θ_k`,
+//!    `u̇_f = Σ w_k u̇_k` at `r_f = Σ w_k r_k`, the weights of step 6 at the Mach number of
+//!    the rigid key-node airspeed. The thesis' single key node makes the result depend on
+//!    where the user puts it (SPHADS-1 at 0.6 mm, 200 m/s, 5 km: least stable root +23.8
+//!    1/s at chord 0.25, +177 at 0.5, +332 at 0.75); the weighted mean is the incidence at the
+//!    load model's centre of pressure and needs no choice.
 //! 3. Velocity of the key node relative to the air (5.4.8), body axes:
 //!    `V_Bf = V_B + ω_B × (r_f + u_f) + u̇_f - V_w`. The thesis writes `ω_f × r_f` with
 //!    `ω_f = ω_B + θ̇_f` (5.4.7); `θ̇_f × r_f` is not a velocity of the fin (it scales with the
@@ -62,6 +69,9 @@ use crate::runtime::kinematics::{Mat3, cross, mat_t_vec, mat_vec};
 use crate::runtime::stimuli::Stimuli;
 use crate::structure::compile::CompiledVehicle;
 
+/// Entries of a lumped distribution besides its two 3 x n blocks: `Σ w r` (3), `Σ w arm` (1).
+const LUMPED_EXTRA: usize = 4;
+
 /// Tolerance on (η, ξ) outside [0, 1] from mesh round-off.
 const PLANFORM_TOL: f64 = 1e-6;
 
@@ -94,17 +104,38 @@ struct Fin {
     positions: Vec<[f64; 3]>,
     nodes: Vec<FinNode>,
     loads: FinLoadTable,
-    /// The distribution lumped per grid Mach g (stride `3 n + 4`): `Σ_k w_k S_k` (3 x n,
-    /// row-major), `Σ_k w_k r_k` (3), `Σ_k w_k (y_k - y_root)` (1). Every node carries the
+    /// The distribution lumped per grid Mach g (stride `6 n + 4`): `Σ_k w_k S_k` (3 x n,
+    /// row-major), `Σ_k w_k r_k` (3), `Σ_k w_k (y_k - y_root)` (1), `Σ_k w_k S_θ,k` (3 x n,
+    /// the load-weighted rotation rows, used with `incidence = load_weighted`). Every node carries the
     /// same force direction, `f_k = w_k F_Bf`, so the sums of step 7 of the module doc factor:
     /// `Σ_k S_kᵀ f_k = (Σ_k w_k S_k)ᵀ F_Bf`, `Σ_k (r_k + u_k) × f_k = (Σ_k w_k (r_k + S_k η))
     /// × F_Bf`, and the root moment `F_fz Σ_k w_k (y_k - y_root)`: exact, and O(n) per fin
     /// instead of O(nodes n).
     lumped: Vec<f64>,
-    /// The lumped distribution at the current Mach (stride `3 n + 4`).
+    /// The lumped distribution at the current Mach (stride `6 n + 4`).
     lumped_now: Vec<f64>,
     stress: FinRootStress,
     last: FinSample,
+}
+
+impl Fin {
+    /// Interpolates the lumped distribution at `mach` (clamped to the grid) into
+    /// `lumped_now`; false for a non-finite Mach.
+    fn lump_at(&mut self, mach: f64, stride: usize) -> bool {
+        let Ok((g, tg)) = self.loads.bracket(mach) else {
+            return false;
+        };
+        let lo = &self.lumped[g * stride..(g + 1) * stride];
+        if tg == 0.0 {
+            self.lumped_now.copy_from_slice(lo);
+        } else {
+            let hi = &self.lumped[(g + 1) * stride..(g + 2) * stride];
+            for ((o, a), b) in self.lumped_now.iter_mut().zip(lo).zip(hi) {
+                *o = (1.0 - tg) * a + tg * b;
+            }
+        }
+        true
+    }
 }
 
 /// The fin aerodynamic force block (thesis 5.4, 5.6); see the module doc.
@@ -117,6 +148,7 @@ pub struct FinAero {
     atmosphere: Standard1976,
     stimuli: Stimuli,
     leeward: bool,
+    incidence: ir::FinIncidence,
     limit_fraction: Option<f64>,
     fault: Option<AeroFault>,
 }
@@ -175,6 +207,7 @@ impl FinAero {
                 |eta: f64| f.root_chord.value + (f.tip_chord.value - f.root_chord.value) * eta;
             let mut nodes = Vec::with_capacity(members.len());
             let mut rows = Vec::with_capacity(3 * n * members.len());
+            let mut rot_rows = Vec::with_capacity(3 * n * members.len());
             let mut positions = Vec::with_capacity(members.len());
             let mut span_arm = Vec::with_capacity(members.len());
             for (j, &k) in members.iter().enumerate() {
@@ -195,6 +228,7 @@ impl FinAero {
                     xi: xi.clamp(0.0, 1.0),
                 });
                 rows.extend_from_slice(&c.shapes[6 * k * n..(6 * k + 3) * n]);
+                rot_rows.extend_from_slice(&c.shapes[(6 * k + 3) * n..(6 * k + 6) * n]);
                 positions.push(c.node_positions[k]);
                 span_arm.push(y[j] - y_root);
             }
@@ -213,15 +247,17 @@ impl FinAero {
                 for xi in xis {
                     let x = root_le_x - xi * f.root_chord.value;
                     let p = [x, y_root * cd, y_root * sd];
-                    let rows_root = rigid_rows(c, &p).ok_or(AeroForceError::EmptyFin { fin: i })?;
+                    let (rows_root, rot_root) =
+                        rigid_rows(c, &p).ok_or(AeroForceError::EmptyFin { fin: i })?;
                     nodes.push(FinNode { eta: 0.0, xi });
                     rows.extend_from_slice(&rows_root);
+                    rot_rows.extend_from_slice(&rot_root);
                     positions.push(p);
                     span_arm.push(0.0);
                 }
             }
             let loads = FinLoadTable::new(&planform(f, y_root), &nodes, &machs, model)?;
-            let stride = 3 * n + 4;
+            let stride = LUMPED_EXTRA + 6 * n;
             let mut lumped = vec![0.0; loads.machs().len() * stride];
             for (g, chunk) in lumped.chunks_exact_mut(stride).enumerate() {
                 for (k, &w) in loads.grid_weights(g).iter().enumerate() {
@@ -235,6 +271,12 @@ impl FinAero {
                         chunk[3 * n + d] += w * positions[k][d];
                     }
                     chunk[3 * n + 3] += w * span_arm[k];
+                    for (acc, s) in chunk[3 * n + 4..]
+                        .iter_mut()
+                        .zip(&rot_rows[3 * k * n..3 * (k + 1) * n])
+                    {
+                        *acc += w * s;
+                    }
                 }
             }
             fins.push(Fin {
@@ -243,7 +285,7 @@ impl FinAero {
                 delta,
                 positions,
                 lumped,
-                lumped_now: vec![0.0; 3 * n + 4],
+                lumped_now: vec![0.0; LUMPED_EXTRA + 6 * n],
                 nodes,
                 loads,
                 stress: FinRootStress {
@@ -263,6 +305,7 @@ impl FinAero {
             atmosphere,
             stimuli,
             leeward: settings.is_none_or(|s| s.leeward_reduction),
+            incidence: settings.map_or(ir::FinIncidence::KeyNode, |s| s.incidence.value),
             limit_fraction: settings
                 .and_then(|s| s.stress_limit_fraction.as_ref())
                 .map(|q| q.value),
@@ -346,7 +389,7 @@ impl FinAero {
 
 /// Translation rows (3 x n, row-major) of a point `p` rigidly attached to the body node
 /// nearest to it: `S_u,m - o^× S_θ,m` with `o = p - r_m`.
-fn rigid_rows(c: &CompiledVehicle, p: &[f64; 3]) -> Option<Vec<f64>> {
+fn rigid_rows(c: &CompiledVehicle, p: &[f64; 3]) -> Option<(Vec<f64>, Vec<f64>)> {
     let n = c.modes.len();
     let m = (0..c.node_positions.len())
         .filter(|&k| c.node_components[k] < 0)
@@ -367,7 +410,8 @@ fn rigid_rows(c: &CompiledVehicle, p: &[f64; 3]) -> Option<Vec<f64>> {
             rows[d * n + j] = s(d, j) - (0..3).map(|e| skew[d][e] * s(3 + e, j)).sum::<f64>();
         }
     }
-    Some(rows)
+    // A rigid attachment rotates with the body node.
+    Some((rows, c.shapes[(6 * m + 3) * n..(6 * m + 6) * n].to_vec()))
 }
 
 fn dot3(a: &[f64; 3], b: &[f64; 3]) -> f64 {
@@ -399,10 +443,42 @@ impl ForceModel for FinAero {
         };
         let wind = self.stimuli.wind(t);
         let n = self.n;
+        let stride = LUMPED_EXTRA + 6 * n;
         for fin in &mut self.fins {
-            let (u, theta) = fin.key.apply(state.eta);
-            let (u_dot, _) = fin.key.apply(state.eta_dot);
-            let p = [0, 1, 2].map(|k| fin.key.position[k] + u[k]);
+            // The lumped distribution at the Mach of the rigid key-node airspeed, needed
+            // first by the load-weighted incidence (the key-node one brackets at the fin
+            // Mach below, as before).
+            let mut pre_bracketed = false;
+            let (p, theta, u_dot) = match self.incidence {
+                ir::FinIncidence::KeyNode => {
+                    let (u, theta) = fin.key.apply(state.eta);
+                    let (u_dot, _) = fin.key.apply(state.eta_dot);
+                    let p = [0, 1, 2].map(|k| fin.key.position[k] + u[k]);
+                    (p, theta, u_dot)
+                }
+                ir::FinIncidence::LoadWeighted => {
+                    let v0 = relative_velocity(state, &fin.key.position, &[0.0; 3], &wind);
+                    let mach0 = dot3(&v0, &v0).sqrt() / air.speed_of_sound;
+                    if !fin.lump_at(mach0, stride) {
+                        self.fault.get_or_insert(AeroFault::NonFinite);
+                        continue;
+                    }
+                    pre_bracketed = true;
+                    let (sw, rest) = fin.lumped_now.split_at(3 * n);
+                    let rot = &rest[LUMPED_EXTRA..];
+                    let dot = |rows: &[f64], x: &[f64], d: usize| -> f64 {
+                        rows[d * n..(d + 1) * n]
+                            .iter()
+                            .zip(x)
+                            .map(|(s, e)| s * e)
+                            .sum()
+                    };
+                    let p = [0, 1, 2].map(|d| rest[d] + dot(sw, state.eta, d));
+                    let u_dot = [0, 1, 2].map(|d| dot(sw, state.eta_dot, d));
+                    let theta = [0, 1, 2].map(|d| dot(rot, state.eta, d));
+                    (p, theta, u_dot)
+                }
+            };
             let v_b = relative_velocity(state, &p, &u_dot, &wind);
             // C_f V = C_nominal (V - θ × V), (5.4.3)-(5.4.4), (5.4.9).
             let tv = cross(&theta, &v_b);
@@ -450,19 +526,9 @@ impl ForceModel for FinAero {
             let f_n = mat_t_vec(&fin.c_nominal, &f_f);
             let tf = cross(&theta, &f_n);
             let f_b = [0, 1, 2].map(|k| f_n[k] + tf[k]);
-            let Ok((g, tg)) = fin.loads.bracket(m_q) else {
+            if !pre_bracketed && !fin.lump_at(m_q, stride) {
                 self.fault.get_or_insert(AeroFault::NonFinite);
                 continue;
-            };
-            let stride = 3 * n + 4;
-            let lo = &fin.lumped[g * stride..(g + 1) * stride];
-            if tg == 0.0 {
-                fin.lumped_now.copy_from_slice(lo);
-            } else {
-                let hi = &fin.lumped[(g + 1) * stride..(g + 2) * stride];
-                for ((o, a), b) in fin.lumped_now.iter_mut().zip(lo).zip(hi) {
-                    *o = (1.0 - tg) * a + tg * b;
-                }
             }
             let (sw, rest) = fin.lumped_now.split_at(3 * n);
             // Load-weighted deformed position Σ w_k (r_k + S_k η) and its moment (5.4.16).
