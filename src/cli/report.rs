@@ -192,10 +192,7 @@ fn read_overlays(dir: &Path) -> Result<Vec<OverlayCurve>, ReportError> {
     files
         .into_iter()
         .map(|(label, path)| {
-            let text = std::fs::read_to_string(&path).map_err(|source| ReportError::Read {
-                path: path.clone(),
-                source,
-            })?;
+            let text = crate::report::read_text(&path)?;
             parse_overlay_csv(&text, &label, &path)
         })
         .collect()

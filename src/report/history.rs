@@ -113,11 +113,7 @@ pub fn parse_history(text: &str, path: &Path) -> Result<History, ReportError> {
 
 /// Read `history.csv` (see [`parse_history`]).
 pub fn read_history(path: &Path) -> Result<History, ReportError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ReportError::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    parse_history(&text, path)
+    parse_history(&super::read_text(path)?, path)
 }
 
 #[cfg(test)]

@@ -269,11 +269,7 @@ pub fn parse_overlay_csv(
 
 /// Read a map CSV file (see [`parse_map_csv`]).
 pub fn read_map_csv(path: &Path) -> Result<StabilityMap, ReportError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ReportError::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    parse_map_csv(&text, path)
+    parse_map_csv(&super::read_text(path)?, path)
 }
 
 #[cfg(test)]

@@ -98,3 +98,11 @@ pub fn ensure_font() -> Result<(), ReportError> {
     });
     if ok { Ok(()) } else { Err(ReportError::Font) }
 }
+
+/// The text of an input file, or [`ReportError::Read`] naming it.
+pub fn read_text(path: &std::path::Path) -> Result<String, ReportError> {
+    std::fs::read_to_string(path).map_err(|source| ReportError::Read {
+        path: path.to_path_buf(),
+        source,
+    })
+}

@@ -256,6 +256,38 @@ impl DormandPrince54 {
     }
 }
 
+/// The state both methods accept: `n` entries, all finite.
+fn check_state(n: usize, t: f64, x: &[f64]) -> Result<(), StopReason> {
+    if x.len() != n {
+        return Err(StopReason::StateLength {
+            expected: n,
+            found: x.len(),
+        });
+    }
+    if x.iter().any(|v| !v.is_finite()) {
+        return Err(StopReason::NonFiniteState { t });
+    }
+    Ok(())
+}
+
+/// `k0 = f(t0, x0)` and the observer at the initial state, as both methods start.
+fn first_evaluation(
+    sys: &mut dyn OdeSystem,
+    t: f64,
+    x: &[f64],
+    k0: &mut [f64],
+    stats: &mut StepStats,
+    observer: &mut Observer<'_>,
+) -> Result<(), StopReason> {
+    stats.rhs_evaluations += 1;
+    sys.rhs(t, x, k0)
+        .map_err(|error| StopReason::Rhs { t, error })?;
+    if !observer(t, x, k0) {
+        return Err(StopReason::ObserverStopped { t });
+    }
+    Ok(())
+}
+
 impl Integrator for DormandPrince54 {
     fn integrate(
         &mut self,
@@ -270,30 +302,16 @@ impl Integrator for DormandPrince54 {
         let mut t = t0;
         let stop =
             |t: f64, stats: StepStats, stop: StopReason| IntegrationReport { t, stats, stop };
-        if x.len() != n {
-            return stop(
-                t,
-                stats,
-                StopReason::StateLength {
-                    expected: n,
-                    found: x.len(),
-                },
-            );
-        }
-        if x.iter().any(|v| !v.is_finite()) {
-            return stop(t, stats, StopReason::NonFiniteState { t });
+        if let Err(reason) = check_state(n, t, x) {
+            return stop(t, stats, reason);
         }
         self.resize(n);
         let span = t_end - t0;
         if span <= 0.0 {
             return stop(t, stats, StopReason::Completed);
         }
-        stats.rhs_evaluations += 1;
-        if let Err(error) = sys.rhs(t, x, &mut self.k[0]) {
-            return stop(t, stats, StopReason::Rhs { t, error });
-        }
-        if !observer(t, x, &self.k[0]) {
-            return stop(t, stats, StopReason::ObserverStopped { t });
+        if let Err(reason) = first_evaluation(sys, t, x, &mut self.k[0], &mut stats, observer) {
+            return stop(t, stats, reason);
         }
         let mut h = match self.options.h_initial {
             Some(h) => h.min(span),
@@ -454,18 +472,8 @@ impl Integrator for Rk4 {
         let mut t = t0;
         let report =
             |t: f64, stats: StepStats, stop: StopReason| IntegrationReport { t, stats, stop };
-        if x.len() != n {
-            return report(
-                t,
-                stats,
-                StopReason::StateLength {
-                    expected: n,
-                    found: x.len(),
-                },
-            );
-        }
-        if x.iter().any(|v| !v.is_finite()) {
-            return report(t, stats, StopReason::NonFiniteState { t });
+        if let Err(reason) = check_state(n, t, x) {
+            return report(t, stats, reason);
         }
         if !(self.h > 0.0 && self.h.is_finite()) {
             return report(t, stats, StopReason::StepSizeUnderflow { t, h: self.h });
@@ -474,12 +482,8 @@ impl Integrator for Rk4 {
             k.resize(n, 0.0);
         }
         self.y_stage.resize(n, 0.0);
-        stats.rhs_evaluations += 1;
-        if let Err(error) = sys.rhs(t, x, &mut self.k[0]) {
-            return report(t, stats, StopReason::Rhs { t, error });
-        }
-        if !observer(t, x, &self.k[0]) {
-            return report(t, stats, StopReason::ObserverStopped { t });
+        if let Err(reason) = first_evaluation(sys, t, x, &mut self.k[0], &mut stats, observer) {
+            return report(t, stats, reason);
         }
         let steps = ((t_end - t0) / self.h).ceil().max(0.0) as usize;
         for step in 0..steps {

@@ -186,16 +186,7 @@ pub fn check_initial_state(
     if plan.initial_state.len() != plan.layout().len() {
         return None; // `run` reports the shape error itself
     }
-    let mut blocks = ForceBlocks::default();
-    if let Some(b) = &aero.body {
-        blocks
-            .blocks
-            .push(ForceBlock::BodyAero(Box::new(b.clone())));
-    }
-    if let Some(f) = &aero.fin {
-        blocks.blocks.push(ForceBlock::FinAero(Box::new(f.clone())));
-    }
-    let mut probe = AeroProbe::new(&blocks, model);
+    let mut probe = AeroProbe::new(aero.body.clone(), aero.fin.clone(), model);
     let s = StateView::new(plan.layout(), &plan.initial_state);
     probe.evaluate(0.0, &s)
 }
@@ -264,16 +255,7 @@ struct AeroProbe {
 }
 
 impl AeroProbe {
-    fn new(blocks: &ForceBlocks, model: &ReducedModel) -> Self {
-        let mut body = None;
-        let mut fin = None;
-        for b in &blocks.blocks {
-            match b {
-                ForceBlock::BodyAero(a) => body = Some((**a).clone()),
-                ForceBlock::FinAero(a) => fin = Some((**a).clone()),
-                _ => {}
-            }
-        }
+    fn new(body: Option<BodyAero>, fin: Option<FinAero>, model: &ReducedModel) -> Self {
         let m = model.mass.max(f64::MIN_POSITIVE);
         AeroProbe {
             body,
@@ -508,8 +490,8 @@ pub fn run(
     progress: &mut dyn FnMut(f64, f64),
 ) -> Result<RunOutput, RunError> {
     let started = Instant::now();
+    let probe = AeroProbe::new(aero.body.clone(), aero.fin.clone(), model);
     let forces = build_force_blocks(plan, model, aero)?;
-    let probe = AeroProbe::new(&forces, model);
     let mut eom = Eom::new(model, forces)?;
     let layout = eom.layout();
     if plan.initial_state.len() != layout.len() {
