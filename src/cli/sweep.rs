@@ -18,7 +18,7 @@
 use std::collections::BTreeMap;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -31,7 +31,7 @@ use crate::analysis::sweep::{
 use crate::artifact::{Cache, CacheKey, GetOrBuildError};
 use crate::check::ir::{Scenario, Sweep, SweepAnalysis};
 use crate::check::{DiskLoader, check_scenario_files};
-use crate::runtime::run;
+use crate::runtime::run::{self, AeroBlocks};
 use crate::structure::compile::{CompiledVehicle, compile};
 
 use super::compile::{CompileOutcome, cache_key, strip_spans};
@@ -174,6 +174,16 @@ pub fn run_sweep(
             .collect()
     });
 
+    // Aerodynamic blocks (tables, fin load weights) per distinct vehicle, built by the first
+    // case that needs them; each case then sets its own stimuli. The blocks are a function of
+    // the vehicle alone, so which case builds them does not change any result.
+    let aero_blocks: BTreeMap<String, OnceLock<Result<AeroBlocks, String>>> = prepared
+        .iter()
+        .copied()
+        .flatten()
+        .map(|p| (p.vehicle.clone(), OnceLock::new()))
+        .collect();
+
     let results: Vec<Result<serde_json::Value, String>> = pool.install(|| {
         todo.par_iter()
             .zip(prepared.par_iter())
@@ -184,7 +194,7 @@ pub fn run_sweep(
                         .get(&p.key.to_hex())
                         .cloned()
                         .unwrap_or_else(|| Err("the structural variant was not compiled".into()))?;
-                    run_case(p, &c, sweep, case)
+                    run_case(p, &c, sweep, case, aero_blocks.get(&p.vehicle))
                 });
                 let written = write_case(&cases_dir, case, &result);
                 bar.inc(1);
@@ -239,6 +249,9 @@ struct Prepared {
     /// blake3 of the checked scenario (with its vehicle) without spans: a finished case on
     /// disk is reused only if the file and `--set` still give exactly this variant.
     variant: String,
+    /// blake3 of the checked vehicle without spans: cases with the same vehicle share one
+    /// set of aerodynamic blocks.
+    vehicle: String,
 }
 
 /// Check the case's variant of the scenario and key its structure.
@@ -270,10 +283,15 @@ fn prepare_case(
     let variant = blake3::hash(strip_spans(ir).to_string().as_bytes())
         .to_hex()
         .to_string();
+    let ir = serde_json::to_value(&sc.vehicle).map_err(|e| e.to_string())?;
+    let vehicle = blake3::hash(strip_spans(ir).to_string().as_bytes())
+        .to_hex()
+        .to_string();
     Ok(Prepared {
         scenario: sc,
         key,
         variant,
+        vehicle,
     })
 }
 
@@ -308,6 +326,7 @@ fn run_case(
     compiled: &CompileOutcome,
     sweep: &Sweep,
     case: &SweepCase,
+    aero_blocks: Option<&OnceLock<Result<AeroBlocks, String>>>,
 ) -> Result<serde_json::Value, String> {
     let sc = &prepared.scenario;
     let identity = serde_json::json!({
@@ -373,8 +392,15 @@ fn run_case(
             "sweep_case": identity,
         }));
     }
-    let (aero, _) = run::build_aero_blocks(&p, sc, &compiled.compiled)
-        .map_err(|e| format!("run::cannot_start: {e}"))?;
+    let build = || {
+        run::build_aero_blocks(&p, sc, &compiled.compiled)
+            .map(|(blocks, _)| blocks)
+            .map_err(|e| format!("run::cannot_start: {e}"))
+    };
+    let aero = match aero_blocks {
+        Some(cell) => cell.get_or_init(build).clone()?.for_plan(&p),
+        None => build()?,
+    };
     let output = run::run(&p, &compiled.compiled.reduced, aero, &mut |_, _| {})
         .map_err(|e| format!("run::cannot_start: {e}"))?;
     let mut summary = super::run::summary_json(&p, compiled, &output);

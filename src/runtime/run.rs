@@ -117,6 +117,22 @@ pub struct AeroBlocks {
     pub fin: Option<FinAero>,
 }
 
+impl AeroBlocks {
+    /// The same blocks seeing `plan`'s stimuli: blocks depend on the vehicle only (tables,
+    /// fin load weights, shape rows) except for the stimuli, so a sweep builds them once per
+    /// vehicle and gives each case its own stimuli.
+    pub fn for_plan(&self, plan: &Plan) -> AeroBlocks {
+        let mut b = self.clone();
+        if let Some(x) = &mut b.body {
+            x.set_stimuli(plan.planned_stimuli.clone());
+        }
+        if let Some(x) = &mut b.fin {
+            x.set_stimuli(plan.planned_stimuli.clone());
+        }
+        b
+    }
+}
+
 /// Build the aerodynamic blocks a plan asks for. Returns the coefficient tables too, so the
 /// caller can write the ones the built-in estimator produced.
 pub fn build_aero_blocks(

@@ -351,6 +351,12 @@ impl BodyAero {
         })
     }
 
+    /// Replaces the stimuli (wind and gusts) the block sees: blocks built once for a vehicle
+    /// serve every scenario of it.
+    pub fn set_stimuli(&mut self, stimuli: Stimuli) {
+        self.stimuli = stimuli;
+    }
+
     /// The first fault met since construction (or [`Self::clear_fault`]).
     pub fn fault(&self) -> Option<AeroFault> {
         self.fault

@@ -371,6 +371,12 @@ impl FinAero {
         })
     }
 
+    /// Replaces the stimuli (wind and gusts) the block sees: blocks built once for a vehicle
+    /// serve every scenario of it.
+    pub fn set_stimuli(&mut self, stimuli: Stimuli) {
+        self.stimuli = stimuli;
+    }
+
     /// The first fault met since construction.
     pub fn fault(&self) -> Option<AeroFault> {
         self.fault
