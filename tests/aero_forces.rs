@@ -106,9 +106,19 @@ fn body(f: &Fixture) -> BodyAero {
 fn body_with_rates(f: &Fixture, on: bool, rates: [f64; 2]) -> BodyAero {
     let mut v = f.vehicle.clone();
     v.forces.body_aero.as_mut().unwrap().rate_terms = on;
-    let n = f.tables.body.axis(flexflight::runtime::aero::Axis::Mach).len()
-        * f.tables.body.axis(flexflight::runtime::aero::Axis::AlphaDeg).len()
-        * f.tables.body.axis(flexflight::runtime::aero::Axis::AltitudeM).len();
+    let n = f
+        .tables
+        .body
+        .axis(flexflight::runtime::aero::Axis::Mach)
+        .len()
+        * f.tables
+            .body
+            .axis(flexflight::runtime::aero::Axis::AlphaDeg)
+            .len()
+        * f.tables
+            .body
+            .axis(flexflight::runtime::aero::Axis::AltitudeM)
+            .len();
     let table = f.tables.body.clone().with_rates(&vec![rates; n]).unwrap();
     BodyAero::new(
         &f.compiled,
@@ -767,5 +777,14 @@ fn rate_terms_without_rate_columns_are_refused() {
     );
     let mut v = f.vehicle.clone();
     v.forces.body_aero.as_mut().unwrap().rate_terms = false;
-    assert!(BodyAero::new(&f.compiled, &v, table, Standard1976::new(), Stimuli::default()).is_ok());
+    assert!(
+        BodyAero::new(
+            &f.compiled,
+            &v,
+            table,
+            Standard1976::new(),
+            Stimuli::default()
+        )
+        .is_ok()
+    );
 }

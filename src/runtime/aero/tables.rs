@@ -822,7 +822,10 @@ mod tests {
             CoefficientTable::parse_csv(TableKind::Body, p(), &text, OutOfRange::Stop).unwrap();
         assert!(rated.has_rates());
         let r = rated.body_rates(0.75, 2.5, 2500.0).unwrap().unwrap();
-        assert!((r.cn_q - 100.75).abs() < 1e-12 && (r.cm_q + 300.0).abs() < 1e-12, "{r:?}");
+        assert!(
+            (r.cn_q - 100.75).abs() < 1e-12 && (r.cm_q + 300.0).abs() < 1e-12,
+            "{r:?}"
+        );
         assert_eq!(
             rated.lookup(0.75, 2.5, 2500.0).unwrap(),
             plain.lookup(0.75, 2.5, 2500.0).unwrap()
@@ -844,7 +847,10 @@ mod tests {
         ));
         // Fin tables take no rate columns; one of the two alone is no header either.
         for (kind, hdr) in [
-            (TableKind::Fin, "mach,alpha_deg,altitude_m,cn,ca,x_cp_m,cn_q,cm_q"),
+            (
+                TableKind::Fin,
+                "mach,alpha_deg,altitude_m,cn,ca,x_cp_m,cn_q,cm_q",
+            ),
             (TableKind::Body, "mach,alpha_deg,altitude_m,cn,ca,cm,cn_q"),
         ] {
             let e = CoefficientTable::parse_csv(kind, p(), &format!("{hdr}\n"), OutOfRange::Stop)
