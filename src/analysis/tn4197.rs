@@ -183,7 +183,7 @@ mod tests {
     fn constants_are_consistent() {
         let derived = 24.0 * 0.25 * 1.4 * 14.7 / std::f64::consts::PI;
         assert!((derived - 39.3).abs() < 0.01, "{derived}");
-        assert!((39.3 / (2.0 * 14.7) - 1.337).abs() < 5e-4);
+        assert!((39.3f64 / (2.0 * 14.7) - 1.337).abs() < 5e-4);
         assert_eq!(Tn4197Form::Martin.coefficient(), 39.3 / 14.7);
     }
 

@@ -240,12 +240,12 @@ mod tests {
     fn a_bare_number_where_a_unit_is_needed_is_a_diagnostic_at_its_column() {
         let e = check_range("--thickness", "0.4:3.0:5", Dim::LENGTH).unwrap_err();
         assert_eq!(codes(&e), ["vdl::unit::missing", "vdl::unit::missing"]);
-        let spans: Vec<(usize, usize)> = e
+        let spans: Vec<(u32, u32)> = e
             .diagnostics
             .iter()
             .map(|d| (d.labels[0].span.start, d.labels[0].span.end))
             .collect();
-        assert_eq!(spans, [(0u32, 3u32), (4, 7)]);
+        assert_eq!(spans, [(0, 3), (4, 7)]);
         let e = check_range("--thickness", "0.4mm:3:5", Dim::LENGTH).unwrap_err();
         assert_eq!(codes(&e), ["vdl::unit::missing"]);
         let e = check_range("--mach", "0.5 m:2:5", Dim::NONE).unwrap_err();
