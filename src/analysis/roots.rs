@@ -24,15 +24,17 @@
 //! (`a_D = D / m`, `ρ` frozen, `C_D` constant; heading is neutral). Every root of this
 //! system obeys `|λ| ≤ ‖J‖_∞ = max(2 a_D + g|cos γ|, g(|cos γ| + |sin γ|)) / V
 //! ≤ Λ = (2 a_D + √2 g) / V`. A root of the full model is a flight-path root when
-//! `|λ| ≤ Λ` AND at least half of its participation lies in the attitude and body-velocity
-//! states (`theta_*`, `v_body_*`): the point-mass motion is a slow rotation of attitude and
-//! velocity together, while the vehicle's own roots (short period, weathercock divergence,
-//! elastic modes) involve the body rates and the modal states and are, for a statically
-//! stable vehicle, far faster than `Λ` (SPHADS-1 at 200 m/s, 5 km: `Λ ≈ 0.2 1/s`, short
-//! period about 20 rad/s, elastic roots above 200 rad/s). A vehicle whose own root is as
-//! slow as `Λ` (a static margin near zero) cannot be told from its flight path by the
-//! magnitude alone; the participation test is what keeps a slow weathercock divergence
-//! (mostly `v_body_z`/`omega_body_y` with `theta` following) a vehicle root; see the tests.
+//! `|λ| ≤ Λ` AND at least half of its participation lies in the attitude states
+//! (`theta_*`) and the axial speed (`v_body_x`): the point-mass motion turns attitude and
+//! velocity together (angle of attack unchanged) and changes the speed, while the vehicle's
+//! own rigid roots (short period, weathercock divergence) live in the angle of attack and
+//! sideslip (`v_body_y`, `v_body_z`) and the body rates, and its elastic roots in the modal
+//! states. SPHADS-1 at 200 m/s, 5 km, pitched up 60 deg, 1.0 mm fins: `Λ = 0.116 1/s`; the
+//! flight-path roots are +0.0423 1/s (`theta_y`, `theta_z` 100 %: `g sin γ / V`) and
+//! -0.048 1/s (`v_body_x` 100 %); the short period is -0.58 ± 8.7i (`omega_body` and
+//! `v_body` 49 % each, `theta` below 1 %); elastic roots lie above 400 rad/s. A vehicle root
+//! as slow as `Λ` (a static margin near zero) is kept a vehicle root by the participation
+//! test as long as it lives in the angle of attack and rates.
 
 use faer::Mat;
 use faer::linalg::solvers::DenseSolveCore;
@@ -47,7 +49,7 @@ use super::linearise::{LinearModel, LineariseError};
 pub enum RootKind {
     /// `|λ|` below the neutral tolerance: an exact rigid-body zero (roll angle, heading).
     Neutral,
-    /// The slow drift of the trim's flight path (`|λ| ≤ Λ`, attitude/velocity states).
+    /// The slow drift of the trim's flight path (`|λ| ≤ Λ`, attitude and axial speed).
     FlightPath,
     /// A root of the vehicle's dynamics: these decide `sigma_d` and the class.
     Dynamic,
@@ -73,9 +75,9 @@ impl FlightPathScale {
     }
 }
 
-/// Participation share of the attitude and body-velocity states (`δθ`, `δV_B`: the first
-/// six linear states, [`super::linearise::state_names`]) above which a slow root counts as a
-/// flight-path root.
+/// Participation share of the attitude states and the axial speed (`δθ`, `δV_x`: the first
+/// four linear states, [`super::linearise::state_names`]) above which a slow root counts as
+/// a flight-path root.
 pub const FLIGHT_PATH_PARTICIPATION: f64 = 0.5;
 
 /// One root of `A`.
@@ -188,7 +190,7 @@ fn eigen_structure_with(
                 .collect();
         }
         let neutral = modulus < neutral_tolerance;
-        let attitude_velocity: f64 = p.iter().take(6).sum();
+        let attitude_velocity: f64 = p.iter().take(4).sum();
         let kind = match flight_path_rate {
             _ if neutral => RootKind::Neutral,
             Some(rate)
