@@ -94,7 +94,10 @@ sweep climb_linear_frozen {
 
 fn climb_file(dir: &Path) -> PathBuf {
     let p = dir.join("climb.vdl");
-    let text = CLIMB.replace("VEHICLE", &repo("vehicles/sphads1.vdl").display().to_string());
+    let text = CLIMB.replace(
+        "VEHICLE",
+        &repo("vehicles/sphads1.vdl").display().to_string(),
+    );
     std::fs::write(&p, text).unwrap();
     p
 }
@@ -205,4 +208,22 @@ fn a_bare_thickness_is_refused_by_both_maps() {
         assert!(err.contains("<--thickness>"), "{args:?}: {err}");
         assert!(!out.exists(), "{args:?} wrote {}", out.display());
     }
+}
+
+/// `frozen_gravity` belongs to `analysis = linear3d`: with another analysis it is a
+/// diagnostic at `check`, pointing at the field.
+#[test]
+fn frozen_gravity_with_another_analysis_is_refused_at_check() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = climb_file(dir.path());
+    let text = std::fs::read_to_string(&file).unwrap().replace(
+        "analysis = linear3d\n  frozen_gravity = true",
+        "analysis = planar_pinned\n  frozen_gravity = true",
+    );
+    std::fs::write(&file, text).unwrap();
+    let o = bin().arg("check").arg(&file).output().unwrap();
+    let err = stderr_of(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("vdl::sweep::option"), "{err}");
+    assert!(err.contains("climb.vdl:36:20"), "{err}");
 }

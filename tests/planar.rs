@@ -261,7 +261,13 @@ fn analyze_planar_prints_the_tn4197_flutter_mach_in_both_forms() {
         let o = bin()
             .args(["analyze", "planar", "--pinned"])
             .arg(repo("examples/thesis/section_6_5.vdl"))
-            .args(["--scenario", "subsonic_t06", "--format", format, "--cache-dir"])
+            .args([
+                "--scenario",
+                "subsonic_t06",
+                "--format",
+                format,
+                "--cache-dir",
+            ])
             .arg(cache())
             .output()
             .unwrap();
@@ -284,7 +290,10 @@ fn analyze_planar_prints_the_tn4197_flutter_mach_in_both_forms() {
     let got_m = tn["martin"]["flutter_mach"].as_f64().unwrap();
     let got_p = tn["peak_of_flight_291"]["flutter_mach"].as_f64().unwrap();
     eprintln!("SPHADS-1 fin at 5 km: TN 4197 Martin M {got_m}, PoF 291 M {got_p}");
-    assert!((got_m - martin).abs() < 1e-12 * martin, "{got_m} vs {martin}");
+    assert!(
+        (got_m - martin).abs() < 1e-12 * martin,
+        "{got_m} vs {martin}"
+    );
     assert!((got_p - pof).abs() < 1e-12 * pof, "{got_p} vs {pof}");
     assert!((got_p / got_m - 2f64.sqrt()).abs() < 2e-4);
     let text = run("human");

@@ -162,7 +162,12 @@ pub fn plan_gravity(plan: &Plan, altitude: f64) -> f64 {
 /// The flight-path scale of a trim (see [`super::roots`]): `a_D = |V̇_B - g_B|` with
 /// `g_B = C_BI(q0) (0, 0, g)` (eq. 5.1.3; `ω_B = 0` at the trim, so `V̇_B` is the specific
 /// force plus gravity).
-pub fn flight_path_scale(trim: &Trim, speed: f64, gravity: f64, attitude: [f64; 4]) -> FlightPathScale {
+pub fn flight_path_scale(
+    trim: &Trim,
+    speed: f64,
+    gravity: f64,
+    attitude: [f64; 4],
+) -> FlightPathScale {
     let g_b = mat_vec(&c_bi(&attitude), &[0.0, 0.0, gravity]);
     let a = &trim.rigid_acceleration;
     let aero = ((a[0] - g_b[0]).powi(2) + (a[1] - g_b[1]).powi(2) + (a[2] - g_b[2]).powi(2)).sqrt();

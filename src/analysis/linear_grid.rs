@@ -58,7 +58,10 @@ impl StabilityMap {
     /// Writes `x_name,y_name,sigma_d,omega_d,class,flight_path_sigma`, one line per grid
     /// point (rows of constant `y`, `x` fastest), floats in Rust's shortest round-trip form.
     pub fn write_csv(&self, w: &mut dyn Write, x_name: &str, y_name: &str) -> std::io::Result<()> {
-        writeln!(w, "{x_name},{y_name},sigma_d,omega_d,class,flight_path_sigma")?;
+        writeln!(
+            w,
+            "{x_name},{y_name},sigma_d,omega_d,class,flight_path_sigma"
+        )?;
         for (j, y) in self.ys.iter().enumerate() {
             for (i, x) in self.xs.iter().enumerate() {
                 let k = self.index(i, j);

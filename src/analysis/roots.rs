@@ -193,9 +193,7 @@ fn eigen_structure_with(
         let attitude_velocity: f64 = p.iter().take(4).sum();
         let kind = match flight_path_rate {
             _ if neutral => RootKind::Neutral,
-            Some(rate)
-                if modulus <= rate && attitude_velocity >= FLIGHT_PATH_PARTICIPATION =>
-            {
+            Some(rate) if modulus <= rate && attitude_velocity >= FLIGHT_PATH_PARTICIPATION => {
                 RootKind::FlightPath
             }
             _ => RootKind::Dynamic,

@@ -198,9 +198,11 @@ mod tests {
             thickness: t,
         };
         for form in Tn4197Form::ALL {
-            let r = f(2e-3).flutter_mach_in(form, 30_000.0) / f(1e-3).flutter_mach_in(form, 30_000.0);
+            let r =
+                f(2e-3).flutter_mach_in(form, 30_000.0) / f(1e-3).flutter_mach_in(form, 30_000.0);
             assert!((r - 2f64.powf(1.5)).abs() < 1e-14);
-            let r = f(1e-3).flutter_mach_in(form, 10_000.0) / f(1e-3).flutter_mach_in(form, 40_000.0);
+            let r =
+                f(1e-3).flutter_mach_in(form, 10_000.0) / f(1e-3).flutter_mach_in(form, 40_000.0);
             assert!((r - 2.0).abs() < 1e-14);
         }
     }

@@ -374,8 +374,8 @@ fn run_case(
                 gravity_follows_attitude: !sweep.frozen_gravity,
                 ..Default::default()
             };
-            let r = analyse(&variant, options)
-                .map_err(|e| format!("analysis::linear::failed: {e}"))?;
+            let r =
+                analyse(&variant, options).map_err(|e| format!("analysis::linear::failed: {e}"))?;
             Some(serde_json::json!({
                 "sigma_d": r.eigen.sigma_d,
                 "omega_d": r.eigen.omega_d,
