@@ -370,12 +370,19 @@ fn run_case(
                 scenario: sc.clone(),
                 compiled: compiled.compiled.clone(),
             };
-            let r = analyse(&variant, Default::default())
-                .map_err(|e| format!("analysis::linear::failed: {e}"))?;
+            let options = crate::analysis::linearise::LineariseOptions {
+                gravity_follows_attitude: !sweep.frozen_gravity,
+                ..Default::default()
+            };
+            let r =
+                analyse(&variant, options).map_err(|e| format!("analysis::linear::failed: {e}"))?;
             Some(serde_json::json!({
                 "sigma_d": r.eigen.sigma_d,
                 "omega_d": r.eigen.omega_d,
                 "class": r.eigen.class.name(),
+                "flight_path_sigma": r.eigen.flight_path_sigma,
+                "flight_path_rate": r.eigen.flight_path_rate,
+                "frozen_gravity": sweep.frozen_gravity,
                 "altitude_m": r.condition.altitude,
                 "mach": r.condition.mach,
                 "trim_converged": r.trim_converged,
