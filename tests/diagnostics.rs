@@ -421,6 +421,15 @@ assert_error!(
     edit(FINNED, "tip_chord = 100 mm", "tip_chord = 250 mm")
 );
 assert_error!(
+    fins_forward_swept_leading_edge_with_theory_loads,
+    "vdl::fins::forward_sweep",
+    edit(
+        FINNED,
+        "trailing_edge_sweep = 0 deg",
+        "trailing_edge_sweep = -60 deg"
+    )
+);
+assert_error!(
     range_wall_too_thick,
     "vdl::value::range",
     edit(VEHICLE, "wall = 2 mm", "wall = 50 mm")
