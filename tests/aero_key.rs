@@ -35,7 +35,7 @@ fn the_aero_key_follows_the_vehicle_and_not_the_scenario() {
     // Vehicle inputs the tables or the load weights depend on.
     for s in [
         "aero.reference_point=(-1.5, 0, 0) m",
-        "aero.out_of_range=stop",
+        "aero.out_of_range=clamp",
         "forces.fin_aero.distribution=uniform",
         "fins.root_chord=0.3 m",
         "structure.generate.body.diameter=130 mm",
