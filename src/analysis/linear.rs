@@ -1,7 +1,7 @@
 //! The linearised 3-D analysis of a planned scenario and its fin thickness x Mach map.
 //!
 //! The force blocks are those of the scenario's plan, built as a run builds them
-//! ([`build_aero_blocks`], [`build_force_blocks`]), except that the reference is ballistic:
+//! ([`build_force_blocks`], the aerodynamic blocks copied from the plan), except that the reference is ballistic:
 //! thrust blocks are dropped and the stimuli (gusts, turbulence) removed, so the
 //! right-hand side does not depend on time. The reference altitude and attitude are the
 //! scenario's initial ones; the speed is the scenario's initial speed or, in a map,
@@ -10,8 +10,8 @@
 //! A map needs one compiled vehicle per fin thickness (the thickness changes the FE model,
 //! so the modes and every reduced coefficient): the caller supplies them through a closure
 //! (the CLI compiles through the artifact cache with a `--set fins.thickness=...`
-//! override); the aerodynamic blocks and the equations of motion are built once per
-//! thickness and reused for every Mach.
+//! override); its plan holds the aerodynamic blocks, and the equations of motion are
+//! built once per thickness and reused for every Mach.
 
 use serde::Serialize;
 
@@ -25,7 +25,7 @@ use crate::runtime::eom::Eom;
 use crate::runtime::forces::ForceBlocks;
 use crate::runtime::forces::gravity::gravity_at;
 use crate::runtime::kinematics::{c_bi, mat_vec};
-use crate::runtime::run::{RunError, build_aero_blocks, build_force_blocks};
+use crate::runtime::run::{RunError, build_force_blocks};
 use crate::runtime::stimuli::Stimuli;
 use crate::structure::compile::CompiledVehicle;
 
@@ -102,15 +102,14 @@ pub fn ballistic_plan(plan: &Plan) -> Plan {
     let mut p = plan.clone();
     p.forces.retain(|f| !matches!(f, ForcePlan::Thrust(_)));
     p.stimuli.clear();
-    p.planned_stimuli = Stimuli::default();
+    p.set_stimuli(Stimuli::default());
     p
 }
 
 /// The equations of motion with the ballistic force blocks of `variant`.
 pub fn ballistic_eom(variant: &Variant) -> Result<Eom<'_, ForceBlocks>, LinearAnalysisError> {
     let plan = ballistic_plan(&variant.plan);
-    let (aero, _) = build_aero_blocks(&plan, &variant.scenario, &variant.compiled)?;
-    let forces = build_force_blocks(&plan, &variant.compiled.reduced, aero)?;
+    let forces = build_force_blocks(&plan, &variant.compiled.reduced)?;
     Eom::new(&variant.compiled.reduced, forces)
         .map_err(|e| LinearAnalysisError::Build(e.to_string()))
 }

@@ -45,12 +45,14 @@ pub fn load_variant(
         .cloned()
         .ok_or_else(|| format!("no scenario named `{scenario}`"))?;
     let key = cache_key(&sc.vehicle).map_err(|e| format!("cannot read an FE file: {e}"))?;
-    let (art, _) = Cache::resolve(cache_dir)
+    let cache = Cache::resolve(cache_dir);
+    let (art, _) = cache
         .get_or_build(&key, || compile(&sc.vehicle).map(|(c, _)| c))
         .map_err(|e| e.to_string())?;
     let compiled = rkyv::deserialize::<CompiledVehicle, rkyv::rancor::Error>(art.get())
         .map_err(|e| format!("artifact could not be read back: {e}"))?;
-    let plan = crate::plan::build(&sc, &compiled).map_err(|e| e.to_string())?;
+    let (plan, _) =
+        super::compile::plan_cached(&sc, &compiled, &key, &cache).map_err(|e| e.to_string())?;
     Ok(Variant {
         plan,
         scenario: sc,
@@ -80,8 +82,9 @@ pub fn cmd_linear(
         Ok(o) => o,
         Err(code) => return code,
     };
-    let plan = match crate::plan::build(&sc, &outcome.compiled) {
-        Ok(p) => p,
+    let cache = Cache::resolve(cache_dir);
+    let plan = match super::compile::plan_cached(&sc, &outcome.compiled, &outcome.key, &cache) {
+        Ok((p, _)) => p,
         Err(e) => {
             eprintln!("error: cannot plan scenario `{scenario}`: {e}");
             return EXIT_DIAGNOSTICS;

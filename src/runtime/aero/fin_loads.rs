@@ -570,6 +570,43 @@ impl FinLoadTable {
         })
     }
 
+    /// A table from weights computed before (the cache): `weights[i * n_nodes + k]` is node
+    /// k's weight at `machs[i]`. Checks the shape and the grid, not the values.
+    pub fn from_weights(
+        machs: Vec<f64>,
+        n_nodes: usize,
+        weights: Vec<f64>,
+    ) -> Result<Self, FinLoadError> {
+        if machs.is_empty()
+            || machs
+                .windows(2)
+                .any(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+            || weights.len() != machs.len() * n_nodes
+            || n_nodes == 0
+        {
+            return Err(FinLoadError::Table(format!(
+                "{} weights for {} Machs x {n_nodes} nodes, or a Mach grid that is not strictly increasing",
+                weights.len(),
+                machs.len()
+            )));
+        }
+        Ok(FinLoadTable {
+            machs,
+            n_nodes,
+            weights,
+        })
+    }
+
+    /// Number of nodes.
+    pub fn n_nodes(&self) -> usize {
+        self.n_nodes
+    }
+
+    /// All weights, row-major by Mach.
+    pub fn weights(&self) -> &[f64] {
+        &self.weights
+    }
+
     /// The Mach grid of the table.
     pub fn machs(&self) -> &[f64] {
         &self.machs
