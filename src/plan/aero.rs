@@ -23,7 +23,7 @@ use crate::runtime::aero::estimator::EstimatedTables;
 use crate::runtime::aero::fin_loads::FinLoadTable;
 use crate::runtime::aero::tables::{Axis, CoefficientTable, TableKind};
 use crate::runtime::atmosphere::Standard1976;
-use crate::runtime::forces::{AeroForceError, BodyAero, FinAero, RateDerivatives, aero_tables};
+use crate::runtime::forces::{AeroForceError, BodyAero, FinAero, aero_tables};
 use crate::runtime::stimuli::Stimuli;
 use crate::structure::compile::CompiledVehicle;
 
@@ -189,7 +189,6 @@ pub fn resolve(
             tables.body.clone(),
             Standard1976::new(),
             stimuli.clone(),
-            RateDerivatives::default(),
         )?)
     } else {
         None
