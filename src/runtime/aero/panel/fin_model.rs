@@ -194,81 +194,100 @@ pub struct PanelModel {
     pub fins: Vec<FinTransfer>,
 }
 
-/// Points and the transfer of one fin at one regime.
-fn transfer_for(
-    lattice: &Lattice,
-    s: &FinStructure,
-    n: usize,
-    k: &[f64],
-    eval: &[[f64; 2]],
-    force: &[[f64; 2]],
-    scale: f64,
-    fin: usize,
-) -> Result<Vec<f64>, FinPanelError> {
-    let np = lattice.len();
-    let nn = s.nodes.len();
-    let spline = |pts: &[[f64; 2]]| {
-        surface_spline(&s.nodes, pts, scale).map_err(|error| FinPanelError::Spline { fin, error })
-    };
-    let (gc, gx) = spline(eval)?;
-    let (gf, _) = spline(force)?;
-    // Z = G N (points x n).
-    let project = |g: &[f64]| -> Vec<f64> {
-        let mut z = vec![0.0; np * n];
-        for p in 0..np {
-            for kk in 0..nn {
-                let w = g[p * nn + kk];
-                if w != 0.0 {
+/// The Mach-independent part of one fin at one regime: the input map `I` (`np x cols`) and
+/// the output map `O` (`rows x np`) of the module doc.
+struct Projection {
+    input: Vec<f64>,
+    output: Vec<f64>,
+}
+
+impl Projection {
+    fn new(
+        s: &FinStructure,
+        n: usize,
+        eval: &[[f64; 2]],
+        force: &[[f64; 2]],
+        scale: f64,
+        fin: usize,
+    ) -> Result<Projection, FinPanelError> {
+        let np = eval.len();
+        let nn = s.nodes.len();
+        let spline = |pts: &[[f64; 2]]| {
+            surface_spline(&s.nodes, pts, scale)
+                .map_err(|error| FinPanelError::Spline { fin, error })
+        };
+        let (gc, gx) = spline(eval)?;
+        let (gf, _) = spline(force)?;
+        // Z = G N (points x n).
+        let project = |g: &[f64]| -> Vec<f64> {
+            let mut z = vec![0.0; np * n];
+            for p in 0..np {
+                for kk in 0..nn {
+                    let w = g[p * nn + kk];
                     for j in 0..n {
                         z[p * n + j] += w * s.normal_rows[kk * n + j];
                     }
                 }
             }
+            z
+        };
+        let (zc, zx, zf) = (project(&gc), project(&gx), project(&gf));
+        let (rows, cols) = (n + 3, 2 * n + 3);
+        let mut input = vec![0.0; np * cols];
+        for p in 0..np {
+            for j in 0..n {
+                input[p * cols + j] = -zx[p * n + j];
+                input[p * cols + n + j] = -zc[p * n + j];
+            }
+            input[p * cols + 2 * n] = 1.0;
+            input[p * cols + 2 * n + 1] = eval[p][0];
+            input[p * cols + 2 * n + 2] = eval[p][1];
         }
-        z
-    };
-    let (zc, zx, zf) = (project(&gc), project(&gx), project(&gf));
-    let cols = 2 * n + 3;
-    let rows = n + 3;
-    // I (np x cols).
-    let mut input = vec![0.0; np * cols];
-    for p in 0..np {
-        for j in 0..n {
-            input[p * cols + j] = -zx[p * n + j];
-            input[p * cols + n + j] = -zc[p * n + j];
+        let mut output = vec![0.0; rows * np];
+        for p in 0..np {
+            for j in 0..n {
+                output[j * np + p] = zf[p * n + j];
+            }
+            output[n * np + p] = 1.0;
+            output[(n + 1) * np + p] = force[p][1];
+            output[(n + 2) * np + p] = force[p][0];
         }
-        input[p * cols + 2 * n] = 1.0;
-        input[p * cols + 2 * n + 1] = eval[p][0];
-        input[p * cols + 2 * n + 2] = eval[p][1];
+        Ok(Projection { input, output })
     }
-    // K I (np x cols).
-    let mut ki = vec![0.0; np * cols];
-    for p in 0..np {
-        for r in 0..np {
-            let kv = k[p * np + r];
-            if kv != 0.0 {
-                for c in 0..cols {
-                    ki[p * cols + c] += kv * input[r * cols + c];
+
+    /// `T = O K I` for the force map `k` (`np x np`).
+    fn transfer(&self, k: &[f64], n: usize) -> Vec<f64> {
+        let (rows, cols) = (n + 3, 2 * n + 3);
+        let np = self.input.len() / cols;
+        let mut ki = vec![0.0; np * cols];
+        for p in 0..np {
+            for r in 0..np {
+                let kv = k[p * np + r];
+                if kv != 0.0 {
+                    for c in 0..cols {
+                        ki[p * cols + c] += kv * self.input[r * cols + c];
+                    }
                 }
             }
         }
-    }
-    // O K I.
-    let mut t = vec![0.0; rows * cols];
-    for p in 0..np {
-        let mut o = Vec::with_capacity(rows);
-        o.extend_from_slice(&zf[p * n..(p + 1) * n]);
-        o.extend_from_slice(&[1.0, force[p][1], force[p][0]]);
-        for (r, ov) in o.iter().enumerate() {
-            for c in 0..cols {
-                t[r * cols + c] += ov * ki[p * cols + c];
+        let mut t = vec![0.0; rows * cols];
+        for r in 0..rows {
+            for p in 0..np {
+                let o = self.output[r * np + p];
+                if o != 0.0 {
+                    for c in 0..cols {
+                        t[r * cols + c] += o * ki[p * cols + c];
+                    }
+                }
             }
         }
+        t
     }
-    Ok(t)
 }
 
 /// Builds the panel model of every fin of `c` (checked vehicle `v`) on the Mach grid `machs`.
+/// Every fin has the declared planform, so the force maps are computed once per Mach and
+/// shared; the splines are computed once per fin and regime.
 pub fn compile(
     c: &CompiledVehicle,
     v: &ir::Vehicle,
@@ -277,45 +296,184 @@ pub fn compile(
 ) -> Result<PanelModel, FinPanelError> {
     let f = v.fins.as_ref().ok_or(FinPanelError::NoFins)?;
     let n = c.modes.len();
-    let mut fins = Vec::with_capacity(f.angles.len());
+    let pf = planform(f, 0.0);
+    let perr = |error| FinPanelError::Panel { fin: 0, error };
+    let lattice =
+        Lattice::new(&pf, settings.chordwise, settings.spanwise, settings.spacing).map_err(perr)?;
+    let controls: Vec<[f64; 2]> = lattice.panels.iter().map(|p| p.control).collect();
+    let bounds: Vec<[f64; 2]> = lattice.panels.iter().map(|p| p.bound_mid()).collect();
+    let centroids: Vec<[f64; 2]> = lattice.panels.iter().map(|p| p.centroid).collect();
+    let regimes: Vec<Regime> = machs
+        .iter()
+        .map(|&m| regime(m))
+        .collect::<Result<_, _>>()
+        .map_err(perr)?;
+    let any_sub = regimes.iter().any(|r| !matches!(r, Regime::Supersonic));
+    let any_sup = regimes.iter().any(|r| !matches!(r, Regime::Subsonic));
+    let mut projections = Vec::with_capacity(f.angles.len());
     for fin in 0..f.angles.len() {
         let s = fin_structure(c, v, fin)?;
-        let pf = planform(f, 0.0);
-        let perr = |error| FinPanelError::Panel { fin, error };
-        let lattice = Lattice::new(&pf, settings.chordwise, settings.spanwise, settings.spacing)
-            .map_err(perr)?;
-        let controls: Vec<[f64; 2]> = lattice.panels.iter().map(|p| p.control).collect();
-        let bounds: Vec<[f64; 2]> = lattice.panels.iter().map(|p| p.bound_mid()).collect();
-        let centroids: Vec<[f64; 2]> = lattice.panels.iter().map(|p| p.centroid).collect();
         let scale = pf.root_chord;
-        let sub = |mach: f64| -> Result<Vec<f64>, FinPanelError> {
-            let k = vlm::force_map(&lattice, mach).map_err(perr)?;
-            transfer_for(&lattice, &s, n, &k, &controls, &bounds, scale, fin)
+        let sub = if any_sub {
+            Some(Projection::new(&s, n, &controls, &bounds, scale, fin)?)
+        } else {
+            None
         };
-        let sup = |mach: f64| -> Result<Vec<f64>, FinPanelError> {
-            let k = piston::force_map(&lattice, mach, settings.correction).map_err(perr)?;
-            transfer_for(&lattice, &s, n, &k, &centroids, &centroids, scale, fin)
+        let sup = if any_sup {
+            Some(Projection::new(&s, n, &centroids, &centroids, scale, fin)?)
+        } else {
+            None
         };
-        let mut t = Vec::new();
-        let mut bridge: Option<(Vec<f64>, Vec<f64>)> = None;
-        for &mach in machs {
-            match regime(mach).map_err(perr)? {
-                Regime::Subsonic => t.extend(sub(mach)?),
-                Regime::Supersonic => t.extend(sup(mach)?),
-                Regime::Transonic { t: w } => {
-                    if bridge.is_none() {
-                        bridge = Some((sub(super::SUBSONIC_LIMIT)?, sup(super::SUPERSONIC_LIMIT)?));
-                    }
-                    let (lo, hi) = bridge.as_ref().expect("set above");
-                    t.extend(lo.iter().zip(hi).map(|(a, b)| (1.0 - w) * a + w * b));
+        projections.push((sub, sup));
+    }
+    let mut fins: Vec<FinTransfer> = (0..f.angles.len())
+        .map(|_| FinTransfer { n, t: Vec::new() })
+        .collect();
+    let bridge = if regimes
+        .iter()
+        .any(|r| matches!(r, Regime::Transonic { .. }))
+    {
+        Some((
+            vlm::force_map(&lattice, super::SUBSONIC_LIMIT).map_err(perr)?,
+            piston::force_map(&lattice, super::SUPERSONIC_LIMIT, settings.correction)
+                .map_err(perr)?,
+        ))
+    } else {
+        None
+    };
+    for (&mach, r) in machs.iter().zip(&regimes) {
+        match r {
+            Regime::Subsonic => {
+                let k = vlm::force_map(&lattice, mach).map_err(perr)?;
+                for (out, (sub, _)) in fins.iter_mut().zip(&projections) {
+                    out.t
+                        .extend(sub.as_ref().expect("built when needed").transfer(&k, n));
+                }
+            }
+            Regime::Supersonic => {
+                let k = piston::force_map(&lattice, mach, settings.correction).map_err(perr)?;
+                for (out, (_, sup)) in fins.iter_mut().zip(&projections) {
+                    out.t
+                        .extend(sup.as_ref().expect("built when needed").transfer(&k, n));
+                }
+            }
+            Regime::Transonic { t: w } => {
+                let (klo, khi) = bridge.as_ref().expect("built when needed");
+                for (out, (sub, sup)) in fins.iter_mut().zip(&projections) {
+                    let lo = sub.as_ref().expect("built when needed").transfer(klo, n);
+                    let hi = sup.as_ref().expect("built when needed").transfer(khi, n);
+                    out.t
+                        .extend(lo.iter().zip(&hi).map(|(a, b)| (1.0 - w) * a + w * b));
                 }
             }
         }
-        fins.push(FinTransfer { n, t });
     }
     Ok(PanelModel {
         settings,
         machs: machs.to_vec(),
         fins,
     })
+}
+
+impl PanelModel {
+    /// Human summary for `flexflight plan`: per grid Mach, fin 0's rigid normal-force slope
+    /// on its own area, centre of pressure and spanwise load centre (from the uniform-incidence
+    /// column), and the diagonal aerodynamic stiffness `T_jj` (`Q/q` per unit `η`, m²) and
+    /// damping `T_j,n+j` (`Q V/q` per unit `η̇`, m²) of the fin's own modes.
+    pub fn summary_text(&self, c: &CompiledVehicle, fin_area: f64) -> String {
+        use std::fmt::Write as _;
+        let mut s = String::new();
+        let st = &self.settings;
+        let _ = writeln!(
+            s,
+            "fin panels: {} x {} {:?} lattice per fin; vortex lattice (Prandtl-Glauert) M <= {}, piston theory ({:?}) M >= {}, linear blend between",
+            st.chordwise,
+            st.spanwise,
+            st.spacing,
+            super::SUBSONIC_LIMIT,
+            st.correction,
+            super::SUPERSONIC_LIMIT
+        );
+        let Some(t) = self.fins.first() else {
+            return s;
+        };
+        let n = t.n;
+        let cols = t.cols();
+        let own: Vec<usize> = (0..n).filter(|&j| c.modes[j].fin == 0).collect();
+        let _ = write!(s, "  fin 0:   Mach  C_Na/rad  x_cp/m  y_cp/m");
+        for &j in &own {
+            let _ = write!(s, "  K[{0}] m^2  C[{0}] m^2", c.modes[j].name);
+        }
+        s.push('\n');
+        for (g, mach) in self.machs.iter().enumerate() {
+            let m = t.at(g);
+            let f = m[n * cols + 2 * n];
+            let _ = write!(
+                s,
+                "         {:6.3}  {:8.4}  {:6.4}  {:6.4}",
+                mach,
+                f / fin_area,
+                m[(n + 2) * cols + 2 * n] / f,
+                m[(n + 1) * cols + 2 * n] / f
+            );
+            for &j in &own {
+                let _ = write!(
+                    s,
+                    "  {:+.3e}  {:+.3e}",
+                    m[j * cols + j],
+                    m[j * cols + n + j]
+                );
+            }
+            s.push('\n');
+        }
+        s
+    }
+}
+
+impl PanelModel {
+    /// Grid interval and weight of `mach` (clamped to the grid ends; the grid ascends).
+    /// None for a non-finite Mach or an empty grid.
+    pub fn bracket(&self, mach: f64) -> Option<(usize, f64)> {
+        let m = &self.machs;
+        if !mach.is_finite() || m.is_empty() {
+            return None;
+        }
+        if m.len() == 1 || mach <= m[0] {
+            return Some((0, 0.0));
+        }
+        let last = m.len() - 1;
+        if mach >= m[last] {
+            return Some((last, 0.0));
+        }
+        let g = m.partition_point(|&x| x <= mach) - 1;
+        Some((g, (mach - m[g]) / (m[g + 1] - m[g])))
+    }
+
+    /// The outputs `y = q T(M) u` of fin `fin` (module doc) for the inputs
+    /// `u = [η; η̇ / V; a_0; a_x; a_y]`, with `T` interpolated linearly in Mach between grid
+    /// points: `y = q ((1 - t) T_g u + t T_g+1 u)`. No allocation (the right-hand side's
+    /// building block); false for an unknown fin, a bad Mach or wrongly sized slices.
+    pub fn apply(&self, fin: usize, mach: f64, q: f64, u: &[f64], y: &mut [f64]) -> bool {
+        let Some(t) = self.fins.get(fin) else {
+            return false;
+        };
+        let (rows, cols) = (t.rows(), t.cols());
+        if u.len() != cols || y.len() != rows {
+            return false;
+        }
+        let Some((g, w)) = self.bracket(mach) else {
+            return false;
+        };
+        let lo = t.at(g);
+        let hi = if w > 0.0 { t.at(g + 1) } else { lo };
+        for (r, out) in y.iter_mut().enumerate() {
+            let (mut a, mut b) = (0.0, 0.0);
+            for c in 0..cols {
+                a += lo[r * cols + c] * u[c];
+                b += hi[r * cols + c] * u[c];
+            }
+            *out = q * ((1.0 - w) * a + w * b);
+        }
+        true
+    }
 }
