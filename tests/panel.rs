@@ -1,3 +1,4 @@
+#![allow(clippy::needless_range_loop)]
 //! The panel models of a compiled vehicle's fins (issue 12): the projection of the lattice
 //! forces on the modes and the rigid normalwash, on the compiled SPHADS-1.
 
@@ -179,4 +180,90 @@ fn apply_interpolates_in_mach() {
     assert!(!model.apply(2, f64::NAN, 2.0, &u, &mut y));
     assert!(!model.apply(7, 0.6, 2.0, &u, &mut y));
     assert!(!model.apply(2, 0.6, 2.0, &u[1..], &mut y));
+}
+
+/// A fin-alone estimate (NOT the vehicle's `analyze linear`): fin 0's own modes of the
+/// 0.6 mm vehicle, their modal mass scaled with thickness t and their modal stiffness with
+/// t³ (a uniform plate: the shapes do not change; the body's share of these modes is
+/// ignored), with the panel model's quasi-steady aerodynamic stiffness and damping at
+/// 200 m/s, 5 km: `M η̈ = (-K + q T_s) η + (q / V) T_d η̇`. Prints the thickness where the
+/// least stable root crosses zero (bisection); asserts only that thin fins are unstable and
+/// thick fins stable there.
+#[test]
+fn fin_alone_quasi_steady_flutter_thickness_at_200_m_s_5_km() {
+    use faer::Mat;
+    let (v, c) = sphads1();
+    let n = c.modes.len();
+    let (rho, a) = (0.736_116, 320.529); // U.S. 1976 at 5 km
+    let speed = 200.0;
+    let mach = speed / a;
+    let q = 0.5 * rho * speed * speed;
+    let model = fin_model::compile(c, v, &[mach], PanelSettings::default()).unwrap();
+    let t = model.fins[0].at(0);
+    let cols = model.fins[0].cols();
+    let own: Vec<usize> = (0..n).filter(|&j| c.modes[j].fin == 0).collect();
+    let m = own.len();
+    let t0 = v.fins.as_ref().unwrap().thickness.value;
+    let max_re = |th: f64| -> f64 {
+        let r = th / t0;
+        let a = Mat::<f64>::from_fn(2 * m, 2 * m, |i, k| {
+            if i < m {
+                return if k == i + m { 1.0 } else { 0.0 };
+            }
+            let (ji, row) = (own[i - m], i - m);
+            let mode = &c.modes[ji];
+            let mass = mode.generalised_mass * r;
+            let w = 2.0 * std::f64::consts::PI * mode.frequency_hz;
+            let stiff = mode.generalised_mass * w * w * r * r * r;
+            if k < m {
+                let jk = own[k];
+                let s = if k == row { -stiff } else { 0.0 };
+                (s + q * t[ji * cols + jk]) / mass
+            } else {
+                let jk = own[k - m];
+                q / speed * t[ji * cols + n + jk] / mass
+            }
+        });
+        let evd = a.eigen().unwrap();
+        let s = evd.S();
+        (0..2 * m)
+            .map(|i| s[i].re)
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    let (mut lo, mut hi) = (0.05e-3, 5e-3);
+    assert!(
+        max_re(lo) > 0.0 && max_re(hi) < 0.0,
+        "{} {}",
+        max_re(lo),
+        max_re(hi)
+    );
+    for _ in 0..40 {
+        let mid = 0.5 * (lo + hi);
+        if max_re(mid) > 0.0 {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    println!(
+        "fin-alone quasi-steady boundary at M {mach:.3}, q {q:.0} Pa: {:.3} mm; least stable root at 0.6 mm {:+.2} 1/s",
+        1e3 * hi,
+        max_re(0.6e-3)
+    );
+}
+
+#[test]
+fn bad_mach_grids_and_finless_vehicles_are_errors() {
+    let (v, c) = sphads1();
+    let s = PanelSettings::default();
+    assert!(fin_model::compile(c, v, &[0.5, f64::NAN], s).is_err());
+    assert!(fin_model::compile(c, v, &[-0.1], s).is_err());
+    let mut finless = v.clone();
+    finless.fins = None;
+    assert_eq!(
+        fin_model::compile(c, &finless, &[0.5], s),
+        Err(fin_model::FinPanelError::NoFins)
+    );
+    let bad = PanelSettings { chordwise: 0, ..s };
+    assert!(fin_model::compile(c, v, &[0.5], bad).is_err());
 }

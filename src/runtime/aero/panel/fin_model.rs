@@ -308,60 +308,40 @@ pub fn compile(
         .map(|&m| regime(m))
         .collect::<Result<_, _>>()
         .map_err(perr)?;
-    let any_sub = regimes.iter().any(|r| !matches!(r, Regime::Supersonic));
-    let any_sup = regimes.iter().any(|r| !matches!(r, Regime::Subsonic));
+    // Both regimes' projections and the two bridge maps are always built (cheap next to the
+    // per-Mach maps), so no branch below can miss one.
     let mut projections = Vec::with_capacity(f.angles.len());
     for fin in 0..f.angles.len() {
         let s = fin_structure(c, v, fin)?;
         let scale = pf.root_chord;
-        let sub = if any_sub {
-            Some(Projection::new(&s, n, &controls, &bounds, scale, fin)?)
-        } else {
-            None
-        };
-        let sup = if any_sup {
-            Some(Projection::new(&s, n, &centroids, &centroids, scale, fin)?)
-        } else {
-            None
-        };
+        let sub = Projection::new(&s, n, &controls, &bounds, scale, fin)?;
+        let sup = Projection::new(&s, n, &centroids, &centroids, scale, fin)?;
         projections.push((sub, sup));
     }
     let mut fins: Vec<FinTransfer> = (0..f.angles.len())
         .map(|_| FinTransfer { n, t: Vec::new() })
         .collect();
-    let bridge = if regimes
-        .iter()
-        .any(|r| matches!(r, Regime::Transonic { .. }))
-    {
-        Some((
-            vlm::force_map(&lattice, super::SUBSONIC_LIMIT).map_err(perr)?,
-            piston::force_map(&lattice, super::SUPERSONIC_LIMIT, settings.correction)
-                .map_err(perr)?,
-        ))
-    } else {
-        None
-    };
+    let klo = vlm::force_map(&lattice, super::SUBSONIC_LIMIT).map_err(perr)?;
+    let khi =
+        piston::force_map(&lattice, super::SUPERSONIC_LIMIT, settings.correction).map_err(perr)?;
     for (&mach, r) in machs.iter().zip(&regimes) {
         match r {
             Regime::Subsonic => {
                 let k = vlm::force_map(&lattice, mach).map_err(perr)?;
                 for (out, (sub, _)) in fins.iter_mut().zip(&projections) {
-                    out.t
-                        .extend(sub.as_ref().expect("built when needed").transfer(&k, n));
+                    out.t.extend(sub.transfer(&k, n));
                 }
             }
             Regime::Supersonic => {
                 let k = piston::force_map(&lattice, mach, settings.correction).map_err(perr)?;
                 for (out, (_, sup)) in fins.iter_mut().zip(&projections) {
-                    out.t
-                        .extend(sup.as_ref().expect("built when needed").transfer(&k, n));
+                    out.t.extend(sup.transfer(&k, n));
                 }
             }
             Regime::Transonic { t: w } => {
-                let (klo, khi) = bridge.as_ref().expect("built when needed");
                 for (out, (sub, sup)) in fins.iter_mut().zip(&projections) {
-                    let lo = sub.as_ref().expect("built when needed").transfer(klo, n);
-                    let hi = sup.as_ref().expect("built when needed").transfer(khi, n);
+                    let lo = sub.transfer(&klo, n);
+                    let hi = sup.transfer(&khi, n);
                     out.t
                         .extend(lo.iter().zip(&hi).map(|(a, b)| (1.0 - w) * a + w * b));
                 }
