@@ -98,15 +98,41 @@ pub fn cmd_plan(
     cache_dir: Option<&Path>,
     term: Terminal,
 ) -> u8 {
-    let (p, _) = match prepare(file, scenario, common, cache_dir, term) {
+    let (p, compiled, sc, _) = match prepare_with_scenario(file, scenario, common, cache_dir, term)
+    {
         Ok(x) => x,
         Err(code) => return code,
     };
     match common.output.format {
-        Format::Human => print!("{}", plan::summary_text(&p)),
+        Format::Human => {
+            print!("{}", plan::summary_text(&p));
+            print!("{}", fin_panels_text(&sc, &compiled.compiled));
+        }
         Format::Json => println!("{}", serde_json::to_string_pretty(&p).unwrap_or_default()),
     }
     EXIT_OK
+}
+
+/// The fin panel matrices (issue 12) on the fin table's Mach grid, for `plan`; a line saying
+/// why when they cannot be built (they are not used by the run yet).
+fn fin_panels_text(sc: &Scenario, c: &crate::structure::compile::CompiledVehicle) -> String {
+    use crate::runtime::aero::panel::fin_model::{self, PanelSettings};
+    use crate::runtime::aero::tables::Axis;
+    let v = &sc.vehicle;
+    let Some(f) = v.fins.as_ref() else {
+        return String::new();
+    };
+    let machs = match crate::runtime::forces::body_aero::aero_tables(v) {
+        Ok(t) => t.fin.axis(Axis::Mach).to_vec(),
+        Err(e) => return format!("fin panels: not built ({e})\n"),
+    };
+    match fin_model::compile(c, v, &machs, PanelSettings::default()) {
+        Ok(m) => {
+            let area = 0.5 * (f.root_chord.value + f.tip_chord.value) * f.span.value;
+            m.summary_text(c, area)
+        }
+        Err(e) => format!("fin panels: not built ({e})\n"),
+    }
 }
 
 /// `flexflight run`: check, compile, plan, integrate, then write `history.csv` and

@@ -16,6 +16,7 @@
 pub mod estimator;
 pub mod fin_loads;
 pub mod leeward;
+pub mod panel;
 pub mod tables;
 
 pub use estimator::{BodyShape, EstimatedTables, FinPlanform, NoseShape};

@@ -452,7 +452,7 @@ impl FinAero {
 
 /// Translation rows (3 x n, row-major) of a point `p` rigidly attached to the body node
 /// nearest to it: `S_u,m - o^× S_θ,m` with `o = p - r_m`.
-fn rigid_rows(c: &CompiledVehicle, p: &[f64; 3]) -> Option<(Vec<f64>, Vec<f64>)> {
+pub(crate) fn rigid_rows(c: &CompiledVehicle, p: &[f64; 3]) -> Option<(Vec<f64>, Vec<f64>)> {
     let n = c.modes.len();
     let m = (0..c.node_positions.len())
         .filter(|&k| c.node_components[k] < 0)
