@@ -10,6 +10,7 @@ pub mod ir;
 pub mod overrides;
 mod scenario;
 mod sweep;
+mod motor;
 mod vehicle;
 
 use std::collections::HashMap;
