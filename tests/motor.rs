@@ -141,7 +141,10 @@ fn run(file: &Path, out: &Path, sets: &[&str]) -> std::process::Output {
 /// an axial thrust on the axis, so `V_B,x` is the rocket's speed.
 #[test]
 fn vertical_burn_follows_tsiolkovsky_to_1e_9() {
-    for (gravity, g) in [("", 0.0), ("gravity { altitude_correction = false }", 9.806)] {
+    for (gravity, g) in [
+        ("", 0.0),
+        ("gravity { altitude_correction = false }", 9.806),
+    ] {
         let dir = tempfile::tempdir().unwrap();
         let file = vehicle_files(dir.path(), gravity, "");
         let out = dir.path().join("out");
@@ -161,21 +164,39 @@ fn vertical_burn_follows_tsiolkovsky_to_1e_9() {
         }
         assert_eq!(*t.last().unwrap(), 3.0);
         // Burnout: the vehicle has lost exactly its 3 kg of propellant.
-        assert!((m[m.len() - 1] - (m0 - 3.0)).abs() < 1e-12, "{}", m[m.len() - 1]);
+        assert!(
+            (m[m.len() - 1] - (m0 - 3.0)).abs() < 1e-12,
+            "{}",
+            m[m.len() - 1]
+        );
         eprintln!("gravity {g}: worst relative speed error {worst_v:.3e}, mass {worst_m:.3e}");
-        assert!(worst_v < 1e-9, "speed error {worst_v:e}");
+        // The issue asks for 1e-9; 5e-14 is achieved (rtol 1e-12).
+        assert!(worst_v < 1e-12, "speed error {worst_v:e}");
         assert!(worst_m < 1e-14, "mass error {worst_m:e}");
         // The mass centre moves forward as the aft grain burns.
         let cm = h.col("cm_body_x");
-        assert!(cm[cm.len() - 1] > cm[0] + 0.05, "{} -> {}", cm[0], cm[cm.len() - 1]);
+        assert!(
+            cm[cm.len() - 1] > cm[0] + 0.05,
+            "{} -> {}",
+            cm[0],
+            cm[cm.len() - 1]
+        );
     }
 }
 
-fn compile_and_plan(file: &Path) -> (flexflight::structure::compile::CompiledVehicle, flexflight::plan::Plan) {
-    let checked = flexflight::check::check_files(&[file.into()], &[], &flexflight::check::DiskLoader);
+fn compile_and_plan(
+    file: &Path,
+) -> (
+    flexflight::structure::compile::CompiledVehicle,
+    flexflight::plan::Plan,
+) {
+    let checked =
+        flexflight::check::check_files(&[file.into()], &[], &flexflight::check::DiskLoader);
     assert!(!checked.has_errors(), "{:?}", checked.diagnostics);
     let scenario = checked.program.scenario("climb").unwrap().clone();
-    let compiled = flexflight::structure::compile::compile(&scenario.vehicle).unwrap().0;
+    let compiled = flexflight::structure::compile::compile(&scenario.vehicle)
+        .unwrap()
+        .0;
     let plan = flexflight::plan::build(&scenario, &compiled).unwrap();
     (compiled, plan)
 }
@@ -236,8 +257,14 @@ fn burning_vehicle_balances_momentum_with_the_exhaust() {
     let p = flexflight::runtime::run::build_propulsion(&plan, model)
         .unwrap()
         .unwrap();
-    let eom = Eom::new(model, FreeFlight).unwrap().with_propulsion(p.clone()).unwrap();
-    let mut probe = Eom::new(model, FreeFlight).unwrap().with_propulsion(p).unwrap();
+    let eom = Eom::new(model, FreeFlight)
+        .unwrap()
+        .with_propulsion(p.clone())
+        .unwrap();
+    let mut probe = Eom::new(model, FreeFlight)
+        .unwrap()
+        .with_propulsion(p)
+        .unwrap();
     let mut sys = WithFluxes { eom };
     let mut x = plan.initial_state.clone();
     x[10..13].copy_from_slice(&[0.5, 1.0, -0.7]);
@@ -271,11 +298,15 @@ fn burning_vehicle_balances_momentum_with_the_exhaust() {
         true
     };
     let r = dp.integrate(&mut sys, 0.0, &mut x, 3.0, &mut observer);
-    assert_eq!(r.stop, flexflight::runtime::integrate::StopReason::Completed);
+    assert_eq!(
+        r.stop,
+        flexflight::runtime::integrate::StopReason::Completed
+    );
     // Scales: the thrust's impulse (6000 N s) and its moment arm (~2 m).
     let (lin, rot) = (worst.0 / 6000.0, worst.1 / 12000.0);
     eprintln!("momentum balance: linear {lin:.3e}, angular {rot:.3e} (relative)");
-    assert!(lin < 1e-9 && rot < 1e-9, "{lin:e} {rot:e}");
+    // Achieved: 1.2e-13 and 6.4e-11 (rtol 1e-11).
+    assert!(lin < 1e-12 && rot < 5e-10, "{lin:e} {rot:e}");
     // The flight did rotate and vibrate: the balance is not the trivial one.
     let s = StateViewCheck::of(&x, plan.n_modes);
     assert!(s.eta_max > 1e-8, "modes not excited: {}", s.eta_max);
@@ -304,7 +335,11 @@ fn burning_flight_energy_balance_closes() {
         "",
     );
     let out = dir.path().join("out");
-    let o = run(&file, &out, &["initial.angular_velocity=(0.5, 1, -0.7) rad/s"]);
+    let o = run(
+        &file,
+        &out,
+        &["initial.angular_velocity=(0.5, 1, -0.7) rad/s"],
+    );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
@@ -315,7 +350,8 @@ fn burning_flight_energy_balance_closes() {
     let diss = b["dissipated_j"].as_f64().unwrap();
     eprintln!("energy balance: {b}");
     assert!(wp > 1e5 && wl < 0.0 && diss > 0.0, "{b}");
-    assert!(rel < 1e-9, "relative residual {rel:e}");
+    // Achieved: 2.5e-12 (rtol 1e-12).
+    assert!(rel < 2e-11, "relative residual {rel:e}");
     assert_eq!(s["mass"]["motor"]["propellant_kg"].as_f64(), Some(3.0));
 }
 
@@ -326,7 +362,10 @@ fn check(file: &Path) -> (bool, String) {
         .args(["--format", "json"])
         .output()
         .unwrap();
-    (o.status.success(), String::from_utf8_lossy(&o.stdout).to_string())
+    (
+        o.status.success(),
+        String::from_utf8_lossy(&o.stdout).to_string(),
+    )
 }
 
 /// A corrupt `.eng` line is a diagnostic on that line of the curve file at `check` (not
@@ -352,9 +391,12 @@ fn bad_motors_are_diagnostics_at_check() {
     std::fs::write(&file, text).unwrap();
     let (ok, out) = check(&file);
     assert!(!ok);
-    let v: serde_json::Value =
-        serde_json::from_str(&out).unwrap_or_else(|_| panic!("{out}"));
-    let d = if v.is_array() { &v[0] } else { &v["diagnostics"][0] };
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap_or_else(|_| panic!("{out}"));
+    let d = if v.is_array() {
+        &v[0]
+    } else {
+        &v["diagnostics"][0]
+    };
     assert_eq!(d["code"], "vdl::motor::curve", "{out}");
     let labels = d["labels"].as_array().unwrap();
     assert!(
@@ -367,9 +409,21 @@ fn bad_motors_are_diagnostics_at_check() {
     // Propellant heavier than the loaded motor; a motor wider than the bore; a thrust
     // curve next to the motor's.
     for (from, to, code) in [
-        ("total_mass = 4.5 kg", "total_mass = 2.5 kg", "vdl::motor::mass"),
-        ("diameter = 75 mm", "diameter = 98 mm", "vdl::motor::geometry"),
-        ("position = (-2, 0, 0) m", "position = (-2.3, 0, 0) m", "vdl::motor::geometry"),
+        (
+            "total_mass = 4.5 kg",
+            "total_mass = 2.5 kg",
+            "vdl::motor::mass",
+        ),
+        (
+            "diameter = 75 mm",
+            "diameter = 98 mm",
+            "vdl::motor::geometry",
+        ),
+        (
+            "position = (-2, 0, 0) m",
+            "position = (-2.3, 0, 0) m",
+            "vdl::motor::geometry",
+        ),
     ] {
         let file = vehicle_files(dir.path(), "", "");
         let text = std::fs::read_to_string(&file).unwrap().replace(from, to);
@@ -401,18 +455,28 @@ fn compiled_motor_adds_its_cylinders_mass_properties() {
     let (m_p, m_c, l, d, x_c) = (3.0, 1.5, 0.6, 0.075, -1.7);
     let (ra, rb, p) = (&a.reduced, &b.reduced, a.propellant.as_ref().unwrap());
     let rel = |x: f64, y: f64| ((x - y) / y).abs();
-    assert!(rel(ra.mass - rb.mass, m_p + m_c) < 1e-12, "{}", ra.mass - rb.mass);
+    assert!(
+        rel(ra.mass - rb.mass, m_p + m_c) < 1e-12,
+        "{}",
+        ra.mass - rb.mass
+    );
     assert!(rel(p.mass, m_p) < 1e-13);
     assert!(rel(ra.first_moment[0] - rb.first_moment[0], (m_p + m_c) * x_c) < 1e-12);
     assert!(rel(p.first_moment[0], m_p * x_c) < 1e-13);
     // J about the nose: axial m D²/8 (grain) + m D²/4 (casing); transverse
     // m (D²/16 + L²/12) + m x_c² (grain), m (D²/8 + L²/12) + m x_c² (casing).
     let jxx = m_p * d * d / 8.0 + m_c * d * d / 4.0;
-    let jyy = m_p * (d * d / 16.0 + l * l / 12.0) + m_c * (d * d / 8.0 + l * l / 12.0)
+    let jyy = m_p * (d * d / 16.0 + l * l / 12.0)
+        + m_c * (d * d / 8.0 + l * l / 12.0)
         + (m_p + m_c) * x_c * x_c;
     let djxx = ra.inertia[0][0] - rb.inertia[0][0];
     let djyy = ra.inertia[1][1] - rb.inertia[1][1];
     eprintln!("ΔJxx {djxx} vs {jxx}, ΔJyy {djyy} vs {jyy}");
     assert!(rel(djxx, jxx) < 1e-10 && rel(djyy, jyy) < 1e-10);
-    assert!(rel(p.inertia[2][2], m_p * (d * d / 16.0 + l * l / 12.0 + x_c * x_c)) < 1e-12);
+    assert!(
+        rel(
+            p.inertia[2][2],
+            m_p * (d * d / 16.0 + l * l / 12.0 + x_c * x_c)
+        ) < 1e-12
+    );
 }

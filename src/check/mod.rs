@@ -7,10 +7,10 @@
 
 pub mod fields;
 pub mod ir;
+mod motor;
 pub mod overrides;
 mod scenario;
 mod sweep;
-mod motor;
 mod vehicle;
 
 use std::collections::HashMap;

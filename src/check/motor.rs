@@ -45,9 +45,10 @@ pub(crate) fn read_curve(cx: &mut Cx, path: &Path, named_at: Span) -> Option<Thr
                 if let Some((start, end)) = line_range(&text, line) {
                     let id = match cx.sources.find(path) {
                         Some(id) => id,
-                        None => cx
-                            .sources
-                            .add(path.to_path_buf(), path.display().to_string(), text),
+                        None => {
+                            cx.sources
+                                .add(path.to_path_buf(), path.display().to_string(), text)
+                        }
                     };
                     d = d.label(Span::new(id, start, end), "here");
                 }

@@ -116,12 +116,12 @@
 // Index loops follow the block formulas above.
 #![allow(clippy::needless_range_loop)]
 
+use super::forces::ThrustBlock;
 use super::integrate::{OdeSystem, RhsError};
 use super::kinematics::{
     Mat3, c_bi_normalized, cross, euler_parameter_rates, mat_t_vec, mat_vec,
     normalize_euler_parameters,
 };
-use super::forces::ThrustBlock;
 use super::motor::{BurnSchedule, combine_into, dry_model};
 use crate::structure::coefficients::ReducedModel;
 
@@ -885,7 +885,12 @@ fn cholesky_solve(a: &mut [f64], d: usize, b: &mut [f64]) -> Result<(), RhsError
 
 impl<F: ForceModel> OdeSystem for Eom<'_, F> {
     fn dim(&self) -> usize {
-        self.layout.len() + if self.track_energy { EnergyLayout::LEN } else { 0 }
+        self.layout.len()
+            + if self.track_energy {
+                EnergyLayout::LEN
+            } else {
+                0
+            }
     }
 
     fn error_dim(&self) -> usize {

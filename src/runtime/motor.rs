@@ -172,8 +172,8 @@ mod tests {
 
     #[test]
     fn impulse_is_the_exact_integral_of_the_piecewise_linear_curve() {
-        let curve = ThrustCurve::from_points("t", &[(0.5, 100.0), (1.5, 300.0), (2.0, 0.0)])
-            .unwrap();
+        let curve =
+            ThrustCurve::from_points("t", &[(0.5, 100.0), (1.5, 300.0), (2.0, 0.0)]).unwrap();
         // Points (0,0), (0.5,100), (1.5,300), (2,0): I_tot = 25 + 200 + 75 = 300.
         let s = BurnSchedule::new(curve, 2.0);
         assert_eq!(s.total_impulse(), 300.0);

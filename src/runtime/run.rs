@@ -19,14 +19,14 @@
 use std::time::Instant;
 
 use super::atmosphere::{Atmosphere, Standard1976};
-use super::eom::{Eom, EnergyLayout, EomError, FreeFlight, Propulsion, StateView};
-use super::integrate::OdeSystem;
-use super::motor::BurnSchedule;
+use super::eom::{EnergyLayout, Eom, EomError, FreeFlight, Propulsion, StateView};
 use super::forces::{
     AeroFault, BodyAero, FinAero, ForceBlock, ForceBlocks, GravityBlock, ThrustBlock,
 };
+use super::integrate::OdeSystem;
 use super::integrate::{AdaptiveOptions, DormandPrince54, Integrator, Rk4, StepStats, StopReason};
 use super::kinematics::{euler_angles, mat_vec, normalize_euler_parameters};
+use super::motor::BurnSchedule;
 use crate::check::ir;
 use crate::plan::{ForcePlan, Plan};
 use crate::structure::coefficients::ReducedModel;

@@ -439,11 +439,17 @@ pub fn compile_model(
                 stiffness: model.stiffness.clone(),
                 elements: Vec::new(),
             };
-            let mut p = reduce(&prop_model, origin, shapes.as_ref(), &selection.omega2, &vec![0.0; n])
-                .map_err(|error| StructureError::Coefficients {
-                    error,
-                    span: structure_span(v),
-                })?;
+            let mut p = reduce(
+                &prop_model,
+                origin,
+                shapes.as_ref(),
+                &selection.omega2,
+                &vec![0.0; n],
+            )
+            .map_err(|error| StructureError::Coefficients {
+                error,
+                span: structure_span(v),
+            })?;
             p.modal_stiffness.fill(0.0);
             p.modal_damping.fill(0.0);
             Some(p)

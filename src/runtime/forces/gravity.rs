@@ -87,7 +87,12 @@ impl GravityBlock {
         altitude_correction: bool,
     ) -> Self {
         let mut b = Self::new(full, altitude_correction);
-        let dry_p: Vec<f64> = full.p_bar.iter().zip(&prop.p_bar).map(|(a, b)| a - b).collect();
+        let dry_p: Vec<f64> = full
+            .p_bar
+            .iter()
+            .zip(&prop.p_bar)
+            .map(|(a, b)| a - b)
+            .collect();
         let dry_c = [0, 1, 2].map(|i| full.first_moment[i] - prop.first_moment[i]);
         b.burn = Some(Box::new(GravityBurn {
             schedule,
