@@ -1240,7 +1240,7 @@ fn check_forces(cx: &mut Cx, b: &Block) -> Option<Forces> {
         let rate = fl
             .value("rate_terms")
             .and_then(|v| f::boolean(cx, v))
-            .unwrap_or(true);
+            .unwrap_or(false);
         fl.finish(cx);
         if on {
             forces.body_aero = Some(BodyAero {

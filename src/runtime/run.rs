@@ -169,7 +169,6 @@ pub fn build_aero_blocks(
                 tables.body.clone(),
                 Standard1976::new(),
                 plan.planned_stimuli.clone(),
-                crate::runtime::forces::RateDerivatives::default(),
             )
             .map_err(RunError::Aero)?,
         )
