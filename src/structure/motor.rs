@@ -68,14 +68,16 @@ fn cylinder_blocks(
         .map(|k| {
             let xs = x_aft + (k as f64 + 0.5) * dl;
             let c = Vector3::new(xs, 0.0, 0.0);
-            let node = *body
+            // `body` is non-empty (checked by the caller).
+            let node = body
                 .iter()
-                .min_by(|&&a, &&b| {
+                .copied()
+                .min_by(|&a, &b| {
                     let da = (Vector3::from(model.nodes[a].position) - c).norm_squared();
                     let db = (Vector3::from(model.nodes[b].position) - c).norm_squared();
                     da.total_cmp(&db)
                 })
-                .expect("non-empty body node list");
+                .unwrap_or_default();
             let d = c - Vector3::from(model.nodes[node].position);
             (node, offset_block(dm, &d, inertia(dm, dl)))
         })
