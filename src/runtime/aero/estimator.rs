@@ -138,15 +138,24 @@ impl FinPlanform {
         2.0 * self.span * self.span / self.area()
     }
 
-    /// tan of the semi-apex angle omega of the generating triangle (App. A.2.6):
-    /// s / (c_r - c_t) (infinite for a rectangle).
+    /// tan of the semi-apex angle omega of the generating triangle of the leading edge
+    /// (App. A.2.6): omega is the angle between the root chord and the leading edge,
+    /// tan omega = s / x_t = cot Lambda_LE (infinite for an unswept or forward-swept leading
+    /// edge). With an unswept trailing edge x_t = c_r - c_t, the thesis' s / (c_r - c_t).
     pub fn tan_semi_apex(&self) -> f64 {
-        let d = self.root_chord - self.tip_chord;
+        let d = self.tip_le_offset;
         if d <= 0.0 {
             f64::INFINITY
         } else {
             self.span / d
         }
+    }
+
+    /// Chordwise distance from the root trailing edge back to the tip trailing edge, m:
+    /// s tan Lambda_TE = x_t - (c_r - c_t) (0 for an unswept trailing edge, negative for a
+    /// trailing edge swept forward).
+    pub fn te_offset(&self) -> f64 {
+        self.tip_le_offset - (self.root_chord - self.tip_chord)
     }
 
     /// Mid-chord sweep angle Lambda_c, rad.

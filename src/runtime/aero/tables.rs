@@ -568,6 +568,11 @@ impl CoefficientTable {
         &self.axes[axis as usize]
     }
 
+    /// Where the table came from: its file, or the estimator's label.
+    pub fn source(&self) -> &Path {
+        &self.source
+    }
+
     /// The out-of-range policy.
     pub fn policy(&self) -> OutOfRange {
         self.policy

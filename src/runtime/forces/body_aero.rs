@@ -111,6 +111,8 @@ pub enum AeroForceError {
         "the compiled vehicle has {key_nodes} fin key nodes, the `fins` block has {declared} fins"
     )]
     FinCount { key_nodes: usize, declared: usize },
+    #[error("cached aerodynamics: {0}")]
+    Cached(String),
     #[error("fin {fin} has no nodes in the compiled model")]
     EmptyFin { fin: usize },
     #[error(
@@ -197,6 +199,8 @@ pub fn planform(f: &ir::Fins, body_radius: f64) -> FinPlanform {
 /// The six shape rows of one node (translations then rotations), copied at construction.
 #[derive(Clone, Debug)]
 pub(crate) struct NodeRows {
+    /// Index of the node in the compiled model.
+    pub index: usize,
     /// Undeformed body-frame position.
     pub position: [f64; 3],
     /// Row-major 6 x n.
@@ -228,10 +232,16 @@ impl NodeRows {
             });
         }
         Ok(NodeRows {
+            index: node,
             position: c.node_positions[node],
             rows: c.shapes[6 * node * n..6 * (node + 1) * n].to_vec(),
             n,
         })
+    }
+
+    /// The six rows (u, v, w, θx, θy, θz), row-major 6 x n.
+    pub(crate) fn rows(&self) -> &[f64] {
+        &self.rows
     }
 
     /// `(S_u q, S_θ q)` for modal coordinates (or rates) `q`.
@@ -395,6 +405,31 @@ impl BodyAero {
     /// What the last evaluation computed.
     pub fn last(&self) -> BodyAeroSample {
         self.last
+    }
+
+    /// Index of the body key node in the compiled model.
+    pub fn key_node(&self) -> usize {
+        self.key.index
+    }
+
+    /// Undeformed position of the body key node, m.
+    pub fn key_node_position(&self) -> [f64; 3] {
+        self.key.position
+    }
+
+    /// The shape rows at the body key node (u, v, w, θx, θy, θz; 6 x n, row-major).
+    pub fn key_node_rows(&self) -> &[f64] {
+        self.key.rows()
+    }
+
+    /// `r_ref - r_bn` (undeformed), m.
+    pub fn lever(&self) -> [f64; 3] {
+        self.lever
+    }
+
+    /// The body coefficient table.
+    pub fn table(&self) -> &CoefficientTable {
+        &self.table
     }
 }
 
