@@ -65,6 +65,30 @@ pub struct Vehicle {
     pub fins: Option<Fins>,
     pub aero: Aero,
     pub forces: Forces,
+    /// The motor (propellant burning during the flight), if any.
+    pub motor: Option<Motor>,
+}
+
+/// A solid motor inside the vehicle: its casing and propellant masses enter the structure
+/// (the propellant as a separate mass whose fraction burns during the run), its curve gives
+/// the thrust at its aft end.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Motor {
+    pub name: Spanned<String>,
+    /// Span of the `motor` block header.
+    pub header: Span,
+    /// Thrust curve: RASP `.eng` or CSV (t, N), read and checked at `check`.
+    pub curve: Spanned<PathBuf>,
+    /// Aft end of the motor (nozzle exit) on the body axis, body frame, m.
+    pub position: V3,
+    /// Motor length (forward from `position`), m.
+    pub length: Q,
+    /// Outer diameter of the motor (casing and grain), m.
+    pub diameter: Q,
+    /// Propellant mass at ignition, kg (the RASP header's unless given).
+    pub propellant_mass: Q,
+    /// Loaded motor mass (casing + propellant), kg (the RASP header's unless given).
+    pub total_mass: Q,
 }
 
 /// Where the FE model comes from.

@@ -8,6 +8,7 @@
 pub mod cli_values;
 pub mod fields;
 pub mod ir;
+mod motor;
 pub mod overrides;
 mod scenario;
 mod sweep;

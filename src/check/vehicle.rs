@@ -122,6 +122,7 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
     let modes_block = fl.required_block(cx, "modes");
     let aero_block = fl.required_block(cx, "aero");
     let forces_block = fl.required_block(cx, "forces");
+    let motor_blocks = fl.blocks("motor");
     fl.finish(cx);
 
     let structure = structure_block.and_then(|sb| check_structure(cx, sb));
@@ -143,7 +144,51 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
     };
     let aero = aero_block.and_then(|ab| check_aero(cx, ab, diameter));
     let forces = forces_block.and_then(|fb| check_forces(cx, fb));
-    if let (Some(k), Some(fo)) = (&key_nodes, &forces) {
+    if let [_, second, ..] = motor_blocks.as_slice() {
+        cx.push(
+            Diagnostic::error(
+                "vdl::duplicate",
+                "a vehicle has one motor (clusters and stages are not modelled)",
+            )
+            .label(second.header, "second motor")
+            .label(motor_blocks[0].header, "first motor"),
+        );
+        return None;
+    }
+    let motor = match motor_blocks.first() {
+        Some(mb) => Some(super::motor::check_motor(cx, mb, structure.as_ref())?),
+        None => None,
+    };
+    if let (Some(m), Some(t)) = (&motor, forces.as_ref().and_then(|f| f.thrust.as_ref())) {
+        if t.curve.value.as_os_str() != "" {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::motor::thrust_curve",
+                    format!(
+                        "the thrust comes from motor `{}`: the `thrust` block takes only `offset` and `misalignment`",
+                        m.name.value
+                    ),
+                )
+                .label(t.curve.span, "remove this curve")
+                .label(m.curve.span, "the motor's curve"),
+            );
+            return None;
+        }
+    }
+    if let (None, Some(t)) = (&motor, forces.as_ref().and_then(|f| f.thrust.as_ref())) {
+        if t.curve.value.as_os_str() == "" {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::field::missing",
+                    "the `thrust` block needs a `curve`, or the vehicle a `motor`",
+                )
+                .label(t.span, "thrust enabled here")
+                .with_help("add `curve = \"motors/motor.eng\"`, or a `motor NAME { ... }` block"),
+            );
+            return None;
+        }
+    }
+    if let (Some(k), Some(fo), None) = (&key_nodes, &forces, &motor) {
         if let (Some(t), None) = (&fo.thrust, &k.nozzle) {
             cx.push(
                 Diagnostic::error(
@@ -207,6 +252,7 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
         fins,
         aero: aero?,
         forces: forces?,
+        motor,
     })
 }
 
@@ -455,7 +501,7 @@ fn station_in_body(cx: &mut Cx, x: f64, span: Span, length: f64) {
     }
 }
 
-fn block_name(cx: &mut Cx, b: &Block) -> Option<Spanned<String>> {
+pub(crate) fn block_name(cx: &mut Cx, b: &Block) -> Option<Spanned<String>> {
     match &b.name {
         Some(n) => Some(Spanned::new(n.name.clone(), n.span)),
         None => {
@@ -1181,13 +1227,16 @@ fn check_forces(cx: &mut Cx, b: &Block) -> Option<Forces> {
     if let Some(t) = t {
         let mut fl = Fields::new(cx, "the `thrust` block", t.header, &t.body);
         let on = enabled(cx, &mut fl);
-        let curve = fl
-            .required(cx, "curve", "\"motors/motor.eng\"")
-            .and_then(|v| {
-                let s = f::string(cx, v)?;
-                cx.resolve_file(&s, v.span, "thrust curve")
-                    .map(|p| Spanned::new(p, v.span))
-            });
+        // Without `curve` the vehicle's motor gives the thrust (checked with the vehicle);
+        // the path is then empty. A curve given here is read and checked now.
+        let curve = match fl.value("curve") {
+            Some(v) => f::string(cx, v).and_then(|s| {
+                let p = cx.resolve_file(&s, v.span, "thrust curve")?;
+                super::motor::read_curve(cx, &p, v.span)?;
+                Some(Spanned::new(p, v.span))
+            }),
+            None => Some(Spanned::new(std::path::PathBuf::new(), t.header)),
+        };
         let offset = match fl.value("offset") {
             Some(v) => f::vector3(cx, v, Dim::LENGTH),
             None => Some(Spanned::new([0.0; 3], t.header)),

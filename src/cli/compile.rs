@@ -58,6 +58,7 @@ pub fn cache_key(v: &Vehicle) -> std::io::Result<CacheKey> {
     b.text("origin", &canon(json(&v.origin)));
     b.text("key_nodes", &canon(json(&v.key_nodes)));
     b.text("modes", &canon(json(&v.modes)));
+    b.text("motor", &canon(json(&v.motor)));
     for f in referenced_files(v) {
         b.file("fe-file", f)?;
     }

@@ -28,6 +28,9 @@ const SUMMARY_CHANNELS: &[&str] = &[
     "omega_body_z",
     "max_deformation",
     "energy_total",
+    "mass",
+    "cm_body_x",
+    "energy_balance_residual",
 ];
 
 /// Check, compile through the cache and plan; on failure the diagnostics are printed and
@@ -294,23 +297,8 @@ pub fn summary_json(p: &Plan, c: &CompileOutcome, o: &RunOutput) -> serde_json::
             serde_json::json!({ "min": lo.0, "t_min": lo.1, "max": hi.0, "t_max": hi.1 }),
         );
     }
-    let energy_drift = o
-        .channels
-        .iter()
-        .position(|c| c == "energy_total")
-        .and_then(|col| {
-            let first = o.rows.first()?[col];
-            let worst = o
-                .rows
-                .iter()
-                .map(|r| (r[col] - first).abs())
-                .fold(0.0, f64::max);
-            Some(if first != 0.0 {
-                worst / first.abs()
-            } else {
-                worst
-            })
-        });
+    let energy_balance = energy_balance_json(o);
+    let mass = mass_json(p, o);
     serde_json::json!({
         "scenario": p.scenario,
         "vehicle": p.vehicle,
@@ -327,7 +315,8 @@ pub fn summary_json(p: &Plan, c: &CompileOutcome, o: &RunOutput) -> serde_json::
         "rhs_evaluations": o.stats.rhs_evaluations,
         "rows": o.rows.len(),
         "output_interval": p.output_interval,
-        "energy_total_max_relative_drift": energy_drift,
+        "energy_balance": energy_balance,
+        "mass": mass,
         "extrema": extrema,
         "identification": crate::analysis::gust_response::identify_after_stimuli(
             &p.stimuli,
@@ -335,6 +324,75 @@ pub fn summary_json(p: &Plan, c: &CompileOutcome, o: &RunOutput) -> serde_json::
             crate::analysis::gust_response::DEFAULT_CHANNELS,
             &crate::analysis::identify::IdentifyOptions::default(),
         ),
+    })
+}
+
+/// The energy balance of a run (replaces the old `energy_total_max_relative_drift`, which
+/// meant nothing with thrust on): `Δ(T + ½ηᵀK̄η) - W_loads - W_propulsive + D`, the works
+/// integrated with the state (`runtime::eom::Eom::track_energy`). Its residual is zero for
+/// exact integration whatever the loads (gravity, aerodynamics, thrust, mass flow); without
+/// loads and damping it is the drift of the conserved energy.
+fn energy_balance_json(o: &RunOutput) -> serde_json::Value {
+    let col = |name: &str| o.channels.iter().position(|c| c == name);
+    let (Some(ke), Some(se), Some(wl), Some(wp), Some(di), Some(res)) = (
+        col("energy_kinetic"),
+        col("energy_strain"),
+        col("work_loads"),
+        col("work_propulsive"),
+        col("energy_dissipated"),
+        col("energy_balance_residual"),
+    ) else {
+        return serde_json::Value::Null;
+    };
+    let (Some(first), Some(last)) = (o.rows.first(), o.rows.last()) else {
+        return serde_json::Value::Null;
+    };
+    let e = |r: &Vec<f64>| r[ke] + r[se];
+    let max_abs_residual = o.rows.iter().map(|r| r[res].abs()).fold(0.0, f64::max);
+    // Scale: the largest energy or work magnitude seen (so a flight that starts at rest is
+    // measured against what the loads did to it).
+    let scale = o
+        .rows
+        .iter()
+        .flat_map(|r| [e(r).abs(), r[wl].abs(), r[wp].abs(), r[di].abs()])
+        .fold(0.0, f64::max);
+    serde_json::json!({
+        "definition": "residual = (T + U)(t) - (T + U)(0) - work_loads - work_propulsive + dissipated",
+        "energy_change_j": e(last) - e(first),
+        "work_loads_j": last[wl],
+        "work_propulsive_j": last[wp],
+        "dissipated_j": last[di],
+        "residual_j": last[res],
+        "max_abs_residual_j": max_abs_residual,
+        "max_relative_residual": if scale > 0.0 { max_abs_residual / scale } else { max_abs_residual },
+    })
+}
+
+/// Mass and centre of mass at the start and the end, and the motor's numbers.
+fn mass_json(p: &Plan, o: &RunOutput) -> serde_json::Value {
+    let col = |name: &str| o.channels.iter().position(|c| c == name);
+    let (Some(m), Some(cx)) = (col("mass"), col("cm_body_x")) else {
+        return serde_json::Value::Null;
+    };
+    let (Some(first), Some(last)) = (o.rows.first(), o.rows.last()) else {
+        return serde_json::Value::Null;
+    };
+    serde_json::json!({
+        "initial_kg": first[m],
+        "final_kg": last[m],
+        "initial_cm_body_x_m": first[cx],
+        "final_cm_body_x_m": last[cx],
+        "motor": p.motor.as_ref().map(|mo| serde_json::json!({
+            "name": mo.name,
+            "designation": mo.designation,
+            "propellant_kg": mo.propellant_mass,
+            "total_kg": mo.total_mass,
+            "total_impulse_ns": mo.thrust.total_impulse,
+            "burn_time_s": mo.thrust.burn_time,
+            "exhaust_velocity_m_s": mo.exhaust_velocity,
+            "ignition_mass_kg": mo.ignition_mass,
+            "burnout_mass_kg": mo.burnout_mass,
+        })),
     })
 }
 

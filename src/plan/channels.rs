@@ -48,6 +48,14 @@ pub const INVARIANT_CHANNELS: &[&str] = &[
     "h_cm_inertial_x",
     "h_cm_inertial_y",
     "h_cm_inertial_z",
+    "mass",
+    "cm_body_x",
+    "cm_body_y",
+    "cm_body_z",
+    "work_loads",
+    "work_propulsive",
+    "energy_dissipated",
+    "energy_balance_residual",
 ];
 
 /// Which aerodynamic channels a run writes (after the invariants).

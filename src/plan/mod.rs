@@ -122,6 +122,33 @@ pub struct ThrustPlan {
     pub misalignment: [f64; 3],
 }
 
+/// The vehicle's motor (issue 10, "Variable mass"), resolved: its curve and masses, where
+/// its thrust acts, and the propellant's reduced coefficients on the vehicle's modal basis.
+/// A vehicle with a motor burns it from `t = 0`: its thrust, variable mass and mass-flow
+/// terms are part of the equations of motion ([`crate::runtime::eom::Propulsion`]), not a
+/// force block.
+#[derive(Debug, Clone, Serialize)]
+pub struct MotorPlan {
+    /// The `motor` block's name.
+    pub name: String,
+    /// Motor designation from the curve (RASP header, or the CSV file's stem).
+    pub designation: String,
+    /// Propellant mass at ignition and loaded motor mass, kg.
+    pub propellant_mass: f64,
+    pub total_mass: f64,
+    /// Effective exhaust velocity `c = I_tot / m_p`, m/s (specific impulse `c / g0`).
+    pub exhaust_velocity: f64,
+    /// Vehicle mass at ignition and at burnout, kg.
+    pub ignition_mass: f64,
+    pub burnout_mass: f64,
+    /// The thrust at the nozzle: curve, nozzle node and its shape rows, offset and
+    /// misalignment (from the vehicle's `thrust` block if it has one).
+    pub thrust: ThrustPlan,
+    /// The propellant's coefficients at full load (not serialised).
+    #[serde(skip)]
+    pub propellant: crate::structure::coefficients::ReducedModel,
+}
+
 /// One force block with its resolved parameters, in evaluation order.
 #[derive(Debug, Clone, Serialize)]
 #[serde(rename_all = "snake_case", tag = "block")]
@@ -170,6 +197,8 @@ pub struct Plan {
     /// Output interval, s.
     pub output_interval: f64,
     pub forces: Vec<ForcePlan>,
+    /// The motor, if the vehicle has one.
+    pub motor: Option<MotorPlan>,
     /// The stimuli as checked.
     pub stimuli: Vec<Stimulus>,
     /// Planned stimuli (turbulence series generated).
@@ -292,7 +321,56 @@ pub fn build_with_aero(
             altitude_correction: g.altitude_correction,
         }));
     }
-    if let Some(t) = &vehicle.forces.thrust {
+    let motor = match &vehicle.motor {
+        Some(m) => {
+            let node = usize::try_from(compiled.key_nozzle)
+                .ok()
+                .filter(|&k| k < n_nodes)
+                .ok_or_else(|| PlanError::NoNozzle {
+                    vehicle: vehicle.name.value.clone(),
+                    span: m.header,
+                })?;
+            let propellant = compiled.propellant.clone().ok_or_else(|| {
+                bad("the vehicle has a motor but the compiled vehicle no propellant".into())
+            })?;
+            if propellant.n() != n {
+                return Err(bad(format!(
+                    "propellant coefficients for {} modes, the vehicle has {n}",
+                    propellant.n()
+                )));
+            }
+            let curve = ThrustCurve::read(&m.curve.value)?;
+            let (offset, misalignment) = match &vehicle.forces.thrust {
+                Some(t) => (t.offset.value, t.misalignment.value),
+                None => ([0.0; 3], [0.0; 3]),
+            };
+            let total_impulse = curve.total_impulse();
+            Some(MotorPlan {
+                name: m.name.value.clone(),
+                designation: curve.name.clone(),
+                propellant_mass: m.propellant_mass.value,
+                total_mass: m.total_mass.value,
+                exhaust_velocity: total_impulse / m.propellant_mass.value,
+                ignition_mass: compiled.reduced.mass,
+                burnout_mass: compiled.reduced.mass - propellant.mass,
+                thrust: ThrustPlan {
+                    curve_file: m.curve.value.clone(),
+                    total_impulse,
+                    burn_time: curve.burn_time(),
+                    curve,
+                    nozzle_node: node,
+                    nozzle_position: compiled.node_positions[node],
+                    s_translation: rows(node, 0),
+                    s_rotation: rows(node, 3),
+                    offset,
+                    misalignment,
+                },
+                propellant,
+            })
+        }
+        None => None,
+    };
+    if let (Some(t), None) = (&vehicle.forces.thrust, &vehicle.motor) {
         let node = usize::try_from(compiled.key_nozzle)
             .ok()
             .filter(|&k| k < n_nodes)
@@ -388,6 +466,7 @@ pub fn build_with_aero(
         },
         output_interval: run.output_interval.value,
         forces,
+        motor,
         stimuli: scenario.stimuli.clone(),
         planned_stimuli,
         node_translation_shapes,
@@ -490,7 +569,29 @@ pub fn summary_text(p: &Plan) -> String {
             ),
         };
     }
-    if p.forces.is_empty() {
+    if let Some(m) = &p.motor {
+        let t = &m.thrust;
+        let _ = writeln!(
+            s,
+            "  motor        {} ({}): {:.3} N s over {:.3} s, propellant {:.4} kg of {:.4} kg, c = {:.2} m/s, vehicle {:.4} kg -> {:.4} kg; nozzle node {} at ({:.4}, {:.4}, {:.4}) m, offset {:?} m, misalignment {:?} rad",
+            m.name,
+            m.designation,
+            t.total_impulse,
+            t.burn_time,
+            m.propellant_mass,
+            m.total_mass,
+            m.exhaust_velocity,
+            m.ignition_mass,
+            m.burnout_mass,
+            t.nozzle_node,
+            t.nozzle_position[0],
+            t.nozzle_position[1],
+            t.nozzle_position[2],
+            t.offset,
+            t.misalignment
+        );
+    }
+    if p.forces.is_empty() && p.motor.is_none() {
         let _ = writeln!(s, "  (none: free flight)");
     }
     if let Some(a) = &p.aero_summary {

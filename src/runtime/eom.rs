@@ -53,15 +53,76 @@
 //! `q` is renormalised after every accepted step ([`OdeSystem::project`]); because `q̇` is
 //! linear in `q` and the rotation uses `q/|q|`, scaling the stored derivative's `q` part by
 //! the same factor keeps the first-same-as-last derivative exact.
+//!
+//! # Variable mass: a burning motor ([`Propulsion`])
+//! Sources: W. T. Thomson, "Introduction to Space Dynamics" (Dover 1986), ch. 7 ("Rocket
+//! dynamics": the body-fixed control volume, Reynolds transport); Cornelisse, Schöyer and
+//! Wakker, "Rocket Propulsion and Spaceflight Dynamics" (1979), ch. 8-9 (the equations of
+//! motion of a variable-mass rocket: thrust, Coriolis and jet-damping terms);
+//! H. Irschik, H. J. Holl, "Mechanics of variable-mass systems, Part 1", Appl. Mech. Rev.
+//! 57 (2004), eq. (34) (Lagrange's equations of a control volume). The derivation below
+//! puts them into the quasi-velocity form above.
+//!
+//! Control volume: the vehicle, fixed to the body frame, with the propellant inside it;
+//! the only outflow crosses the nozzle exit at the deformed thrust point
+//! `r_e = r_T + u_T + δ_T` ([`crate::runtime::forces::ThrustBlock`]). Assumption (Thomson's
+//! "quasi-rigid" rocket): the gas inside the motor carries no momentum relative to the body
+//! (the internal-flow Coriolis force and the unsteady internal flow are neglected; the
+//! propellant's mass simply leaves the grain), and the propellant fraction `f(t)` scales the
+//! propellant's mass matrix `M_p` ([`crate::runtime::motor`]): `M(t, η) = M_dry(η) +
+//! f(t) M_p(η)`, so `T = ½ vᵀ M(t, η) v` with `v = (V_B, ω_B, η̇)`.
+//!
+//! For every quasi-velocity `v_k` with partial-velocity field `ψ_k(x)` (the fields `V`, `R`,
+//! `U_m`, `φ_m` of [`crate::structure::coefficients`]), the generalised momentum of the
+//! contents is `p_k = ∫_CV ψ_k·v dm = (M v)_k`. Reynolds' transport theorem for the
+//! body-fixed control volume (Thomson eq. 7.1-3, Irschik-Holl eq. 34) adds to the balance
+//! of the fixed-mass system (the Boltzmann-Hamel equations above) the flux of `ψ_k·v`
+//! carried out through the exit, `-ṁ_e ψ_k(r_e)·v_abs,e`, where the exhaust's absolute
+//! velocity is the exit point's velocity `v_e = Ψ_e v = V + ω × r_e + Φ_e η̇` plus the
+//! exhaust velocity relative to the nozzle, `u_rel`. The part `-ṁ_e u_rel` (with the
+//! pressure thrust) is the thrust `T(t)` of the curve, applied at `r_e` exactly as
+//! [`crate::runtime::forces::ThrustBlock`] does (eqs. 5.2.1-5.2.6); what remains is
+//! `-ṁ_e Ψ_eᵀ Ψ_e v` (`Ψ_e` the 3 x (6+n) partial-velocity matrix of the exit point:
+//! `Ψ_eᵀ w = (w, r_e × w, Φ_eᵀ w)`). The time derivative of `p = M v` now has the explicit
+//! part `Ṁ_t v = ḟ M_p v = -(ṁ_e/m_p) M_p v` (`ḟ = -ṁ_e/m_p`). So
+//! ```text
+//! M(t,η) v̇ = [right-hand side of the fixed-mass equations, with M(t,η)]
+//!            + f_T + (ṁ_e/m_p) M_p(η) v - ṁ_e Ψ_eᵀ Ψ_e v
+//! ```
+//! - Translation row (ω = 0, η̇ = 0): `ṁ_e (V - V) = 0`, so `m(t) V̇ = F + T`: the rocket
+//!   equation; with constant `T` and `ṁ_e = T/c` it integrates to Tsiolkovsky's
+//!   `ΔV = c ln(m_0/m)` (tested to 1e-9 in `tests/motor.rs`).
+//! - Rotation row (pitch rate ω, axis points `r_p` of the grain, `r_e` of the exit):
+//!   `(ṁ_e/m_p) J_p ω - ṁ_e r_e × (ω × r_e)`: the rate of change of the propellant's inertia
+//!   (the `-İω` term of Cornelisse et al.) and the jet damping moment
+//!   `-ṁ_e r_e × (ω × r_e)`; on the axis they combine into `-ṁ_e (l_e² - l_p² - k_p²) ω`
+//!   about the body origin (exit and grain arms `l`, grain radius of gyration `k_p`), with
+//!   the force `ṁ_e ω × (r_p - r_e)` of the translation row (the mass centre moving forward
+//!   as the grain burns).
+//! - Modal rows: `(ṁ_e/m_p)(M_p v)_η - ṁ_e Φ_eᵀ v_e`, the same two effects on the elastic
+//!   coordinates (the exhaust leaves with the nozzle's elastic velocity).
+//!
+//! Balances (the checks of `tests/motor.rs`): momentum
+//! `d/dt p_I = F_I + T_I - ṁ_e C_IB v_e` (the exhaust takes away the momentum of the mass it
+//! carries at the exit point's velocity; the thrust accounts for the relative velocity);
+//! energy, from `dT/dt = vᵀM v̇ + ½ vᵀ(Ṁ_η + Ṁ_t)v` and the fixed-mass identities above,
+//! ```text
+//! d/dt (T + ½ηᵀK̄η) = vᵀ f_loads + vᵀ f_T + ṁ_e (½ vᵀ M_p v / m_p - |v_e|²) - η̇ᵀC̄η̇
+//! ```
+//! whose propulsive part for pure translation is `T·V - ½ ṁ_e V²`: the thrust's power less
+//! the kinetic energy the burnt mass takes with it. [`Eom::track_energy`] integrates the three
+//! works with the state so a run reports the balance's residual.
 
 // Index loops follow the block formulas above.
 #![allow(clippy::needless_range_loop)]
 
+use super::forces::ThrustBlock;
 use super::integrate::{OdeSystem, RhsError};
 use super::kinematics::{
     Mat3, c_bi_normalized, cross, euler_parameter_rates, mat_t_vec, mat_vec,
     normalize_euler_parameters,
 };
+use super::motor::{BurnSchedule, combine_into, dry_model};
 use crate::structure::coefficients::ReducedModel;
 
 /// Offsets of the blocks of the state vector `x = (p_I, q, V_B, ω_B, η, η̇)`.
@@ -203,6 +264,16 @@ impl UniformGravity {
 }
 
 impl UniformGravity {
+    /// Replaces the mass properties `m`, `c`, `P̄` (a burning vehicle's, at the current
+    /// propellant fraction); `p_bar` must have the length of the model's.
+    pub fn set_mass_properties(&mut self, mass: f64, first_moment: [f64; 3], p_bar: &[f64]) {
+        self.mass = mass;
+        self.first_moment = first_moment;
+        for (a, b) in self.p_bar.iter_mut().zip(p_bar) {
+            *a = *b;
+        }
+    }
+
     /// Replaces `g_I` (m/s², inertial frame); lets a gravity block scale `g` with altitude
     /// (eq. 5.1.2) before each evaluation without copying the algebra.
     pub fn set_gravity(&mut self, g_inertial: [f64; 3]) {
@@ -305,12 +376,124 @@ pub struct Invariants {
     pub angular_momentum_cm_body: [f64; 3],
     /// `C_IB h_cm`.
     pub angular_momentum_cm_inertial: [f64; 3],
+    /// Mass `m` (with the propellant left at this time), kg.
+    pub mass: f64,
+    /// Mass centre `c̄_tot / m` (deformed), body frame, m.
+    pub centre_of_mass_body: [f64; 3],
 }
 
 impl Invariants {
     /// `T + ½ ηᵀK̄η`.
     pub fn total_energy(&self) -> f64 {
         self.kinetic_energy + self.strain_energy
+    }
+}
+
+/// The motor of a variable-mass vehicle inside the equations of motion (module doc,
+/// "Variable mass"): the burn schedule, the thrust at the nozzle, the dry and propellant
+/// coefficients and the working model at the current propellant fraction.
+#[derive(Debug, Clone)]
+pub struct Propulsion {
+    schedule: BurnSchedule,
+    thrust: ThrustBlock,
+    /// Undeformed exit point `r_T + δ_T`, body frame, m.
+    exit: [f64; 3],
+    /// Rows u, v, w of `S` at the nozzle (3 x n).
+    s_exit: Vec<f64>,
+    dry: ReducedModel,
+    prop: ReducedModel,
+    current: ReducedModel,
+    fraction: f64,
+    /// `M_p(η)` (d x d) and its `H̄_tot` (3 x n); `M_p v`.
+    mp_matrix: Vec<f64>,
+    mp_h: Vec<f64>,
+    mp_v: Vec<f64>,
+    /// Thrust generalised forces.
+    thrust_forces: Vec<f64>,
+    last: PropulsionSample,
+}
+
+/// What the motor did at the last right-hand side evaluation (for balances and tests).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PropulsionSample {
+    /// Propellant fraction `f`.
+    pub fraction: f64,
+    /// Mass flow through the exit `ṁ_e`, kg/s.
+    pub mass_flow: f64,
+    /// Thrust force, body frame, N.
+    pub thrust_force_body: [f64; 3],
+    /// Thrust moment about the body origin, body frame, N m.
+    pub thrust_moment_body: [f64; 3],
+    /// Deformed exit point `r_e`, body frame, m.
+    pub exit_position_body: [f64; 3],
+    /// Velocity of the exit point `v_e = V + ω × r_e + Φ_e η̇`, body frame, m/s.
+    pub exit_velocity_body: [f64; 3],
+}
+
+impl Propulsion {
+    /// The motor of `full` (the compiled vehicle at ignition) whose propellant at full load
+    /// contributes `prop` (same basis), burning by `schedule`, with its thrust block and the
+    /// exit point `exit` (undeformed `r_T + δ_T`) with the nozzle's translation rows `s_exit`.
+    pub fn new(
+        full: &ReducedModel,
+        prop: ReducedModel,
+        schedule: BurnSchedule,
+        thrust: ThrustBlock,
+        exit: [f64; 3],
+        s_exit: &[f64],
+    ) -> Result<Self, EomError> {
+        let n = full.n();
+        let checks: [(&'static str, usize, usize); 8] = [
+            ("propellant modal_mass", n * n, prop.modal_mass.len()),
+            ("propellant p_bar", 3 * n, prop.p_bar.len()),
+            ("propellant h_bar", 3 * n, prop.h_bar.len()),
+            ("propellant j_ru", n, prop.j_ru.len()),
+            ("propellant j_uu", n * n, prop.j_uu.len()),
+            ("propellant h_prime", 3 * n * n, prop.h_prime.len()),
+            ("propellant modes", n, prop.n()),
+            ("nozzle shape rows", 3 * n, s_exit.len()),
+        ];
+        for (field, expected, found) in checks {
+            if expected != found {
+                return Err(EomError::ModelShape {
+                    field,
+                    expected,
+                    found,
+                    n,
+                });
+            }
+        }
+        let d = 6 + n;
+        Ok(Self {
+            dry: dry_model(full, &prop),
+            current: full.clone(),
+            prop,
+            schedule,
+            thrust,
+            exit,
+            s_exit: s_exit.to_vec(),
+            fraction: 1.0,
+            mp_matrix: vec![0.0; d * d],
+            mp_h: vec![0.0; 3 * n],
+            mp_v: vec![0.0; d],
+            thrust_forces: vec![0.0; d],
+            last: PropulsionSample::default(),
+        })
+    }
+
+    /// The burn schedule.
+    pub fn schedule(&self) -> &BurnSchedule {
+        &self.schedule
+    }
+
+    /// Sets the working coefficients to the propellant fraction at `t` (a few axpy's on the
+    /// coefficient arrays, only when `f` changed; no allocation).
+    fn update(&mut self, t: f64) {
+        let f = self.schedule.fraction(t);
+        if f != self.fraction {
+            combine_into(&self.dry, &self.prop, f, &mut self.current);
+            self.fraction = f;
+        }
     }
 }
 
@@ -322,6 +505,26 @@ pub struct Eom<'m, F> {
     /// External loads.
     pub forces: F,
     ws: Workspace,
+    /// The burning motor of a variable-mass vehicle.
+    propulsion: Option<Box<Propulsion>>,
+    /// Integrate the works of the energy balance after the state ([`Self::track_energy`]).
+    track_energy: bool,
+}
+
+/// Entries appended to the state by [`Eom::track_energy`], after `13 + 2n`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct EnergyLayout;
+
+impl EnergyLayout {
+    /// `∫ vᵀ f_loads dt`: work of the force blocks (gravity, aerodynamics, a thrust block
+    /// without motor), J.
+    pub const LOADS: usize = 0;
+    /// `∫ (vᵀ f_T + ṁ_e (½ vᵀM_p v/m_p - |v_e|²)) dt`: propulsive work of the motor, J.
+    pub const PROPULSIVE: usize = 1;
+    /// `∫ η̇ᵀ C̄ η̇ dt`: energy dissipated by the modal damping, J.
+    pub const DISSIPATED: usize = 2;
+    /// Number of entries.
+    pub const LEN: usize = 3;
 }
 
 impl<'m, F: ForceModel> Eom<'m, F> {
@@ -361,7 +564,72 @@ impl<'m, F: ForceModel> Eom<'m, F> {
                 h_tot: vec![0.0; 3 * n],
                 dt_deta: vec![0.0; n],
             },
+            propulsion: None,
+            track_energy: false,
         })
+    }
+
+    /// Makes the vehicle burn: the motor's thrust, variable mass and mass-flow terms (module
+    /// doc, "Variable mass"). The propulsion must be built on this model.
+    pub fn with_propulsion(mut self, propulsion: Propulsion) -> Result<Self, EomError> {
+        if propulsion.current.n() != self.layout.n {
+            return Err(EomError::ModelShape {
+                field: "propulsion modes",
+                expected: self.layout.n,
+                found: propulsion.current.n(),
+                n: self.layout.n,
+            });
+        }
+        self.propulsion = Some(Box::new(propulsion));
+        Ok(self)
+    }
+
+    /// Appends the [`EnergyLayout`] works to the state (they start at zero): then
+    /// `T + ½ηᵀK̄η - W_loads - W_propulsive + D` is constant, and its drift is the residual of
+    /// the energy balance. The integrator's error control sees only the physical state
+    /// ([`OdeSystem::error_dim`]), so tracking never changes a history.
+    pub fn track_energy(mut self) -> Self {
+        self.track_energy = true;
+        self
+    }
+
+    /// The motor, if the vehicle burns.
+    pub fn propulsion(&self) -> Option<&Propulsion> {
+        self.propulsion.as_deref()
+    }
+
+    /// What the motor did at the last right-hand side evaluation.
+    pub fn propulsion_sample(&self) -> Option<PropulsionSample> {
+        self.propulsion.as_ref().map(|p| p.last)
+    }
+
+    /// Sets the mass properties to those at time `t` (the propellant fraction of the burn
+    /// schedule); nothing without a motor.
+    pub fn set_time(&mut self, t: f64) {
+        if let Some(p) = &mut self.propulsion {
+            p.update(t);
+        }
+    }
+
+    /// Mass and first moment `c̄_tot(η)` at the current propellant fraction.
+    pub fn mass_properties(&self, eta: &[f64]) -> (f64, [f64; 3]) {
+        let md = self.current_model();
+        let n = self.layout.n;
+        let mut c = md.first_moment;
+        for i in 0..3 {
+            for m in 0..n.min(eta.len()) {
+                c[i] += md.p_bar[i * n + m] * eta[m];
+            }
+        }
+        (md.mass, c)
+    }
+
+    /// The coefficients at the current propellant fraction.
+    fn current_model(&self) -> &ReducedModel {
+        match &self.propulsion {
+            Some(p) => &p.current,
+            None => self.model,
+        }
     }
 
     /// The state layout.
@@ -369,71 +637,10 @@ impl<'m, F: ForceModel> Eom<'m, F> {
         self.layout
     }
 
-    /// `c̄_tot`, `J̄_tot`, `H̄_tot` (into the workspace) and `M_tot(η)` (into the workspace),
-    /// eqs. (3.2.8)-(3.2.12); the same matrix as [`ReducedModel::mass_matrix_into`] without
-    /// its allocation.
-    fn assemble(&mut self, eta: &[f64]) -> Inertia {
-        let md = self.model;
-        let n = self.layout.n;
-        let mut c = md.first_moment;
-        for i in 0..3 {
-            for m in 0..n {
-                c[i] += md.p_bar[i * n + m] * eta[m];
-            }
-        }
-        let mut j = md.inertia;
-        for m in 0..n {
-            let (jr, em) = (&md.j_ru[m], eta[m]);
-            for i in 0..3 {
-                for k in 0..3 {
-                    j[i][k] += em * (jr[i][k] + jr[k][i]);
-                }
-            }
-            for p in 0..n {
-                let (ju, w) = (&md.j_uu[m * n + p], em * eta[p]);
-                for i in 0..3 {
-                    for k in 0..3 {
-                        j[i][k] += w * ju[i][k];
-                    }
-                }
-            }
-        }
-        let h = &mut self.ws.h_tot;
-        // Lengths were checked in `Eom::new`; a failure here poisons the state with NaN so
-        // the integrator stops with "non-finite state" instead of going on silently.
-        if md.h_tot_into(eta, h).is_err() {
-            h.fill(f64::NAN);
-        }
-        md.assemble_mass_matrix(c, &j, h, &mut self.ws.mass_matrix);
-        Inertia { c_tot: c, j_tot: j }
-    }
-
-    /// Momenta `p_V = m V + ω × c̄_tot + P̄ η̇`, `p_ω = c̄_tot × V + J̄_tot ω + H̄_tot η̇`
-    /// (rows of `M_tot v`); needs [`Self::assemble`] first.
-    fn momenta(&self, inr: &Inertia, v: &[f64; 3], w: &[f64; 3], eta_dot: &[f64]) -> [[f64; 3]; 2] {
-        let md = self.model;
-        let n = self.layout.n;
-        let wc = cross(w, &inr.c_tot);
-        let cv = cross(&inr.c_tot, v);
-        let jw = mat_vec(&inr.j_tot, w);
-        let mut pv = [0.0; 3];
-        let mut pw = [0.0; 3];
-        for i in 0..3 {
-            let (mut a, mut b) = (0.0, 0.0);
-            for p in 0..n {
-                a += md.p_bar[i * n + p] * eta_dot[p];
-                b += self.ws.h_tot[i * n + p] * eta_dot[p];
-            }
-            pv[i] = md.mass * v[i] + wc[i] + a;
-            pw[i] = cv[i] + jw[i] + b;
-        }
-        [pv, pw]
-    }
-
     /// Energy and momentum of the state `x` (thesis 4.5.3); no allocation.
     pub fn invariants(&mut self, x: &[f64]) -> Result<Invariants, EomError> {
         let l = self.layout;
-        if x.len() != l.len() {
+        if x.len() != l.len() && x.len() != l.len() + EnergyLayout::LEN {
             return Err(EomError::StateLength {
                 expected: l.len(),
                 found: x.len(),
@@ -444,16 +651,20 @@ impl<'m, F: ForceModel> Eom<'m, F> {
         let eta_dot = &x[13 + n..13 + 2 * n];
         let v = [x[7], x[8], x[9]];
         let w = [x[10], x[11], x[12]];
-        let inr = self.assemble(eta);
-        let [pv, pw] = self.momenta(&inr, &v, &w, eta_dot);
-        let md = self.model;
+        let md: &ReducedModel = match &self.propulsion {
+            Some(p) => &p.current,
+            None => self.model,
+        };
+        let ws = &mut self.ws;
+        let inr = assemble(md, eta, &mut ws.h_tot, &mut ws.mass_matrix);
+        let [pv, pw] = momenta(md, &ws.h_tot, &inr, &v, &w, eta_dot);
         let mut pe = 0.0;
         let mut strain = 0.0;
         for m in 0..n {
             let mut row = 0.0;
             let mut k = 0.0;
             for i in 0..3 {
-                row += md.p_bar[i * n + m] * v[i] + self.ws.h_tot[i * n + m] * w[i];
+                row += md.p_bar[i * n + m] * v[i] + ws.h_tot[i * n + m] * w[i];
             }
             for p in 0..n {
                 row += md.modal_mass[m * n + p] * eta_dot[p];
@@ -478,8 +689,160 @@ impl<'m, F: ForceModel> Eom<'m, F> {
             angular_momentum_origin_body: pw,
             angular_momentum_cm_body: h_cm,
             angular_momentum_cm_inertial: mat_t_vec(&c_bi, &h_cm),
+            mass: md.mass,
+            centre_of_mass_body: rc,
         })
     }
+
+    /// [`Self::invariants`] with the mass properties at time `t` ([`Self::set_time`]).
+    pub fn invariants_at(&mut self, t: f64, x: &[f64]) -> Result<Invariants, EomError> {
+        self.set_time(t);
+        self.invariants(x)
+    }
+}
+
+/// `c̄_tot`, `J̄_tot`, `H̄_tot` (into `h`) and `M_tot(η)` (into `mass_matrix`) of `md`,
+/// eqs. (3.2.8)-(3.2.12); the same matrix as [`ReducedModel::mass_matrix_into`] without its
+/// allocation.
+fn assemble(md: &ReducedModel, eta: &[f64], h: &mut [f64], mass_matrix: &mut [f64]) -> Inertia {
+    let n = md.n();
+    let mut c = md.first_moment;
+    for i in 0..3 {
+        for m in 0..n {
+            c[i] += md.p_bar[i * n + m] * eta[m];
+        }
+    }
+    let mut j = md.inertia;
+    for m in 0..n {
+        let (jr, em) = (&md.j_ru[m], eta[m]);
+        for i in 0..3 {
+            for k in 0..3 {
+                j[i][k] += em * (jr[i][k] + jr[k][i]);
+            }
+        }
+        for p in 0..n {
+            let (ju, w) = (&md.j_uu[m * n + p], em * eta[p]);
+            for i in 0..3 {
+                for k in 0..3 {
+                    j[i][k] += w * ju[i][k];
+                }
+            }
+        }
+    }
+    // Lengths were checked in `Eom::new`; a failure here poisons the state with NaN so
+    // the integrator stops with "non-finite state" instead of going on silently.
+    if md.h_tot_into(eta, h).is_err() {
+        h.fill(f64::NAN);
+    }
+    md.assemble_mass_matrix(c, &j, h, mass_matrix);
+    Inertia { c_tot: c, j_tot: j }
+}
+
+/// Momenta `p_V = m V + ω × c̄_tot + P̄ η̇`, `p_ω = c̄_tot × V + J̄_tot ω + H̄_tot η̇`
+/// (rows of `M_tot v`) of `md`, with `inr` and `h_tot` from [`assemble`].
+fn momenta(
+    md: &ReducedModel,
+    h_tot: &[f64],
+    inr: &Inertia,
+    v: &[f64; 3],
+    w: &[f64; 3],
+    eta_dot: &[f64],
+) -> [[f64; 3]; 2] {
+    let n = md.n();
+    let wc = cross(w, &inr.c_tot);
+    let cv = cross(&inr.c_tot, v);
+    let jw = mat_vec(&inr.j_tot, w);
+    let mut pv = [0.0; 3];
+    let mut pw = [0.0; 3];
+    for i in 0..3 {
+        let (mut a, mut b) = (0.0, 0.0);
+        for p in 0..n {
+            a += md.p_bar[i * n + p] * eta_dot[p];
+            b += h_tot[i * n + p] * eta_dot[p];
+        }
+        pv[i] = md.mass * v[i] + wc[i] + a;
+        pw[i] = cv[i] + jw[i] + b;
+    }
+    [pv, pw]
+}
+
+/// `vᵀ f` for generalised forces `f = (F_B, G_B, Q)` and `v = (V_B, ω_B, η̇)`: the power.
+fn generalized_power(f: &[f64], v: &[f64; 3], w: &[f64; 3], eta_dot: &[f64]) -> f64 {
+    let mut s = 0.0;
+    for i in 0..3 {
+        s += f[i] * v[i] + f[3 + i] * w[i];
+    }
+    for (m, ed) in eta_dot.iter().enumerate() {
+        s += f[6 + m] * ed;
+    }
+    s
+}
+
+/// Adds the motor's thrust and mass-flow terms `f_T + (ṁ_e/m_p) M_p(η) v - ṁ_e Ψ_eᵀ Ψ_e v`
+/// (module doc, "Variable mass") to the right-hand side `r` (length `6 + n`) and returns the
+/// propulsive power `vᵀ f_T + ṁ_e (½ vᵀ M_p v / m_p - |v_e|²)`. No allocation.
+fn propulsion_terms(p: &mut Propulsion, t: f64, s: &StateView, r: &mut [f64]) -> f64 {
+    let n = s.eta.len();
+    let (v, w) = (s.velocity, s.angular_velocity);
+    p.thrust_forces.iter_mut().for_each(|x| *x = 0.0);
+    p.thrust.generalized_forces(t, s, &mut p.thrust_forces);
+    let mut power = generalized_power(&p.thrust_forces, &v, &w, s.eta_dot);
+    for (ri, fi) in r.iter_mut().zip(&p.thrust_forces) {
+        *ri += fi;
+    }
+    // Deformed exit point and its velocity.
+    let mut r_e = p.exit;
+    let mut u_dot = [0.0; 3];
+    for i in 0..3 {
+        for m in 0..n {
+            r_e[i] += p.s_exit[i * n + m] * s.eta[m];
+            u_dot[i] += p.s_exit[i * n + m] * s.eta_dot[m];
+        }
+    }
+    let wr = cross(&w, &r_e);
+    let v_e = [0, 1, 2].map(|i| v[i] + wr[i] + u_dot[i]);
+    let mdot = p.schedule.mass_flow(t);
+    p.last = PropulsionSample {
+        fraction: p.fraction,
+        mass_flow: mdot,
+        thrust_force_body: [p.thrust_forces[0], p.thrust_forces[1], p.thrust_forces[2]],
+        thrust_moment_body: [p.thrust_forces[3], p.thrust_forces[4], p.thrust_forces[5]],
+        exit_position_body: r_e,
+        exit_velocity_body: v_e,
+    };
+    if mdot == 0.0 {
+        return power;
+    }
+    // (ṁ_e/m_p) M_p(η) v.
+    let d = 6 + n;
+    assemble(&p.prop, s.eta, &mut p.mp_h, &mut p.mp_matrix);
+    let vk = |k: usize| match k {
+        0..=2 => v[k],
+        3..=5 => w[k - 3],
+        _ => s.eta_dot[k - 6],
+    };
+    for i in 0..d {
+        p.mp_v[i] = (0..d).map(|k| p.mp_matrix[i * d + k] * vk(k)).sum();
+    }
+    let k = mdot / p.schedule.propellant_mass();
+    let mut vmv = 0.0;
+    for i in 0..d {
+        r[i] += k * p.mp_v[i];
+        vmv += vk(i) * p.mp_v[i];
+    }
+    // -ṁ_e Ψ_eᵀ v_e = -ṁ_e (v_e, r_e × v_e, Φ_eᵀ v_e).
+    let rxv = cross(&r_e, &v_e);
+    for i in 0..3 {
+        r[i] -= mdot * v_e[i];
+        r[3 + i] -= mdot * rxv[i];
+    }
+    for m in 0..n {
+        let phi_v: f64 = (0..3).map(|i| p.s_exit[i * n + m] * v_e[i]).sum();
+        r[6 + m] -= mdot * phi_v;
+    }
+    let ve2: f64 = v_e.iter().map(|x| x * x).sum();
+    power += mdot * (0.5 * vmv / p.schedule.propellant_mass() - ve2);
+    power
 }
 
 /// In-place Cholesky factorisation `A = L Lᵀ` of a row-major SPD matrix (lower triangle
@@ -523,6 +886,15 @@ fn cholesky_solve(a: &mut [f64], d: usize, b: &mut [f64]) -> Result<(), RhsError
 impl<F: ForceModel> OdeSystem for Eom<'_, F> {
     fn dim(&self) -> usize {
         self.layout.len()
+            + if self.track_energy {
+                EnergyLayout::LEN
+            } else {
+                0
+            }
+    }
+
+    fn error_dim(&self) -> usize {
+        self.layout.len()
     }
 
     /// `ẋ` of the module-level derivation. No allocation: every buffer is in the workspace.
@@ -531,14 +903,26 @@ impl<F: ForceModel> OdeSystem for Eom<'_, F> {
         let n = l.n;
         let d = 6 + n;
         let view = StateView::new(l, x);
+        if let Some(p) = &mut self.propulsion {
+            p.update(t);
+        }
         self.ws.forces.iter_mut().for_each(|f| *f = 0.0);
         self.forces
             .generalized_forces(t, &view, &mut self.ws.forces);
         let (v, w) = (view.velocity, view.angular_velocity);
         let (eta, eta_dot) = (view.eta, view.eta_dot);
-        let inr = self.assemble(eta);
-        let [pv, pw] = self.momenta(&inr, &v, &w, eta_dot);
-        let md = self.model;
+        let power_loads = if self.track_energy {
+            generalized_power(&self.ws.forces, &v, &w, eta_dot)
+        } else {
+            0.0
+        };
+        let md: &ReducedModel = match &self.propulsion {
+            Some(p) => &p.current,
+            None => self.model,
+        };
+        let ws = &mut self.ws;
+        let inr = assemble(md, eta, &mut ws.h_tot, &mut ws.mass_matrix);
+        let [pv, pw] = momenta(md, &ws.h_tot, &inr, &v, &w, eta_dot);
 
         // ċ = P̄ η̇, J̄̇_tot ω, H̄̇_tot η̇.
         let mut c_dot = [0.0; 3];
@@ -597,7 +981,7 @@ impl<F: ForceModel> OdeSystem for Eom<'_, F> {
                     hdot_t_w += eta_dot[p] * md.h_prime[(p * 3 + i) * n + m] * w[i];
                 }
             }
-            self.ws.dt_deta[m] = s - hdot_t_w;
+            ws.dt_deta[m] = s - hdot_t_w;
         }
 
         let wxc = cross(&w, &c_dot);
@@ -605,21 +989,31 @@ impl<F: ForceModel> OdeSystem for Eom<'_, F> {
         let cdxv = cross(&c_dot, &v);
         let vxpv = cross(&v, &pv);
         let wxpw = cross(&w, &pw);
-        let r = &mut self.ws.rhs;
-        let f = &self.ws.forces;
+        let r = &mut ws.rhs;
+        let f = &ws.forces;
         for i in 0..3 {
             r[i] = f[i] - wxc[i] - wxpv[i];
             r[3 + i] = f[3 + i] - cdxv[i] - jdot_w[i] - hdot_etadot[i] - vxpv[i] - wxpw[i];
         }
+        let mut dissipation = 0.0;
         for m in 0..n {
-            let mut s = f[6 + m] + self.ws.dt_deta[m];
+            let mut s = f[6 + m] + ws.dt_deta[m];
             for p in 0..n {
                 s -= md.modal_stiffness[m * n + p] * eta[p]
                     + md.modal_damping[m * n + p] * eta_dot[p];
             }
             r[6 + m] = s;
+            if self.track_energy {
+                for p in 0..n {
+                    dissipation += eta_dot[m] * md.modal_damping[m * n + p] * eta_dot[p];
+                }
+            }
         }
-        cholesky_solve(&mut self.ws.mass_matrix, d, r)?;
+        let power_propulsive = match &mut self.propulsion {
+            Some(p) => propulsion_terms(p, t, &view, r),
+            None => 0.0,
+        };
+        cholesky_solve(&mut ws.mass_matrix, d, r)?;
 
         let c_ib_v = mat_t_vec(&view.c_bi, &v);
         let qd = euler_parameter_rates(&view.attitude, &w);
@@ -628,6 +1022,12 @@ impl<F: ForceModel> OdeSystem for Eom<'_, F> {
         dx[7..13].copy_from_slice(&r[0..6]);
         dx[13..13 + n].copy_from_slice(eta_dot);
         dx[13 + n..13 + 2 * n].copy_from_slice(&r[6..d]);
+        if self.track_energy {
+            let e = l.len();
+            dx[e + EnergyLayout::LOADS] = power_loads;
+            dx[e + EnergyLayout::PROPULSIVE] = power_propulsive;
+            dx[e + EnergyLayout::DISSIPATED] = dissipation;
+        }
         if let Some(index) = dx.iter().position(|v| !v.is_finite()) {
             return Err(RhsError::NonFinite { index });
         }

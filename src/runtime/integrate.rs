@@ -37,6 +37,11 @@ pub trait OdeSystem {
     fn dim(&self) -> usize;
     /// Writes `f(t, x)` into `dx` (both of length [`Self::dim`]). Must not allocate.
     fn rhs(&mut self, t: f64, x: &[f64], dx: &mut [f64]) -> Result<(), RhsError>;
+    /// How many leading entries of the state the adaptive error control weighs (the rest,
+    /// e.g. quadratures integrated alongside for a balance, ride along). Default: all.
+    fn error_dim(&self) -> usize {
+        self.dim()
+    }
     /// Called after every accepted step with the new state and its derivative; may project the
     /// state onto a constraint manifold (e.g. unit Euler parameters) provided it updates `dx`
     /// to the derivative at the projected state. Default: nothing.
@@ -203,8 +208,9 @@ impl DormandPrince54 {
     }
 
     /// RMS norm of `v` weighted by `atol + rtol |y|`, HNW (4.11).
-    fn scaled_norm(&self, y: &[f64], v: &[f64]) -> f64 {
+    fn scaled_norm(&self, y: &[f64], v: &[f64], ne: usize) -> f64 {
         let o = &self.options;
+        let (y, v) = (&y[..ne.min(y.len())], &v[..ne.min(v.len())]);
         let s: f64 = y
             .iter()
             .zip(v)
@@ -224,8 +230,9 @@ impl DormandPrince54 {
         x: &[f64],
         span: f64,
     ) -> Result<f64, RhsError> {
-        let d0 = self.scaled_norm(x, x);
-        let d1 = self.scaled_norm(x, &self.k[0]);
+        let ne = sys.error_dim().min(x.len());
+        let d0 = self.scaled_norm(x, x, ne);
+        let d1 = self.scaled_norm(x, &self.k[0], ne);
         let h0 = if d0 < 1e-5 || d1 < 1e-5 {
             1e-6
         } else {
@@ -239,13 +246,13 @@ impl DormandPrince54 {
         sys.rhs(t0 + h0, &self.y_stage, k1)?;
         let diff: f64 = {
             let o = &self.options;
-            let s: f64 = (0..x.len())
+            let s: f64 = (0..ne)
                 .map(|i| {
                     let sc = o.atol + o.rtol * x[i].abs();
                     ((k1[i] - k0[i]) / sc).powi(2)
                 })
                 .sum();
-            (s / x.len().max(1) as f64).sqrt() / h0
+            (s / ne.max(1) as f64).sqrt() / h0
         };
         let h1 = if d1.max(diff) <= 1e-15 {
             (h0 * 1e-3).max(1e-6)
@@ -381,7 +388,8 @@ impl Integrator for DormandPrince54 {
                     // Error estimate Σ e_j k_j, scaled by max(|y0|, |y1|) (HNW 4.11).
                     let o = self.options;
                     let mut s = 0.0;
-                    for i in 0..n {
+                    let ne = sys.error_dim().min(n);
+                    for i in 0..ne {
                         let e = h_step
                             * (E1 * self.k[0][i]
                                 + E3 * self.k[2][i]
@@ -392,7 +400,7 @@ impl Integrator for DormandPrince54 {
                         let sc = o.atol + o.rtol * x[i].abs().max(self.y_new[i].abs());
                         s += (e / sc) * (e / sc);
                     }
-                    (s / n.max(1) as f64).sqrt()
+                    (s / ne.max(1) as f64).sqrt()
                 }
             };
             if !err.is_finite() || self.y_new.iter().any(|v| !v.is_finite()) {

@@ -19,12 +19,14 @@
 use std::time::Instant;
 
 use super::atmosphere::{Atmosphere, Standard1976};
-use super::eom::{Eom, EomError, FreeFlight, StateView};
+use super::eom::{EnergyLayout, Eom, EomError, FreeFlight, Propulsion, StateView};
 use super::forces::{
     AeroFault, BodyAero, FinAero, ForceBlock, ForceBlocks, GravityBlock, ThrustBlock,
 };
+use super::integrate::OdeSystem;
 use super::integrate::{AdaptiveOptions, DormandPrince54, Integrator, Rk4, StepStats, StopReason};
 use super::kinematics::{euler_angles, mat_vec, normalize_euler_parameters};
+use super::motor::BurnSchedule;
 use crate::check::ir;
 use crate::plan::{ForcePlan, Plan};
 use crate::structure::coefficients::ReducedModel;
@@ -125,7 +127,8 @@ pub fn build_force_blocks(plan: &Plan, model: &ReducedModel) -> Result<ForceBloc
     let mut blocks = Vec::new();
     for f in &plan.forces {
         match f {
-            ForcePlan::Gravity(g) => blocks.push(ForceBlock::Gravity(GravityBlock::new(
+            ForcePlan::Gravity(g) => blocks.push(ForceBlock::Gravity(gravity_block(
+                plan,
                 model,
                 g.altitude_correction,
             ))),
@@ -151,6 +154,46 @@ pub fn build_force_blocks(plan: &Plan, model: &ReducedModel) -> Result<ForceBloc
     Ok(ForceBlocks { blocks })
 }
 
+/// The gravity block of `plan`: with a motor, on the burning vehicle's mass properties.
+fn gravity_block(plan: &Plan, model: &ReducedModel, altitude_correction: bool) -> GravityBlock {
+    match &plan.motor {
+        Some(m) => GravityBlock::burning(
+            model,
+            &m.propellant,
+            BurnSchedule::new(m.thrust.curve.clone(), m.propellant_mass),
+            altitude_correction,
+        ),
+        None => GravityBlock::new(model, altitude_correction),
+    }
+}
+
+/// The motor of `plan` inside the equations of motion (thrust at the nozzle, variable mass,
+/// mass-flow terms), if the vehicle has one.
+pub fn build_propulsion(plan: &Plan, model: &ReducedModel) -> Result<Option<Propulsion>, RunError> {
+    let Some(m) = &plan.motor else {
+        return Ok(None);
+    };
+    let t = &m.thrust;
+    let thrust = ThrustBlock::new(
+        t.curve.clone(),
+        t.nozzle_position,
+        t.offset,
+        t.misalignment,
+        &t.s_translation,
+        &t.s_rotation,
+        plan.n_modes,
+    );
+    let exit = [0, 1, 2].map(|i| t.nozzle_position[i] + t.offset[i]);
+    Ok(Some(Propulsion::new(
+        model,
+        m.propellant.clone(),
+        BurnSchedule::new(t.curve.clone(), m.propellant_mass),
+        thrust,
+        exit,
+        &t.s_translation,
+    )?))
+}
+
 /// Evaluates the output channels of a state and the stop conditions (outside the RHS).
 struct Monitor<'a> {
     plan: &'a Plan,
@@ -163,6 +206,8 @@ struct Monitor<'a> {
     aero: AeroProbe,
     /// What the stop condition saw (for the summary), set with the stop.
     stop_note: Option<String>,
+    /// `T + ½ηᵀK̄η` at `t = 0` (the energy balance's reference).
+    energy0: f64,
 }
 
 /// The aerodynamic blocks of a run outside its right-hand side, and what they gave at the
@@ -346,7 +391,10 @@ impl Monitor<'_> {
     fn row(&mut self, t: f64, x: &mut [f64]) -> Result<Vec<f64>, EomError> {
         normalize_euler_parameters(&mut x[3..7]);
         let layout = self.plan.layout();
-        let inv = self.eval.invariants(x)?;
+        let inv = self.eval.invariants_at(t, x)?;
+        if let Some(g) = &mut self.gravity {
+            g.set_time(t);
+        }
         let s = StateView::new(layout, x);
         let mut r = Vec::with_capacity(self.plan.channels.len());
         r.push(t);
@@ -393,6 +441,23 @@ impl Monitor<'_> {
         r.extend_from_slice(&inv.momentum_inertial);
         r.extend_from_slice(&inv.angular_momentum_cm_body);
         r.extend_from_slice(&inv.angular_momentum_cm_inertial);
+        r.push(inv.mass);
+        r.extend_from_slice(&inv.centre_of_mass_body);
+        // The works integrated with the state (`Eom::track_energy`) and the balance's
+        // residual `Δ(T + ½ηᵀK̄η) - W_loads - W_propulsive + D`.
+        let e = layout.len();
+        let (w_loads, w_prop, diss) = match x.get(e..e + EnergyLayout::LEN) {
+            Some(w) => (
+                w[EnergyLayout::LOADS],
+                w[EnergyLayout::PROPULSIVE],
+                w[EnergyLayout::DISSIPATED],
+            ),
+            None => (f64::NAN, f64::NAN, f64::NAN),
+        };
+        r.push(w_loads);
+        r.push(w_prop);
+        r.push(diss);
+        r.push(inv.total_energy() - self.energy0 - w_loads - w_prop + diss);
         // The aero channels at this state (a stop raised here is the step check's business).
         let _ = self.aero.evaluate(t, &s);
         self.aero.channels(&mut r);
@@ -426,7 +491,12 @@ pub fn run(
     let started = Instant::now();
     let probe = AeroProbe::of_plan(plan, model);
     let forces = build_force_blocks(plan, model)?;
-    let mut eom = Eom::new(model, forces)?;
+    let mut eom = Eom::new(model, forces)?.track_energy();
+    let mut eval = Eom::new(model, FreeFlight)?;
+    if let Some(p) = build_propulsion(plan, model)? {
+        eom = eom.with_propulsion(p.clone())?;
+        eval = eval.with_propulsion(p)?;
+    }
     let layout = eom.layout();
     if plan.initial_state.len() != layout.len() {
         return Err(RunError::InitialState {
@@ -434,15 +504,17 @@ pub fn run(
             found: plan.initial_state.len(),
         });
     }
+    let energy0 = eval.invariants_at(0.0, &plan.initial_state)?.total_energy();
     let mut monitor = Monitor {
         plan,
-        eval: Eom::new(model, FreeFlight)?,
+        eval,
         gravity: plan
             .gravity()
-            .map(|g| GravityBlock::new(model, g.altitude_correction)),
+            .map(|g| gravity_block(plan, model, g.altitude_correction)),
         atmosphere: Standard1976::new(),
         aero: probe,
         stop_note: None,
+        energy0,
     };
     let mut integrator: Box<dyn Integrator> = match plan.integrator.method {
         ir::Integrator::Dopri5 => Box::new(DormandPrince54::new(AdaptiveOptions {
@@ -460,7 +532,8 @@ pub fn run(
 
     let t_end = plan.stop.stop_time;
     let dt_out = plan.output_interval;
-    let dim = layout.len();
+    // The state with the works of the energy balance appended (they start at zero).
+    let dim = eom.dim();
     let mut rows: Vec<Vec<f64>> = Vec::new();
     let mut prev: Option<(f64, Vec<f64>, Vec<f64>)> = None;
     let mut next_k: u64 = 0;
@@ -470,6 +543,7 @@ pub fn run(
     let mut row_error: Option<EomError> = None;
     let mut scratch = vec![0.0; dim];
     let mut x = plan.initial_state.clone();
+    x.resize(dim, 0.0);
     let eps = 1e-9 * dt_out;
 
     let report = {

@@ -51,6 +51,11 @@ pub struct CompiledVehicle {
     pub centre_of_mass: [f64; 3],
     /// Inertia about the centre of mass, kg m^2.
     pub inertia_cm: [[f64; 3]; 3],
+    /// With a motor: `reduced`, the mass properties and the modes are the vehicle's at
+    /// ignition (the modal basis is that of the full vehicle), and this is the propellant
+    /// grain's contribution at full load on the same basis (stiffness and damping zero);
+    /// the vehicle with propellant fraction `f` is `reduced - (1 - f) propellant`.
+    pub propellant: Option<ReducedModel>,
 }
 
 #[derive(Clone, Debug, Serialize, rkyv::Archive, rkyv::Serialize, rkyv::Deserialize)]
@@ -66,7 +71,7 @@ pub struct CompiledMode {
 }
 
 impl crate::artifact::ArtifactPayload for CompiledVehicle {
-    const SCHEMA: &'static str = "CompiledVehicle v1: vehicle, reduced(ReducedModel v1), modes[name,class,fin,frequency_hz,generalised_mass,body_fraction], candidate_frequencies_hz, n_rigid, node_positions, node_ids, node_components, shapes(row-major), origin_node, key_body, key_nozzle, key_fins, centre_of_mass, inertia_cm";
+    const SCHEMA: &'static str = "CompiledVehicle v1: vehicle, reduced(ReducedModel v1), modes[name,class,fin,frequency_hz,generalised_mass,body_fraction], candidate_frequencies_hz, n_rigid, node_positions, node_ids, node_components, shapes(row-major), origin_node, key_body, key_nozzle, key_fins, centre_of_mass, inertia_cm, propellant(Option<ReducedModel v1>)";
 }
 
 /// Why a vehicle's structure could not be compiled.
@@ -318,6 +323,20 @@ pub fn compile_model(
         angles: f.angles.iter().map(|a| a.value).collect(),
     });
     let comps = super::selection::components(&model, fins.as_ref());
+    // The motor at ignition: casing and full grain on the body nodes; the grain's mass
+    // matrix alone is reduced on the same modes below.
+    let (model, propellant_mass) = match &v.motor {
+        Some(motor) => {
+            let (full, prop) = super::motor::with_motor(&model, &comps, motor).map_err(|e| {
+                StructureError::Node {
+                    message: format!("motor `{}`: {e}", motor.name.value),
+                    span: motor.header,
+                }
+            })?;
+            (full, Some(prop))
+        }
+        None => (model, None),
+    };
     let origin = node_index(&model, &v.origin, "origin")?;
     let origin_span = match &v.origin {
         NodeRef::Id(s) => s.span,
@@ -344,12 +363,14 @@ pub fn compile_model(
         });
     }
     let key_body = node_index(&model, &v.key_nodes.body, "body key node")?;
-    let key_nozzle = v
-        .key_nodes
-        .nozzle
-        .as_ref()
-        .map(|r| node_index(&model, r, "nozzle key node"))
-        .transpose()?;
+    let key_nozzle = match (&v.key_nodes.nozzle, &v.motor) {
+        (Some(r), _) => Some(node_index(&model, r, "nozzle key node")?),
+        // The motor's aft end (the nozzle exit) on the body.
+        (None, Some(m)) => nearest(&model, m.position.value, |i| {
+            comps.get(i).is_none_or(|c| *c == Component::Body)
+        }),
+        (None, None) => None,
+    };
     let key_fins = fin_key_nodes(&model, &comps, v)?;
 
     let n_fins = fins.as_ref().map_or(0, |f| f.angles.len());
@@ -407,6 +428,34 @@ pub fn compile_model(
             }
         })?;
 
+    // The propellant's coefficients on the same shapes (module doc of `runtime::motor`):
+    // every mass coefficient is linear in M, so the vehicle at propellant fraction f is
+    // `reduced - (1 - f) propellant`. K and the damping belong to the structure alone.
+    let propellant = match propellant_mass {
+        Some(mp) => {
+            let prop_model = FeModel {
+                nodes: model.nodes.clone(),
+                mass: mp,
+                stiffness: model.stiffness.clone(),
+                elements: Vec::new(),
+            };
+            let mut p = reduce(
+                &prop_model,
+                origin,
+                shapes.as_ref(),
+                &selection.omega2,
+                &vec![0.0; n],
+            )
+            .map_err(|error| StructureError::Coefficients {
+                error,
+                span: structure_span(v),
+            })?;
+            p.modal_stiffness.fill(0.0);
+            p.modal_damping.fill(0.0);
+            Some(p)
+        }
+        None => None,
+    };
     let m = reduced.mass;
     let c = reduced.first_moment;
     let com = [c[0] / m, c[1] / m, c[2] / m];
@@ -462,6 +511,7 @@ pub fn compile_model(
         key_fins: key_fins.iter().map(|&k| k as u32).collect(),
         centre_of_mass: com,
         inertia_cm,
+        propellant,
     };
     Ok((compiled, model))
 }

@@ -7,6 +7,7 @@ pub mod fe_io;
 pub mod fe_model;
 pub mod generate;
 pub mod modal;
+pub mod motor;
 pub mod selection;
 
 pub use fe_model::{Component, DOF_PER_NODE, Element, ElementKind, FeModel, Node};

@@ -2,6 +2,7 @@
 
 use crate::runtime::eom::{ForceModel, StateView, UniformGravity};
 use crate::runtime::kinematics::mat_t_vec;
+use crate::runtime::motor::BurnSchedule;
 use crate::structure::coefficients::ReducedModel;
 
 /// Standard gravity at sea level, m/s², eq. (5.1.1).
@@ -44,11 +45,27 @@ pub fn potential_per_mass(h: f64, altitude_correction: bool) -> f64 {
 /// virtual work `m g·δr_cm` is exactly `F_B`, `G_B`, `Q` above), so energy is conserved
 /// with the correction on. The variation of `g` over the vehicle length (~10⁻⁶ g) is
 /// neglected, as in the thesis.
+///
+/// On a burning vehicle ([`Self::burning`]) `m`, `c` and `P̄` are those of the propellant
+/// fraction `f(t)` of the burn schedule (`dry + f prop`, [`crate::runtime::motor`]), set
+/// before each evaluation; gravity is then reported as external work in the energy balance
+/// rather than as a potential (the burnt mass takes its potential energy with it).
 #[derive(Debug, Clone)]
 pub struct GravityBlock {
     uniform: UniformGravity,
     /// Apply (5.1.2).
     pub altitude_correction: bool,
+    burn: Option<Box<GravityBurn>>,
+}
+
+/// The mass properties of a burning vehicle for gravity: dry and propellant `m`, `c`, `P̄`.
+#[derive(Debug, Clone)]
+struct GravityBurn {
+    schedule: BurnSchedule,
+    dry: (f64, [f64; 3], Vec<f64>),
+    prop: (f64, [f64; 3], Vec<f64>),
+    p_bar: Vec<f64>,
+    fraction: f64,
 }
 
 impl GravityBlock {
@@ -57,7 +74,55 @@ impl GravityBlock {
         Self {
             uniform: UniformGravity::new(model, [0.0, 0.0, G0]),
             altitude_correction,
+            burn: None,
         }
+    }
+
+    /// Gravity on the vehicle `full` (at ignition) whose propellant `prop` (same basis)
+    /// burns by `schedule`.
+    pub fn burning(
+        full: &ReducedModel,
+        prop: &ReducedModel,
+        schedule: BurnSchedule,
+        altitude_correction: bool,
+    ) -> Self {
+        let mut b = Self::new(full, altitude_correction);
+        let dry_p: Vec<f64> = full
+            .p_bar
+            .iter()
+            .zip(&prop.p_bar)
+            .map(|(a, b)| a - b)
+            .collect();
+        let dry_c = [0, 1, 2].map(|i| full.first_moment[i] - prop.first_moment[i]);
+        b.burn = Some(Box::new(GravityBurn {
+            schedule,
+            dry: (full.mass - prop.mass, dry_c, dry_p),
+            prop: (prop.mass, prop.first_moment, prop.p_bar.clone()),
+            p_bar: full.p_bar.clone(),
+            fraction: 1.0,
+        }));
+        b
+    }
+
+    /// Sets the mass properties to the propellant fraction at `t` (no allocation).
+    pub fn set_time(&mut self, t: f64) {
+        if let Some(b) = &mut self.burn {
+            let f = b.schedule.fraction(t);
+            if f != b.fraction {
+                b.fraction = f;
+                let m = b.dry.0 + f * b.prop.0;
+                let c = [0, 1, 2].map(|i| b.dry.1[i] + f * b.prop.1[i]);
+                for ((o, d), p) in b.p_bar.iter_mut().zip(&b.dry.2).zip(&b.prop.2) {
+                    *o = d + f * p;
+                }
+                self.uniform.set_mass_properties(m, c, &b.p_bar);
+            }
+        }
+    }
+
+    /// Does the mass change (then gravity is work, not a potential, in the energy balance)?
+    pub fn is_burning(&self) -> bool {
+        self.burn.is_some()
     }
 
     /// Altitude of the mass centre, m (the `h` of eq. 5.1.2). No allocation.
@@ -77,6 +142,7 @@ impl GravityBlock {
 
 impl ForceModel for GravityBlock {
     fn generalized_forces(&mut self, t: f64, s: &StateView, out: &mut [f64]) {
+        self.set_time(t);
         let g = if self.altitude_correction {
             gravity_at(self.centre_of_mass_altitude(s), true)
         } else {
