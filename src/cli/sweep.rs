@@ -34,7 +34,7 @@ use crate::check::{DiskLoader, check_scenario_files};
 use crate::runtime::run::{self, AeroBlocks};
 use crate::structure::compile::{CompiledVehicle, compile};
 
-use super::compile::{CompileOutcome, cache_key, strip_spans};
+use super::compile::{CompileOutcome, cache_key};
 use super::fmt::write_atomic;
 use super::{Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, load_program};
 
@@ -278,21 +278,28 @@ fn prepare_case(
         .scenario(scenario)
         .cloned()
         .ok_or_else(|| format!("scenario `{scenario}` did not check"))?;
-    let key = cache_key(&sc.vehicle).map_err(|e| format!("cannot read an FE file: {e}"))?;
-    let ir = serde_json::to_value(&sc).map_err(|e| e.to_string())?;
-    let variant = blake3::hash(strip_spans(ir).to_string().as_bytes())
-        .to_hex()
-        .to_string();
-    let ir = serde_json::to_value(&sc.vehicle).map_err(|e| e.to_string())?;
-    let vehicle = blake3::hash(strip_spans(ir).to_string().as_bytes())
-        .to_hex()
-        .to_string();
+    let (key, variant, vehicle) = case_fingerprints(&sc)?;
     Ok(Prepared {
         scenario: sc,
         key,
         variant,
         vehicle,
     })
+}
+
+/// The three fingerprints of a checked case: the cache key of its structure, the variant
+/// (the whole scenario IR: decides whether a finished case on disk is still this case) and
+/// the vehicle (decides which cases share aerodynamic blocks). The last two hash the
+/// canonical serialisation (`artifact::canonical`): every value, source positions left out
+/// by their type.
+pub fn case_fingerprints(
+    sc: &crate::check::ir::Scenario,
+) -> Result<(CacheKey, String, String), String> {
+    let key = cache_key(&sc.vehicle).map_err(|e| format!("cannot read an FE file: {e}"))?;
+    let variant = crate::artifact::canonical::fingerprint(sc).map_err(|e| e.to_string())?;
+    let vehicle =
+        crate::artifact::canonical::fingerprint(&sc.vehicle).map_err(|e| e.to_string())?;
+    Ok((key, variant, vehicle))
 }
 
 /// Compile one structural variant through the cache (built once, then memory-mapped).
