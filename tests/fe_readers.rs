@@ -230,9 +230,10 @@ fn tube21_rigid_motions_are_null_vectors_of_k_in_every_format() {
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     let reference = v["rigid_motion_residual"].as_f64().unwrap();
     for (name, model, tol) in [
-        ("mtx", from_mtx(), 1e-14),
-        ("op4", from_op4(), 1e-14),
-        ("bdf", from_bdf(), 1e-9),
+        // Achieved: 1.5e-16 (mtx, op4), 6.9e-11 (DMIG).
+        ("mtx", from_mtx(), 1e-15),
+        ("op4", from_op4(), 1e-15),
+        ("bdf", from_bdf(), 2e-10),
     ] {
         let r = rigid_motion_residual(&model);
         println!("{name}: rigid-motion residual {r:e} (reference.json {reference:e})");
