@@ -663,9 +663,17 @@ fn a_sweep_over_fin_span_gives_distinct_variants() {
 fn moved_text_keeps_every_fingerprint() {
     let dir = tempfile::tempdir().unwrap();
     let file = scenario_file(dir.path());
-    let a = case_fingerprints(&scenario(&file, &[])).unwrap();
+    let sa = scenario(&file, &[]);
+    let a = case_fingerprints(&sa).unwrap();
     let text = std::fs::read_to_string(&file).unwrap();
     std::fs::write(&file, format!("# moved\n\n{text}")).unwrap();
-    let b = case_fingerprints(&scenario(&file, &[])).unwrap();
+    let sb = scenario(&file, &[]);
+    let b = case_fingerprints(&sb).unwrap();
     assert_eq!(a, b);
+    // The aerodynamic cache key (structural key + whole vehicle, with the scenario's `with`
+    // overrides, whose positions moved) too; it changes with a value outside the structure.
+    let aero = |sc: &Scenario| flexflight::cli::compile::aero_cache_key(&sc.vehicle, &a.0).unwrap();
+    assert_eq!(aero(&sa), aero(&sb));
+    let other = scenario(&file, &["aero.reference_length=128 mm".into()]);
+    assert_ne!(aero(&sa), aero(&other));
 }
