@@ -351,7 +351,8 @@ fn free_vehicle_roots(speed: f64) {
         9,
         "nine rigid roots"
     );
-    assert!(worst < 1e-6, "{worst:e}");
+    // 4.1e-11 achieved.
+    assert!(worst < 1e-10, "{worst:e}");
     assert!(rigid_max < 1e-6 * wmax, "{rigid_max:e}");
     assert!(real_max < 1e-6 * wmax, "{real_max:e}");
 }
@@ -553,4 +554,59 @@ fn gravity_rotates_with_the_attitude_perturbation() {
             }
         }
     }
+}
+
+/// Issue 9, defect 2: `damping` is the damping ratio of each elastic mode of the FREE
+/// vehicle. Aero and gravity off (`FreeFlight`), linearised at rest: every selected mode's
+/// root oscillates and has exactly the ratio asked for, on SPHADS-1 (four fins, fixity at
+/// the nose) and its tri-fin variant, for `damping = 0.01` and `0.05`. Before the fix the
+/// body bending of SPHADS-1 showed 0.27 for 0.01 (the fixity-adjusted shape's modal mass
+/// in place of the free mode's) and over-damped for 0.05.
+#[test]
+fn free_vehicle_elastic_roots_have_the_damping_ratio_asked_for() {
+    let mut worst: f64 = 0.0;
+    for file in ["vehicles/sphads1.vdl", "vehicles/sphads1a.vdl"] {
+        for zeta in [0.01, 0.05] {
+            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(file);
+            let checked = flexflight::check::check_files(
+                &[path],
+                &[format!("modes.damping={zeta}")],
+                &flexflight::check::DiskLoader,
+            );
+            assert!(!checked.has_errors(), "{:?}", checked.diagnostics);
+            let c = flexflight::structure::compile::compile(&checked.program.vehicles[0])
+                .unwrap()
+                .0;
+            let model = &c.reduced;
+            let n = model.n();
+            let eom = Eom::new(model, FreeFlight).unwrap();
+            let mut lin = Linearizer::new(
+                eom,
+                &translation_rows(&c),
+                &model.omega2,
+                &mode_names(&c),
+                LineariseOptions::default(),
+            );
+            let trim = lin.trim(0.0, 5000.0, IDENTITY).unwrap();
+            let lm = lin.linearise(&trim.state).unwrap();
+            let e = eigen_structure(&lm, 1e-4).unwrap();
+            let elastic: Vec<_> = e.roots.iter().filter(|r| r.imag > 1.0).collect();
+            assert_eq!(elastic.len(), n, "{file} zeta {zeta}: {:?}", e.roots);
+            let mut line = format!("{file} zeta {zeta}:");
+            for r in &elastic {
+                let rel = r.damping_ratio / zeta - 1.0;
+                worst = worst.max(rel.abs());
+                line += &format!(
+                    " {:.2} Hz {:.5}",
+                    r.imag / std::f64::consts::TAU,
+                    r.damping_ratio
+                );
+                assert!(rel.abs() < 0.03, "{file} zeta {zeta}: root {r:?}");
+            }
+            eprintln!("{line}");
+        }
+    }
+    eprintln!("worst relative error of the damping ratio {worst:e}");
+    // 4.1e-11 achieved.
+    assert!(worst < 1e-10, "{worst:e}");
 }

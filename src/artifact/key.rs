@@ -30,6 +30,7 @@ mod tag {
     pub const F64: u8 = 3;
     pub const U64: u8 = 4;
     pub const FILE: u8 = 5;
+    pub const CANONICAL: u8 = 6;
 }
 
 /// A 32-byte blake3 hash identifying one compiled artifact; displayed as 64 hex digits.
@@ -94,6 +95,18 @@ impl CacheKeyBuilder {
     pub fn text(&mut self, label: &str, value: &str) -> &mut Self {
         self.record(tag::TEXT, label, value.as_bytes());
         self
+    }
+
+    /// Adds a value by its canonical serialisation ([`super::canonical`]): everything it
+    /// serialises except source positions, which are left out by their type.
+    pub fn canonical<T: serde::Serialize + ?Sized>(
+        &mut self,
+        label: &str,
+        value: &T,
+    ) -> Result<&mut Self, super::canonical::Error> {
+        let bytes = super::canonical::to_bytes(value)?;
+        self.record(tag::CANONICAL, label, &bytes);
+        Ok(self)
     }
 
     /// Adds raw bytes.

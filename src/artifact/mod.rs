@@ -19,6 +19,7 @@
 //! loads.
 
 pub mod cache;
+pub mod canonical;
 pub mod container;
 pub mod error;
 pub mod key;

@@ -7,7 +7,7 @@
 
 use std::path::PathBuf;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::syntax::{Span, Spanned};
 
@@ -37,7 +37,7 @@ impl Program {
     }
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Material {
     pub name: Spanned<String>,
     /// Young's modulus E, Pa.
@@ -52,7 +52,7 @@ pub struct Material {
     pub ultimate_stress: Option<Q>,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Vehicle {
     pub name: Spanned<String>,
     /// Span of the whole `vehicle` header, for errors about the vehicle as a whole.
@@ -72,7 +72,7 @@ pub struct Vehicle {
 /// A solid motor inside the vehicle: its casing and propellant masses enter the structure
 /// (the propellant as a separate mass whose fraction burns during the run), its curve gives
 /// the thrust at its aft end.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Motor {
     pub name: Spanned<String>,
     /// Span of the `motor` block header.
@@ -92,14 +92,14 @@ pub struct Motor {
 }
 
 /// Where the FE model comes from.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Structure {
     Generate(Generate),
     Files(FeFiles),
 }
 
 /// The built-in FE generator's inputs (the fins come from the vehicle's `fins` block).
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Generate {
     pub span: Span,
     pub body: BodyGeometry,
@@ -110,7 +110,7 @@ pub struct Generate {
     pub distributed_masses: Vec<DistributedMass>,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BodyGeometry {
     pub length: Q,
     pub diameter: Q,
@@ -121,14 +121,14 @@ pub struct BodyGeometry {
     pub theory: Spanned<BeamTheory>,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum BeamTheory {
     EulerBernoulli,
     Timoshenko,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PointMass {
     pub name: Spanned<String>,
     pub position: V3,
@@ -137,7 +137,7 @@ pub struct PointMass {
     pub inertia: V3,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DistributedMass {
     pub name: Spanned<String>,
     /// Body-x stations (x <= 0) between which the mass is spread uniformly.
@@ -146,7 +146,7 @@ pub struct DistributedMass {
     pub mass: Q,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FeFormat {
     MatrixMarket,
@@ -155,7 +155,7 @@ pub enum FeFormat {
 }
 
 /// FE matrices exported from NASTRAN/ANSYS.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FeFiles {
     pub span: Span,
     pub format: Spanned<FeFormat>,
@@ -175,7 +175,7 @@ pub struct FeFiles {
 }
 
 /// How a node is designated.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum NodeRef {
     /// By the id in the FE model.
     Id(Spanned<u64>),
@@ -183,7 +183,7 @@ pub enum NodeRef {
     Nearest(V3),
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct KeyNodes {
     pub span: Span,
     /// Body aerodynamics key node (5.3).
@@ -194,7 +194,7 @@ pub struct KeyNodes {
     pub fins: FinKeyNodes,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum FinKeyNodes {
     /// None given (a vehicle with no fins).
     None,
@@ -205,7 +205,7 @@ pub enum FinKeyNodes {
     PerFin(Vec<NodeRef>),
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ModeSelection {
     pub span: Span,
     pub rules: Vec<ModeRule>,
@@ -215,7 +215,7 @@ pub struct ModeSelection {
     pub damping: Vec<Q>,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum ModeRule {
     /// Elastic modes by 1-based index in frequency order.
     Indices(Spanned<Vec<usize>>),
@@ -228,7 +228,7 @@ pub enum ModeRule {
     },
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ModeClass {
     BodyBending,
@@ -236,14 +236,14 @@ pub enum ModeClass {
     FinTwist,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ModeCount {
     Count(usize),
     PerFin,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Fins {
     pub span_: Span,
     pub count: Spanned<usize>,
@@ -261,7 +261,7 @@ pub struct Fins {
     pub material: Material,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Aero {
     pub span: Span,
     pub source: AeroSource,
@@ -271,7 +271,7 @@ pub struct Aero {
     pub reference_point: V3,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum AeroSource {
     /// The built-in estimator (slender body + Barrowman/linear supersonic theory); its
     /// tables clamp outside their grid unless `out_of_range = stop` is written.
@@ -284,14 +284,14 @@ pub enum AeroSource {
     },
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum OutOfRange {
     Stop,
     Clamp,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize, Default)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
 pub struct Forces {
     pub gravity: Option<Gravity>,
     pub thrust: Option<Thrust>,
@@ -299,14 +299,14 @@ pub struct Forces {
     pub fin_aero: Option<FinAero>,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Gravity {
     pub span: Span,
     /// Scale g by (R_E / (R_E + h))^2 (5.1.2).
     pub altitude_correction: bool,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Thrust {
     pub span: Span,
     /// Thrust curve: RASP `.eng` or CSV (t, N).
@@ -317,14 +317,14 @@ pub struct Thrust {
     pub misalignment: V3,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BodyAero {
     pub span: Span,
     /// Include the C_N and C_M rate terms (5.3.5-5.3.9).
     pub rate_terms: bool,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Distribution {
     /// Fourier sine series span load subsonic, linear wing theory supersonic (App. A).
@@ -333,7 +333,7 @@ pub enum Distribution {
     Uniform,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FinAero {
     pub span: Span,
     pub distribution: Spanned<Distribution>,
@@ -346,7 +346,7 @@ pub struct FinAero {
 }
 
 /// Where the fin aerodynamics see the fin's deformation (5.4.3-5.4.10).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FinIncidence {
     /// At the fin key node, as the thesis does (its rotation and velocity).
@@ -359,7 +359,7 @@ pub enum FinIncidence {
 // ------------------------------------------------------------------------------------------
 // Scenarios
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Scenario {
     pub name: Spanned<String>,
     pub span: Span,
@@ -372,14 +372,14 @@ pub struct Scenario {
     pub run: RunSettings,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Override {
     pub path: String,
     pub value: String,
     pub span: Span,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Initial {
     pub span: Span,
     pub velocity: InitialVelocity,
@@ -389,7 +389,7 @@ pub struct Initial {
     pub position: InitialPosition,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum InitialVelocity {
     /// V_B in the body frame, m/s.
     Body(V3),
@@ -397,7 +397,7 @@ pub enum InitialVelocity {
     Mach(Q),
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Attitude {
     /// Roll, pitch, yaw (4.4.1-4.4.5), rad.
     Euler(V3),
@@ -405,7 +405,7 @@ pub enum Attitude {
     Quaternion(Spanned<[f64; 4]>),
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum InitialPosition {
     /// Altitude above sea level, m (inertial x = y = 0, z = -h).
     Altitude(Q),
@@ -413,20 +413,20 @@ pub enum InitialPosition {
     Inertial(V3),
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Frame {
     Body,
     Inertial,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Stimulus {
     pub name: Spanned<String>,
     pub kind: StimulusKind,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum StimulusKind {
     /// Rectangular gust pulse of wind velocity (4.5.2).
     Gust {
@@ -461,14 +461,14 @@ pub enum StimulusKind {
     },
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum TurbulenceModel {
     Dryden,
     VonKarman,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Integrator {
     /// Adaptive Dormand-Prince 5(4).
@@ -477,7 +477,7 @@ pub enum Integrator {
     Rk4,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunSettings {
     pub span: Span,
     pub stop_time: Q,
@@ -497,7 +497,7 @@ pub struct RunSettings {
 // ------------------------------------------------------------------------------------------
 // Sweeps
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Sweep {
     pub name: Spanned<String>,
     pub span: Span,
@@ -511,7 +511,7 @@ pub struct Sweep {
     pub axes: Vec<SweepAxis>,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SweepAnalysis {
     /// Time-domain runs of the scenario.
@@ -521,7 +521,7 @@ pub enum SweepAnalysis {
     Linear3d,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Combine {
     /// Cartesian product of the axes.
@@ -530,7 +530,7 @@ pub enum Combine {
     Zip,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SweepAxis {
     /// Override path (`fins.thickness`, `initial.altitude`).
     pub path: String,

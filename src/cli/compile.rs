@@ -41,24 +41,47 @@ pub fn pick_vehicle<'a>(checked: &'a Checked, name: Option<&str>) -> Result<&'a 
 }
 
 /// The cache key of a vehicle's structure: the canonical structural inputs (the IR of the
-/// parts that shape the FE model and the modes, without spans), the bytes of every
-/// referenced FE file, and (through the builder) the compiler and format versions.
+/// parts that shape the FE model and the modes), the bytes of every referenced FE file, and
+/// (through the builder) the compiler and format versions.
+///
+/// Complete by construction: each part is hashed by its canonical serialisation
+/// ([`artifact::canonical`]), which keeps every value and leaves out only source positions,
+/// by their type; and `Vehicle` is destructured without `..`, so a field added to it does
+/// not compile until it is either hashed here or stated not to shape the artifact.
 pub fn cache_key(v: &Vehicle) -> std::io::Result<CacheKey> {
+    let Vehicle {
+        name,
+        span: _,
+        material,
+        structure,
+        origin,
+        key_nodes,
+        modes,
+        fins,
+        motor,
+        // Not structural: the aerodynamics and the force blocks are resolved by the plan
+        // and the runtime, never by the compiler.
+        aero: _,
+        forces: _,
+    } = v;
     let mut b = CacheKeyBuilder::new("compiled-vehicle");
-    let canon = |x: serde_json::Value| strip_spans(x).to_string();
-    let json = |x: &dyn erased::Ser| x.to_json();
+    let canon = |b: &mut CacheKeyBuilder, label: &str, x: &dyn erased::Ser| {
+        x.add_to(b, label)
+            .map(|_| ())
+            .map_err(std::io::Error::other)
+    };
     b.text(
         "pipeline revision",
         &crate::structure::compile::PIPELINE_REVISION.to_string(),
     );
-    b.text("name", &v.name.value);
-    b.text("material", &canon(json(&v.material)));
-    b.text("structure", &canon(json(&v.structure)));
-    b.text("fins", &canon(json(&v.fins)));
-    b.text("origin", &canon(json(&v.origin)));
-    b.text("key_nodes", &canon(json(&v.key_nodes)));
-    b.text("modes", &canon(json(&v.modes)));
-    b.text("motor", &canon(json(&v.motor)));
+    canon(&mut b, "name", name)?;
+    canon(&mut b, "material", material)?;
+    canon(&mut b, "structure", structure)?;
+    canon(&mut b, "fins", fins)?;
+    canon(&mut b, "origin", origin)?;
+    canon(&mut b, "key_nodes", key_nodes)?;
+    canon(&mut b, "modes", modes)?;
+    canon(&mut b, "motor", motor)?;
     for f in referenced_files(v) {
         b.file("fe-file", f)?;
     }
@@ -66,29 +89,15 @@ pub fn cache_key(v: &Vehicle) -> std::io::Result<CacheKey> {
 }
 
 mod erased {
-    /// Serialise anything serde can, without naming its type.
+    use crate::artifact::{CacheKeyBuilder, canonical};
+    /// Add anything serde can serialise to a key, without naming its type.
     pub trait Ser {
-        fn to_json(&self) -> serde_json::Value;
+        fn add_to(&self, b: &mut CacheKeyBuilder, label: &str) -> Result<(), canonical::Error>;
     }
     impl<T: serde::Serialize> Ser for T {
-        fn to_json(&self) -> serde_json::Value {
-            serde_json::to_value(self).unwrap_or(serde_json::Value::Null)
+        fn add_to(&self, b: &mut CacheKeyBuilder, label: &str) -> Result<(), canonical::Error> {
+            b.canonical(label, self).map(|_| ())
         }
-    }
-}
-
-/// Remove span fields so that moving text around a file does not change the key.
-pub fn strip_spans(v: serde_json::Value) -> serde_json::Value {
-    use serde_json::Value;
-    match v {
-        Value::Object(map) => Value::Object(
-            map.into_iter()
-                .filter(|(k, _)| !matches!(k.as_str(), "span" | "span_" | "header"))
-                .map(|(k, v)| (k, strip_spans(v)))
-                .collect(),
-        ),
-        Value::Array(a) => Value::Array(a.into_iter().map(strip_spans).collect()),
-        other => other,
     }
 }
 
@@ -381,10 +390,9 @@ pub fn aero_cache_key(v: &Vehicle, structural: &CacheKey) -> std::io::Result<Cac
     let mut b = CacheKeyBuilder::new("vehicle-aero");
     b.u64("aero revision", u64::from(crate::plan::aero::AERO_REVISION));
     b.bytes("structural key", structural.as_bytes());
-    b.text(
-        "vehicle",
-        &serde_json::to_string(v).map_err(std::io::Error::other)?,
-    );
+    // The whole vehicle by its canonical serialisation: every value, source positions left
+    // out by their type (moving text does not change the key).
+    b.canonical("vehicle", v).map_err(std::io::Error::other)?;
     if let crate::check::ir::AeroSource::Tables { body, fins, .. } = &v.aero.source {
         b.file("body table", &body.value)?;
         b.file("fin table", &fins.value)?;

@@ -34,9 +34,7 @@ use crate::check::{DiskLoader, check_scenario_files};
 use crate::runtime::run;
 use crate::structure::compile::{CompiledVehicle, compile};
 
-use super::compile::{
-    CachedAero, CompileOutcome, aero_cache_key, cache_key, strip_spans, vehicle_aero_cached,
-};
+use super::compile::{CachedAero, CompileOutcome, aero_cache_key, cache_key, vehicle_aero_cached};
 use super::fmt::write_atomic;
 use super::{Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, load_program};
 
@@ -286,11 +284,7 @@ fn prepare_case(
         .scenario(scenario)
         .cloned()
         .ok_or_else(|| format!("scenario `{scenario}` did not check"))?;
-    let key = cache_key(&sc.vehicle).map_err(|e| format!("cannot read an FE file: {e}"))?;
-    let ir = serde_json::to_value(&sc).map_err(|e| e.to_string())?;
-    let variant = blake3::hash(strip_spans(ir).to_string().as_bytes())
-        .to_hex()
-        .to_string();
+    let (key, variant, _) = case_fingerprints(&sc)?;
     let has_aero = sc.vehicle.forces.body_aero.is_some() || sc.vehicle.forces.fin_aero.is_some();
     let aero_key = if has_aero {
         aero_cache_key(&sc.vehicle, &key).ok()
@@ -303,6 +297,22 @@ fn prepare_case(
         variant,
         aero_key,
     })
+}
+
+/// The three fingerprints of a checked case: the cache key of its structure, the variant
+/// (the whole scenario IR: decides whether a finished case on disk is still this case) and
+/// the whole vehicle (the part of the aerodynamic cache key, `aero_cache_key`, that decides
+/// which cases share aerodynamic blocks). The last two hash the
+/// canonical serialisation (`artifact::canonical`): every value, source positions left out
+/// by their type.
+pub fn case_fingerprints(
+    sc: &crate::check::ir::Scenario,
+) -> Result<(CacheKey, String, String), String> {
+    let key = cache_key(&sc.vehicle).map_err(|e| format!("cannot read an FE file: {e}"))?;
+    let variant = crate::artifact::canonical::fingerprint(sc).map_err(|e| e.to_string())?;
+    let vehicle =
+        crate::artifact::canonical::fingerprint(&sc.vehicle).map_err(|e| e.to_string())?;
+    Ok((key, variant, vehicle))
 }
 
 /// Compile one structural variant through the cache (built once, then memory-mapped).

@@ -22,8 +22,9 @@ use crate::syntax::Span;
 /// Revision of the numerical pipeline (FE generation, modal analysis, mode selection and
 /// reduction). It is part of the cache key: bump it whenever a change makes the same inputs
 /// compile to different numbers, so that no stale artifact is served. 2: fin clusters of
-/// [`crate::structure::selection::FIN_CLUSTER_TOLERANCE`].
-pub const PIPELINE_REVISION: u32 = 2;
+/// [`crate::structure::selection::FIN_CLUSTER_TOLERANCE`]. 3: modal damping gives the free
+/// vehicle's elastic modes the requested ratio (`coefficients::reduce`).
+pub const PIPELINE_REVISION: u32 = 3;
 
 /// Everything later stages need from the structure, as plain archivable data.
 #[derive(Clone, Debug, Serialize, rkyv::Archive, rkyv::Serialize, rkyv::Deserialize)]

@@ -50,10 +50,51 @@ fn clamp_u32(x: usize) -> u32 {
     u32::try_from(x).unwrap_or(u32::MAX)
 }
 
+/// The newtype-struct name by which a [`Span`] announces itself to serialisers: a source
+/// position, which the canonical encoding used for hashing (`artifact::canonical`) leaves out
+/// by this type rather than by any field name.
+pub const POSITION_TOKEN: &str = "$flexflight::source_position";
+
 impl serde::Serialize for Span {
-    /// Spans serialise as `[file, start, end]` (byte offsets).
+    /// Spans serialise as `[file, start, end]` (byte offsets), wrapped in the newtype struct
+    /// [`POSITION_TOKEN`] (transparent to JSON).
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        (self.file.0, self.start, self.end).serialize(s)
+        s.serialize_newtype_struct(POSITION_TOKEN, &(self.file.0, self.start, self.end))
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Span {
+    /// The inverse of the serialisation: `[file, start, end]`.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = Span;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a source position [file, start, end]")
+            }
+            fn visit_newtype_struct<D: serde::Deserializer<'de>>(
+                self,
+                d: D,
+            ) -> Result<Span, D::Error> {
+                let (file, start, end) = <(u32, u32, u32) as serde::Deserialize>::deserialize(d)?;
+                Ok(Span {
+                    file: FileId(file),
+                    start,
+                    end,
+                })
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> Result<Span, A::Error> {
+                let (file, start, end) = <(u32, u32, u32) as serde::Deserialize>::deserialize(
+                    serde::de::value::SeqAccessDeserializer::new(seq),
+                )?;
+                Ok(Span {
+                    file: FileId(file),
+                    start,
+                    end,
+                })
+            }
+        }
+        d.deserialize_newtype_struct(POSITION_TOKEN, V)
     }
 }
 
@@ -67,6 +108,13 @@ pub struct Spanned<T> {
 impl<T: serde::Serialize> serde::Serialize for Spanned<T> {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         self.value.serialize(s)
+    }
+}
+
+impl<'de, T: serde::Deserialize<'de>> serde::Deserialize<'de> for Spanned<T> {
+    /// The bare value, at the default (empty) span: the serialisation does not carry it.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        T::deserialize(d).map(|value| Spanned::new(value, Span::default()))
     }
 }
 

@@ -156,9 +156,16 @@ fn pinned_rigid_fin_limit_is_the_rigid_pitch_oscillator() {
     assert_eq!(classify(&ev).class, Stability::Stable);
 }
 
+/// The pinned model's matrices and roots against a hand calculation from the parameters:
+/// `M = [[J, -m_f d], [-m_f d, m_f]]` (6.7), `C = 1/V [[a M_b + d^2 P_f, -d P_f], [-d P_f,
+/// P_f]]`, `K = [[d P_f - M_b, -A_f0], [-P_f, k]]` ((6.8)-(6.9) as derived in
+/// `matrices.rs`), written out here independently of the code; every root `lambda` of the
+/// state matrix must make `det(lambda^2 M + lambda C + K)` vanish, and the roots' sum and
+/// product must be `-tr(M^-1 C)` and `det K / det M`. (It replaces a check of
+/// `prod lambda = det K / det M` against the matrices the analysis itself returned, which
+/// held for any matrices.)
 #[test]
-fn product_of_pinned_eigenvalues_is_det_k_over_det_m() {
-    // For A of (6.13), det(A) = det(K)/det(M) (block determinant with [[M,0],[0,1]]).
+fn pinned_roots_solve_the_hand_built_characteristic_equation() {
     let mut p = quiet(PlanarKind::Pinned);
     p.d = 0.98;
     p.a = Some(0.87);
@@ -169,18 +176,77 @@ fn product_of_pinned_eigenvalues_is_det_k_over_det_m() {
     p.fin_stiffness = 1946.0;
     p.fin_mass = 0.0617;
     let r = analyse(p).unwrap();
-    let det2 = |m: &Vec<Vec<f64>>| m[0][0] * m[1][1] - m[0][1] * m[1][0];
-    let expected = det2(&r.stiffness) / det2(&r.mass);
-    // Product of complex eigenvalues (real for a real matrix).
+    let (j, mf, d, a, pf, mb, af, k, v) = (
+        11.6,
+        0.0617,
+        0.98,
+        0.87,
+        1860.0,
+        0.87 * 570.0,
+        6.3,
+        1946.0,
+        100.0,
+    );
+    let m = [[j, -mf * d], [-mf * d, mf]];
+    let c = [
+        [(a * mb + d * d * pf) / v, -d * pf / v],
+        [-d * pf / v, pf / v],
+    ];
+    let kk = [[d * pf - mb, -af], [-pf, k]];
+    for (name, got, want) in [
+        ("M", &r.mass, m),
+        ("C", &r.damping, c),
+        ("K", &r.stiffness, kk),
+    ] {
+        for i in 0..2 {
+            for l in 0..2 {
+                let (g, w) = (got[i][l], want[i][l]);
+                assert!(
+                    (g - w).abs() <= 1e-15 * w.abs(),
+                    "{name}[{i}][{l}]: {g} vs {w}"
+                );
+            }
+        }
+    }
+    assert_eq!(r.eigenvalues.len(), 4);
+    // Complex arithmetic on (re, im) pairs.
+    let mul = |x: (f64, f64), y: (f64, f64)| (x.0 * y.0 - x.1 * y.1, x.0 * y.1 + x.1 * y.0);
+    let mut worst: f64 = 0.0;
+    for e in &r.eigenvalues {
+        let l = (e.re, e.im);
+        let l2 = mul(l, l);
+        let entry = |i: usize, q: usize| {
+            (
+                l2.0 * m[i][q] + l.0 * c[i][q] + kk[i][q],
+                l2.1 * m[i][q] + l.1 * c[i][q],
+            )
+        };
+        let (p1, p2) = (mul(entry(0, 0), entry(1, 1)), mul(entry(0, 1), entry(1, 0)));
+        let det = (p1.0 - p2.0, p1.1 - p2.1);
+        let scale = p1.0.hypot(p1.1) + p2.0.hypot(p2.1);
+        worst = worst.max(det.0.hypot(det.1) / scale);
+    }
+    // 9.0e-12 achieved (cancellation in the 2 x 2 determinant near a root).
+    assert!(
+        worst < 2e-11,
+        "det(lambda^2 M + lambda C + K) residual {worst:e}"
+    );
+    let det_m = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    let det_k = kk[0][0] * kk[1][1] - kk[0][1] * kk[1][0];
+    // tr(M^-1 C) with M^-1 = adj(M) / det M.
+    let tr =
+        (m[1][1] * c[0][0] - m[0][1] * c[1][0] - m[1][0] * c[0][1] + m[0][0] * c[1][1]) / det_m;
+    let sum: f64 = r.eigenvalues.iter().map(|e| e.re).sum();
     let (mut pr, mut pi) = (1.0, 0.0);
     for e in &r.eigenvalues {
-        (pr, pi) = (pr * e.re - pi * e.im, pr * e.im + pi * e.re);
+        (pr, pi) = mul((pr, pi), (e.re, e.im));
     }
+    assert!((sum + tr).abs() < 1e-12 * tr.abs(), "{sum} vs {}", -tr);
     assert!(
-        (pr - expected).abs() < 1e-9 * expected.abs(),
-        "{pr} vs {expected}"
+        (pr - det_k / det_m).abs() < 1e-12 * (det_k / det_m).abs() && pi.abs() < 1e-12 * pr.abs(),
+        "{pr} + {pi} i vs {}",
+        det_k / det_m
     );
-    assert!(pi.abs() < 1e-9 * expected.abs());
 }
 
 #[test]

@@ -5,7 +5,8 @@
 //! everything that (3.2.1) needs, so the runtime never touches the FE model again:
 //!
 //! - rigid `m`, `c`, `J` (eqs. 2.5.4, 2.5.6, 2.2.12; nodal form 2.5.25);
-//! - `M̄ = S^T M S`, `K̄ = S^T K S`, modal damping (eqs. 3.2.2, 3.2.20);
+//! - `M̄ = S^T M S`, `K̄ = S^T K S` (eqs. 3.2.2, 3.2.20), and the modal damping that gives
+//!   the free vehicle's elastic modes the requested ratios;
 //! - `P̄` and `H̄` (eqs. 3.2.3, 3.2.5 from 2.5.23-2.5.24);
 //! - `J̄'_ru,m` (eq. 3.2.13 from 2.5.11/2.5.14), `J̄''_uu,mp` (eq. 3.2.14 from 2.5.12 /
 //!   Tables 2.1-2.4), `H̄'_m` (eq. 3.2.7 from 2.5.26 / Tables 2.5-2.6).
@@ -67,6 +68,11 @@ pub enum CoefficientError {
         residual: f64,
         tolerance: f64,
     },
+    #[error(
+        "the free-vehicle generalised mass of the selected shapes is not positive definite \
+         (shape {index}: {value:e}): a selected shape has no elastic motion"
+    )]
+    ElasticMassNotPositive { index: usize, value: f64 },
     #[error("flexible coordinate index {index} is out of range ({n_modes} modes)")]
     ModeOutOfRange { index: usize, n_modes: usize },
 }
@@ -98,11 +104,14 @@ pub struct ReducedModel {
     pub modal_mass: Vec<f64>,
     /// `K̄ = S^T K S`, eq. (3.2.20).
     pub modal_stiffness: Vec<f64>,
-    /// Modal viscous damping `C̄ = diag(2 ζ_m ω_m M̄_mm)` (2.5.32 allows viscous damping).
+    /// Modal viscous damping `C̄` (n x n, symmetric; 2.5.32 allows viscous damping), built
+    /// so that each elastic mode of the free vehicle has the damping ratio `ζ` asked for
+    /// (derivation at `reduce::free_vehicle_damping`); `diag(2 ζ_m ω_m M_f,mm)` with `M_f`
+    /// the free mode's generalised mass when the shapes are free-free eigenvectors.
     pub modal_damping: Vec<f64>,
     /// Squared natural frequencies `ω_m^2` the shapes came with, rad^2/s^2.
     pub omega2: Vec<f64>,
-    /// Modal damping ratios `ζ_m`.
+    /// Damping ratios `ζ_m` of the free vehicle's elastic modes, as given.
     pub damping_ratio: Vec<f64>,
     /// `P̄ = P S` (3 x n), eq. (3.2.3): column m is `∫ φ_m dm`.
     pub p_bar: Vec<f64>,

@@ -149,7 +149,9 @@ fn check_inputs(
 ///
 /// `origin` is the node that carries the body frame; `shapes` (6N x n) should already have
 /// zero motion at that node ([`super::fix_modes_at_origin`], thesis 3.3). `omega2` are the
-/// squared natural frequencies and `damping` the modal damping ratios `ζ_m` of the shapes.
+/// squared natural frequencies the shapes came with (stored, not used for the damping) and
+/// `damping` the damping ratios `ζ_m` of the free vehicle's elastic modes (see
+/// [`free_vehicle_damping`] for what that means and how `C̄` is built).
 /// Positions `r_a` are the node positions in the body frame.
 ///
 /// Cost: `(4 n + 6)` passes over the stored nodal blocks and `O(n^2)` passes over the nodes.
@@ -280,10 +282,16 @@ pub fn reduce(
 
     let modal_mass = project(&model.mass, shapes);
     let modal_stiffness = project(&model.stiffness, shapes);
-    let mut modal_damping = vec![0.0; n * n];
-    for m in 0..n {
-        modal_damping[m * n + m] = 2.0 * damping[m] * omega2[m].sqrt() * modal_mass[m * n + m];
-    }
+    let modal_damping = free_vehicle_damping(
+        mass,
+        &c,
+        &inertia,
+        &p_bar,
+        &h_bar,
+        &modal_mass,
+        &modal_stiffness,
+        damping,
+    )?;
     Ok(ReducedModel {
         origin_node: origin as u32,
         n_modes: n as u32,
@@ -302,4 +310,148 @@ pub fn reduce(
         h_prime,
         rigid_mass_residual: residual,
     })
+}
+
+/// The modal damping matrix `C̄` that gives every elastic mode of the FREE vehicle the
+/// damping ratio asked for.
+///
+/// **What `damping` means.** `ζ_m` is the damping ratio of the m-th elastic mode of the free
+/// vehicle (no loads, linearised about rest): its roots are `λ = -ζ ω ± i ω √(1-ζ²)`. It is
+/// not a ratio per coordinate `η_m` of the fixity-adjusted shapes: those coordinates are
+/// coupled to the rigid body through the mass matrix, and the thesis' `C̄ = 2 ζ ω M̄_mm`
+/// (2.5.32 with the modal mass of 3.2.2) then gives the free vehicle a different ratio
+/// (`ζ M̄_mm / M_f,mm`: 0.27 instead of 0.01 for SPHADS-1's body bending, whose adjusted
+/// shape carries 27 times the generalised mass of the free mode).
+///
+/// **Derivation.** Linearised about rest with no loads, (3.2.1) is
+/// ```text
+/// [ M_rr  B  ] [ v̇_r ]   [ 0    0 ] [ v_r ]   [ 0   0 ] [ q_r ]
+/// [ B^T   M̄ ] [ η̈   ] + [ 0    C̄ ] [ η̇   ] + [ 0   K̄ ] [ η   ] = 0
+/// ```
+/// with `v_r = (V_B, ω_B)`, `M_rr = [[m 1, -c^×], [c^×, J]]` (2.5.25), `B = [P̄; H̄]`
+/// (3.2.3, 3.2.5) and `M̄`, `K̄` of (3.2.2), (3.2.20): the `η = 0` block of `M_tot(η)` in
+/// [`ReducedModel::mass_matrix_into`]. The rigid rows give `v̇_r = -M_rr⁻¹ B η̈`; substituted,
+/// ```text
+/// M_f η̈ + C̄ η̇ + K̄ η = 0,    M_f = M̄ - B^T M_rr⁻¹ B      (Schur complement)
+/// ```
+/// `M_f` is the generalised mass of the free-vehicle motion: writing the deformation of a
+/// fixity-adjusted shape as `s = φ - R g` (free-free shape minus a rigid motion, 3.3.1),
+/// `M_f = φ^T M φ` because the rigid part is exactly what the elimination removes (for
+/// unadjusted free-free shapes `B = 0` and `M_f = M̄`). Let `M_f = L L^T` (Cholesky),
+/// `L⁻¹ K̄ L⁻ᵀ = V Ω² V^T` (symmetric eigen-decomposition) and `Ψ = L⁻ᵀ V`, so that
+/// `Ψ^T M_f Ψ = 1` and `Ψ^T K̄ Ψ = Ω²`. Choosing
+/// ```text
+/// C̄ = M_f Ψ diag(2 ζ_i ω_i) Ψ^T M_f = (L V) diag(2 ζ_i ω_i) (L V)^T
+/// ```
+/// makes `Ψ^T C̄ Ψ = diag(2 ζ_i ω_i)`, so in the coordinates `η = Ψ x` every free mode obeys
+/// `ẍ_i + 2 ζ_i ω_i ẋ_i + ω_i² x_i = 0`: ratio exactly `ζ_i` at frequency `ω_i` (the
+/// classical damping matrix built from modal ratios, Clough & Penzien, Dynamics of
+/// Structures, ch. 12, applied here to the reduced free-vehicle pair `(M_f, K̄)`). When the selected shapes are free-free eigenvectors, `M_f` and `K̄` are
+/// diagonal, `ω_i` are their frequencies and `C̄ = diag(2 ζ_m ω_m M_f,mm)`, the textbook
+/// modal damping with the free mode's generalised mass.
+///
+/// **Which ζ for which root.** Root `i` takes `ζ_i = Σ_m V_mi² ζ_m`, the mean of the ratios of
+/// the selected modes weighted by their share of it (the squares of the orthonormal `V`
+/// sum to 1 over `m`): exactly `ζ_m` for a root that is one selected mode, and exactly the
+/// common value when one ratio is given for all. All ratios zero gives `C̄ = 0` exactly.
+///
+/// `M_rr` is inverted by its symmetric eigen-decomposition, dropping eigenvalues below
+/// `1e-12` of the largest (a direction with no rigid inertia, such as roll of a model with
+/// all its mass on the axis, has no coupling either). Fails if `M_f` is not positive definite
+/// (a selected shape with no elastic motion).
+#[allow(clippy::too_many_arguments)]
+fn free_vehicle_damping(
+    mass: f64,
+    c: &Vector3<f64>,
+    inertia: &Matrix3<f64>,
+    p_bar: &[f64],
+    h_bar: &[f64],
+    modal_mass: &[f64],
+    modal_stiffness: &[f64],
+    zeta: &[f64],
+) -> Result<Vec<f64>, CoefficientError> {
+    use nalgebra::{DMatrix, Matrix6, SymmetricEigen};
+    let n = zeta.len();
+    if zeta.iter().all(|z| *z == 0.0) {
+        return Ok(vec![0.0; n * n]);
+    }
+    let cx = skew(c);
+    let mut mrr = Matrix6::zeros();
+    for i in 0..3 {
+        for k in 0..3 {
+            mrr[(i, k)] = if i == k { mass } else { 0.0 };
+            mrr[(i, 3 + k)] = -cx[(i, k)];
+            mrr[(3 + i, k)] = cx[(i, k)];
+            mrr[(3 + i, 3 + k)] = inertia[(i, k)];
+        }
+    }
+    let eig = SymmetricEigen::new(mrr);
+    let top = eig.eigenvalues.iter().fold(0.0_f64, |a, &l| a.max(l.abs()));
+    let mut mrr_pinv = Matrix6::zeros();
+    for (j, &l) in eig.eigenvalues.iter().enumerate() {
+        if l > 1e-12 * top {
+            let q = eig.eigenvectors.column(j);
+            mrr_pinv += q * q.transpose() / l;
+        }
+    }
+    let b = DMatrix::from_fn(6, n, |i, m| {
+        if i < 3 {
+            p_bar[i * n + m]
+        } else {
+            h_bar[(i - 3) * n + m]
+        }
+    });
+    let sym = |a: &[f64]| DMatrix::from_fn(n, n, |i, k| 0.5 * (a[i * n + k] + a[k * n + i]));
+    let mut mf =
+        sym(modal_mass) - b.transpose() * DMatrix::from_fn(6, 6, |i, k| mrr_pinv[(i, k)]) * &b;
+    mf = 0.5 * (&mf + mf.transpose());
+    let kbar = sym(modal_stiffness);
+    let Some(chol) = mf.clone().cholesky() else {
+        let index = (0..n)
+            .min_by(|&i, &k| mf[(i, i)].total_cmp(&mf[(k, k)]))
+            .unwrap_or(0);
+        return Err(CoefficientError::ElasticMassNotPositive {
+            index,
+            value: mf[(index, index)],
+        });
+    };
+    let l = chol.l();
+    // A = L⁻¹ K̄ L⁻ᵀ.
+    let linv_k =
+        l.solve_lower_triangular(&kbar)
+            .ok_or(CoefficientError::ElasticMassNotPositive {
+                index: 0,
+                value: 0.0,
+            })?;
+    let a = l.solve_lower_triangular(&linv_k.transpose()).ok_or(
+        CoefficientError::ElasticMassNotPositive {
+            index: 0,
+            value: 0.0,
+        },
+    )?;
+    let a = 0.5 * (&a + a.transpose());
+    let e = SymmetricEigen::new(a);
+    let lv = &l * &e.eigenvectors;
+    let mut out = vec![0.0; n * n];
+    for i in 0..n {
+        let omega = e.eigenvalues[i].max(0.0).sqrt();
+        let z: f64 = (0..n)
+            .map(|m| e.eigenvectors[(m, i)].powi(2) * zeta[m])
+            .sum();
+        let d = 2.0 * z * omega;
+        for r in 0..n {
+            for k in 0..n {
+                out[r * n + k] += lv[(r, i)] * d * lv[(k, i)];
+            }
+        }
+    }
+    // Exactly symmetric.
+    for r in 0..n {
+        for k in r + 1..n {
+            let v = 0.5 * (out[r * n + k] + out[k * n + r]);
+            out[r * n + k] = v;
+            out[k * n + r] = v;
+        }
+    }
+    Ok(out)
 }
