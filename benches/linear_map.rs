@@ -14,7 +14,7 @@ use std::hint::black_box;
 use std::path::PathBuf;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use flexflight::analysis::linear::{analyse, analyse_with, linear_map, linearizer};
+use flexflight::analysis::linear::{analyse, analyse_with, linear_map, linearizer, plan_gravity};
 use flexflight::analysis::linearise::LineariseOptions;
 use flexflight::cli::linear::load_variant;
 
@@ -49,11 +49,12 @@ fn bench_linear_map(c: &mut Criterion) {
     );
     let mut lin = linearizer(&variant, options).expect("linearizer");
     let q0 = [0.0, 0.0, 0.0, 1.0];
+    let g = plan_gravity(&variant.plan, 5000.0);
     c.bench_function(
         "linear analysis sphads1 at 200 m/s, 5 km (trim, Jacobian, eigen)",
         |b| {
             b.iter(|| {
-                analyse_with(&mut lin, black_box(200.0), 5000.0, q0, options)
+                analyse_with(&mut lin, black_box(200.0), 5000.0, q0, g, options)
                     .map(|r| r.eigen.sigma_d)
             })
         },

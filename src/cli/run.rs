@@ -33,18 +33,6 @@ const SUMMARY_CHANNELS: &[&str] = &[
     "energy_balance_residual",
 ];
 
-/// Check, compile through the cache and plan; on failure the diagnostics are printed and
-/// the exit code returned. Touches nothing but the cache.
-fn prepare(
-    file: &Path,
-    scenario: &str,
-    common: &Common,
-    cache_dir: Option<&Path>,
-    term: Terminal,
-) -> Result<(Plan, CompileOutcome), u8> {
-    prepare_with_scenario(file, scenario, common, cache_dir, term).map(|(p, c, _, _, _)| (p, c))
-}
-
 /// The result of [`prepare_with_scenario`]: the plan, the compiled vehicle, the checked
 /// scenario, the sources (for diagnostics raised later) and how the aerodynamics were
 /// obtained from the cache.
@@ -101,7 +89,7 @@ pub fn cmd_plan(
     cache_dir: Option<&Path>,
     term: Terminal,
 ) -> u8 {
-    let (p, compiled, sc, _) = match prepare_with_scenario(file, scenario, common, cache_dir, term)
+    let (p, compiled, sc, _, _) = match prepare_with_scenario(file, scenario, common, cache_dir, term)
     {
         Ok(x) => x,
         Err(code) => return code,
