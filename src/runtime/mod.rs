@@ -22,6 +22,7 @@ pub mod eom;
 pub mod forces;
 pub mod integrate;
 pub mod kinematics;
+pub mod flight;
 pub mod run;
 pub mod stimuli;
 pub mod thrust;
