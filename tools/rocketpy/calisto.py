@@ -1,0 +1,128 @@
+"""RocketPy's documented "Calisto" flight, for side-by-side comparison with flexflight.
+
+The rocket, motor and drag curves are those of RocketPy's "First Simulation" page
+(docs/user/first_simulation.rst of RocketPy-Team/RocketPy; data files under data/, MIT
+licence, copied into ./data with the M1670 thrust curve taken from ../../shared/motors).
+Two changes, both to make the comparison about the same physics and not about inputs:
+
+* the atmosphere is the International Standard Atmosphere (`standard_atmosphere`), with no
+  wind, instead of a GFS forecast (flexflight flies the 1976 US Standard Atmosphere, identical
+  to the ISA below 32 km);
+* no parachute noise.
+
+Prints one JSON object: apogee (m above the pad), time of apogee, speed at burnout, maximum
+Mach, out-of-rail speed and time, and the wall time of the flight solve.
+
+Usage: python calisto.py [--until-apogee] [--json OUT]
+"""
+
+import argparse
+import json
+import os
+import sys
+import time
+
+from rocketpy import Environment, Flight, Rocket, SolidMotor
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DATA = os.path.join(HERE, "data")
+MOTORS = os.path.join(HERE, "..", "..", "..", "shared", "motors")
+
+
+def motor_file():
+    for d in (MOTORS, os.path.join(HERE, "..", "..", "examples", "calisto")):
+        p = os.path.join(d, "Cesaroni_M1670.eng")
+        if os.path.exists(p):
+            return p
+    sys.exit("Cesaroni_M1670.eng not found in shared/motors or examples/calisto")
+
+
+def build():
+    env = Environment(latitude=32.990254, longitude=-106.974998, elevation=1400)
+    env.set_atmospheric_model(type="standard_atmosphere")
+    motor = SolidMotor(
+        thrust_source=motor_file(),
+        dry_mass=1.815,
+        dry_inertia=(0.125, 0.125, 0.002),
+        nozzle_radius=33 / 1000,
+        grain_number=5,
+        grain_density=1815,
+        grain_outer_radius=33 / 1000,
+        grain_initial_inner_radius=15 / 1000,
+        grain_initial_height=120 / 1000,
+        grain_separation=5 / 1000,
+        grains_center_of_mass_position=0.397,
+        center_of_dry_mass_position=0.317,
+        nozzle_position=0,
+        burn_time=3.9,
+        throat_radius=11 / 1000,
+        coordinate_system_orientation="nozzle_to_combustion_chamber",
+    )
+    calisto = Rocket(
+        radius=127 / 2000,
+        mass=14.426,
+        inertia=(6.321, 6.321, 0.034),
+        power_off_drag=os.path.join(DATA, "powerOffDragCurve.csv"),
+        power_on_drag=os.path.join(DATA, "powerOnDragCurve.csv"),
+        center_of_mass_without_motor=0,
+        coordinate_system_orientation="tail_to_nose",
+    )
+    calisto.add_motor(motor, position=-1.255)
+    calisto.set_rail_buttons(
+        upper_button_position=0.0818, lower_button_position=-0.6182, angular_position=45
+    )
+    calisto.add_nose(length=0.55829, kind="von karman", position=1.278)
+    calisto.add_trapezoidal_fins(
+        n=4,
+        root_chord=0.120,
+        tip_chord=0.060,
+        span=0.110,
+        position=-1.04956,
+        cant_angle=0.5,
+        airfoil=(os.path.join(DATA, "NACA0012-radians.txt"), "radians"),
+    )
+    calisto.add_tail(top_radius=0.0635, bottom_radius=0.0435, length=0.060, position=-1.194656)
+    calisto.add_parachute(name="drogue", cd_s=1.0, trigger="apogee", sampling_rate=105, lag=1.5)
+    calisto.add_parachute(name="main", cd_s=10.0, trigger=800, sampling_rate=105, lag=1.5)
+    return env, motor, calisto
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--until-apogee", action="store_true")
+    ap.add_argument("--json")
+    a = ap.parse_args()
+    env, motor, calisto = build()
+    t0 = time.perf_counter()
+    f = Flight(
+        rocket=calisto,
+        environment=env,
+        rail_length=5.2,
+        inclination=85,
+        heading=0,
+        terminate_on_apogee=a.until_apogee,
+    )
+    wall = time.perf_counter() - t0
+    tb = motor.burn_out_time
+    out = {
+        "apogee_m_agl": float(f.apogee - env.elevation),
+        "apogee_time_s": float(f.apogee_time),
+        "burnout_time_s": float(tb),
+        "burnout_speed_m_s": float(f.speed(tb)),
+        "max_mach": float(f.max_mach_number),
+        "max_mach_time_s": float(f.max_mach_number_time),
+        "out_of_rail_speed_m_s": float(f.out_of_rail_velocity),
+        "out_of_rail_time_s": float(f.out_of_rail_time),
+        "max_dynamic_pressure_pa": float(f.max_dynamic_pressure),
+        "static_margin_at_rail_exit_cal": float(calisto.static_margin(f.out_of_rail_time)),
+        "solve_wall_s": wall,
+    }
+    text = json.dumps(out, indent=2)
+    if a.json:
+        with open(a.json, "w") as fh:
+            fh.write(text + "\n")
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
