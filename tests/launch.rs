@@ -241,7 +241,12 @@ fn a_rail_launch_slides_along_the_rail_and_leaves_it_at_the_analytic_speed() {
     assert!((v - v_exit).abs() < 1e-9 * v_exit, "{v} vs {v_exit}");
     // The rail holds the attitude and the modes: no rotation, no deformation before the
     // exit; the aft end starts at the foot of the rail on the ground (100 m).
-    let (tt, wy, pitch, yaw) = (h.col("t"), h.col("omega_body_y"), h.col("pitch"), h.col("yaw"));
+    let (tt, wy, pitch, yaw) = (
+        h.col("t"),
+        h.col("omega_body_y"),
+        h.col("pitch"),
+        h.col("yaw"),
+    );
     for k in 0..tt.len() {
         if tt[k] <= t_exit {
             assert_eq!(wy[k], 0.0);
@@ -250,11 +255,18 @@ fn a_rail_launch_slides_along_the_rail_and_leaves_it_at_the_analytic_speed() {
         }
     }
     let alt0 = h.col("altitude")[0];
-    assert!((alt0 - (100.0 + 2.75 * 80f64.to_radians().sin())).abs() < 1e-9, "{alt0}");
+    assert!(
+        (alt0 - (100.0 + 2.75 * 80f64.to_radians().sin())).abs() < 1e-9,
+        "{alt0}"
+    );
     // The event's position lies on the rail 3 m up from the start.
     let p = exit["position"].as_array().unwrap();
     let p: Vec<f64> = p.iter().map(|v| v.as_f64().unwrap()).collect();
-    let p0 = [h.col("p_inertial_x")[0], h.col("p_inertial_y")[0], h.col("p_inertial_z")[0]];
+    let p0 = [
+        h.col("p_inertial_x")[0],
+        h.col("p_inertial_y")[0],
+        h.col("p_inertial_z")[0],
+    ];
     let d = ((p[0] - p0[0]).powi(2) + (p[1] - p0[1]).powi(2) + (p[2] - p0[2]).powi(2)).sqrt();
     assert!((d - 3.0).abs() < 1e-9, "{d}");
 }
@@ -269,7 +281,10 @@ fn a_vehicle_whose_thrust_cannot_lift_it_off_the_rail_is_a_diagnostic() {
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     let e = stderr(&o);
     assert!(e.contains("plan::no_liftoff"), "{e}");
-    assert!(e.contains("pad.vdl:10:"), "labelled at the launch block: {e}");
+    assert!(
+        e.contains("pad.vdl:10:"),
+        "labelled at the launch block: {e}"
+    );
     assert!(!out.exists());
 }
 
@@ -283,20 +298,38 @@ fn bad_launch_wind_and_parachute_input_is_reported_with_spans_at_check() {
     let file = rail_scenario(dir.path(), 1000.0, 2.0, false, "");
     let text = std::fs::read_to_string(&file).unwrap();
     let cases = [
-        ("rail_length = 3 m", "rail_length = -1 m", "rail_length = -1 m"),
-        ("site_altitude = 100 m", "site_altitude = 90 km", "site_altitude = 90 km"),
-        ("elevation = 80 deg", "elevation = 95 deg", "elevation = 95 deg"),
+        (
+            "rail_length = 3 m",
+            "rail_length = -1 m",
+            "rail_length = -1 m",
+        ),
+        (
+            "site_altitude = 100 m",
+            "site_altitude = 90 km",
+            "site_altitude = 90 km",
+        ),
+        (
+            "elevation = 80 deg",
+            "elevation = 95 deg",
+            "elevation = 95 deg",
+        ),
     ];
     for (from, to, needle) in cases {
         std::fs::write(&file, text.replace(from, to)).unwrap();
         let o = check(&file);
         assert_eq!(o.status.code(), Some(1), "{to}: {}", stderr(&o));
         let e = stderr(&o);
-        assert!(e.contains("vdl::value::range") && e.contains(needle), "{to}: {e}");
+        assert!(
+            e.contains("vdl::value::range") && e.contains(needle),
+            "{to}: {e}"
+        );
     }
     // A parachute with no trigger; a wind table with heights out of order.
     for (extra, code) in [
-        ("  parachute main {\n    cd_area = 2 m^2\n  }\n", "vdl::field::missing"),
+        (
+            "  parachute main {\n    cd_area = 2 m^2\n  }\n",
+            "vdl::field::missing",
+        ),
         (
             "  wind {\n    profile = [at(100 m, 5 m/s, 270 deg), at(50 m, 6 m/s, 270 deg)]\n  }\n",
             "vdl::wind::profile",
@@ -310,7 +343,11 @@ fn bad_launch_wind_and_parachute_input_is_reported_with_spans_at_check() {
         let o = check(&f);
         assert_eq!(o.status.code(), Some(1), "{extra}: {}", stderr(&o));
         assert!(stderr(&o).contains(code), "{extra}: {}", stderr(&o));
-        assert!(stderr(&o).contains("pad.vdl:"), "with a span: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("pad.vdl:"),
+            "with a span: {}",
+            stderr(&o)
+        );
     }
     // `launch` and `initial` together.
     let f = rail_scenario(
@@ -321,7 +358,11 @@ fn bad_launch_wind_and_parachute_input_is_reported_with_spans_at_check() {
         "  initial {\n    velocity = (0, 0, 0) m/s\n    altitude = 0 m\n  }\n",
     );
     let o = check(&f);
-    assert!(stderr(&o).contains("vdl::launch::initial"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("vdl::launch::initial"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]
@@ -331,7 +372,12 @@ fn a_launch_with_stop_policy_tables_flies_from_mach_0_without_stopping() {
     let dir = tempfile::tempdir().unwrap();
     let file = rail_scenario(dir.path(), 1000.0, 2.0, true, "");
     let out = dir.path().join("out");
-    let o = run(&file, "pad", &out, &["run.stop_time=3 s", "run.rtol=1e-7", "run.atol=1e-9"]);
+    let o = run(
+        &file,
+        "pad",
+        &out,
+        &["run.stop_time=3 s", "run.rtol=1e-7", "run.atol=1e-9"],
+    );
     assert!(o.status.success(), "{}", stderr(&o));
     let s = summary(&out);
     assert_eq!(s["stop_reason"], "completed", "{}", s["stop_detail"]);
@@ -341,7 +387,9 @@ fn a_launch_with_stop_policy_tables_flies_from_mach_0_without_stopping() {
     assert!(mach.iter().all(|m| m.is_finite()));
     assert!(h.col("alpha").iter().all(|a| a.is_finite()));
     assert!(s["flight"]["off_rail_speed"].as_f64().unwrap() > 10.0);
-    let sm = s["flight"]["static_margin_calibres"]["at_rail_exit"].as_f64().unwrap();
+    let sm = s["flight"]["static_margin_calibres"]["at_rail_exit"]
+        .as_f64()
+        .unwrap();
     assert!(sm.is_finite() && sm > 0.0, "static margin {sm}");
 }
 
@@ -371,7 +419,10 @@ fn parachutes_deploy_after_their_trigger_and_descend_at_terminal_speed() {
     // The main at 400 m above the ground (100 m), on descent, no lag.
     let main = &deps[1];
     assert!((main["trigger"]["height"].as_f64().unwrap() - 400.0).abs() < 1e-6);
-    assert!((main["deployment"]["t"].as_f64().unwrap() - main["trigger"]["t"].as_f64().unwrap()).abs() < 1e-12);
+    assert!(
+        (main["deployment"]["t"].as_f64().unwrap() - main["trigger"]["t"].as_f64().unwrap()).abs()
+            < 1e-12
+    );
     // Landing at the terminal speed of the point mass under both canopies:
     // v_t = sqrt(2 m g / (rho cd_area)), rho of the 1976 atmosphere at 100 m (1.2133 kg/m^3).
     let h = History::read(&out);
@@ -379,13 +430,21 @@ fn parachutes_deploy_after_their_trigger_and_descend_at_terminal_speed() {
     let rho = *h.col("air_density").last().unwrap();
     let v_t = (2.0 * m * G0 / (rho * 8.5)).sqrt();
     let v = f["landing"]["speed"].as_f64().unwrap();
-    assert!((v - v_t).abs() < 1e-3 * v_t, "landing {v} vs terminal {v_t}");
+    assert!(
+        (v - v_t).abs() < 1e-3 * v_t,
+        "landing {v} vs terminal {v_t}"
+    );
     assert!((f["landing"]["height"].as_f64().unwrap()).abs() < 1e-6);
     // Under the canopy the vehicle is rigid and does not rotate.
     let t = h.col("t");
     let td = dep["t"].as_f64().unwrap();
     let wy = h.col("omega_body_y");
-    assert!(t.iter().zip(&wy).filter(|(t, _)| **t > td).all(|(_, w)| *w == 0.0));
+    assert!(
+        t.iter()
+            .zip(&wy)
+            .filter(|(t, _)| **t > td)
+            .all(|(_, w)| *w == 0.0)
+    );
 }
 
 #[test]
@@ -413,6 +472,8 @@ fn a_steady_wind_carries_the_descent_downwind_at_the_wind_speed() {
     let o = run(&file, "pad", &still, &["run.rtol=1e-9", "run.atol=1e-11"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let y_wind = s["flight"]["landing"]["position"][1].as_f64().unwrap();
-    let y_still = summary(&still)["flight"]["landing"]["position"][1].as_f64().unwrap();
+    let y_still = summary(&still)["flight"]["landing"]["position"][1]
+        .as_f64()
+        .unwrap();
     assert!(y_wind > y_still + 100.0, "{y_wind} vs {y_still}");
 }

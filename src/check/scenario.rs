@@ -157,8 +157,10 @@ pub(crate) fn check_scenario(
         (None, _, ib) => ib.and_then(|ib| check_initial(cx, ib)),
     };
     let wind = wind_b.map(|wb| check_wind(cx, wb));
-    let parachutes: Vec<Option<Parachute>> =
-        parachute_bs.iter().map(|pb| check_parachute(cx, pb)).collect();
+    let parachutes: Vec<Option<Parachute>> = parachute_bs
+        .iter()
+        .map(|pb| check_parachute(cx, pb))
+        .collect();
     let stimuli = match stimuli_b {
         Some(sb) => check_stimuli(cx, sb),
         None => Some(Vec::new()),
@@ -234,7 +236,9 @@ fn check_wind(cx: &mut Cx, b: &Block) -> Option<Wind> {
     let href_v = fl.value("reference_height");
     let exp_v = fl.value("exponent");
     fl.finish(cx);
-    let speed_of = |cx: &mut Cx, v: &crate::syntax::ast::Value| f::non_negative(f::quantity(cx, v, Dim::VELOCITY), cx);
+    let speed_of = |cx: &mut Cx, v: &crate::syntax::ast::Value| {
+        f::non_negative(f::quantity(cx, v, Dim::VELOCITY), cx)
+    };
     let profile = match profile_v {
         Some(p) => {
             if let Some(extra) = speed_v.or(direction_v).or(href_v).or(exp_v) {
@@ -252,7 +256,10 @@ fn check_wind(cx: &mut Cx, b: &Block) -> Option<Wind> {
                 cx.push(
                     Diagnostic::error(
                         "vdl::type::mismatch",
-                        format!("expected a list of `at(height, speed, direction)`, found {}", p.describe()),
+                        format!(
+                            "expected a list of `at(height, speed, direction)`, found {}",
+                            p.describe()
+                        ),
                     )
                     .label(p.span, "not a list"),
                 );
@@ -263,16 +270,25 @@ fn check_wind(cx: &mut Cx, b: &Block) -> Option<Wind> {
             for item in items {
                 let ValueKind::Call { name, args } = &item.kind else {
                     cx.push(
-                        Diagnostic::error("vdl::type::mismatch", format!("expected `at(height, speed, direction)`, found {}", item.describe()))
-                            .label(item.span, "not a table row"),
+                        Diagnostic::error(
+                            "vdl::type::mismatch",
+                            format!(
+                                "expected `at(height, speed, direction)`, found {}",
+                                item.describe()
+                            ),
+                        )
+                        .label(item.span, "not a table row"),
                     );
                     ok = false;
                     continue;
                 };
                 if name.name != "at" || args.len() != 3 {
                     cx.push(
-                        Diagnostic::error("vdl::type::mismatch", "a wind table row is `at(height, speed, direction)`")
-                            .label(item.span, "write `at(100 m, 5 m/s, 270 deg)`"),
+                        Diagnostic::error(
+                            "vdl::type::mismatch",
+                            "a wind table row is `at(height, speed, direction)`",
+                        )
+                        .label(item.span, "write `at(100 m, 5 m/s, 270 deg)`"),
                     );
                     ok = false;
                     continue;
@@ -287,15 +303,23 @@ fn check_wind(cx: &mut Cx, b: &Block) -> Option<Wind> {
                 if let Some(prev) = points.last() {
                     if h.value <= prev.height {
                         cx.push(
-                            Diagnostic::error("vdl::wind::profile", "wind table heights must increase strictly")
-                                .label(h.span, "not above the previous height")
-                                .label(prev.span, "previous row"),
+                            Diagnostic::error(
+                                "vdl::wind::profile",
+                                "wind table heights must increase strictly",
+                            )
+                            .label(h.span, "not above the previous height")
+                            .label(prev.span, "previous row"),
                         );
                         ok = false;
                         continue;
                     }
                 }
-                points.push(WindPoint { span: item.span, height: h.value, speed: v.value, direction: d.value });
+                points.push(WindPoint {
+                    span: item.span,
+                    height: h.value,
+                    speed: v.value,
+                    direction: d.value,
+                });
             }
             if points.is_empty() && ok {
                 cx.push(
@@ -328,9 +352,12 @@ fn check_wind(cx: &mut Cx, b: &Block) -> Option<Wind> {
                 Some(v) => speed_of(cx, v),
                 None => {
                     cx.push(
-                        Diagnostic::error("vdl::field::missing", "the `wind` block needs a `speed` (or a `profile` table)")
-                            .label(b.header, "`speed` is missing here")
-                            .with_help("add a line such as `speed = 5 m/s`"),
+                        Diagnostic::error(
+                            "vdl::field::missing",
+                            "the `wind` block needs a `speed` (or a `profile` table)",
+                        )
+                        .label(b.header, "`speed` is missing here")
+                        .with_help("add a line such as `speed = 5 m/s`"),
                     );
                     None
                 }
@@ -347,27 +374,46 @@ fn check_wind(cx: &mut Cx, b: &Block) -> Option<Wind> {
                 }
             };
             match (href_v, exp_v) {
-                (None, None) => WindProfile::Constant { speed: speed?, direction: direction? },
+                (None, None) => WindProfile::Constant {
+                    speed: speed?,
+                    direction: direction?,
+                },
                 (Some(h), e) => {
                     let h = f::positive(f::quantity(cx, h, Dim::LENGTH), cx);
                     let e = match e {
-                        Some(e) => f::check_range(f::number(cx, e), cx, |x| (0.0..=1.0).contains(&x), "a power-law exponent from 0 to 1"),
+                        Some(e) => f::check_range(
+                            f::number(cx, e),
+                            cx,
+                            |x| (0.0..=1.0).contains(&x),
+                            "a power-law exponent from 0 to 1",
+                        ),
                         None => Some(Spanned::new(1.0 / 7.0, b.header)),
                     };
-                    WindProfile::PowerLaw { speed: speed?, direction: direction?, reference_height: h?, exponent: e? }
+                    WindProfile::PowerLaw {
+                        speed: speed?,
+                        direction: direction?,
+                        reference_height: h?,
+                        exponent: e?,
+                    }
                 }
                 (None, Some(e)) => {
                     cx.push(
-                        Diagnostic::error("vdl::field::missing", "a power-law wind needs the `reference_height` its `speed` is given at")
-                            .label(e.span, "exponent without a reference height")
-                            .with_help("add a line such as `reference_height = 10 m`"),
+                        Diagnostic::error(
+                            "vdl::field::missing",
+                            "a power-law wind needs the `reference_height` its `speed` is given at",
+                        )
+                        .label(e.span, "exponent without a reference height")
+                        .with_help("add a line such as `reference_height = 10 m`"),
                     );
                     return None;
                 }
             }
         }
     };
-    Some(Wind { span: b.header, profile })
+    Some(Wind {
+        span: b.header,
+        profile,
+    })
 }
 
 /// `parachute NAME { cd_area, trigger = apogee | altitude(h) | time(t), lag }`.

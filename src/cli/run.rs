@@ -442,7 +442,9 @@ fn flight_line(f: &serde_json::Value) -> Option<String> {
         let _ = write!(
             s,
             ", landing {:.1} m from the pad at {:.2} m/s ({:.1} s)",
-            l.get("ground_range").and_then(|v| v.as_f64()).unwrap_or(f64::NAN),
+            l.get("ground_range")
+                .and_then(|v| v.as_f64())
+                .unwrap_or(f64::NAN),
             l.get("speed").and_then(|v| v.as_f64()).unwrap_or(f64::NAN),
             l.get("t").and_then(|v| v.as_f64()).unwrap_or(f64::NAN),
         );

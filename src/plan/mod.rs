@@ -374,10 +374,9 @@ pub fn build(scenario: &Scenario, compiled: &CompiledVehicle) -> Result<Plan, Pl
     // (the rail's foot holds the vehicle until then). The mass is the initial one.
     if let (Some(l), Some(sl)) = (&launch, &scenario.launch) {
         let g = match &vehicle.forces.gravity {
-            Some(g) => crate::runtime::forces::gravity::gravity_at(
-                l.site_altitude,
-                g.altitude_correction,
-            ),
+            Some(g) => {
+                crate::runtime::forces::gravity::gravity_at(l.site_altitude, g.altitude_correction)
+            }
             None => 0.0,
         };
         let weight_along_rail = compiled.reduced.mass * g * l.elevation.sin();

@@ -116,7 +116,10 @@ impl<'m> Flight<'m> {
             }
         }
         let m = self.mass;
-        let f_i = mat_t_vec(&view.c_bi, &[self.forces[0], self.forces[1], self.forces[2]]);
+        let f_i = mat_t_vec(
+            &view.c_bi,
+            &[self.forces[0], self.forces[1], self.forces[2]],
+        );
         let v_i = mat_t_vec(&view.c_bi, &view.velocity);
         let altitude = -view.position[2];
         let (wb, wi) = self.stimuli.wind_at(t, altitude);

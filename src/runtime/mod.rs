@@ -19,10 +19,10 @@
 pub mod aero;
 pub mod atmosphere;
 pub mod eom;
+pub mod flight;
 pub mod forces;
 pub mod integrate;
 pub mod kinematics;
-pub mod flight;
 pub mod run;
 pub mod stimuli;
 pub mod thrust;

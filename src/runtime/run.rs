@@ -20,10 +20,10 @@ use std::time::Instant;
 
 use super::atmosphere::{Atmosphere, Standard1976};
 use super::eom::{Eom, EomError, FreeFlight, StateView};
+use super::flight::{Flight, Phase};
 use super::forces::{
     AeroFault, BodyAero, FinAero, ForceBlock, ForceBlocks, GravityBlock, ThrustBlock,
 };
-use super::flight::{Flight, Phase};
 use super::integrate::{
     AdaptiveOptions, DormandPrince54, Integrator, OdeSystem, Rk4, StepStats, StopReason,
 };
@@ -782,7 +782,9 @@ impl Driver<'_, '_> {
 
     fn rail_distance(&self, x: &[f64]) -> f64 {
         match &self.plan.launch {
-            Some(l) => (0..3).map(|k| (x[k] - l.start[k]) * l.rail_direction[k]).sum(),
+            Some(l) => (0..3)
+                .map(|k| (x[k] - l.start[k]) * l.rail_direction[k])
+                .sum(),
             None => 0.0,
         }
     }
@@ -841,7 +843,9 @@ impl Driver<'_, '_> {
                     burnout = Some(self.event_point(t, xs, dx, tb));
                 }
             }
-            if self.apogee_armed && self.events.apogee.is_none() && self.monitor.phase != Phase::Rail
+            if self.apogee_armed
+                && self.events.apogee.is_none()
+                && self.monitor.phase != Phase::Rail
             {
                 let layout = self.layout;
                 if let Some(ta) = self.locate(t, xs, dx, |_, _, x| climb_rate(layout, x) <= 0.0) {
@@ -921,8 +925,7 @@ impl Driver<'_, '_> {
         // a condition or a segment end cuts the step, the rows end with that state (below).
         loop {
             let tk = self.next_k as f64 * self.dt_out;
-            if tk > t + self.eps || tk > self.t_end + self.eps || (cut && tk >= t_lim - self.eps)
-            {
+            if tk > t + self.eps || tk > self.t_end + self.eps || (cut && tk >= t_lim - self.eps) {
                 break;
             }
             if tk <= self.last_row_t + self.eps {
@@ -1030,12 +1033,7 @@ pub fn run(
         Some(l) if l.rail_length > 0.0 => Phase::Rail,
         _ => Phase::Free,
     };
-    let mut flight = Flight::new(
-        eom,
-        model.mass,
-        first_phase,
-        plan.planned_stimuli.clone(),
-    );
+    let mut flight = Flight::new(eom, model.mass, first_phase, plan.planned_stimuli.clone());
     // A start on or below the ground must be able to leave it: climbing, or at rest with
     // an upward acceleration (a rail launch waits on the rail's foot instead, and the plan
     // has checked its thrust can lift it).

@@ -651,7 +651,10 @@ mod wind_tests {
         );
         // From the west: toward the east (+y).
         let v = w.at(1234.0);
-        assert!(v[0].abs() < 1e-15 && (v[1] - 5.0).abs() < 1e-15 && v[2] == 0.0, "{v:?}");
+        assert!(
+            v[0].abs() < 1e-15 && (v[1] - 5.0).abs() < 1e-15 && v[2] == 0.0,
+            "{v:?}"
+        );
     }
 
     #[test]

@@ -624,20 +624,47 @@ mod tests {
     #[test]
     fn tables_starting_at_low_mach_hold_their_values_down_to_mach_0() {
         let axes = [vec![0.3, 1.0], vec![0.0, 10.0], vec![0.0]];
-        let points = [[1.0, 2.0, 3.0], [1.5, 2.5, 3.5], [4.0, 5.0, 6.0], [4.5, 5.5, 6.5]];
-        let t = CoefficientTable::from_grid(TableKind::Body, "low.csv", axes, &points, OutOfRange::Stop)
-            .unwrap();
+        let points = [
+            [1.0, 2.0, 3.0],
+            [1.5, 2.5, 3.5],
+            [4.0, 5.0, 6.0],
+            [4.5, 5.5, 6.5],
+        ];
+        let t = CoefficientTable::from_grid(
+            TableKind::Body,
+            "low.csv",
+            axes,
+            &points,
+            OutOfRange::Stop,
+        )
+        .unwrap();
         for m in [0.0, 0.1, 0.299_999] {
-            assert_eq!(t.lookup(m, 5.0, 0.0).unwrap(), [1.25, 2.25, 3.25], "M = {m}");
+            assert_eq!(
+                t.lookup(m, 5.0, 0.0).unwrap(),
+                [1.25, 2.25, 3.25],
+                "M = {m}"
+            );
             assert!(!t.outside(Axis::Mach, m));
         }
-        assert!(t.lookup(-0.01, 5.0, 0.0).is_err(), "negative Mach is not a Mach");
+        assert!(
+            t.lookup(-0.01, 5.0, 0.0).is_err(),
+            "negative Mach is not a Mach"
+        );
         assert!(t.outside(Axis::Mach, -0.01));
-        assert!(t.lookup(1.01, 5.0, 0.0).is_err(), "the upper end still stops");
+        assert!(
+            t.lookup(1.01, 5.0, 0.0).is_err(),
+            "the upper end still stops"
+        );
         // A table that starts above Mach 0.3 is not held: the stop policy stops there.
         let axes = [vec![0.5, 1.0], vec![0.0, 10.0], vec![0.0]];
-        let t = CoefficientTable::from_grid(TableKind::Body, "high.csv", axes, &points, OutOfRange::Stop)
-            .unwrap();
+        let t = CoefficientTable::from_grid(
+            TableKind::Body,
+            "high.csv",
+            axes,
+            &points,
+            OutOfRange::Stop,
+        )
+        .unwrap();
         assert!(t.lookup(0.2, 5.0, 0.0).is_err());
         assert!(t.outside(Axis::Mach, 0.2));
     }
