@@ -271,7 +271,10 @@ fn plan_prints_json() {
     assert_eq!(p["initial_state"][2], -5000.0);
     assert_eq!(p["forces"].as_array().unwrap().len(), 0);
     // + speed, acceleration, height (no aero blocks: no static margin).
-    assert_eq!(p["channels"].as_array().unwrap().len(), 24 + 2 * 10 + 17 + 3);
+    assert_eq!(
+        p["channels"].as_array().unwrap().len(),
+        24 + 2 * 10 + 17 + 3
+    );
 }
 
 /// SPHADS-1 with a constant 100 N motor burning 1 s at the nozzle key node, written next to
