@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use flexflight::check::{DiskLoader, check_files};
-use flexflight::runtime::run::{build_aero_blocks, run};
+use flexflight::runtime::run::run;
 use flexflight::structure::compile::compile;
 
 fn flight(c: &mut Criterion, label: &str, sets: &[String]) {
@@ -19,10 +19,10 @@ fn flight(c: &mut Criterion, label: &str, sets: &[String]) {
         .expect("scenario")
         .clone();
     let (compiled, _) = compile(&sc.vehicle).expect("compiles");
+    // The plan (with the aero blocks: estimated tables, fin load weights) is built once,
+    // outside the timing.
     let plan = flexflight::plan::build(&sc, &compiled).expect("plan");
-    // The blocks (estimated tables, fin load weights) are built once, outside the timing.
-    let (aero, _) = build_aero_blocks(&plan, &sc, &compiled).expect("aero blocks");
-    let once = || run(&plan, &compiled.reduced, aero.clone(), &mut |_, _| {}).expect("runs");
+    let once = || run(&plan, &compiled.reduced, &mut |_, _| {}).expect("runs");
     let o = once();
     eprintln!(
         "{label}: stop {} at t = {:.4} s, {} steps, {} rejected, {} RHS evaluations",

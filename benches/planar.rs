@@ -17,10 +17,18 @@ fn bench_planar(c: &mut Criterion) {
     let sc = checked.program.scenario("subsonic_t06").expect("scenario");
     let (compiled, _) = compile(&sc.vehicle).expect("compiles");
     let v = PlanarVehicle::new(&sc.vehicle, &compiled).expect("planar vehicle");
-    let ts = GridRange::parse("0.1e-3:1.5e-3:50")
-        .expect("range")
-        .values();
-    let ms = GridRange::parse("0.5:3:50").expect("range").values();
+    let ts = GridRange {
+        start: 0.1e-3,
+        stop: 1.5e-3,
+        count: 50,
+    }
+    .values();
+    let ms = GridRange {
+        start: 0.5,
+        stop: 3.0,
+        count: 50,
+    }
+    .values();
     c.bench_function("planar pinned map 50x50, 5 km", |b| {
         b.iter(|| {
             planar_map(

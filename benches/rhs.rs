@@ -43,7 +43,7 @@ criterion_group!(benches, bench_rhs);
 /// The RHS of the subsonic thesis scenario with every force block of its plan: gravity, body
 /// aerodynamics and fin aerodynamics distributed over the fin nodes.
 fn bench_rhs_with_aero(c: &mut Criterion) {
-    use flexflight::runtime::run::{build_aero_blocks, build_force_blocks};
+    use flexflight::runtime::run::build_force_blocks;
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/thesis/section_6_5.vdl");
     let checked = check_files(&[root], &[], &DiskLoader);
     let sc = checked
@@ -53,8 +53,7 @@ fn bench_rhs_with_aero(c: &mut Criterion) {
         .clone();
     let (compiled, _) = compile(&sc.vehicle).expect("compiles");
     let plan = flexflight::plan::build(&sc, &compiled).expect("plan");
-    let (aero, _) = build_aero_blocks(&plan, &sc, &compiled).expect("aero blocks");
-    let forces = build_force_blocks(&plan, &compiled.reduced, aero).expect("force blocks");
+    let forces = build_force_blocks(&plan, &compiled.reduced).expect("force blocks");
     let mut eom = Eom::new(&compiled.reduced, forces).expect("eom");
     let mut x = plan.initial_state.clone();
     // A slightly disturbed state so every block does real work.

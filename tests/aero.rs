@@ -156,5 +156,75 @@ fn estimator_tables_write_and_read_back() {
         );
     }
     let text = std::fs::read_to_string(dir.path().join("body.csv")).unwrap();
-    assert!(text.lines().nth(1) == Some("mach,alpha_deg,altitude_m,cn,ca,cm"));
+    assert!(text.lines().nth(1) == Some("mach,alpha_deg,altitude_m,cn,ca,cm,cn_q,cm_q"));
+    assert_eq!(
+        body.body_rates(0.95, 19.0, 25_000.0).unwrap(),
+        est.body.body_rates(0.95, 19.0, 25_000.0).unwrap()
+    );
+}
+
+/// The SPHADS-1 body of `vehicles/sphads1.vdl` (0.45 m cone nose).
+fn sphads1_vdl_body() -> BodyShape {
+    BodyShape {
+        length: 2.75,
+        diameter: 0.127,
+        nose: NoseShape::Cone { length: 0.45 },
+        reference_x: -1.59,
+    }
+}
+
+#[test]
+fn body_rate_derivatives_hand_values() {
+    use flexflight::runtime::aero::estimator::body_rate_derivatives;
+    // Hand calculation, d = 0.127 m, l = 2.75 m, L_n = 0.45 m, s_r = 1.59 m (reference point
+    // aft of the nose), S = pi d^2/4 = 0.01266768698 m^2, A_b = S.
+    // Vol/S = L_n/3 + (l - L_n) = 0.15 + 2.30 = 2.45 m; l - s_r = 1.16 m.
+    // Potential (slender body):
+    //   C_Nq + C_Nadot = 4 (1.16 + 2.45)/0.127 = 14.44/0.127 = 113.7007874,
+    //   C_mq + C_madot = -4 (1.16/0.127)^2 = -4 * 1.3456/0.016129 = -333.7094674.
+    // Crossflow at alpha = 10 deg: |sin a| cos a = 0.1736482 * 0.9848078 = 0.1710101,
+    //   k = 4 * 1.2 * 0.1710101 = 0.8208483;
+    //   I_1 = d (L_n^2/3 - s_r L_n/2) + d ((l - s_r)^2 - (L_n - s_r)^2)/2
+    //       = 0.127 (0.0675 - 0.35775) + 0.127 (1.3456 - 1.2996)/2 = -0.03686175 + 0.002921
+    //       = -0.03394075 m^2,
+    //   I_2 = d (L_n^3/4 - 2 s_r L_n^2/3 + s_r^2 L_n/2) + d ((l - s_r)^3 - (L_n - s_r)^3)/3
+    //       = 0.127 (0.02278125 - 0.21465 + 0.5688225) + 0.127 (1.560896 + 1.481544)/3
+    //       = 0.04787313 + 0.12879663 = 0.17666975 m^3;
+    //   S d = 0.001608796, S d^2 = 0.0002043171:
+    //   C_Nq = 113.7007874 + 0.8208483 (-0.03394075)/0.001608806 = 113.7007874 - 17.3174251
+    //        = 96.3833623,
+    //   C_mq = -333.7094674 - 0.8208483 * 0.17666975/0.0002043184 = -333.7094674 - 709.7744516
+    //        = -1043.4839190.
+    let b = sphads1_vdl_body();
+    let [cn0, cm0] = body_rate_derivatives(&b, 0.0);
+    assert!((cn0 / 113.7007874 - 1.0).abs() < 1e-9, "{cn0}");
+    assert!((cm0 / -333.7094674 - 1.0).abs() < 1e-9, "{cm0}");
+    let [cn10, cm10] = body_rate_derivatives(&b, 10.0);
+    assert!((cn10 / 96.3833623 - 1.0).abs() < 1e-9, "{cn10}");
+    assert!((cm10 / -1043.4839190 - 1.0).abs() < 1e-9, "{cm10}");
+    // Even in alpha (the body block queries the total angle of attack, >= 0).
+    assert_eq!(body_rate_derivatives(&b, -10.0), [cn10, cm10]);
+    // The estimator's body table carries them as its rate columns (exact at grid points).
+    let tables = EstimatedTables::estimate(&b, &sphads_fin(), OutOfRange::Clamp).unwrap();
+    let r = tables.body.body_rates(0.7, 10.0, 5000.0).unwrap().unwrap();
+    assert_eq!([r.cn_q, r.cm_q], [cn10, cm10]);
+    assert!(tables.fin.body_rates(0.7, 10.0, 5000.0).unwrap().is_none());
+}
+
+#[test]
+fn fin_rate_derivatives_hand_values() {
+    use flexflight::runtime::aero::estimator::fin_rate_derivatives;
+    // SPHADS-1 fins at Mach 0.6 (root leading edge at x = -2.75 + 0.32468 = -2.42532 m):
+    // beta = 0.8, A = 1.137633, Lambda_c = 38.4453 deg (cos = 0.783180),
+    //   beta A / cos Lambda_c = 1.162053, C_Nalpha,1 = 2 pi 1.137633 * 2.246518
+    //   / (2 + sqrt(4 + 1.350367)) = 16.057959/4.313052 = 3.723099 /rad;
+    // K_T(B) = 1.332931; x_cp = x_le(MAC) + MAC/4 = 0.0830049 + 0.2501645/4 = 0.1455210 m aft
+    // of the root leading edge, at x = -2.5708410 m: arm l_f = 0.9808410 m, l_f/d = 7.723158;
+    // two fins in the pitch plane (n_eff = 2): slope = 2 * 1.332931 * 3.723099 = 9.925207;
+    // C_Nq = 2 * 9.925207 * 7.723158 = 153.30885, C_mq = -2 * 9.925207 * 7.723158^2
+    // = -1184.0285.
+    let f = sphads_fin();
+    let [cn, cm] = fin_rate_derivatives(&f, S_REF, 0.127, -2.42532, -1.59, 2.0, 0.6);
+    assert!((cn / 153.30885 - 1.0).abs() < 1e-7, "{cn}");
+    assert!((cm / -1184.0285 - 1.0).abs() < 1e-7, "{cm}");
 }

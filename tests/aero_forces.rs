@@ -11,7 +11,7 @@ use flexflight::runtime::aero::{CoefficientTable, EstimatedTables, TableKind, f_
 use flexflight::runtime::atmosphere::{Atmosphere, Standard1976};
 use flexflight::runtime::eom::{ForceModel, StateLayout, StateView};
 use flexflight::runtime::forces::body_aero::planform;
-use flexflight::runtime::forces::{BodyAero, FinAero, RateDerivatives, aero_tables};
+use flexflight::runtime::forces::{BodyAero, FinAero, aero_tables};
 use flexflight::runtime::stimuli::Stimuli;
 use flexflight::structure::compile::{CompiledVehicle, compile};
 
@@ -90,14 +90,42 @@ fn evaluate(model: &mut dyn ForceModel, n: usize, velocity: [f64; 3], omega: [f6
     out
 }
 
-fn body(f: &Fixture, rates: RateDerivatives) -> BodyAero {
+fn body(f: &Fixture) -> BodyAero {
     BodyAero::new(
         &f.compiled,
         &f.vehicle,
         f.tables.body.clone(),
         Standard1976::new(),
         Stimuli::default(),
-        rates,
+    )
+    .unwrap()
+}
+
+/// The body block of SPHADS-1 with `rate_terms` set to `on` and the body table's rate columns
+/// replaced by the constants `rates`.
+fn body_with_rates(f: &Fixture, on: bool, rates: [f64; 2]) -> BodyAero {
+    let mut v = f.vehicle.clone();
+    v.forces.body_aero.as_mut().unwrap().rate_terms = on;
+    let n = f
+        .tables
+        .body
+        .axis(flexflight::runtime::aero::Axis::Mach)
+        .len()
+        * f.tables
+            .body
+            .axis(flexflight::runtime::aero::Axis::AlphaDeg)
+            .len()
+        * f.tables
+            .body
+            .axis(flexflight::runtime::aero::Axis::AltitudeM)
+            .len();
+    let table = f.tables.body.clone().with_rates(&vec![rates; n]).unwrap();
+    BodyAero::new(
+        &f.compiled,
+        &v,
+        table,
+        Standard1976::new(),
+        Stimuli::default(),
     )
     .unwrap()
 }
@@ -121,7 +149,7 @@ fn close(a: f64, b: f64, tol: f64) -> bool {
 fn body_at_zero_alpha_gets_only_axial_force() {
     let f = fixture();
     let n = f.compiled.modes.len();
-    let mut b = body(f, RateDerivatives::default());
+    let mut b = body(f);
     let v = 0.6 * speed_of_sound();
     let out = evaluate(&mut b, n, [v, 0.0, 0.0], [0.0; 3]);
     let c = f.tables.body.body(0.6, 0.0, ALTITUDE).unwrap();
@@ -148,7 +176,7 @@ fn body_at_zero_alpha_gets_only_axial_force() {
 fn body_normal_force_and_moment_arm_at_small_alpha() {
     let f = fixture();
     let n = f.compiled.modes.len();
-    let mut b = body(f, RateDerivatives::default());
+    let mut b = body(f);
     let (v, alpha) = (0.6 * speed_of_sound(), 4f64.to_radians());
     let out = evaluate(&mut b, n, [v * alpha.cos(), 0.0, v * alpha.sin()], [0.0; 3]);
     let c = f.tables.body.body(0.6, 4.0, ALTITUDE).unwrap();
@@ -179,7 +207,7 @@ fn body_normal_force_and_moment_arm_at_small_alpha() {
 fn body_normal_force_lies_in_the_plane_of_total_incidence() {
     let f = fixture();
     let n = f.compiled.modes.len();
-    let mut b = body(f, RateDerivatives::default());
+    let mut b = body(f);
     let (v, alpha, phi) = (
         0.6 * speed_of_sound(),
         6f64.to_radians(),
@@ -202,14 +230,11 @@ fn body_normal_force_lies_in_the_plane_of_total_incidence() {
 fn body_rate_terms_from_pitch_rate() {
     let f = fixture();
     let n = f.compiled.modes.len();
-    let rd = RateDerivatives {
-        cn_alpha_dot: 5.0,
-        cm_alpha_dot: -20.0,
-    };
+    let rd = [5.0, -20.0];
     let v = 0.6 * speed_of_sound();
     let omega = [0.0, 0.5, 0.0];
-    let mut with = body(f, rd);
-    let mut without = body(f, RateDerivatives::default());
+    let mut with = body_with_rates(f, true, rd);
+    let mut without = body_with_rates(f, false, rd);
     let a = evaluate(&mut with, n, [v, 0.0, 0.0], omega);
     let b0 = evaluate(&mut without, n, [v, 0.0, 0.0], omega);
     // (5.3.22) with no elastic rates: alpha_dot = -z_ba . (omega x V)/|V|.
@@ -224,7 +249,7 @@ fn body_rate_terms_from_pitch_rate() {
     );
     let bref = f.vehicle.aero.reference_length.value;
     let qs = s.dynamic_pressure * f.vehicle.aero.reference_area.value;
-    let dcn = rd.cn_alpha_dot * (s.alpha_dot + s.beta_dot) * bref / (2.0 * speed);
+    let dcn = rd[0] * (s.alpha_dot + s.beta_dot) * bref / (2.0 * speed);
     // Extra normal force along -z_ba (z_ba = e3 here).
     assert!(
         close(a[2] - b0[2], -dcn * qs, 1e-6),
@@ -246,6 +271,8 @@ fn stop_policy_flags_out_of_range_without_panicking() {
         &[[0.0, 0.3, 0.0]; 8],
         OutOfRange::Stop,
     )
+    .unwrap()
+    .with_rates(&[[0.0, 0.0]; 8])
     .unwrap();
     let mut b = BodyAero::new(
         &f.compiled,
@@ -253,7 +280,6 @@ fn stop_policy_flags_out_of_range_without_panicking() {
         table,
         Standard1976::new(),
         Stimuli::default(),
-        RateDerivatives::default(),
     )
     .unwrap();
     evaluate(&mut b, n, [0.5 * speed_of_sound(), 0.0, 0.0], [0.0; 3]);
@@ -520,7 +546,7 @@ fn body_key_node_rotation_changes_alpha_and_modal_forces_follow_the_key_node() {
     let mut eta = vec![0.0; n];
     eta[j] = 0.01 / shape(c, kb, 4, j);
     let theta: Vec<f64> = (3..6).map(|d| shape(c, kb, d, j) * eta[j]).collect();
-    let mut b = body(f, RateDerivatives::default());
+    let mut b = body(f);
     let v = 0.6 * speed_of_sound();
     let out = evaluate_flexible(&mut b, [v, 0.0, 0.0], &eta, &vec![0.0; n]);
     // (5.3.11): V_bn = V - theta x V = (V, V theta_z, -V theta_y)... with V along x:
@@ -682,7 +708,6 @@ fn wind_enters_as_relative_velocity_in_body_and_inertial_frames() {
             f.tables.body.clone(),
             Standard1976::new(),
             gust(f, w, frame),
-            RateDerivatives::default(),
         )
         .unwrap();
         let mut f_wind = FinAero::new(
@@ -693,7 +718,7 @@ fn wind_enters_as_relative_velocity_in_body_and_inertial_frames() {
             gust(f, w, frame),
         )
         .unwrap();
-        let (mut b_calm, mut f_calm) = (body(f, RateDerivatives::default()), fins(f));
+        let (mut b_calm, mut f_calm) = (body(f), fins(f));
         let a = evaluate_at(&mut b_wind, n, 0.5, q, [v, 0.0, 0.0]);
         let b = evaluate_at(&mut b_calm, n, 0.5, q, rel);
         let fa = evaluate_at(&mut f_wind, n, 0.5, q, [v, 0.0, 0.0]);
@@ -720,4 +745,46 @@ fn wind_enters_as_relative_velocity_in_body_and_inertial_frames() {
             a[2], fa[2]
         );
     }
+}
+
+#[test]
+fn rate_terms_without_rate_columns_are_refused() {
+    // A body table without `cn_q, cm_q` and `rate_terms = true` (the SPHADS-1 file): the
+    // block is not built (silently applying zero derivatives was the defect); with the
+    // option off the same table is fine.
+    let f = fixture();
+    let axes = [vec![0.1, 0.9], vec![-10.0, 10.0], vec![0.0, 10_000.0]];
+    let table = CoefficientTable::from_grid(
+        TableKind::Body,
+        "plain.csv",
+        axes,
+        &[[0.0, 0.3, 0.0]; 8],
+        OutOfRange::Stop,
+    )
+    .unwrap();
+    assert!(f.vehicle.forces.body_aero.as_ref().unwrap().rate_terms);
+    let e = BodyAero::new(
+        &f.compiled,
+        &f.vehicle,
+        table.clone(),
+        Standard1976::new(),
+        Stimuli::default(),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(&e, flexflight::runtime::forces::AeroForceError::NoRateColumns { path } if path.as_os_str() == "plain.csv"),
+        "{e}"
+    );
+    let mut v = f.vehicle.clone();
+    v.forces.body_aero.as_mut().unwrap().rate_terms = false;
+    assert!(
+        BodyAero::new(
+            &f.compiled,
+            &v,
+            table,
+            Standard1976::new(),
+            Stimuli::default()
+        )
+        .is_ok()
+    );
 }

@@ -421,6 +421,15 @@ assert_error!(
     edit(FINNED, "tip_chord = 100 mm", "tip_chord = 250 mm")
 );
 assert_error!(
+    fins_forward_swept_leading_edge_with_theory_loads,
+    "vdl::fins::forward_sweep",
+    edit(
+        FINNED,
+        "trailing_edge_sweep = 0 deg",
+        "trailing_edge_sweep = -60 deg"
+    )
+);
+assert_error!(
     range_wall_too_thick,
     "vdl::value::range",
     edit(VEHICLE, "wall = 2 mm", "wall = 50 mm")
@@ -720,8 +729,12 @@ assert_error!(
 
 // ---------------------------------------------------------------- the registry of codes
 
-/// Every `"vdl::..."`, `"fe::..."`, `"artifact::..."`, `"generate::..."`, `"modal::..."`,
-/// `"structure::..."` and `"analysis::..."` string literal in `src/**/*.rs`.
+/// Every diagnostic code written in a string in `src/**/*.rs`: `"vdl::..."`, `"fe::..."`,
+/// `"artifact::..."`, ... as a complete literal, and also inside a message or a format
+/// string (`"error[run::cannot_start]: {e}"`, `"plan::invalid: {e}"`), which is how codes
+/// of errors printed without a `Diagnostic` are written. A code is `prefix::name(::name)*`
+/// right after a `"` or a `[`, followed by `"`, `]` or a single `:`; comment lines are
+/// skipped (doc links such as `[run::run]` are not codes).
 fn codes_in_source() -> Vec<(String, PathBuf)> {
     fn walk(dir: &std::path::Path, out: &mut Vec<PathBuf>) {
         for e in std::fs::read_dir(dir).expect("read src") {
@@ -741,31 +754,86 @@ fn codes_in_source() -> Vec<(String, PathBuf)> {
     let mut codes = Vec::new();
     for f in files {
         let text = std::fs::read_to_string(&f).expect("read");
-        for prefix in [
-            "\"vdl::",
-            "\"fe::",
-            "\"artifact::",
-            "\"generate::",
-            "\"modal::",
-            "\"structure::",
-            "\"analysis::",
-            "\"report::",
-            "\"plan::",
-            "\"run::",
-        ] {
-            for (k, _) in text.match_indices(prefix) {
-                let rest = &text[k + 1..];
-                let end = rest
-                    .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == ':'))
-                    .unwrap_or(rest.len());
-                // Only complete literals: `"vdl::x"`, not a prefix used in a format string.
-                if rest[end..].starts_with('"') && !rest[..end].ends_with(':') {
-                    codes.push((rest[..end].to_string(), f.clone()));
-                }
+        for line in text.lines() {
+            if line.trim_start().starts_with("//") {
+                continue;
             }
+            codes.extend(codes_in_line(line).into_iter().map(|c| (c, f.clone())));
         }
     }
     codes
+}
+
+/// The codes of [`codes_in_source`] on one line.
+fn codes_in_line(line: &str) -> Vec<String> {
+    const PREFIXES: [&str; 10] = [
+        "vdl::",
+        "fe::",
+        "artifact::",
+        "generate::",
+        "modal::",
+        "structure::",
+        "analysis::",
+        "report::",
+        "plan::",
+        "run::",
+    ];
+    let ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    let mut out = Vec::new();
+    for prefix in PREFIXES {
+        for (k, _) in line.match_indices(prefix) {
+            if !(line[..k].ends_with('"') || line[..k].ends_with('[')) {
+                continue;
+            }
+            // prefix::name(::name)*
+            let rest = &line[k..];
+            let mut end = prefix.len();
+            loop {
+                let seg = rest[end..]
+                    .find(|c: char| !ident(c))
+                    .unwrap_or(rest.len() - end);
+                if seg == 0 {
+                    break;
+                }
+                end += seg;
+                if rest[end..].starts_with("::") {
+                    end += 2;
+                } else {
+                    break;
+                }
+            }
+            let code = &rest[..end];
+            let after = &rest[end..];
+            let complete = !code.ends_with(':')
+                && code.len() > prefix.len()
+                && (after.starts_with('"')
+                    || after.starts_with(']')
+                    || (after.starts_with(':') && !after.starts_with("::")));
+            if complete {
+                out.push(code.to_string());
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn the_code_scan_finds_codes_in_messages_and_format_strings() {
+    assert_eq!(
+        codes_in_line(r#"  Diagnostic::error("vdl::syntax", m)"#),
+        ["vdl::syntax"]
+    );
+    assert_eq!(
+        codes_in_line(r#"eprintln!("error[run::cannot_start]: {e}");"#),
+        ["run::cannot_start"]
+    );
+    assert_eq!(
+        codes_in_line(r#"format!("plan::invalid: {e}")"#),
+        ["plan::invalid"]
+    );
+    // A prefix of a code built at run time, and a path that is not in a string, are not codes.
+    assert!(codes_in_line(r#"format!("vdl::{kind}::x")"#).is_empty());
+    assert!(codes_in_line("let x = run::run(&p);").is_empty());
 }
 
 #[test]

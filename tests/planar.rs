@@ -142,11 +142,11 @@ fn analyze_map_writes_the_grid() {
             "--scenario",
             "subsonic_t04",
             "--thickness",
-            "0.2e-3:1.2e-3:5",
+            "0.2mm:3.0mm:5",
             "--mach",
             "0.5:2.5:4",
             "--altitude",
-            "5000",
+            "5km",
             "--out",
         ])
         .arg(&out)
@@ -166,8 +166,9 @@ fn analyze_map_writes_the_grid() {
     assert_eq!(lines.count(), 20);
     assert!(out.join("boundary.csv").is_file());
     assert!(out.join("critical_thickness.csv").is_file());
-    // The TN 4197 curve, in the map's axes, where it lies inside the Mach range; it must
-    // agree with boundary.csv's TN 4197 column.
+    // The TN 4197 curve (Martin's form: Mach 0.43 at 1.2 mm, 1.70 at 3 mm here), in the
+    // map's axes, where it lies inside the Mach range; it must agree with boundary.csv's
+    // TN 4197 column.
     let overlay = std::fs::read_to_string(out.join("overlay_TN_4197.csv")).unwrap();
     let boundary = std::fs::read_to_string(out.join("boundary.csv")).unwrap();
     let mut expected = Vec::new();
@@ -217,18 +218,18 @@ fn bad_input_gives_diagnostics_and_nonzero_exit() {
         stderr_of(&o)
     );
 
-    // An empty thickness range.
+    // An empty thickness range (COUNT = 0), checked like a vehicle-file count.
     let o = bin()
         .args(["analyze", "map", "--planar", "--pinned"])
         .arg(repo("examples/thesis/section_6_5.vdl"))
-        .args(["--scenario", "subsonic_t04", "--thickness", "1e-3:2e-3:0"])
+        .args(["--scenario", "subsonic_t04", "--thickness", "1mm:2mm:0"])
         .args(["--mach", "0.5:1:3", "--out"])
         .arg(dir.path().join("never"))
         .output()
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
     assert!(
-        stderr_of(&o).contains("analysis::range"),
+        stderr_of(&o).contains("vdl::value::range"),
         "{}",
         stderr_of(&o)
     );
@@ -248,4 +249,60 @@ fn bad_input_gives_diagnostics_and_nonzero_exit() {
         "{}",
         stderr_of(&o)
     );
+}
+
+/// `analyze planar` prints the NACA TN 4197 flutter Mach in both published forms (the
+/// README claims it); the numbers are checked against the formula evaluated here by hand
+/// for SPHADS-1's fins (aluminium, E 70 GPa, nu 0.346; span 127.23 mm, chords 324.68 and
+/// 122.67 mm; 0.6 mm thick) at the scenario's 5 km pressure.
+#[test]
+fn analyze_planar_prints_the_tn4197_flutter_mach_in_both_forms() {
+    let run = |format: &str| {
+        let o = bin()
+            .args(["analyze", "planar", "--pinned"])
+            .arg(repo("examples/thesis/section_6_5.vdl"))
+            .args([
+                "--scenario",
+                "subsonic_t06",
+                "--format",
+                format,
+                "--cache-dir",
+            ])
+            .arg(cache())
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", stderr_of(&o));
+        String::from_utf8(o.stdout).unwrap()
+    };
+    let j: serde_json::Value = serde_json::from_str(&run("json")).unwrap();
+    let tn = &j["tn4197"];
+    let p = tn["pressure_pa"].as_f64().unwrap();
+    // 1976 standard atmosphere at 5 km geometric altitude: 54048 Pa (NOAA-S/T 76-1562,
+    // Table I).
+    assert!((p - 54_048.3).abs() < 0.5, "{p}");
+    let g = 70e9 / (2.0 * 1.346);
+    let (b, cr, ct, t): (f64, f64, f64, f64) = (0.127_23, 0.324_68, 0.122_67, 0.6e-3);
+    let area = 0.5 * (cr + ct) * b;
+    let a = b * b / area;
+    let x = |k: f64| k * a.powi(3) * p * (ct / cr + 1.0) / (2.0 * (a + 2.0) * (t / cr).powi(3));
+    let martin = (g / x(39.3 / 14.7)).sqrt();
+    let pof = (g / x(1.337)).sqrt();
+    let got_m = tn["martin"]["flutter_mach"].as_f64().unwrap();
+    let got_p = tn["peak_of_flight_291"]["flutter_mach"].as_f64().unwrap();
+    eprintln!("SPHADS-1 fin at 5 km: TN 4197 Martin M {got_m}, PoF 291 M {got_p}");
+    assert!(
+        (got_m - martin).abs() < 1e-12 * martin,
+        "{got_m} vs {martin}"
+    );
+    assert!((got_p - pof).abs() < 1e-12 * pof, "{got_p} vs {pof}");
+    assert!((got_p / got_m - 2f64.sqrt()).abs() < 2e-4);
+    let text = run("human");
+    let line = |name: &str| {
+        text.lines()
+            .find(|l| l.contains(name))
+            .unwrap_or_else(|| panic!("no `{name}` line in\n{text}"))
+            .to_string()
+    };
+    assert!(line("TN 4197 (Martin 1958)").contains(&format!("flutter Mach {martin:.5}")));
+    assert!(line("Peak of Flight 291").contains(&format!("flutter Mach {pof:.5}")));
 }

@@ -183,3 +183,112 @@ fn load_weighted_incidence_equals_the_key_node_one_on_an_undeformed_fin() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("load_weighted"), "{err}");
 }
+
+/// `examples/thesis/section_6_5.vdl` and `vehicles/sphads1.vdl` copied into `dir`, with the
+/// vehicle's `trailing_edge_sweep = 0 deg` line replaced by `fins_sweep`; returns the
+/// scenario file.
+fn thesis_copy(dir: &Path, fins_sweep: &str) -> PathBuf {
+    std::fs::create_dir_all(dir.join("examples/thesis")).unwrap();
+    std::fs::create_dir_all(dir.join("vehicles")).unwrap();
+    let v = std::fs::read_to_string(repo("vehicles/sphads1.vdl")).unwrap();
+    let from = "trailing_edge_sweep = 0 deg # App. A.2.6";
+    assert_eq!(v.matches(from).count(), 1);
+    std::fs::write(
+        dir.join("vehicles/sphads1.vdl"),
+        v.replace(from, fins_sweep),
+    )
+    .unwrap();
+    let scenario = dir.join("examples/thesis/section_6_5.vdl");
+    std::fs::copy(repo("examples/thesis/section_6_5.vdl"), &scenario).unwrap();
+    scenario
+}
+
+fn flexflight(args: &[&std::ffi::OsStr]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_flexflight"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// `check`, then a short supersonic `run` (Mach 2.3, 10 km) of the thesis vehicle with the
+/// given fin sweep line.
+fn check_then_run(dir: &Path, fins_sweep: &str) -> (std::process::Output, std::process::Output) {
+    let file = thesis_copy(dir, fins_sweep);
+    let check = flexflight(&["check".as_ref(), file.as_os_str()]);
+    let out = dir.join("out");
+    let cache = Path::new(env!("CARGO_TARGET_TMPDIR")).join("run-aero-swept-cache");
+    let run = flexflight(&[
+        "run".as_ref(),
+        file.as_os_str(),
+        "--scenario".as_ref(),
+        "supersonic_t06".as_ref(),
+        "--set".as_ref(),
+        "run.stop_time=2 ms".as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+        "--cache-dir".as_ref(),
+        cache.as_os_str(),
+    ]);
+    (check, run)
+}
+
+#[test]
+fn a_fin_with_a_swept_trailing_edge_that_passes_check_runs() {
+    // Issue 9, defect 8: `check` passed a swept trailing edge and `run` then refused it
+    // (run::cannot_start, "App. A.2.6 assumes an unswept trailing edge"). Swept back, swept
+    // forward, and a subsonic trailing edge at Mach 2.3 (tan 70 deg > beta = 2.07).
+    for te in ["20 deg", "-30 deg", "51.34 deg", "70 deg"] {
+        let dir = tempfile::tempdir().unwrap();
+        let (check, run) = check_then_run(dir.path(), &format!("trailing_edge_sweep = {te}"));
+        assert!(
+            check.status.success(),
+            "TE {te}: check: {}",
+            String::from_utf8_lossy(&check.stderr)
+        );
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(!err.contains("run::cannot_start"), "TE {te}: {err}");
+        assert!(run.status.success(), "TE {te}: run: {err}");
+        let s = summary(&dir.path().join("out"));
+        assert_eq!(s["stop_reason"], "completed", "TE {te}: {s}");
+    }
+}
+
+#[test]
+fn a_leading_edge_sweep_written_to_fewer_digits_is_the_same_fin() {
+    // The unswept trailing edge written as a leading-edge sweep rounded to 0.01 deg
+    // (atan((c_r - c_t)/s) = 57.7990... deg): refused before unless equal to all digits.
+    let (s, cr, ct): (f64, f64, f64) = (0.12723, 0.32468, 0.12267);
+    let exact = ((cr - ct) / s).atan().to_degrees();
+    let rounded = (exact * 100.0).round() / 100.0;
+    assert!((rounded - exact).abs() > 1e-4, "{exact}");
+    let dir = tempfile::tempdir().unwrap();
+    let (check, run) = check_then_run(dir.path(), &format!("leading_edge_sweep = {rounded} deg"));
+    assert!(
+        check.status.success(),
+        "{}",
+        String::from_utf8_lossy(&check.stderr)
+    );
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+}
+
+#[test]
+fn a_forward_swept_leading_edge_is_refused_at_check_not_at_run() {
+    // The remaining restriction of the supersonic load model is the checker's, with a span;
+    // `run` reports the same diagnostic before doing anything and writes nothing.
+    let dir = tempfile::tempdir().unwrap();
+    let (check, run) = check_then_run(dir.path(), "trailing_edge_sweep = -70 deg");
+    assert_eq!(check.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&check.stderr);
+    assert!(err.contains("vdl::fins::forward_sweep"), "{err}");
+    // file:line:col of the sweep value in the vehicle file (line 61 of sphads1.vdl)
+    assert!(err.contains("sphads1.vdl:61:"), "{err}");
+    assert_eq!(run.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(err.contains("vdl::fins::forward_sweep"), "{err}");
+    assert!(!err.contains("run::cannot_start"), "{err}");
+    assert!(!dir.path().join("out").exists());
+}

@@ -11,11 +11,11 @@ F=examples/thesis/section_6_5.vdl
 cargo build --release --quiet
 FF=target/release/flexflight
 
-# Figs 6.3-6.5: pinned planar model at 0, 10 and 20 km (thickness in m).
+# Figs 6.3-6.5: pinned planar model at 0, 10 and 20 km.
 for h in 0 10000 20000; do
   d=$OUT/fig6_3-5_pinned_h${h}m
   $FF analyze map --planar --pinned $F --scenario subsonic_t06 \
-    --thickness 0.0001:0.0015:29 --mach 0.2:3.0:29 --altitude $h --out "$d"
+    --thickness 0.1mm:1.5mm:29 --mach 0.2:3.0:29 --altitude ${h}m --out "$d"
   $FF report "$d"
 done
 
@@ -23,18 +23,18 @@ done
 # equilibrium below about Mach 0.65: those points are recorded as failures).
 d=$OUT/fig6_7_unpinned
 $FF analyze map --planar --unpinned $F --scenario subsonic_t06 \
-  --thickness 0.0001:0.0015:29 --mach 0.7:3.0:24 --out "$d"
+  --thickness 0.1mm:1.5mm:29 --mach 0.7:3.0:24 --out "$d"
 $FF report "$d"
 
 # Fig 6.8: pinned model at the unpinned model's equilibrium altitudes.
 d=$OUT/fig6_8_pinned_equilibrium
 $FF analyze map --planar --pinned $F --scenario subsonic_t06 \
-  --thickness 0.0001:0.0015:29 --mach 0.7:3.0:24 --altitude equilibrium --out "$d"
+  --thickness 0.1mm:1.5mm:29 --mach 0.7:3.0:24 --altitude equilibrium --out "$d"
 $FF report "$d"
 
-# Fig 6.11 (our substitute): the linearised 3-D model's boundary at 5 km (thickness in mm).
+# Fig 6.11 (our substitute): the linearised 3-D model's boundary at 5 km.
 d=$OUT/fig6_11_linear3d_5km
-$FF analyze linear-map $F --scenario subsonic_t06 --thickness 0.3:1.5:13 --mach 0.3:1.0:15 \
+$FF analyze linear-map $F --scenario subsonic_t06 --thickness 0.3mm:1.5mm:13 --mach 0.3:1.0:15 \
   --out "$d"
 $FF report "$d"
 

@@ -1,7 +1,7 @@
 //! The linearised 3-D analysis of a planned scenario and its fin thickness x Mach map.
 //!
 //! The force blocks are those of the scenario's plan, built as a run builds them
-//! ([`build_aero_blocks`], [`build_force_blocks`]), except that the reference is ballistic:
+//! ([`build_force_blocks`], the aerodynamic blocks copied from the plan), except that the reference is ballistic:
 //! thrust blocks are dropped and the stimuli (gusts, turbulence) removed, so the
 //! right-hand side does not depend on time. The reference altitude and attitude are the
 //! scenario's initial ones; the speed is the scenario's initial speed or, in a map,
@@ -10,20 +10,22 @@
 //! A map needs one compiled vehicle per fin thickness (the thickness changes the FE model,
 //! so the modes and every reduced coefficient): the caller supplies them through a closure
 //! (the CLI compiles through the artifact cache with a `--set fins.thickness=...`
-//! override); the aerodynamic blocks and the equations of motion are built once per
-//! thickness and reused for every Mach.
+//! override); its plan holds the aerodynamic blocks, and the equations of motion are
+//! built once per thickness and reused for every Mach.
 
 use serde::Serialize;
 
 use super::linear_grid::{StabilityClass, StabilityMap};
 use super::linearise::{LinearModel, LineariseError, LineariseOptions, Linearizer, Trim};
-use super::roots::{EigenStructure, eigen_structure};
+use super::roots::{EigenStructure, FlightPathScale, eigen_structure_separated};
 use crate::check::ir::Scenario;
 use crate::plan::{ForcePlan, Plan};
 use crate::runtime::atmosphere::{Atmosphere, Standard1976};
 use crate::runtime::eom::Eom;
 use crate::runtime::forces::ForceBlocks;
-use crate::runtime::run::{RunError, build_aero_blocks, build_force_blocks};
+use crate::runtime::forces::gravity::gravity_at;
+use crate::runtime::kinematics::{c_bi, mat_vec};
+use crate::runtime::run::{RunError, build_force_blocks};
 use crate::runtime::stimuli::Stimuli;
 use crate::structure::compile::CompiledVehicle;
 
@@ -100,15 +102,14 @@ pub fn ballistic_plan(plan: &Plan) -> Plan {
     let mut p = plan.clone();
     p.forces.retain(|f| !matches!(f, ForcePlan::Thrust(_)));
     p.stimuli.clear();
-    p.planned_stimuli = Stimuli::default();
+    p.set_stimuli(Stimuli::default());
     p
 }
 
 /// The equations of motion with the ballistic force blocks of `variant`.
 pub fn ballistic_eom(variant: &Variant) -> Result<Eom<'_, ForceBlocks>, LinearAnalysisError> {
     let plan = ballistic_plan(&variant.plan);
-    let (aero, _) = build_aero_blocks(&plan, &variant.scenario, &variant.compiled)?;
-    let forces = build_force_blocks(&plan, &variant.compiled.reduced, aero)?;
+    let forces = build_force_blocks(&plan, &variant.compiled.reduced)?;
     Eom::new(&variant.compiled.reduced, forces)
         .map_err(|e| LinearAnalysisError::Build(e.to_string()))
 }
@@ -151,12 +152,40 @@ fn air(altitude: f64) -> Result<(f64, f64), LinearAnalysisError> {
         })
 }
 
-/// Trim, linearise and decompose at `speed` with an existing linearizer.
+/// Gravity at `altitude` as the plan's gravity block applies it (0 without one), m/s².
+pub fn plan_gravity(plan: &Plan, altitude: f64) -> f64 {
+    plan.gravity()
+        .map_or(0.0, |g| gravity_at(altitude, g.altitude_correction))
+}
+
+/// The flight-path scale of a trim (see [`super::roots`]): `a_D = |V̇_B - g_B|` with
+/// `g_B = C_BI(q0) (0, 0, g)` (eq. 5.1.3; `ω_B = 0` at the trim, so `V̇_B` is the specific
+/// force plus gravity).
+pub fn flight_path_scale(
+    trim: &Trim,
+    speed: f64,
+    gravity: f64,
+    attitude: [f64; 4],
+) -> FlightPathScale {
+    let g_b = mat_vec(&c_bi(&attitude), &[0.0, 0.0, gravity]);
+    let a = &trim.rigid_acceleration;
+    let aero = ((a[0] - g_b[0]).powi(2) + (a[1] - g_b[1]).powi(2) + (a[2] - g_b[2]).powi(2)).sqrt();
+    FlightPathScale {
+        speed,
+        gravity,
+        aero_acceleration: aero,
+    }
+}
+
+/// Trim, linearise and decompose at `speed` with an existing linearizer; `gravity` (m/s²)
+/// sets the flight-path scale that separates the trajectory's slow roots from the
+/// vehicle's ([`super::roots`]).
 pub fn analyse_with<S: crate::runtime::integrate::OdeSystem>(
     lin: &mut Linearizer<S>,
     speed: f64,
     altitude: f64,
     attitude: [f64; 4],
+    gravity: f64,
     options: LineariseOptions,
 ) -> Result<LinearAnalysis, LinearAnalysisError> {
     let (a, rho) = air(altitude)?;
@@ -177,7 +206,8 @@ pub fn analyse_with<S: crate::runtime::integrate::OdeSystem>(
         Err(e) => return Err(e.into()),
     };
     let model = lin.linearise(&trim.state)?;
-    let eigen = eigen_structure(&model, options.neutral_tolerance)?;
+    let scale = flight_path_scale(&trim, speed, gravity, attitude);
+    let eigen = eigen_structure_separated(&model, options.neutral_tolerance, scale)?;
     Ok(LinearAnalysis {
         condition,
         trim,
@@ -194,8 +224,9 @@ pub fn analyse(
     options: LineariseOptions,
 ) -> Result<LinearAnalysis, LinearAnalysisError> {
     let (altitude, attitude, speed) = reference_of(&variant.plan);
+    let gravity = plan_gravity(&variant.plan, altitude);
     let mut lin = linearizer(variant, options)?;
-    analyse_with(&mut lin, speed, altitude, attitude, options)
+    analyse_with(&mut lin, speed, altitude, attitude, gravity, options)
 }
 
 /// A fin thickness x Mach map of the linearised model.
@@ -225,6 +256,7 @@ pub fn linear_map(
         sigma: vec![0.0; cells],
         omega: vec![0.0; cells],
         class: vec![StabilityClass::Stable; cells],
+        flight_path_sigma: vec![f64::NAN; cells],
     };
     let mut trim_failures = Vec::new();
     let mut altitude = 0.0;
@@ -236,6 +268,7 @@ pub fn linear_map(
         let (h, attitude, _) = reference_of(&variant.plan);
         altitude = h;
         let (a, _) = air(h)?;
+        let gravity = plan_gravity(&variant.plan, h);
         let mut lin = linearizer(&variant, options)?;
         for (j, &mach) in machs.iter().enumerate() {
             let cell = |e: LinearAnalysisError| LinearAnalysisError::Cell {
@@ -243,11 +276,13 @@ pub fn linear_map(
                 mach,
                 error: Box::new(e),
             };
-            let r = analyse_with(&mut lin, mach * a, h, attitude, options).map_err(cell)?;
+            let r =
+                analyse_with(&mut lin, mach * a, h, attitude, gravity, options).map_err(cell)?;
             let k = map.index(i, j);
             map.sigma[k] = r.eigen.sigma_d;
             map.omega[k] = r.eigen.omega_d;
             map.class[k] = r.eigen.class;
+            map.flight_path_sigma[k] = r.eigen.flight_path_sigma.unwrap_or(f64::NAN);
             if !r.trim_converged {
                 trim_failures.push(k);
             }

@@ -42,8 +42,11 @@ pub struct StabilityMap {
     pub sigma: Vec<f64>,
     /// `omega_d`, rad/s.
     pub omega: Vec<f64>,
-    /// Class of the least-stable root.
+    /// Class of the least-stable root of the vehicle's dynamics.
     pub class: Vec<StabilityClass>,
+    /// `max Re λ` of the flight-path roots (the trim's slow drift, not part of `sigma_d`
+    /// and the class: [`super::roots`]), 1/s; NaN where there are none.
+    pub flight_path_sigma: Vec<f64>,
 }
 
 impl StabilityMap {
@@ -52,19 +55,23 @@ impl StabilityMap {
         j * self.xs.len() + i
     }
 
-    /// Writes `x_name,y_name,sigma_d,omega_d,class`, one line per grid point (rows of
-    /// constant `y`, `x` fastest), floats in Rust's shortest round-trip form.
+    /// Writes `x_name,y_name,sigma_d,omega_d,class,flight_path_sigma`, one line per grid
+    /// point (rows of constant `y`, `x` fastest), floats in Rust's shortest round-trip form.
     pub fn write_csv(&self, w: &mut dyn Write, x_name: &str, y_name: &str) -> std::io::Result<()> {
-        writeln!(w, "{x_name},{y_name},sigma_d,omega_d,class")?;
+        writeln!(
+            w,
+            "{x_name},{y_name},sigma_d,omega_d,class,flight_path_sigma"
+        )?;
         for (j, y) in self.ys.iter().enumerate() {
             for (i, x) in self.xs.iter().enumerate() {
                 let k = self.index(i, j);
                 writeln!(
                     w,
-                    "{x},{y},{},{},{}",
+                    "{x},{y},{},{},{},{}",
                     self.sigma[k],
                     self.omega[k],
-                    self.class[k].name()
+                    self.class[k].name(),
+                    self.flight_path_sigma[k]
                 )?;
             }
         }
@@ -100,15 +107,19 @@ mod tests {
                 StabilityClass::Flutter,
                 StabilityClass::Divergence,
             ],
+            flight_path_sigma: vec![f64::NAN, f64::NAN, 0.04, f64::NAN, f64::NAN, -0.1],
         };
         assert_eq!(m.index(2, 1), 5);
         let mut buf = Vec::new();
         m.write_csv(&mut buf, "thickness_m", "mach").unwrap();
         let text = String::from_utf8(buf).unwrap();
         let lines: Vec<&str> = text.lines().collect();
-        assert_eq!(lines[0], "thickness_m,mach,sigma_d,omega_d,class");
+        assert_eq!(
+            lines[0],
+            "thickness_m,mach,sigma_d,omega_d,class,flight_path_sigma"
+        );
         assert_eq!(lines.len(), 7);
-        assert_eq!(lines[3], "3,0.5,2.5,0,divergence");
-        assert_eq!(lines[5], "2,0.7,1,4,flutter");
+        assert_eq!(lines[3], "3,0.5,2.5,0,divergence,0.04");
+        assert_eq!(lines[5], "2,0.7,1,4,flutter,NaN");
     }
 }

@@ -1,5 +1,6 @@
 //! Stability maps over fin thickness x Mach (thesis Figs 6.3-6.8): sigma_d, omega_d and the
-//! class at every grid point, the TN 4197 flutter Mach next to them, per-thickness stability
+//! class at every grid point, the TN 4197 flutter Mach next to them (Martin's original form
+//! for the boundaries; the Peak of Flight 291 form as a column of `map.csv`), per-thickness stability
 //! boundaries, and the CSV files.
 //!
 //! [`StabilityMap`] is the plain data a plot takes: `xs` (Mach, the thesis' horizontal axis),
@@ -12,7 +13,7 @@ use serde::Serialize;
 use super::planar::{
     self, Altitude, PlanarError, PlanarKind, PlanarVehicle, Stability, condition_at,
 };
-use super::tn4197::Tn4197Fin;
+use super::tn4197::{Tn4197Fin, Tn4197Form};
 
 /// The class of one grid point.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -78,8 +79,12 @@ pub struct PlanarMap {
     /// Altitude (m) and airspeed (m/s) of each point (NaN where there is none).
     pub altitude: Vec<Vec<f64>>,
     pub speed: Vec<Vec<f64>>,
-    /// TN 4197 flutter Mach at each point's altitude.
+    /// TN 4197 flutter Mach at each point's altitude, Martin's original form: the one the
+    /// boundaries, `boundary.csv`, `critical_thickness.csv` and `overlay_TN_4197.csv` use.
     pub tn4197_mach: Vec<Vec<f64>>,
+    /// The same in the Peak of Flight 291 / RocketPy form (sqrt(2) higher), for comparison
+    /// (`map.csv` only).
+    pub tn4197_pof291_mach: Vec<Vec<f64>>,
     /// Why points failed, as `(iy, ix, message)` (no-equilibrium points included).
     pub failures: Vec<(usize, usize, String)>,
 }
@@ -162,7 +167,8 @@ pub fn critical_thickness(ys: &[f64], f: &[f64]) -> CriticalThickness {
     CriticalThickness::BelowRange
 }
 
-/// A grid axis `A:B:N`: N equally spaced values from A to B.
+/// A grid axis: `count` equally spaced values from `start` to `stop` (on the command line,
+/// `START:STOP:COUNT` with units, checked by [`crate::check::cli_values::check_range`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GridRange {
     pub start: f64,
@@ -170,51 +176,7 @@ pub struct GridRange {
     pub count: usize,
 }
 
-/// Why a grid range was refused.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum RangeError {
-    #[error("`{text}` is not a range: expected START:STOP:COUNT, e.g. 0.2e-3:1.2e-3:50")]
-    Syntax { text: String },
-    #[error("`{text}`: {what}")]
-    Invalid { text: String, what: &'static str },
-}
-
 impl GridRange {
-    /// Parses `A:B:N` (A < B, N >= 2; or N = 1 with A = B); values must be finite and
-    /// positive (thickness and Mach are).
-    pub fn parse(text: &str) -> Result<Self, RangeError> {
-        let parts: Vec<&str> = text.split(':').collect();
-        let syntax = || RangeError::Syntax {
-            text: text.to_string(),
-        };
-        let [a, b, n] = parts.as_slice() else {
-            return Err(syntax());
-        };
-        let start: f64 = a.trim().parse().map_err(|_| syntax())?;
-        let stop: f64 = b.trim().parse().map_err(|_| syntax())?;
-        let count: usize = n.trim().parse().map_err(|_| syntax())?;
-        let invalid = |what| RangeError::Invalid {
-            text: text.to_string(),
-            what,
-        };
-        if !(start.is_finite() && stop.is_finite()) {
-            return Err(invalid("the ends must be finite numbers"));
-        }
-        if start <= 0.0 {
-            return Err(invalid("the values must be positive"));
-        }
-        if count == 0 {
-            return Err(invalid("the range is empty (COUNT = 0)"));
-        }
-        if count == 1 && start != stop {
-            return Err(invalid("one point needs START = STOP"));
-        }
-        if count > 1 && stop <= start {
-            return Err(invalid("STOP must exceed START"));
-        }
-        Ok(GridRange { start, stop, count })
-    }
-
     /// The values.
     pub fn values(&self) -> Vec<f64> {
         if self.count == 1 {
@@ -244,6 +206,7 @@ pub fn planar_map(
     let mut alt = grid();
     let mut speed = grid();
     let mut tn = grid();
+    let mut tn_pof = grid();
     let mut class = vec![vec![CellClass::Failed; nx]; ny];
     let mut failures = Vec::new();
     let f = &vehicle.fins;
@@ -259,7 +222,8 @@ pub fn planar_map(
             let result = condition_at(vehicle, t, m, altitude).and_then(|c| {
                 alt[iy][ix] = c.altitude;
                 speed[iy][ix] = c.speed;
-                tn[iy][ix] = tn_fin.flutter_mach(c.pressure);
+                tn[iy][ix] = tn_fin.flutter_mach_in(Tn4197Form::Martin, c.pressure);
+                tn_pof[iy][ix] = tn_fin.flutter_mach_in(Tn4197Form::PeakOfFlight291, c.pressure);
                 planar::verdict(&planar::parameters(vehicle, kind, t, c)?)
             });
             match result {
@@ -291,6 +255,7 @@ pub fn planar_map(
         altitude: alt,
         speed,
         tn4197_mach: tn,
+        tn4197_pof291_mach: tn_pof,
         failures,
     }
 }
@@ -397,6 +362,7 @@ impl PlanarMap {
             "omega_d",
             "class",
             "tn4197_flutter_mach",
+            "tn4197_pof291_flutter_mach",
         ])?;
         let m = &self.map;
         for (iy, t) in m.ys.iter().enumerate() {
@@ -410,6 +376,7 @@ impl PlanarMap {
                     m.omega[iy][ix].to_string(),
                     m.class[iy][ix].name().to_string(),
                     self.tn4197_mach[iy][ix].to_string(),
+                    self.tn4197_pof291_mach[iy][ix].to_string(),
                 ])?;
             }
         }
@@ -417,7 +384,8 @@ impl PlanarMap {
         Ok(())
     }
 
-    /// `overlay_TN_4197.csv`: the NACA TN 4197 flutter boundary as a curve (thickness in m,
+    /// `overlay_TN_4197.csv`: the NACA TN 4197 flutter boundary (Martin's form) as a curve
+    /// (thickness in m,
     /// Mach) in the axes of `map.csv`, for the thicknesses where it lies inside the Mach
     /// range; `flexflight report` draws it over the map.
     pub fn write_tn4197_overlay(&self, path: &Path) -> Result<(), csv::Error> {
@@ -463,15 +431,19 @@ mod tests {
     use super::*;
 
     #[test]
-    fn ranges_parse_and_refuse() {
-        let r = GridRange::parse("0.5:1.5:3").unwrap();
+    fn grid_values_include_both_ends() {
+        let r = GridRange {
+            start: 0.5,
+            stop: 1.5,
+            count: 3,
+        };
         assert_eq!(r.values(), vec![0.5, 1.0, 1.5]);
-        assert_eq!(GridRange::parse("2:2:1").unwrap().values(), vec![2.0]);
-        for bad in [
-            "1:2", "a:2:3", "1:2:0", "2:1:5", "0:1:5", "1:2:1", "1:inf:3",
-        ] {
-            assert!(GridRange::parse(bad).is_err(), "{bad} accepted");
-        }
+        let one = GridRange {
+            start: 2.0,
+            stop: 2.0,
+            count: 1,
+        };
+        assert_eq!(one.values(), vec![2.0]);
     }
 
     #[test]

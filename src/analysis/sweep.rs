@@ -393,6 +393,7 @@ mod tests {
             span,
             scenario: 0,
             analysis: Spanned::new(SweepAnalysis::Run, span),
+            frozen_gravity: false,
             combine,
             axes: axes
                 .iter()

@@ -5,6 +5,7 @@
 //! asked for as unknown, with a "did you mean" drawn from the names that were asked for.
 //! The schema of the language is therefore exactly the code that reads it.
 
+use std::cell::RefCell;
 use std::collections::HashMap;
 
 use crate::diagnostics::{Diagnostic, did_you_mean};
@@ -15,6 +16,49 @@ use crate::units::{self, Dim, Unit};
 use super::Cx;
 use super::ir::{Q, V3};
 
+/// What one [`Fields`] reader asked for: the schema of one block as the checker reads it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BlockSchema {
+    /// The block's header (`kind NAME`) in the checked sources.
+    pub header: Span,
+    /// Every field the reader asked for, required or not.
+    pub fields: Vec<&'static str>,
+    /// The fields it requires.
+    pub required: Vec<&'static str>,
+    /// The sub-blocks it asked for.
+    pub blocks: Vec<&'static str>,
+}
+
+/// What [`record_schema`] saw: one entry per block read, and every keyword option offered.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SchemaRecord {
+    pub blocks: Vec<BlockSchema>,
+    /// The options of every keyword field read (`dryden`, `von_karman`, `stop`, ...).
+    pub keywords: Vec<&'static str>,
+}
+
+thread_local! {
+    static RECORDER: RefCell<Option<SchemaRecord>> = const { RefCell::new(None) };
+}
+
+/// Runs `f` (a check) and returns what the [`Fields`] readers on this thread asked for
+/// while it ran: the language's schema is the code that reads it, and this is how tests
+/// compare the README's field tables with it. Costs nothing when not recording.
+pub fn record_schema<R>(f: impl FnOnce() -> R) -> (R, SchemaRecord) {
+    let previous = RECORDER.with(|r| r.replace(Some(SchemaRecord::default())));
+    let out = f();
+    let record = RECORDER.with(|r| r.replace(previous)).unwrap_or_default();
+    (out, record)
+}
+
+fn record(f: impl FnOnce(&mut SchemaRecord)) {
+    RECORDER.with(|r| {
+        if let Some(rec) = r.borrow_mut().as_mut() {
+            f(rec);
+        }
+    });
+}
+
 pub struct Fields<'b> {
     what: String,
     header: Span,
@@ -23,6 +67,8 @@ pub struct Fields<'b> {
     known_blocks: Vec<&'static str>,
     /// Required fields reported missing (a misspelling of one is reported once, as unknown).
     missing: Vec<&'static str>,
+    /// Every field asked for as required (for [`record_schema`]).
+    required_names: Vec<&'static str>,
 }
 
 impl<'b> Fields<'b> {
@@ -67,6 +113,7 @@ impl<'b> Fields<'b> {
             known_fields: Vec::new(),
             known_blocks: Vec::new(),
             missing: Vec::new(),
+            required_names: Vec::new(),
         }
     }
 
@@ -95,6 +142,7 @@ impl<'b> Fields<'b> {
         name: &'static str,
         example: &str,
     ) -> Option<&'b Value> {
+        self.required_names.push(name);
         let v = self.value(name);
         if v.is_none() {
             self.missing.push(name);
@@ -151,6 +199,16 @@ impl<'b> Fields<'b> {
 
     /// Report everything nobody read.
     pub fn finish(self, cx: &mut Cx) {
+        record(|r| {
+            let mut fields = self.known_fields.clone();
+            fields.dedup();
+            r.blocks.push(BlockSchema {
+                header: self.header,
+                fields,
+                required: self.required_names.clone(),
+                blocks: self.known_blocks.clone(),
+            })
+        });
         for (kind, span, used) in self.entries {
             if used {
                 continue;
@@ -451,6 +509,7 @@ pub fn string(cx: &mut Cx, v: &Value) -> Option<String> {
 
 /// A keyword from a fixed set.
 pub fn keyword<T: Copy>(cx: &mut Cx, v: &Value, options: &[(&'static str, T)]) -> Option<T> {
+    record(|r| r.keywords.extend(options.iter().map(|(n, _)| *n)));
     let names: Vec<&str> = options.iter().map(|(n, _)| *n).collect();
     if let ValueKind::Name(id) = &v.kind {
         if let Some((_, t)) = options.iter().find(|(n, _)| *n == id.name) {

@@ -563,6 +563,9 @@ pub struct Sweep {
     /// Index into `Program::scenarios`.
     pub scenario: usize,
     pub analysis: Spanned<SweepAnalysis>,
+    /// `frozen_gravity = true` (only with `analysis = linear3d`): gravity kept fixed in body
+    /// axes in the linearisation, as `analyze linear --frozen-gravity`.
+    pub frozen_gravity: bool,
     pub combine: Combine,
     pub axes: Vec<SweepAxis>,
 }

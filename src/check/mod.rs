@@ -5,6 +5,7 @@
 //! never stops at the first; it never panics on any input; all file access goes through the
 //! [`Loader`] trait (the real disk, or memory in tests and the fuzzer).
 
+pub mod cli_values;
 pub mod fields;
 pub mod ir;
 pub mod overrides;

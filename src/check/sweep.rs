@@ -39,9 +39,30 @@ pub(crate) fn check_sweep(
         .map(|a| Spanned::new(a, v.span)),
         None => Some(Spanned::new(SweepAnalysis::Run, b.header)),
     };
+    let frozen_v = fl.value("frozen_gravity");
     let grid = fl.block("grid");
     let zip = fl.block("zip");
     fl.finish(cx);
+    // `frozen_gravity` is an option of the linearisation: refused with any other analysis.
+    let frozen_gravity = match frozen_v {
+        None => Some(false),
+        Some(v) => match (f::boolean(cx, v), &analysis) {
+            (Some(b), Some(a)) if a.value == SweepAnalysis::Linear3d => Some(b),
+            (Some(_), Some(a)) => {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::sweep::option",
+                        "`frozen_gravity` is an option of `analysis = linear3d` only",
+                    )
+                    .label(v.span, "not used by this analysis")
+                    .label(a.span, "the sweep's analysis")
+                    .with_help("remove `frozen_gravity`, or set `analysis = linear3d`"),
+                );
+                None
+            }
+            _ => None,
+        },
+    };
 
     let scenario_block = scen_v.and_then(|v| {
         let ValueKind::Name(id) = &v.kind else {
@@ -189,6 +210,7 @@ pub(crate) fn check_sweep(
         span: b.header,
         scenario,
         analysis: analysis?,
+        frozen_gravity: frozen_gravity?,
         combine,
         axes,
     };

@@ -170,6 +170,32 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
             return None;
         }
     }
+    // The supersonic load model of the `theory` distribution (App. A.2.6 generalised to any
+    // trapezoid, runtime/aero/fin_loads.rs) builds on the apex of the leading edge at the
+    // root: a leading edge swept forward has none. Its weights are tabulated over the whole
+    // Mach axis, so this is refused here whatever the flight's Mach number.
+    if let (Some(fi), Some(fo)) = (&fins, &forces) {
+        if let Some(fa) = &fo.fin_aero {
+            let tan_le = fi.leading_edge_sweep.value.tan();
+            if fa.distribution.value == Distribution::Theory
+                && tan_le < -crate::runtime::aero::fin_loads::FORWARD_SWEEP_TOL
+            {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::fins::forward_sweep",
+                        format!(
+                            "the fin's leading edge is swept forward ({:.6} deg): the `theory` load distribution needs a leading edge swept back or unswept",
+                            fi.leading_edge_sweep.value.to_degrees()
+                        ),
+                    )
+                    .label(fi.leading_edge_sweep.span, "this sweep makes the leading edge point forward")
+                    .label(fa.distribution.span, "load distribution `theory` (App. A)")
+                    .with_help("sweep the leading edge back (tan(leading_edge_sweep) = tan(trailing_edge_sweep) + (root_chord - tip_chord)/span >= 0), or use `distribution = uniform`"),
+                );
+                return None;
+            }
+        }
+    }
     Some(Vehicle {
         name: Spanned::new(name.name.clone(), name.span),
         span: b.header,
@@ -1191,7 +1217,7 @@ fn check_forces(cx: &mut Cx, b: &Block) -> Option<Forces> {
         let rate = fl
             .value("rate_terms")
             .and_then(|v| f::boolean(cx, v))
-            .unwrap_or(true);
+            .unwrap_or(false);
         fl.finish(cx);
         if on {
             forces.body_aero = Some(BodyAero {

@@ -14,13 +14,16 @@ use std::path::{Path, PathBuf};
 
 use clap::{ArgGroup, Args, Subcommand};
 
-use crate::analysis::map::{BoundaryMach, CriticalThickness, GridRange, planar_map};
+use crate::analysis::map::{BoundaryMach, CriticalThickness, planar_map};
 use crate::analysis::planar::{
     self, Altitude, PlanarAnalysis, PlanarError, PlanarKind, PlanarVehicle, Speed,
 };
+use crate::analysis::tn4197::{Tn4197Fin, Tn4197Form};
+use crate::check::cli_values::{self, CliValueError, QuantityRange};
 use crate::check::ir::{InitialPosition, InitialVelocity, Scenario};
 use crate::diagnostics::Diagnostic;
 use crate::syntax::SourceMap;
+use crate::units::Dim;
 
 use super::compile::compile_cached;
 use super::{
@@ -85,14 +88,15 @@ pub struct MapArgs {
     pub file: PathBuf,
     #[arg(long)]
     pub scenario: String,
-    /// Fin thickness grid in metres, START:STOP:COUNT.
-    #[arg(long)]
+    /// Fin thickness grid START:STOP:COUNT, each end with a length unit (0.3mm:1.2mm:10).
+    #[arg(long, value_name = "START:STOP:COUNT")]
     pub thickness: String,
-    /// Mach grid, START:STOP:COUNT.
-    #[arg(long)]
+    /// Mach grid START:STOP:COUNT (dimensionless: 0.5:2.5:21).
+    #[arg(long, value_name = "START:STOP:COUNT")]
     pub mach: String,
-    /// Altitude in metres, or `equilibrium` (the terminal-velocity altitude of each point).
-    /// Default: the scenario's altitude for --pinned, equilibrium for --unpinned.
+    /// Altitude with a length unit (5km), or `equilibrium` (the terminal-velocity altitude
+    /// of each point). Default: the scenario's altitude for --pinned, equilibrium for
+    /// --unpinned.
     #[arg(long)]
     pub altitude: Option<String>,
     /// Output directory (created if needed).
@@ -243,6 +247,7 @@ fn cmd_planar(a: &PlanarArgs, term: Terminal) -> u8 {
                         "scenario": l.scenario.name.value,
                         "fins": l.vehicle.fins,
                         "analysis": r,
+                        "tn4197": tn4197_json(&l.vehicle, &r),
                     }))
                     .unwrap_or_default()
                 ),
@@ -259,6 +264,39 @@ fn cmd_planar(a: &PlanarArgs, term: Terminal) -> u8 {
             EXIT_DIAGNOSTICS
         }
     }
+}
+
+/// The TN 4197 fin of the analysed vehicle at the analysis' fin thickness.
+fn tn4197_fin(v: &PlanarVehicle, r: &PlanarAnalysis) -> Tn4197Fin {
+    let f = &v.fins;
+    Tn4197Fin {
+        shear_modulus: f.shear_modulus(),
+        span: f.span,
+        root_chord: f.root_chord,
+        tip_chord: f.tip_chord,
+        thickness: r.parameters.thickness,
+    }
+}
+
+/// The TN 4197 flutter Mach and speed at the analysis' condition in both published forms
+/// (see [`crate::analysis::tn4197`]).
+fn tn4197_json(v: &PlanarVehicle, r: &PlanarAnalysis) -> serde_json::Value {
+    let fin = tn4197_fin(v, r);
+    let c = &r.parameters.condition;
+    let one = |form: Tn4197Form| {
+        serde_json::json!({
+            "form": form,
+            "flutter_mach": fin.flutter_mach_in(form, c.pressure),
+            "flutter_speed_m_s": fin.flutter_speed_in(form, c.pressure, c.speed_of_sound),
+        })
+    };
+    serde_json::json!({
+        "shear_modulus_pa": fin.shear_modulus,
+        "aspect_ratio": fin.aspect_ratio(),
+        "pressure_pa": c.pressure,
+        "martin": one(Tn4197Form::Martin),
+        "peak_of_flight_291": one(Tn4197Form::PeakOfFlight291),
+    })
 }
 
 /// The human report of one analysis.
@@ -412,6 +450,24 @@ pub fn analysis_text(v: &PlanarVehicle, r: &PlanarAnalysis) -> String {
         vd.omega_d / (2.0 * std::f64::consts::PI),
         vd.class.name()
     );
+    let fin = tn4197_fin(v, r);
+    let _ = writeln!(
+        s,
+        "NACA TN 4197 flutter boundary (G {:.4e} Pa, A = b^2/S {:.5}, t/c_r {:.5e}, p {:.6e} Pa)",
+        fin.shear_modulus,
+        fin.aspect_ratio(),
+        fin.thickness / fin.root_chord,
+        c.pressure
+    );
+    for form in Tn4197Form::ALL {
+        let _ = writeln!(
+            s,
+            "  {:<44} flutter Mach {:.5}   V_f {:.3} m/s",
+            form.name(),
+            fin.flutter_mach_in(form, c.pressure),
+            fin.flutter_speed_in(form, c.pressure, c.speed_of_sound)
+        );
+    }
     s
 }
 
@@ -419,6 +475,33 @@ fn usage(msg: String, format: Format, term: Terminal) -> u8 {
     let d = Diagnostic::error("analysis::range", msg);
     emit(&[d], &SourceMap::default(), format, term);
     EXIT_USAGE
+}
+
+/// A refused command-line value: its diagnostics (spans into the flag's text), exit 2.
+pub(crate) fn refused(e: CliValueError, format: Format, term: Terminal) -> u8 {
+    emit(&e.diagnostics, &e.sources, format, term);
+    EXIT_USAGE
+}
+
+/// The thickness (length) and Mach (dimensionless) ranges of a map and an optional
+/// altitude (length), checked like vehicle-file values ([`cli_values::check_range`]);
+/// every refused part of every flag is reported, exit 2.
+pub(crate) fn map_ranges(
+    thickness: &str,
+    mach: &str,
+    altitude: Option<&str>,
+    format: Format,
+    term: Terminal,
+) -> Result<(QuantityRange, QuantityRange, Option<f64>), u8> {
+    let mut c = cli_values::CliChecker::new();
+    let t = c.range("--thickness", thickness, Dim::LENGTH);
+    let m = c.range("--mach", mach, Dim::NONE);
+    let h = altitude.map(|text| c.quantity("--altitude", text, Dim::LENGTH));
+    match (c.finish(), t, m) {
+        (Ok(()), Some(t), Some(m)) => Ok((t, m, h.flatten())),
+        (Err(e), _, _) => Err(refused(e, format, term)),
+        _ => Err(EXIT_USAGE),
+    }
 }
 
 fn cmd_map(a: &MapArgs, term: Terminal) -> u8 {
@@ -431,35 +514,27 @@ fn cmd_map(a: &MapArgs, term: Terminal) -> u8 {
         );
     }
     let kind = a.model.kind();
-    let (thickness, mach) = match (GridRange::parse(&a.thickness), GridRange::parse(&a.mach)) {
-        (Ok(t), Ok(m)) => (t, m),
-        (Err(e), _) => return usage(format!("--thickness: {e}"), format, term),
-        (_, Err(e)) => return usage(format!("--mach: {e}"), format, term),
-    };
+    let fixed = a.altitude.as_deref().filter(|t| t.trim() != "equilibrium");
+    let (thickness, mach, fixed_altitude) =
+        match map_ranges(&a.thickness, &a.mach, fixed, format, term) {
+            Ok(r) => r,
+            Err(code) => return code,
+        };
     let l = match load(&a.file, &a.scenario, &a.common, &a.cache, term) {
         Ok(l) => l,
         Err(code) => return code,
     };
-    let altitude = match (a.altitude.as_deref(), kind) {
-        (Some("equilibrium"), _) | (None, PlanarKind::Unpinned) => Altitude::Equilibrium,
-        (Some(text), PlanarKind::Pinned) => match text.trim().parse::<f64>() {
-            Ok(h) if h.is_finite() => Altitude::Fixed(h),
-            _ => {
-                return usage(
-                    format!("--altitude `{text}`: expected metres (e.g. 5000) or `equilibrium`"),
-                    format,
-                    term,
-                );
-            }
-        },
-        (Some(_), PlanarKind::Unpinned) => {
+    let altitude = match (a.altitude.as_deref(), fixed_altitude, kind) {
+        (Some(_), None, _) | (None, _, PlanarKind::Unpinned) => Altitude::Equilibrium,
+        (Some(_), Some(h), PlanarKind::Pinned) => Altitude::Fixed(h),
+        (Some(_), Some(_), PlanarKind::Unpinned) => {
             return usage(
                 "--altitude: the unpinned model is defined only at its equilibrium altitude (omit --altitude or give `equilibrium`)".into(),
                 format,
                 term,
             );
         }
-        (None, PlanarKind::Pinned) => match initial_condition(&l.scenario, &l.vehicle) {
+        (None, _, PlanarKind::Pinned) => match initial_condition(&l.scenario, &l.vehicle) {
             Ok((h, _)) => Altitude::Fixed(h),
             Err(e) => {
                 emit(

@@ -370,3 +370,116 @@ pub fn export_modes(c: &CompiledVehicle, dir: &Path) -> std::io::Result<Vec<Path
     }
     Ok(written)
 }
+
+/// The cache key of a vehicle's aerodynamics (estimated tables, fin load weights,
+/// [`crate::plan::aero::AeroArtifact`]): the structural key `structural` (the FE model the
+/// weights are spread over), the whole checked vehicle serialised with its spans (complete
+/// by construction: no field can be left out; moving text only costs a rebuild), the bytes
+/// of its coefficient table files, and [`crate::plan::aero::AERO_REVISION`].
+pub fn aero_cache_key(v: &Vehicle, structural: &CacheKey) -> std::io::Result<CacheKey> {
+    let mut b = CacheKeyBuilder::new("vehicle-aero");
+    b.u64("aero revision", u64::from(crate::plan::aero::AERO_REVISION));
+    b.bytes("structural key", structural.as_bytes());
+    b.text(
+        "vehicle",
+        &serde_json::to_string(v).map_err(std::io::Error::other)?,
+    );
+    if let crate::check::ir::AeroSource::Tables { body, fins, .. } = &v.aero.source {
+        b.file("body table", &body.value)?;
+        b.file("fin table", &fins.value)?;
+    }
+    Ok(b.finish())
+}
+
+/// A vehicle's aerodynamics through the cache: what was used and how it was obtained.
+pub struct CachedAero {
+    pub aero: crate::plan::aero::VehicleAero,
+    pub key: CacheKey,
+    pub outcome: CacheOutcome,
+    /// Why the result could not be stored, if it could not (the run goes on).
+    pub warning: Option<String>,
+}
+
+/// The vehicle-only aerodynamics of `v` flown by `c` (structural key `structural`): read
+/// from the cache, or built and stored. `Ok(None)` when the vehicle has no aerodynamic
+/// force block, or when its key cannot be made (a table file that cannot be read: the plan
+/// then reports it).
+pub fn vehicle_aero_cached(
+    v: &Vehicle,
+    c: &CompiledVehicle,
+    structural: &CacheKey,
+    cache: &Cache,
+) -> Result<Option<CachedAero>, crate::runtime::forces::AeroForceError> {
+    use crate::plan::aero::{AeroArtifact, resolve};
+    if v.forces.body_aero.is_none() && v.forces.fin_aero.is_none() {
+        return Ok(None);
+    }
+    let Ok(key) = aero_cache_key(v, structural) else {
+        return Ok(None);
+    };
+    let outcome = match cache.lookup::<AeroArtifact>(&key) {
+        Ok(Some(art)) => {
+            let read = rkyv::deserialize::<AeroArtifact, rkyv::rancor::Error>(art.get())
+                .map_err(|e| e.to_string())
+                .and_then(|a| a.to_vehicle_aero(v).map_err(|e| e.to_string()));
+            match read {
+                Ok(aero) => {
+                    return Ok(Some(CachedAero {
+                        aero,
+                        key,
+                        outcome: CacheOutcome::Hit,
+                        warning: None,
+                    }));
+                }
+                // A valid container whose contents do not fit this build: rebuild it.
+                Err(message) => CacheOutcome::Rebuilt {
+                    reason: artifact::ArtifactError::InvalidPayload {
+                        path: cache.path_for(&key),
+                        message,
+                    },
+                },
+            }
+        }
+        Ok(None) => CacheOutcome::Miss,
+        Err(reason) => CacheOutcome::Rebuilt { reason },
+    };
+    let Some(built) = resolve(v, c, &Default::default(), None)? else {
+        return Ok(None);
+    };
+    let aero = built.vehicle_part();
+    let warning = artifact::write_atomic(cache.dir(), &key, &AeroArtifact::new(&aero))
+        .err()
+        .map(|e| format!("cannot store the aerodynamics in the cache: {e}"));
+    Ok(Some(CachedAero {
+        aero,
+        key,
+        outcome,
+        warning,
+    }))
+}
+
+/// [`crate::plan::build`] with the vehicle's aerodynamics through the cache (a warm run
+/// does not rebuild the estimated tables or the fin load weights). Also returns how they
+/// were obtained (`None` without aerodynamics).
+pub fn plan_cached(
+    sc: &crate::check::ir::Scenario,
+    c: &CompiledVehicle,
+    structural: &CacheKey,
+    cache: &Cache,
+) -> Result<(crate::plan::Plan, Option<CachedAero>), crate::plan::PlanError> {
+    match vehicle_aero_cached(&sc.vehicle, c, structural, cache) {
+        Ok(Some(cached)) => {
+            if let Some(w) = &cached.warning {
+                eprintln!("warning: {w}");
+            }
+            if let CacheOutcome::Rebuilt { .. } = &cached.outcome {
+                eprintln!("warning: aerodynamics: {}", cached.outcome);
+            }
+            let plan = crate::plan::build_with_aero(sc, c, Some(&cached.aero))?;
+            Ok((plan, Some(cached)))
+        }
+        // Without aerodynamics, or when they cannot be built (the plan reports why, with
+        // its span).
+        Ok(None) | Err(_) => crate::plan::build(sc, c).map(|p| (p, None)),
+    }
+}

@@ -6,6 +6,7 @@ use std::path::Path;
 
 use crate::analysis::linear::{LinearAnalysis, Variant, analyse, linear_map};
 use crate::analysis::linearise::LineariseOptions;
+use crate::analysis::roots::RootKind;
 use crate::artifact::Cache;
 use crate::check::{DiskLoader, check_files};
 use crate::diagnostics::{self, RenderOptions};
@@ -16,33 +17,6 @@ use super::{Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, loa
 
 /// How many participating states are listed per root.
 const TOP_STATES: usize = 3;
-
-/// Parses `A:B:N` into `N` evenly spaced values from `A` to `B` (`N >= 1`; `N = 1` gives `A`).
-pub fn parse_range(s: &str) -> Result<Vec<f64>, String> {
-    let parts: Vec<&str> = s.split(':').collect();
-    let [a, b, n] = parts.as_slice() else {
-        return Err(format!("`{s}` is not of the form A:B:N"));
-    };
-    let num = |t: &str| {
-        t.trim()
-            .parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(|| format!("`{t}` in `{s}` is not a finite number"))
-    };
-    let (a, b) = (num(a)?, num(b)?);
-    let n: usize = n
-        .trim()
-        .parse()
-        .map_err(|_| format!("`{n}` in `{s}` is not a whole number of points"))?;
-    match n {
-        0 => Err(format!("`{s}` asks for no points")),
-        1 => Ok(vec![a]),
-        _ => Ok((0..n)
-            .map(|k| a + (b - a) * k as f64 / (n - 1) as f64)
-            .collect()),
-    }
-}
 
 /// Checks `file` with the `sets` overrides, compiles the scenario's vehicle through the
 /// artifact cache and plans the scenario, without touching the terminal (errors come back
@@ -71,12 +45,14 @@ pub fn load_variant(
         .cloned()
         .ok_or_else(|| format!("no scenario named `{scenario}`"))?;
     let key = cache_key(&sc.vehicle).map_err(|e| format!("cannot read an FE file: {e}"))?;
-    let (art, _) = Cache::resolve(cache_dir)
+    let cache = Cache::resolve(cache_dir);
+    let (art, _) = cache
         .get_or_build(&key, || compile(&sc.vehicle).map(|(c, _)| c))
         .map_err(|e| e.to_string())?;
     let compiled = rkyv::deserialize::<CompiledVehicle, rkyv::rancor::Error>(art.get())
         .map_err(|e| format!("artifact could not be read back: {e}"))?;
-    let plan = crate::plan::build(&sc, &compiled).map_err(|e| e.to_string())?;
+    let (plan, _) =
+        super::compile::plan_cached(&sc, &compiled, &key, &cache).map_err(|e| e.to_string())?;
     Ok(Variant {
         plan,
         scenario: sc,
@@ -106,8 +82,9 @@ pub fn cmd_linear(
         Ok(o) => o,
         Err(code) => return code,
     };
-    let plan = match crate::plan::build(&sc, &outcome.compiled) {
-        Ok(p) => p,
+    let cache = Cache::resolve(cache_dir);
+    let plan = match super::compile::plan_cached(&sc, &outcome.compiled, &outcome.key, &cache) {
+        Ok((p, _)) => p,
         Err(e) => {
             eprintln!("error: cannot plan scenario `{scenario}`: {e}");
             return EXIT_DIAGNOSTICS;
@@ -196,6 +173,21 @@ pub fn report_text(variant: &Variant, r: &LinearAnalysis) -> String {
         e.omega_d / std::f64::consts::TAU,
         e.max_real_all
     );
+    if let (Some(scale), Some(rate)) = (e.flight_path_scale, e.flight_path_rate) {
+        let _ = writeln!(
+            s,
+            "flight path Lambda = (2 a_D + sqrt(2) g)/V = {:.4} 1/s (a_D {:.3} m/s^2, g {:.4} m/s^2): {}",
+            rate,
+            scale.aero_acceleration,
+            scale.gravity,
+            match e.flight_path_sigma {
+                Some(x) => format!(
+                    "slowest drift max Re {x:.5} 1/s (the trim's trajectory, not the vehicle's stability)"
+                ),
+                None => "no flight-path roots".to_string(),
+            }
+        );
+    }
     let _ = writeln!(
         s,
         "{:>14} {:>14} {:>9} {:>10} {:>10}  top states (participation)",
@@ -216,49 +208,48 @@ pub fn report_text(variant: &Variant, r: &LinearAnalysis) -> String {
             root.natural_frequency_hz,
             root.frequency_hz,
             top.join(", "),
-            if root.neutral { "  (neutral)" } else { "" }
+            match root.kind {
+                RootKind::Neutral => "  (neutral)",
+                RootKind::FlightPath => "  (flight path)",
+                RootKind::Dynamic => "",
+            }
         );
     }
     s
 }
 
-/// `flexflight analyze linear-map`: fin thickness (mm) x Mach, `DIR/map.csv`.
+/// `flexflight analyze linear-map`: fin thickness x Mach, `DIR/map.csv`. The ranges carry
+/// units (`--thickness 0.3mm:1.2mm:10`), checked like vehicle-file values.
+#[allow(clippy::too_many_arguments)]
 pub fn cmd_linear_map(
     file: &Path,
     scenario: &str,
-    thickness_mm: &str,
+    thickness: &str,
     mach: &str,
+    frozen_gravity: bool,
     common: &Common,
     cache_dir: Option<&Path>,
     out: &Path,
+    term: Terminal,
 ) -> u8 {
-    let (ts, ms) = match (parse_range(thickness_mm), parse_range(mach)) {
-        (Ok(t), Ok(m)) => (t, m),
-        (Err(e), _) => {
-            eprintln!("error: --thickness: {e}");
-            return EXIT_USAGE;
-        }
-        (_, Err(e)) => {
-            eprintln!("error: --mach: {e}");
-            return EXIT_USAGE;
-        }
+    let format = common.output.format;
+    let (ts, ms) = match super::analyze::map_ranges(thickness, mach, None, format, term) {
+        Ok((t, m, _)) => (t, m),
+        Err(code) => return code,
     };
-    if let Some(t) = ts.iter().find(|t| **t <= 0.0) {
-        eprintln!("error: --thickness: {t} mm is not a positive thickness");
-        return EXIT_USAGE;
-    }
-    if let Some(m) = ms.iter().find(|m| **m <= 0.0) {
-        eprintln!("error: --mach: {m} is not a positive Mach number");
-        return EXIT_USAGE;
-    }
-    let thickness_m: Vec<f64> = ts.iter().map(|t| t * 1e-3).collect();
+    let (thickness_m, ms) = (ts.values(), ms.values());
     let started = std::time::Instant::now();
     let load = |t: f64| {
         let mut sets = common.sets.clone();
-        sets.push(format!("fins.thickness={} mm", t * 1e3));
+        // Rust's shortest round-trip form: the override is the grid value to the last bit.
+        sets.push(format!("fins.thickness={t} m"));
         load_variant(file, scenario, &sets, cache_dir)
     };
-    let result = match linear_map(&thickness_m, &ms, load, LineariseOptions::default()) {
+    let options = LineariseOptions {
+        gravity_follows_attitude: !frozen_gravity,
+        ..LineariseOptions::default()
+    };
+    let result = match linear_map(&thickness_m, &ms, load, options) {
         Ok(r) => r,
         Err(e) => {
             eprintln!("error: linear map failed: {e}");
@@ -282,12 +273,19 @@ pub fn cmd_linear_map(
         .iter()
         .filter(|c| c.name() != "stable")
         .count();
+    let drifting = result
+        .map
+        .flight_path_sigma
+        .iter()
+        .filter(|x| **x > 0.0)
+        .count();
     match common.output.format {
         Format::Human => eprintln!(
-            "{} x {} points ({} unstable, {} without trim) at {:.0} m in {:.2} s -> {}",
-            ts.len(),
+            "{} x {} points ({} unstable, {} with a growing flight-path root, {} without trim) at {:.0} m in {:.2} s -> {}",
+            thickness_m.len(),
             ms.len(),
             unstable,
+            drifting,
             result.trim_failures.len(),
             result.altitude,
             started.elapsed().as_secs_f64(),
@@ -299,20 +297,4 @@ pub fn cmd_linear_map(
         ),
     }
     EXIT_OK
-}
-
-#[cfg(test)]
-mod tests {
-    use super::parse_range;
-
-    #[test]
-    fn ranges_are_inclusive_and_checked() {
-        assert_eq!(parse_range("0.3:1.0:8").unwrap().len(), 8);
-        let r = parse_range("0.5:1.5:3").unwrap();
-        assert_eq!(r, vec![0.5, 1.0, 1.5]);
-        assert_eq!(parse_range("2:9:1").unwrap(), vec![2.0]);
-        for bad in ["1:2", "1:2:0", "a:2:3", "1:2:x", "1:inf:3", "1:2:3:4"] {
-            assert!(parse_range(bad).is_err(), "{bad}");
-        }
-    }
 }

@@ -191,12 +191,17 @@ pub enum Analyze {
         file: PathBuf,
         #[arg(long)]
         scenario: String,
-        /// Fin thickness range in mm, A:B:N (N points from A to B).
-        #[arg(long, value_name = "A:B:N")]
+        /// Fin thickness range START:STOP:COUNT, each end with a length unit
+        /// (0.3mm:1.2mm:10: COUNT points from START to STOP).
+        #[arg(long, value_name = "START:STOP:COUNT")]
         thickness: String,
-        /// Mach range A:B:N (speed = Mach x speed of sound at the scenario's altitude).
-        #[arg(long, value_name = "A:B:N")]
+        /// Mach range START:STOP:COUNT, dimensionless (speed = Mach x speed of sound at the
+        /// scenario's altitude).
+        #[arg(long, value_name = "START:STOP:COUNT")]
         mach: String,
+        /// Keep gravity fixed in body axes (as `analyze linear --frozen-gravity`).
+        #[arg(long)]
+        frozen_gravity: bool,
         #[arg(long)]
         out: PathBuf,
         #[command(flatten)]
@@ -488,6 +493,7 @@ pub fn cmd_analyze_linear(cmd: &Analyze, term: Terminal) -> u8 {
             scenario,
             thickness,
             mach,
+            frozen_gravity,
             out,
             common,
             cache,
@@ -496,9 +502,11 @@ pub fn cmd_analyze_linear(cmd: &Analyze, term: Terminal) -> u8 {
             scenario,
             thickness,
             mach,
+            *frozen_gravity,
             common,
             cache.cache_dir.as_deref(),
             out,
+            term,
         ),
     }
 }

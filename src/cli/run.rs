@@ -13,7 +13,7 @@ use crate::plan::{self, Plan, PlanError};
 use crate::runtime::run::{self, RunOutput};
 use crate::syntax::SourceMap;
 
-use super::compile::{CompileOutcome, compile_cached};
+use super::compile::{CachedAero, CompileOutcome, compile_cached, plan_cached};
 use super::{Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, emit, load_program};
 
 /// Channels whose extrema go into `summary.json` (when present).
@@ -39,18 +39,28 @@ fn prepare(
     cache_dir: Option<&Path>,
     term: Terminal,
 ) -> Result<(Plan, CompileOutcome), u8> {
-    prepare_with_scenario(file, scenario, common, cache_dir, term).map(|(p, c, _, _)| (p, c))
+    prepare_with_scenario(file, scenario, common, cache_dir, term).map(|(p, c, _, _, _)| (p, c))
 }
 
-/// Check, compile (through the cache) and plan; also returns the checked scenario and the
-/// sources (for diagnostics raised later).
+/// The result of [`prepare_with_scenario`]: the plan, the compiled vehicle, the checked
+/// scenario, the sources (for diagnostics raised later) and how the aerodynamics were
+/// obtained from the cache.
+type Prepared = (
+    Plan,
+    CompileOutcome,
+    Scenario,
+    SourceMap,
+    Option<CachedAero>,
+);
+
+/// Check, compile and plan, the structure and the aerodynamics through the cache.
 fn prepare_with_scenario(
     file: &Path,
     scenario: &str,
     common: &Common,
     cache_dir: Option<&Path>,
     term: Terminal,
-) -> Result<(Plan, CompileOutcome, Scenario, SourceMap), u8> {
+) -> Result<Prepared, u8> {
     let mut checked: Checked = load_program(&[file.to_path_buf()], common, term)?;
     let Some(sc) = checked.program.scenario(scenario).cloned() else {
         let declared = checked.program.scenarios.iter();
@@ -62,8 +72,9 @@ fn prepare_with_scenario(
     };
     let format = common.output.format;
     let outcome = compile_cached(&mut checked, &sc.vehicle, cache_dir, format, term)?;
-    match plan::build(&sc, &outcome.compiled) {
-        Ok(p) => Ok((p, outcome, sc, checked.sources)),
+    let cache = crate::artifact::Cache::resolve(cache_dir);
+    match plan_cached(&sc, &outcome.compiled, &outcome.key, &cache) {
+        Ok((p, aero)) => Ok((p, outcome, sc, checked.sources, aero)),
         Err(e) => {
             emit(&[plan_diagnostic(&e, &sc)], &checked.sources, format, term);
             Err(EXIT_DIAGNOSTICS)
@@ -108,21 +119,14 @@ pub fn cmd_run(
     out: &Path,
     term: Terminal,
 ) -> u8 {
-    let (p, compiled, sc, sources) =
+    let (p, compiled, sc, sources, aero_cache) =
         match prepare_with_scenario(file, scenario, common, cache_dir, term) {
             Ok(x) => x,
             Err(code) => return code,
         };
-    let (aero, tables) = match run::build_aero_blocks(&p, &sc, &compiled.compiled) {
-        Ok(x) => x,
-        Err(e) => {
-            eprintln!("error[run::cannot_start]: {e}");
-            return EXIT_DIAGNOSTICS;
-        }
-    };
     // Initial conditions outside a coefficient table (policy `stop`) or a fin already past
     // its stress limit: a diagnostic before anything runs or is written.
-    if let Some((stop, note)) = run::check_initial_state(&p, &compiled.compiled.reduced, &aero) {
+    if let Some((stop, note)) = run::check_initial_state(&p, &compiled.compiled.reduced) {
         let d = Diagnostic::error(
             "run::initial_state",
             format!(
@@ -163,7 +167,7 @@ pub fn cmd_run(
             bar.set_message(format!("{t:.4}"));
         }
     };
-    let result = run::run(&p, &compiled.compiled.reduced, aero, &mut progress);
+    let result = run::run(&p, &compiled.compiled.reduced, &mut progress);
     bar.finish_and_clear();
     let output = match result {
         Ok(o) => o,
@@ -184,13 +188,11 @@ pub fn cmd_run(
     };
     // The coefficient tables the built-in estimator produced, for users to inspect or
     // replace (`aero { source = tables ... }`).
-    if let (Some(t), crate::check::ir::AeroSource::Builtin { .. }) =
-        (&tables, &sc.vehicle.aero.source)
-    {
+    if let Some(a) = p.aero.as_ref().filter(|a| a.estimated) {
         let dir = out.join("aero_tables");
         if let Err(e) = std::fs::create_dir_all(&dir)
             .map_err(|e| e.to_string())
-            .and_then(|_| t.write(&dir).map_err(|e| e.to_string()))
+            .and_then(|_| a.tables.write(&dir).map_err(|e| e.to_string()))
         {
             eprintln!(
                 "warning: cannot write the estimated aero tables to `{}`: {e}",
@@ -198,7 +200,8 @@ pub fn cmd_run(
             );
         }
     }
-    if let Err(e) = write_outputs(out, &p, &compiled, &output) {
+    let summary = with_aero_cache(summary_json(&p, &compiled, &output), aero_cache.as_ref());
+    if let Err(e) = write_outputs(out, &output, &summary) {
         eprintln!(
             "error: cannot write the run outputs to `{}`: {e}",
             out.display()
@@ -222,7 +225,7 @@ pub fn cmd_run(
     } else {
         println!(
             "{}",
-            serde_json::to_string_pretty(&summary_json(&p, &compiled, &output)).unwrap_or_default()
+            serde_json::to_string_pretty(&summary).unwrap_or_default()
         );
     }
     EXIT_OK
@@ -452,9 +455,34 @@ fn flight_line(f: &serde_json::Value) -> Option<String> {
     Some(s)
 }
 
-fn write_outputs(out: &Path, p: &Plan, c: &CompileOutcome, o: &RunOutput) -> std::io::Result<()> {
+/// `summary` with the aerodynamics' cache key and whether the cache held them
+/// (`aero_artifact_hash`, `aero_cache`: `hit`, `miss` or `rebuilt`; null without
+/// aerodynamics).
+pub fn with_aero_cache(
+    mut summary: serde_json::Value,
+    aero: Option<&CachedAero>,
+) -> serde_json::Value {
+    if let Some(map) = summary.as_object_mut() {
+        map.insert(
+            "aero_artifact_hash".into(),
+            aero.map(|a| a.key.to_hex()).into(),
+        );
+        map.insert(
+            "aero_cache".into(),
+            aero.map(|a| match a.outcome {
+                crate::artifact::CacheOutcome::Hit => "hit",
+                crate::artifact::CacheOutcome::Miss => "miss",
+                crate::artifact::CacheOutcome::Rebuilt { .. } => "rebuilt",
+            })
+            .into(),
+        );
+    }
+    summary
+}
+
+fn write_outputs(out: &Path, o: &RunOutput, summary: &serde_json::Value) -> std::io::Result<()> {
     std::fs::create_dir_all(out)?;
     super::fmt::write_atomic(&out.join("history.csv"), &history_csv(o))?;
-    let summary = serde_json::to_string_pretty(&summary_json(p, c, o)).unwrap_or_default();
+    let summary = serde_json::to_string_pretty(summary).unwrap_or_default();
     super::fmt::write_atomic(&out.join("summary.json"), &(summary + "\n"))
 }

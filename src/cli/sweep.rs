@@ -31,10 +31,12 @@ use crate::analysis::sweep::{
 use crate::artifact::{Cache, CacheKey, GetOrBuildError};
 use crate::check::ir::{Scenario, Sweep, SweepAnalysis};
 use crate::check::{DiskLoader, check_scenario_files};
-use crate::runtime::run::{self, AeroBlocks};
+use crate::runtime::run;
 use crate::structure::compile::{CompiledVehicle, compile};
 
-use super::compile::{CompileOutcome, cache_key, strip_spans};
+use super::compile::{
+    CachedAero, CompileOutcome, aero_cache_key, cache_key, strip_spans, vehicle_aero_cached,
+};
 use super::fmt::write_atomic;
 use super::{Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, load_program};
 
@@ -174,14 +176,15 @@ pub fn run_sweep(
             .collect()
     });
 
-    // Aerodynamic blocks (tables, fin load weights) per distinct vehicle, built by the first
-    // case that needs them; each case then sets its own stimuli. The blocks are a function of
-    // the vehicle alone, so which case builds them does not change any result.
-    let aero_blocks: BTreeMap<String, OnceLock<Result<AeroBlocks, String>>> = prepared
+    // The vehicle-only aerodynamics (tables, fin load weights) per distinct vehicle (its
+    // aero cache key), read from the cache or built by the first case that needs them; each
+    // case's plan then builds its blocks from them with its own stimuli. They are a
+    // function of the vehicle alone, so which case builds them does not change any result.
+    let aero_blocks: BTreeMap<CacheKey, AeroCell> = prepared
         .iter()
         .copied()
         .flatten()
-        .map(|p| (p.vehicle.clone(), OnceLock::new()))
+        .filter_map(|p| p.aero_key.map(|k| (k, OnceLock::new())))
         .collect();
 
     let results: Vec<Result<serde_json::Value, String>> = pool.install(|| {
@@ -194,7 +197,8 @@ pub fn run_sweep(
                         .get(&p.key.to_hex())
                         .cloned()
                         .unwrap_or_else(|| Err("the structural variant was not compiled".into()))?;
-                    run_case(p, &c, sweep, case, aero_blocks.get(&p.vehicle))
+                    let aero = p.aero_key.and_then(|k| aero_blocks.get(&k));
+                    run_case(p, &c, sweep, case, aero.map(|cell| (cell, &cache)))
                 });
                 let written = write_case(&cases_dir, case, &result);
                 bar.inc(1);
@@ -230,6 +234,10 @@ pub fn run_sweep(
 
 type CompiledVehicleInput = crate::check::ir::Vehicle;
 
+/// A vehicle's aerodynamics, obtained once for all the cases that fly it (`None`: the
+/// vehicle has none, or they cannot be built and each case's plan reports why).
+type AeroCell = OnceLock<Option<Arc<CachedAero>>>;
+
 /// The summary of a finished case (`status` ok, same overrides, same checked variant), if
 /// there is one.
 fn finished(cases_dir: &Path, case: &SweepCase, variant: &str) -> Option<serde_json::Value> {
@@ -249,9 +257,9 @@ struct Prepared {
     /// blake3 of the checked scenario (with its vehicle) without spans: a finished case on
     /// disk is reused only if the file and `--set` still give exactly this variant.
     variant: String,
-    /// blake3 of the checked vehicle without spans: cases with the same vehicle share one
-    /// set of aerodynamic blocks.
-    vehicle: String,
+    /// The aero cache key of the vehicle (with aerodynamics): cases with the same key share
+    /// one set of tables and fin load weights.
+    aero_key: Option<CacheKey>,
 }
 
 /// Check the case's variant of the scenario and key its structure.
@@ -283,15 +291,17 @@ fn prepare_case(
     let variant = blake3::hash(strip_spans(ir).to_string().as_bytes())
         .to_hex()
         .to_string();
-    let ir = serde_json::to_value(&sc.vehicle).map_err(|e| e.to_string())?;
-    let vehicle = blake3::hash(strip_spans(ir).to_string().as_bytes())
-        .to_hex()
-        .to_string();
+    let has_aero = sc.vehicle.forces.body_aero.is_some() || sc.vehicle.forces.fin_aero.is_some();
+    let aero_key = if has_aero {
+        aero_cache_key(&sc.vehicle, &key).ok()
+    } else {
+        None
+    };
     Ok(Prepared {
         scenario: sc,
         key,
         variant,
-        vehicle,
+        aero_key,
     })
 }
 
@@ -326,7 +336,7 @@ fn run_case(
     compiled: &CompileOutcome,
     sweep: &Sweep,
     case: &SweepCase,
-    aero_blocks: Option<&OnceLock<Result<AeroBlocks, String>>>,
+    aero: Option<(&AeroCell, &Cache)>,
 ) -> Result<serde_json::Value, String> {
     let sc = &prepared.scenario;
     let identity = serde_json::json!({
@@ -340,8 +350,20 @@ fn run_case(
         .ok()
         .and_then(|v| v.as_str().map(str::to_string))
         .unwrap_or_default();
-    let p =
-        crate::plan::build(sc, &compiled.compiled).map_err(|e| format!("plan::invalid: {e}"))?;
+    let cached = aero.and_then(|(cell, cache)| {
+        cell.get_or_init(|| {
+            let c = vehicle_aero_cached(&sc.vehicle, &compiled.compiled, &compiled.key, cache)
+                .ok()
+                .flatten()?;
+            if let Some(w) = &c.warning {
+                eprintln!("warning: {w}");
+            }
+            Some(Arc::new(c))
+        })
+        .clone()
+    });
+    let p = crate::plan::build_with_aero(sc, &compiled.compiled, cached.as_ref().map(|c| &c.aero))
+        .map_err(|e| format!("plan::invalid: {e}"))?;
     let stability = match sweep.analysis.value {
         SweepAnalysis::Run => None,
         SweepAnalysis::PlanarPinned | SweepAnalysis::PlanarUnpinned => {
@@ -370,12 +392,19 @@ fn run_case(
                 scenario: sc.clone(),
                 compiled: compiled.compiled.clone(),
             };
-            let r = analyse(&variant, Default::default())
-                .map_err(|e| format!("analysis::linear::failed: {e}"))?;
+            let options = crate::analysis::linearise::LineariseOptions {
+                gravity_follows_attitude: !sweep.frozen_gravity,
+                ..Default::default()
+            };
+            let r =
+                analyse(&variant, options).map_err(|e| format!("analysis::linear::failed: {e}"))?;
             Some(serde_json::json!({
                 "sigma_d": r.eigen.sigma_d,
                 "omega_d": r.eigen.omega_d,
                 "class": r.eigen.class.name(),
+                "flight_path_sigma": r.eigen.flight_path_sigma,
+                "flight_path_rate": r.eigen.flight_path_rate,
+                "frozen_gravity": sweep.frozen_gravity,
                 "altitude_m": r.condition.altitude,
                 "mach": r.condition.mach,
                 "trim_converged": r.trim_converged,
@@ -392,18 +421,12 @@ fn run_case(
             "sweep_case": identity,
         }));
     }
-    let build = || {
-        run::build_aero_blocks(&p, sc, &compiled.compiled)
-            .map(|(blocks, _)| blocks)
-            .map_err(|e| format!("run::cannot_start: {e}"))
-    };
-    let aero = match aero_blocks {
-        Some(cell) => cell.get_or_init(build).clone()?.for_plan(&p),
-        None => build()?,
-    };
-    let output = run::run(&p, &compiled.compiled.reduced, aero, &mut |_, _| {})
+    let output = run::run(&p, &compiled.compiled.reduced, &mut |_, _| {})
         .map_err(|e| format!("run::cannot_start: {e}"))?;
-    let mut summary = super::run::summary_json(&p, compiled, &output);
+    let mut summary = super::run::with_aero_cache(
+        super::run::summary_json(&p, compiled, &output),
+        cached.as_deref(),
+    );
     if let Some(map) = summary.as_object_mut() {
         map.insert("status".into(), "ok".into());
         map.insert("sweep_case".into(), identity);

@@ -3,11 +3,14 @@
 //!
 //! The plan fixes the state layout and the initial state, the integrator settings, the stop
 //! conditions, the ordered force blocks with their resolved parameters (thrust curve loaded,
-//! nozzle node and its shape rows), the planned stimuli and the output channel names.
+//! nozzle node and its shape rows; the aerodynamic blocks with their coefficient tables,
+//! fin load weights and key-node rows, [`aero`]), the planned stimuli and the output
+//! channel names.
 //!
 //! Architecture invariant: every file read, name lookup and table resolution of a run
 //! happens here; the runtime only indexes what the plan holds.
 
+pub mod aero;
 mod channels;
 
 use std::path::PathBuf;
@@ -53,13 +56,21 @@ pub enum PlanError {
         max_thrust: f64,
         weight_along_rail: f64,
     },
+    /// The aerodynamic blocks could not be built (tables, fin geometry).
+    #[error("aerodynamics: {error}")]
+    Aero {
+        error: crate::runtime::forces::AeroForceError,
+        span: Span,
+    },
 }
 
 impl PlanError {
     /// Where in the vehicle or scenario file the problem was written, if known.
     pub fn span(&self) -> Option<Span> {
         match self {
-            PlanError::NoNozzle { span, .. } | PlanError::NoLiftOff { span, .. } => Some(*span),
+            PlanError::NoNozzle { span, .. }
+            | PlanError::NoLiftOff { span, .. }
+            | PlanError::Aero { span, .. } => Some(*span),
             PlanError::Stimulus(
                 StimulusError::BadParameter { span, .. } | StimulusError::NoAirspeed { span, .. },
             ) => Some(*span),
@@ -230,12 +241,30 @@ pub struct Plan {
     pub launch: Option<LaunchPlan>,
     /// Recovery devices in the order written.
     pub parachutes: Vec<ParachutePlan>,
+    /// The static margin model from the same tables as the aerodynamic blocks (both on).
+    #[serde(skip)]
+    pub static_margin: Option<crate::runtime::run::StaticMargin>,
+    /// The aerodynamic blocks (with `body_aero` or `fin_aero`), built with the planned
+    /// stimuli; a run copies them into its force blocks.
+    #[serde(skip)]
+    pub aero: Option<aero::PlanAero>,
+    /// What `flexflight plan` shows of them.
+    #[serde(rename = "aero")]
+    pub aero_summary: Option<aero::AeroSummary>,
 }
 
 impl Plan {
     /// The state layout.
     pub fn layout(&self) -> StateLayout {
         StateLayout { n: self.n_modes }
+    }
+
+    /// Replaces the planned stimuli, in the plan and in the aerodynamic blocks that see them.
+    pub fn set_stimuli(&mut self, stimuli: Stimuli) {
+        if let Some(a) = &mut self.aero {
+            a.set_stimuli(&stimuli);
+        }
+        self.planned_stimuli = stimuli;
     }
 
     /// The gravity block's settings, if gravity is on.
@@ -249,6 +278,17 @@ impl Plan {
 
 /// Builds the plan of `scenario` flown by `compiled` (its compiled vehicle).
 pub fn build(scenario: &Scenario, compiled: &CompiledVehicle) -> Result<Plan, PlanError> {
+    build_with_aero(scenario, compiled, None)
+}
+
+/// [`build`] with the vehicle-only aerodynamics (tables, fin load weights) taken from
+/// `cached` (the [`aero::VehicleAero`] of the same vehicle, from the artifact cache or an
+/// earlier plan) instead of being rebuilt. The plan is the same bits either way.
+pub fn build_with_aero(
+    scenario: &Scenario,
+    compiled: &CompiledVehicle,
+    cached: Option<&aero::VehicleAero>,
+) -> Result<Plan, PlanError> {
     let vehicle = &scenario.vehicle;
     let n = compiled.modes.len();
     let n_nodes = compiled.node_positions.len();
@@ -403,6 +443,25 @@ pub fn build(scenario: &Scenario, compiled: &CompiledVehicle) -> Result<Plan, Pl
     if let Some(w) = &scenario.wind {
         planned_stimuli.set_steady_wind(&w.profile, ground_altitude);
     }
+    let aero = aero::resolve(vehicle, compiled, &planned_stimuli, cached).map_err(|error| {
+        use crate::runtime::forces::AeroForceError as E;
+        let fins_span = vehicle.fins.as_ref().map(|f| f.span_);
+        let span = match &error {
+            E::FinLoad(_)
+            | E::NoFins { .. }
+            | E::FinCount { .. }
+            | E::EmptyFin { .. }
+            | E::NodeOffPlanform { .. } => fins_span
+                .or(vehicle.forces.fin_aero.as_ref().map(|f| f.span))
+                .unwrap_or(vehicle.aero.span),
+            _ => vehicle.aero.span,
+        };
+        PlanError::Aero { error, span }
+    })?;
+    let aero_summary = aero.as_ref().map(aero::AeroSummary::new);
+    let static_margin = aero
+        .as_ref()
+        .and_then(|a| crate::runtime::run::StaticMargin::new(vehicle, compiled, &a.tables));
     let mode_names: Vec<String> = compiled.modes.iter().map(|m| m.name.clone()).collect();
     let mut node_translation_shapes = Vec::with_capacity(3 * n_nodes * n);
     for node in 0..n_nodes {
@@ -460,6 +519,9 @@ pub fn build(scenario: &Scenario, compiled: &CompiledVehicle) -> Result<Plan, Pl
                 lag: p.lag.value,
             })
             .collect(),
+        static_margin,
+        aero,
+        aero_summary,
     })
 }
 
@@ -580,6 +642,9 @@ pub fn summary_text(p: &Plan) -> String {
     }
     if p.forces.is_empty() {
         let _ = writeln!(s, "  (none: free flight)");
+    }
+    if let Some(a) = &p.aero_summary {
+        s.push_str(&a.text(p.n_modes));
     }
     let _ = writeln!(s, "stimuli        {}", p.stimuli.len());
     let _ = writeln!(

@@ -38,12 +38,10 @@ const ATMOSPHERE_RANGE: (f64, f64) = (-500.0, 86_000.0);
 /// Why a run could not start.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RunError {
-    /// The plan has a force block that was not built (see [`build_aero_blocks`]).
+    /// The plan has a force block whose parameters it does not hold (see
+    /// [`crate::plan::aero`]).
     #[error("force block `{block}` was not built for this run")]
     ForceBlockUnavailable { block: &'static str },
-    /// The aerodynamic blocks could not be built (tables, geometry).
-    #[error("aerodynamics: {0}")]
-    Aero(crate::runtime::forces::AeroForceError),
     /// The reduced model is inconsistent.
     #[error("{0}")]
     Eom(#[from] EomError),
@@ -198,6 +196,28 @@ pub struct StaticMargin {
 }
 
 impl StaticMargin {
+    /// The model of a vehicle with body and fin tables and fins (both aero blocks on).
+    pub fn new(
+        v: &crate::check::ir::Vehicle,
+        compiled: &crate::structure::compile::CompiledVehicle,
+        tables: &crate::runtime::aero::EstimatedTables,
+    ) -> Option<Self> {
+        let f = v.fins.as_ref()?;
+        if v.forces.body_aero.is_none() || v.forces.fin_aero.is_none() {
+            return None;
+        }
+        let m = compiled.reduced.mass;
+        (m > 0.0).then(|| StaticMargin {
+            body: tables.body.clone(),
+            fin: tables.fin.clone(),
+            fins: f.count.value as f64,
+            x_ref: v.aero.reference_point.value[0],
+            length: v.aero.reference_length.value,
+            x_root_le: f.root_trailing_edge_x.value + f.root_chord.value,
+            x_cg: compiled.reduced.first_moment[0] / m,
+        })
+    }
+
     /// The centre of pressure `x_cp` (body frame, m) at `(mach, altitude)`, and the total
     /// `C_N_alpha` (1/rad). Queries are clamped into the tables (this is a monitor, never a stop).
     pub fn centre_of_pressure(&self, mach: f64, altitude: f64) -> Option<(f64, f64)> {
@@ -239,131 +259,21 @@ impl StaticMargin {
     }
 }
 
-/// The aerodynamic blocks of a run, built before it from the scenario's vehicle and the
-/// compiled structure (tables read or estimated, fin load weights, key-node shape rows).
-#[derive(Debug, Default, Clone)]
-pub struct AeroBlocks {
-    pub body: Option<BodyAero>,
-    pub fin: Option<FinAero>,
-    /// The static margin from the same tables (both blocks on).
-    pub static_margin: Option<StaticMargin>,
-}
-
-impl AeroBlocks {
-    /// The same blocks seeing `plan`'s stimuli: blocks depend on the vehicle only (tables,
-    /// fin load weights, shape rows) except for the stimuli, so a sweep builds them once per
-    /// vehicle and gives each case its own stimuli.
-    pub fn for_plan(&self, plan: &Plan) -> AeroBlocks {
-        let mut b = self.clone();
-        if let Some(x) = &mut b.body {
-            x.set_stimuli(plan.planned_stimuli.clone());
-        }
-        if let Some(x) = &mut b.fin {
-            x.set_stimuli(plan.planned_stimuli.clone());
-        }
-        b
-    }
-}
-
-/// Build the aerodynamic blocks a plan asks for. Returns the coefficient tables too, so the
-/// caller can write the ones the built-in estimator produced.
-pub fn build_aero_blocks(
-    plan: &Plan,
-    scenario: &crate::check::ir::Scenario,
-    compiled: &crate::structure::compile::CompiledVehicle,
-) -> Result<
-    (
-        AeroBlocks,
-        Option<crate::runtime::aero::estimator::EstimatedTables>,
-    ),
-    RunError,
-> {
-    let wants_body = plan
-        .forces
-        .iter()
-        .any(|f| matches!(f, ForcePlan::BodyAero { .. }));
-    let wants_fin = plan
-        .forces
-        .iter()
-        .any(|f| matches!(f, ForcePlan::FinAero { .. }));
-    if !wants_body && !wants_fin {
-        return Ok((AeroBlocks::default(), None));
-    }
-    let v = &scenario.vehicle;
-    let tables = crate::runtime::forces::aero_tables(v).map_err(RunError::Aero)?;
-    let body = if wants_body {
-        Some(
-            BodyAero::new(
-                compiled,
-                v,
-                tables.body.clone(),
-                Standard1976::new(),
-                plan.planned_stimuli.clone(),
-                crate::runtime::forces::RateDerivatives::default(),
-            )
-            .map_err(RunError::Aero)?,
-        )
-    } else {
-        None
-    };
-    let fin = if wants_fin {
-        Some(
-            FinAero::new(
-                compiled,
-                v,
-                tables.fin.clone(),
-                Standard1976::new(),
-                plan.planned_stimuli.clone(),
-            )
-            .map_err(RunError::Aero)?,
-        )
-    } else {
-        None
-    };
-    let static_margin = match (&body, &fin, &v.fins) {
-        (Some(_), Some(_), Some(f)) if compiled.reduced.mass > 0.0 => Some(StaticMargin {
-            body: tables.body.clone(),
-            fin: tables.fin.clone(),
-            fins: f.count.value as f64,
-            x_ref: v.aero.reference_point.value[0],
-            length: v.aero.reference_length.value,
-            x_root_le: f.root_trailing_edge_x.value + f.root_chord.value,
-            x_cg: compiled.reduced.first_moment[0] / compiled.reduced.mass,
-        }),
-        _ => None,
-    };
-    Ok((
-        AeroBlocks {
-            body,
-            fin,
-            static_margin,
-        },
-        Some(tables),
-    ))
-}
-
 /// The stop condition the aerodynamic blocks raise at the plan's initial state, if any: an
 /// initial condition outside a coefficient table with the `stop` policy, or a fin already
 /// beyond its stress limit. Callers report it as a diagnostic before anything runs.
-pub fn check_initial_state(
-    plan: &Plan,
-    model: &ReducedModel,
-    aero: &AeroBlocks,
-) -> Option<(RunStop, String)> {
+pub fn check_initial_state(plan: &Plan, model: &ReducedModel) -> Option<(RunStop, String)> {
     if plan.initial_state.len() != plan.layout().len() {
         return None; // `run` reports the shape error itself
     }
-    let mut probe = AeroProbe::new(aero.body.clone(), aero.fin.clone(), model);
+    let mut probe = AeroProbe::of_plan(plan, model);
     let s = StateView::new(plan.layout(), &plan.initial_state);
     probe.evaluate(0.0, &s)
 }
 
-/// The force blocks of the plan, in plan order.
-pub fn build_force_blocks(
-    plan: &Plan,
-    model: &ReducedModel,
-    mut aero: AeroBlocks,
-) -> Result<ForceBlocks, RunError> {
+/// The force blocks of the plan, in plan order (the aerodynamic ones copied from the plan).
+pub fn build_force_blocks(plan: &Plan, model: &ReducedModel) -> Result<ForceBlocks, RunError> {
+    let aero = plan.aero.as_ref();
     let mut blocks = Vec::new();
     for f in &plan.forces {
         match f {
@@ -380,11 +290,11 @@ pub fn build_force_blocks(
                 &t.s_rotation,
                 plan.n_modes,
             ))),
-            ForcePlan::BodyAero { .. } => match aero.body.take() {
+            ForcePlan::BodyAero { .. } => match aero.and_then(|a| a.body.clone()) {
                 Some(b) => blocks.push(ForceBlock::BodyAero(Box::new(b))),
                 None => return Err(RunError::ForceBlockUnavailable { block: f.name() }),
             },
-            ForcePlan::FinAero { .. } => match aero.fin.take() {
+            ForcePlan::FinAero { .. } => match aero.and_then(|a| a.fin.clone()) {
                 Some(b) => blocks.push(ForceBlock::FinAero(Box::new(b))),
                 None => return Err(RunError::ForceBlockUnavailable { block: f.name() }),
             },
@@ -428,6 +338,16 @@ struct AeroProbe {
 }
 
 impl AeroProbe {
+    /// A copy of the plan's aerodynamic blocks.
+    fn of_plan(plan: &Plan, model: &ReducedModel) -> Self {
+        let aero = plan.aero.as_ref();
+        Self::new(
+            aero.and_then(|a| a.body.clone()),
+            aero.and_then(|a| a.fin.clone()),
+            model,
+        )
+    }
+
     fn new(body: Option<BodyAero>, fin: Option<FinAero>, model: &ReducedModel) -> Self {
         let m = model.mass.max(f64::MIN_POSITIVE);
         AeroProbe {
@@ -1014,13 +934,12 @@ fn initial_climb(flight: &mut Flight, x: &[f64]) -> Result<(f64, f64), RunError>
 pub fn run(
     plan: &Plan,
     model: &ReducedModel,
-    aero: AeroBlocks,
     progress: &mut dyn FnMut(f64, f64),
 ) -> Result<RunOutput, RunError> {
     let started = Instant::now();
-    let probe = AeroProbe::new(aero.body.clone(), aero.fin.clone(), model);
-    let static_margin = aero.static_margin.clone();
-    let forces = build_force_blocks(plan, model, aero)?;
+    let probe = AeroProbe::of_plan(plan, model);
+    let static_margin = plan.static_margin.clone();
+    let forces = build_force_blocks(plan, model)?;
     let eom = Eom::new(model, forces)?;
     let layout = eom.layout();
     if plan.initial_state.len() != layout.len() {

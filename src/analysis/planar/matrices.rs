@@ -103,13 +103,10 @@ fn rate_terms(p: &PlanarParameters) -> (f64, f64) {
     let (s, b, v) = (p.reference_area, p.reference_length, p.condition.speed);
     let k = b / (2.0 * v);
     let n = q * s * k * p.cn_alpha_dot;
-    // The rate normal force acts at the reference point: its moment about the mass centre
-    // adds to the C_Malpha-dot couple.
-    let x_ref = p
-        .x_cp_body
-        .zip(p.a)
-        .map_or(p.mass_properties.x_cg, |(xcp, a)| xcp - a);
-    let m = q * s * b * k * p.cm_alpha_dot + n * (x_ref - p.mass_properties.x_cg);
+    // The rate normal force acts at the reference point (where the runtime's body block
+    // applies it, and about which the derivatives are given): its moment about the mass
+    // centre adds to the C_Malpha-dot couple.
+    let m = q * s * b * k * p.cm_alpha_dot + n * (p.reference_x - p.mass_properties.x_cg);
     (n, m)
 }
 

@@ -129,9 +129,13 @@ pub struct PlanarParameters {
     /// Axial-force damping `q S / V (2 C_A + Mach dC_A/dMach)` (body + all fins), N s/m
     /// (eqs. (6.21)-(6.23)).
     pub axial_damping: f64,
-    /// Rate derivatives used (C_Nalpha-dot, C_Malpha-dot per rad, on b/(2V)).
+    /// Rate derivatives used: the body table's `cn_q` = C_Nq + C_Nalpha-dot and `cm_q` =
+    /// C_mq + C_malpha-dot (about the reference point, per rad of theta' b/(2V)), zero
+    /// without `rate_terms`; the same numbers the runtime's body block applies.
     pub cn_alpha_dot: f64,
     pub cm_alpha_dot: f64,
+    /// Body x of the coefficient reference point (where the rate normal force acts), m.
+    pub reference_x: f64,
 }
 
 /// What kind of motion the least stable root is.
@@ -349,7 +353,7 @@ pub fn parameters(
     let mach = condition.mach;
     let ca_total = aero.ca_body + f.count as f64 * aero.ca_fin;
     let ca_mach_total = aero.ca_mach_body + f.count as f64 * aero.ca_mach_fin;
-    let rates = vehicle.rates;
+    let (cn_q, cm_q) = vehicle.rate_derivatives(&condition)?;
     Ok(PlanarParameters {
         kind,
         thickness,
@@ -374,8 +378,9 @@ pub fn parameters(
         axial_force: q * s * ca_total,
         weight: mp.mass * condition.gravity,
         axial_damping: q * s / v * (2.0 * ca_total + mach * ca_mach_total),
-        cn_alpha_dot: rates.cn_alpha_dot,
-        cm_alpha_dot: rates.cm_alpha_dot,
+        cn_alpha_dot: cn_q,
+        cm_alpha_dot: cm_q,
+        reference_x: vehicle.reference_x,
     })
 }
 

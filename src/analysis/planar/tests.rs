@@ -58,6 +58,7 @@ fn quiet(kind: PlanarKind) -> PlanarParameters {
         axial_damping: 0.0,
         cn_alpha_dot: 0.0,
         cm_alpha_dot: 0.0,
+        reference_x: -1.59,
     }
 }
 

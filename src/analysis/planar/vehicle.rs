@@ -37,7 +37,7 @@ use crate::check::ir::{self, OutOfRange, Structure};
 use crate::runtime::aero::estimator::EstimatedTables;
 use crate::runtime::aero::tables::{Axis, CoefficientTable};
 use crate::runtime::atmosphere::{Atmosphere, AtmosphereState, Standard1976};
-use crate::runtime::forces::{RateDerivatives, aero_tables, gravity::gravity_at};
+use crate::runtime::forces::{aero_tables, gravity::gravity_at};
 use crate::structure::compile::CompiledVehicle;
 
 use super::PlanarError;
@@ -124,9 +124,9 @@ pub struct PlanarVehicle {
     pub reference_length: f64,
     /// Body x of the coefficient reference point, m.
     pub reference_x: f64,
-    /// Rate derivatives the runtime's body block uses (zero unless supplied; the tables hold
-    /// none).
-    pub rates: RateDerivatives,
+    /// `body_aero { rate_terms }`: use the body table's rate columns (`cn_q`, `cm_q`), as the
+    /// runtime's body block does.
+    pub rate_terms: bool,
     /// Scale gravity with altitude (5.1.2), as the vehicle's gravity block.
     pub gravity_altitude_correction: bool,
     tables: EstimatedTables,
@@ -263,16 +263,7 @@ impl PlanarVehicle {
             reference_area: v.aero.reference_area.value,
             reference_length: v.aero.reference_length.value,
             reference_x: v.aero.reference_point.value[0],
-            // The runtime builds its body block with `RateDerivatives::default()` (the tables
-            // hold no rate derivatives) and uses them only with `rate_terms`.
-            rates: if rate_terms {
-                RateDerivatives::default()
-            } else {
-                RateDerivatives {
-                    cn_alpha_dot: 0.0,
-                    cm_alpha_dot: 0.0,
-                }
-            },
+            rate_terms,
             gravity_altitude_correction: v
                 .forces
                 .gravity
@@ -407,6 +398,26 @@ impl PlanarVehicle {
         })
     }
 
+    /// The body rate derivatives `(C_Nq + C_Nα̇, C_mq + C_mα̇)` at zero incidence (the body
+    /// table's rate columns, about the reference point, per rad of `θ' b/(2V)`), the same
+    /// numbers the runtime's body block applies; zero without `rate_terms`, an error when
+    /// `rate_terms` is on and the table has no rate columns (as the runtime refuses to start).
+    pub fn rate_derivatives(&self, c: &FlightCondition) -> Result<(f64, f64), PlanarError> {
+        if !self.rate_terms {
+            return Ok((0.0, 0.0));
+        }
+        let t = &self.tables.body;
+        let [m, a, h] = clamped(t, c.mach, 0.0, c.altitude)?;
+        match t.body_rates(m, a, h) {
+            Ok(Some(r)) => Ok((r.cn_q, r.cm_q)),
+            Ok(None) => Err(PlanarError::Aero(format!(
+                "`body_aero {{ rate_terms = true }}` needs the rate derivatives, but the body table {} has no `cn_q,cm_q` columns",
+                t.source().display()
+            ))),
+            Err(e) => Err(PlanarError::Aero(e.to_string())),
+        }
+    }
+
     /// Total axial force at zero incidence, N: body plus all n fins, `q S (C_A,B + n C_A,f)`.
     pub fn axial_force(&self, c: &FlightCondition) -> Result<f64, PlanarError> {
         let b = lookup(&self.tables.body, c.mach, 0.0, c.altitude)?;
@@ -418,6 +429,19 @@ impl PlanarVehicle {
 /// A table lookup with the runtime's policy: clamped into the axes (as
 /// `runtime::forces::body_aero::clamped_query`), an error when the table's policy is `stop`.
 fn lookup(
+    t: &CoefficientTable,
+    mach: f64,
+    alpha_deg: f64,
+    alt: f64,
+) -> Result<[f64; 3], PlanarError> {
+    let q = clamped(t, mach, alpha_deg, alt)?;
+    t.lookup(q[0], q[1], q[2])
+        .map_err(|e| PlanarError::Aero(e.to_string()))
+}
+
+/// The query point clamped into the table's axes, an error when the table's policy is `stop`
+/// and a value is outside.
+fn clamped(
     t: &CoefficientTable,
     mach: f64,
     alpha_deg: f64,
@@ -440,8 +464,7 @@ fn lookup(
         }
         *v = v.clamp(lo, hi);
     }
-    t.lookup(q[0], q[1], q[2])
-        .map_err(|e| PlanarError::Aero(e.to_string()))
+    Ok(q)
 }
 
 /// Mach points of the central difference, kept inside the table's Mach axis.

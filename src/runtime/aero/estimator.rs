@@ -40,6 +40,29 @@
 //! - C_A: skin friction on both faces (2 A_f / S) with the body's C_f law on the mean chord.
 //!   Fin thickness wave drag and trailing-edge base drag are not modelled.
 //!
+//! Rate derivatives (the optional `cn_q`, `cm_q` columns of the body table, used by
+//! `body_aero { rate_terms = true }`; see [`body_rate_derivatives`] for the derivation):
+//! - conventions: per radian of the non-dimensional rate `ω b_b/(2V)` with `b_b = d`, moments
+//!   about the coefficient reference point (x_ref) and nose-up positive as C_M above, the
+//!   rotation taken about x_ref with the angle of attack at x_ref held fixed; each column is
+//!   the sum of the q and α̇ derivatives (C_Nq + C_Nα̇, C_mq + C_mα̇), because the α̇ of the
+//!   thesis (5.3.22) is the kinematic rate of the flow direction in the rotating key-node
+//!   frame, which equals the pitch rate q when the flight path does not turn;
+//! - body potential part, slender-body (Munk) momentum theory, Mach independent:
+//!   `C_Nq + C_Nα̇ = 4 (A_b (l - s_r) + Vol)/(S d)`, `C_mq + C_mα̇ = -4 A_b (l - s_r)²/(S d²)`
+//!   (`s_r` the reference point's distance aft of the nose, A_b the base area, Vol the body
+//!   volume);
+//! - body viscous part, Allen's crossflow term of the static C_N above differentiated along
+//!   the body: `C_Nq = 4 C_dc |sin α| cos α ∫ d(s)(s - s_r) ds/(S d)`,
+//!   `C_mq = -4 C_dc |sin α| cos α ∫ d(s)(s - s_r)² ds/(S d²)` (zero at α = 0);
+//! - fins, for reference and checks ([`fin_rate_derivatives`]; NOT in the body table): the
+//!   pitch rate changes each fin's angle of attack by `q l_f/V` at the arm `l_f` of its centre
+//!   of pressure aft of x_ref (Barrowman 1967 lift slopes at the fin moment arm, the damping
+//!   sum of Mandell, Caporaso & Bengen, "Topics in Advanced Model Rocketry", 1973):
+//!   `C_Nq = 2 n_eff K_T(B) C_Nα,1 l_f/d`, `C_mq = -2 n_eff K_T(B) C_Nα,1 (l_f/d)²`. The runtime's
+//!   fin block already carries this effect through the velocity of the fin (5.4.8), so
+//!   adding it to the body table would count it twice.
+//!
 //! The thesis itself used Missile DATCOM tables (5.5); these are simple engineering methods.
 
 use std::path::Path;
@@ -115,15 +138,24 @@ impl FinPlanform {
         2.0 * self.span * self.span / self.area()
     }
 
-    /// tan of the semi-apex angle omega of the generating triangle (App. A.2.6):
-    /// s / (c_r - c_t) (infinite for a rectangle).
+    /// tan of the semi-apex angle omega of the generating triangle of the leading edge
+    /// (App. A.2.6): omega is the angle between the root chord and the leading edge,
+    /// tan omega = s / x_t = cot Lambda_LE (infinite for an unswept or forward-swept leading
+    /// edge). With an unswept trailing edge x_t = c_r - c_t, the thesis' s / (c_r - c_t).
     pub fn tan_semi_apex(&self) -> f64 {
-        let d = self.root_chord - self.tip_chord;
+        let d = self.tip_le_offset;
         if d <= 0.0 {
             f64::INFINITY
         } else {
             self.span / d
         }
+    }
+
+    /// Chordwise distance from the root trailing edge back to the tip trailing edge, m:
+    /// s tan Lambda_TE = x_t - (c_r - c_t) (0 for an unswept trailing edge, negative for a
+    /// trailing edge swept forward).
+    pub fn te_offset(&self) -> f64 {
+        self.tip_le_offset - (self.root_chord - self.tip_chord)
     }
 
     /// Mid-chord sweep angle Lambda_c, rad.
@@ -254,6 +286,89 @@ pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f
     [cn, friction + base + wave, cm]
 }
 
+/// Body rate derivatives `[C_Nq + C_Nα̇, C_mq + C_mα̇]` at angle of attack `alpha_deg`
+/// (conventions in the module doc: per rad of `ω d/(2V)`, about the reference point).
+///
+/// # Derivation
+/// Slender-body momentum theory (Munk 1924; Ashley & Landahl, "Aerodynamics of Wings and
+/// Bodies", 1965, ch. 6; Nielsen, "Missile Aerodynamics", 1960, ch. 3): a cross-section of
+/// area A(s), s the distance aft of the nose, seeing the crossflow `w(s, t) = V α(s, t)`
+/// carries the normal force per unit length `n(s) = (∂/∂t + V ∂/∂s)(ρ A w)`. For a constant
+/// α this is `ρ V² α A'`, whose integral `ρ V² α A_b = 2 q∞ α A_b` is the static slope
+/// C_Nα = 2 A_b/S of the nose term above. A rotation at rate q (nose up) about `s_r` with the
+/// angle of attack α_r at `s_r` gives `α(s) = α_r + q (s - s_r)/V` (a point aft of `s_r` moves
+/// down), so the rate part is `n_q = ρ V q d/ds[A (s - s_r)]`; a uniform α̇ adds
+/// `n_α̇ = ρ V A α̇`. Integrating, with `A(0) = 0` (pointed nose):
+/// `N_q = ρ V q A_b (l - s_r)`, `N_α̇ = ρ V α̇ Vol`, and about `s_r` (nose up positive, so a
+/// load aft of `s_r` has moment `-n (s - s_r)`), by parts,
+/// `M_q = -ρ V q (A_b (l - s_r)² - Vol (s_c - s_r))`, `M_α̇ = -ρ V α̇ Vol (s_c - s_r)`
+/// (s_c the centroid of the volume). With α̇ = q (the thesis' kinematic α̇, module doc) and
+/// `C = F/(q∞ S (d or d²)) / (q d/(2V))`, `q∞ = ρ V²/2`:
+/// `C_Nq + C_Nα̇ = 4 (A_b (l - s_r) + Vol)/(S d)` and `C_mq + C_mα̇ = -4 A_b (l - s_r)²/(S d²)`
+/// (the volume terms cancel in the moment). A tube without a nose is taken as the limit of a
+/// vanishing cone (the same formulas with `L_n = 0`).
+///
+/// The viscous crossflow term of the static model, `n_c = C_dc q∞ d(s) sin α |sin α|`
+/// (Allen), with the local `α(s)` above, has the rate part
+/// `C_dc q∞ d(s) 2 |sin α| cos α q (s - s_r)/V`; integrated as above,
+/// `C_Nq = 4 C_dc |sin α| cos α I_1/(S d)`, `C_mq = -4 C_dc |sin α| cos α I_2/(S d²)` with
+/// `I_k = ∫_0^l d(s) (s - s_r)^k ds` over the planform (cone: `d(s) = d s/L_n`). Allen's
+/// term is quasi-steady: no α̇ part. Both parts are even in α, as the table is queried at
+/// the total angle of attack.
+pub fn body_rate_derivatives(b: &BodyShape, alpha_deg: f64) -> [f64; 2] {
+    let d = b.diameter;
+    let s_ref = std::f64::consts::PI * d * d / 4.0;
+    let l = b.length;
+    let s_r = -b.reference_x;
+    let ln = match b.nose {
+        NoseShape::Tube => 0.0,
+        NoseShape::Cone { length } => length,
+    };
+    // Potential (base area = S for the cylindrical afterbody).
+    let vol = s_ref * (ln / 3.0 + (l - ln));
+    let cn_pot = 4.0 * (s_ref * (l - s_r) + vol) / (s_ref * d);
+    let cm_pot = -4.0 * s_ref * (l - s_r).powi(2) / (s_ref * d * d);
+    // Crossflow: planform moments about s_r (cone triangle, then cylinder rectangle).
+    let (i1_cone, i2_cone) = if ln > 0.0 {
+        (
+            d * (ln * ln / 3.0 - s_r * ln / 2.0),
+            d * (ln.powi(3) / 4.0 - 2.0 * s_r * ln * ln / 3.0 + s_r * s_r * ln / 2.0),
+        )
+    } else {
+        (0.0, 0.0)
+    };
+    let (e, o) = (l - s_r, ln - s_r);
+    let i1 = i1_cone + d * (e * e - o * o) / 2.0;
+    let i2 = i2_cone + d * (e.powi(3) - o.powi(3)) / 3.0;
+    const C_DC: f64 = 1.2;
+    let a = alpha_deg.to_radians();
+    let k = 4.0 * C_DC * a.sin().abs() * a.cos();
+    [
+        cn_pot + k * i1 / (s_ref * d),
+        cm_pot - k * i2 / (s_ref * d * d),
+    ]
+}
+
+/// Fin rate derivatives `[C_Nq, C_mq]` of `n_eff = Σ cos² δ_i` fins in the pitch plane
+/// (per rad of `q d/(2V)`, about `reference_x`; module doc): each fin's angle of attack
+/// changes by `q l_f/V`, `l_f = reference_x - x_cp` the arm of its centre of pressure aft of
+/// the reference point, so `ΔN = q∞ S n_eff K_T(B) C_Nα,1 q l_f/V` at the arm `l_f`:
+/// `C_Nq = 2 n_eff K_T(B) C_Nα,1 l_f/d`, `C_mq = -2 n_eff K_T(B) C_Nα,1 (l_f/d)²`.
+/// `root_le_x` is the body x of the root leading edge (<= 0), `d` the reference length.
+pub fn fin_rate_derivatives(
+    f: &FinPlanform,
+    s_ref: f64,
+    d: f64,
+    root_le_x: f64,
+    reference_x: f64,
+    n_eff: f64,
+    mach: f64,
+) -> [f64; 2] {
+    let slope = n_eff * f.interference() * f.cn_alpha(mach, s_ref);
+    let arm = reference_x - (root_le_x - f.x_cp(mach));
+    [2.0 * slope * arm / d, -2.0 * slope * (arm / d).powi(2)]
+}
+
 /// Coefficients of one fin (C_N, C_A, x_cp) at one condition on reference area `s_ref`.
 pub fn fin_coefficients(
     f: &FinPlanform,
@@ -300,11 +415,13 @@ impl EstimatedTables {
         ];
         let s_ref = std::f64::consts::PI * body.diameter * body.diameter / 4.0;
         let mut bp = Vec::new();
+        let mut br = Vec::new();
         let mut fp = Vec::new();
         for &m in &ESTIMATOR_MACH {
             for &a in &alpha {
                 for &h in &ESTIMATOR_ALTITUDE {
                     bp.push(body_coefficients(body, m, a, h));
+                    br.push(body_rate_derivatives(body, a));
                     fp.push(fin_coefficients(fin, s_ref, m, a, h));
                 }
             }
@@ -316,7 +433,8 @@ impl EstimatedTables {
                 axes.clone(),
                 &bp,
                 policy,
-            )?,
+            )?
+            .with_rates(&br)?,
             fin: CoefficientTable::from_grid(
                 TableKind::Fin,
                 "builtin-fins.csv",

@@ -37,7 +37,10 @@
 //! - Supersonic (M >= 1): span load from linear wing theory, A.2 (A2.1)-(A2.26), in the four
 //!   regimes of A.2.6 (see [`SupersonicRegime`]); chordwise uniform, the Ackeret flat-plate
 //!   loading Delta p = 4 alpha / beta (A2.10), centre of pressure at half chord. The chordwise
-//!   sloping of tapered regions mentioned at the end of A.2.6 is not modelled.
+//!   sloping of tapered regions mentioned at the end of A.2.6 is not modelled. A.2.6 takes the
+//!   trailing edge unswept; [`supersonic_span_load`] generalises it to any trapezoid with a
+//!   leading edge that is not swept forward (derivation there). A forward-swept leading edge
+//!   is refused by the checker (`vdl::fins::forward_sweep`) for this model.
 
 use crate::check::ir::Distribution;
 
@@ -67,23 +70,32 @@ pub enum FinLoadError {
     #[error("the subsonic Fourier system (A1.8) is singular")]
     SingularFourierSystem,
     #[error(
-        "App. A.2.6 assumes an unswept trailing edge: tip leading-edge offset {offset} m differs from root minus tip chord {expected} m"
+        "the supersonic load model needs a leading edge that is not swept forward (tan of the leading-edge sweep {tan_sweep}); the checker reports this as vdl::fins::forward_sweep"
     )]
-    SweptTrailingEdge { offset: f64, expected: f64 },
+    ForwardSweptLeadingEdge { tan_sweep: f64 },
     #[error("weights table: {0}")]
     Table(String),
 }
 
-/// The four flow regimes of a swept, tapered fin in supersonic flow (App. A.2.6, Fig. A8).
+/// Largest forward sweep of the leading edge, as tan Lambda_LE, still taken as unswept by
+/// the supersonic load model (the checker refuses more, `vdl::fins::forward_sweep`). A
+/// leading edge derived from a trailing-edge sweep and the taper carries rounding of this
+/// order; within it the apex effect (which vanishes as Lambda_LE -> 0) is below 1e-9.
+pub const FORWARD_SWEEP_TOL: f64 = 1e-9;
+
+/// The four flow regimes of a swept, tapered fin in supersonic flow (App. A.2.6, Fig. A8),
+/// classified for any trapezoid: omega is the semi-apex angle of the leading edge
+/// ([`FinPlanform::tan_semi_apex`]) and the tip Mach line is the one from the tip leading
+/// edge. The trailing edge's own regime is [`trailing_edge_is_subsonic`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SupersonicRegime {
     /// (a) Subsonic leading edge; the tip Mach line reaches the root (body) ahead of the
-    /// trailing edge, beta s < c_t (A2.19)-(A2.21).
+    /// trailing edge, beta s < c_r - x_t (= c_t for an unswept trailing edge, (A2.19)-(A2.21)).
     A,
     /// (b) Subsonic leading edge; the tip Mach line meets the trailing edge (A2.22)-(A2.23).
     B,
-    /// (c) Supersonic leading edge; apex and tip Mach lines intersect on the fin,
-    /// beta < (c_r + c_t)/s (A2.24)-(A2.25).
+    /// (c) Supersonic leading edge; apex and tip Mach lines intersect on the fin (ahead of
+    /// the trailing edge; beta < (c_r + c_t)/s for an unswept trailing edge, (A2.24)-(A2.25)).
     C,
     /// (d) Supersonic leading edge; no intersection on the fin (A2.26).
     D,
@@ -186,6 +198,11 @@ fn fourier_coefficients(span: f64, chord: &dyn Fn(f64) -> f64) -> Result<[f64; 4
 }
 
 /// The supersonic regime of A.2.6 at Mach `mach` > 1 (None when subsonic).
+///
+/// The tip Mach line x = x_t + beta (s - y) meets the root at x_t + beta s, ahead of the root
+/// trailing edge when beta s < c_r - x_t = c_t - s tan Lambda_TE. The apex Mach line
+/// x = beta y meets it at y* = (x_t + beta s)/(2 beta), on the fin when
+/// beta y* < c_r + y* tan Lambda_TE (for an unswept trailing edge: beta s < c_r + c_t).
 pub fn supersonic_regime(p: &FinPlanform, mach: f64) -> Option<SupersonicRegime> {
     if mach < 1.0 {
         return None;
@@ -193,12 +210,20 @@ pub fn supersonic_regime(p: &FinPlanform, mach: f64) -> Option<SupersonicRegime>
     let beta = (mach * mach - 1.0).sqrt();
     let tan_omega = p.tan_semi_apex();
     let subsonic_le = beta * tan_omega < 1.0;
-    Some(match (subsonic_le, beta * p.span < p.tip_chord) {
+    let te = p.te_offset();
+    let y_meet = (p.tip_le_offset + beta * p.span) / (2.0 * beta);
+    Some(match (subsonic_le, beta * p.span < p.tip_chord - te) {
         (true, true) => SupersonicRegime::A,
         (true, false) => SupersonicRegime::B,
-        (false, _) if beta * p.span < p.root_chord + p.tip_chord => SupersonicRegime::C,
+        (false, _) if beta * y_meet < p.root_chord + te * y_meet / p.span => SupersonicRegime::C,
         (false, _) => SupersonicRegime::D,
     })
+}
+
+/// Is the trailing edge subsonic at Mach `mach` (the Mach component normal to it below 1,
+/// |tan Lambda_TE| > beta)? Then [`supersonic_span_load`] is an approximation (see there).
+pub fn trailing_edge_is_subsonic(p: &FinPlanform, mach: f64) -> bool {
+    mach < 1.0 || (p.te_offset() / p.span).abs() > (mach * mach - 1.0).sqrt()
 }
 
 /// Span-load shape at Mach `mach` and span fraction `eta`, for alpha = 1 (arbitrary scale).
@@ -222,11 +247,9 @@ impl SpanLoad {
                 kind: SpanLoadKind::Subsonic(subsonic_fourier_coefficients(p)?),
             });
         }
-        let expected = p.root_chord - p.tip_chord;
-        if (p.tip_le_offset - expected).abs() > 1e-6 * p.root_chord {
-            return Err(FinLoadError::SweptTrailingEdge {
-                offset: p.tip_le_offset,
-                expected,
+        if p.tip_le_offset < -FORWARD_SWEEP_TOL * p.span {
+            return Err(FinLoadError::ForwardSweptLeadingEdge {
+                tan_sweep: p.tip_le_offset / p.span,
             });
         }
         Ok(SpanLoad {
@@ -264,40 +287,86 @@ fn tip_retained(t: f64) -> f64 {
     (1.0 - 2.0 * t).acos() / PI + 2.0 / PI * (t - t * t).max(0.0).sqrt()
 }
 
-/// Supersonic span load of a swept, tapered fin with unswept trailing edge (A.2.6), alpha = 1.
+/// Supersonic span load of a trapezoidal fin (A.2.6 generalised to a swept trailing edge),
+/// alpha = 1.
 ///
-/// The fin is the generating triangle (apex at the root leading edge, semi-apex angle omega
-/// with tan omega = s/(c_r - c_t), semispan B = c_r tan omega) cut at the tip chord. Its base
-/// section load is
-/// - subsonic leading edge (beta tan omega < 1): (A2.6)-(A2.7),
-///   4 c_r tan omega / E(m) sqrt(1 - (y/B)^2) with m = 1 - beta^2 tan^2 omega (on the trailing
-///   edge tan v / tan omega = y/B);
-/// - supersonic leading edge: (A2.8) for y <= c_r/beta and (A2.9) beyond. In (A2.6)-(A2.9) "b"
-///   is the triangle semispan B (then (A2.9) is 4 c(y)/sqrt(beta^2 - cot^2 omega), and (A2.8)
-///   meets (A2.9) continuously at y = c_r/beta; a tested identity).
+/// Coordinates: x aft from the root leading edge, y out along the span (0..s), the root a
+/// reflection plane (the fin and its mirror image form the wing, A.2.6). Leading edge
+/// x_le(y) = y tan Lambda_LE = y cot omega (x_t = s cot omega at the tip), trailing edge
+/// x_te(y) = c_r + y tan Lambda_TE with s tan Lambda_TE = x_t - (c_r - c_t)
+/// ([`FinPlanform::te_offset`]; 0 in the thesis).
 ///
-/// Tip effect, (A2.21)-(A2.26): for y >= s - c_t/beta the base is multiplied by
-/// 1 - f_tip (1 - R(t)), t = beta (s - y)/c_t, f_tip = c_t / c(y) (A2.18) (the tip-affected
-/// length of the local chord equals that of a rectangular fin of chord c_t because the trailing
-/// edge is unswept). In regime (a) the reflected tip Mach line is, as in the thesis, covered by
-/// the same single equation (A2.21) over the whole span. A rectangular fin (c_r = c_t) is the
-/// limit tan omega -> infinity: base 4 c/beta (A2.11).
+/// # Derivation
+///
+/// 1. *Base field.* In linearised supersonic flow a point feels only the planform inside its
+///    forward Mach cone. Ahead of the tip's influence, that is the wedge of the leading edge
+///    and its mirror image with apex at the root leading edge, whose lifting pressure is
+///    conical, Delta p(x, y) = f(y/x) (Lagerstrom 1950, NACA TR 1060: conical flows; the
+///    triangular wing's field of A.2.3-A.2.4). The section load between the leading edge and
+///    a chordwise station X, F(X, y) = int_{x_le}^{X} f(y/x) dx, is then homogeneous of
+///    degree 1: F(X, y) = X G(y/X). A.2.3-A.2.4 give it for X = c_r, the triangle's root
+///    chord: (A2.6)-(A2.7) for a subsonic leading edge (beta tan omega < 1), where
+///    4 c_r tan omega / E(m) sqrt(1 - (y/B)^2), B = c_r tan omega, m = 1 - beta^2 tan^2 omega,
+///    is the integral of the conical pressure 4 tan omega / (E sqrt(1 - (y/(x tan omega))^2))
+///    from x_le to c_r; (A2.8)-(A2.9) for a supersonic one. Hence the section load up to ANY
+///    chordwise station X is the same formula with c_r replaced by X (and B by X tan omega);
+///    for (A2.9), 4 (X - y cot omega)/sqrt(beta^2 - cot^2 omega) = 4 c(y)/sqrt(...), the
+///    swept Ackeret load of the local chord.
+/// 2. *Trailing edge.* Where the trailing edge is supersonic (|tan Lambda_TE| < beta) no
+///    point of the fin has a trailing-edge or wake point in its forward Mach cone (a Mach
+///    line from a point on the fin reaches the edge's station only aft of it), so the
+///    pressure ahead of the edge is that of the uncut wedge and the section load is exactly
+///    F(x_te(y), y): the formulas of step 1 with c_r -> x_te(y). For the unswept trailing
+///    edge of A.2.6 this is the thesis' expression, operation for operation.
+///    *Approximation:* a subsonic trailing edge (|tan Lambda_TE| > beta: heavily swept at
+///    low supersonic Mach) imposes the Kutta condition and unloads the region ahead of it
+///    (Evvard 1950, NACA TR 951, and Lagerstrom: "subsonic trailing edges"); that upstream
+///    influence is neglected here: the load is still F(x_te, y). It tends continuously to
+///    the exact result as the edge becomes sonic.
+/// 3. *Tip.* The tip Mach cone from the tip leading edge (x_t, s) covers, at d = s - y, the
+///    part of the chord aft of x_t + beta d; the chord reaching back from x_t to the local
+///    trailing edge has length L(y) = x_te(y) - x_t = c_t - d tan Lambda_TE (c_t for the
+///    thesis' fin). For a streamwise tip (side edge) on an unswept leading edge the tip-cone
+///    pressure is (2/pi) asin(sqrt(beta d / x')) times the 2-D value, x' = x - x_t (A2.12;
+///    Evvard 1950), and integrating it over x' in [beta d, L] gives the retained fraction
+///    R(beta d / L) of [`tip_retained`] over the length L, so the section loses
+///    L (1 - R(beta d / L)) of the base pressure. As in (A2.18)-(A2.21) this loss is applied
+///    as the fraction f_tip = L / c(y) of the chord-averaged base load:
+///    base (1 - (L/c) (1 - R(beta d / L))), only where beta d < L. This is exact for an
+///    unswept leading edge with a supersonic trailing edge of any sweep (the off-planform
+///    region y > s is then the only non-wing part of the forward cones, as for the
+///    rectangular wing, because the wake of a supersonic trailing edge is never upstream of
+///    a fin point); on a swept leading edge it is the thesis' approximation (the rectangular
+///    tip correction on the triangular base). With c_t = 0 (a pointed tip) and a supersonic
+///    trailing edge, L <= beta d everywhere and there is no tip loss, as linear theory has it.
+///    The reflection of the tip Mach line at the root (regime (a)) is, as in the thesis,
+///    covered by the same single equation (A2.21) over the whole span.
+/// 4. *Rectangular leading edge.* tan omega -> infinity (x_t <= 1e-9 s, see
+///    [`FORWARD_SWEEP_TOL`]): the mirror images join into a straight edge, no apex cone,
+///    base 4 c(y) / beta (A2.11).
+///
+/// The result is continuous in the trailing-edge sweep (x_te and L are linear in it, and the
+/// branches of steps 1 and 3 meet continuously), and reduces bit for bit to the thesis' A.2.6
+/// expressions when the trailing edge is unswept (te_offset = 0: x_te = c_r, L = c_t).
 fn supersonic_span_load(p: &FinPlanform, beta: f64, eta: f64) -> f64 {
     use std::f64::consts::PI;
     let s = p.span;
-    let y = eta.clamp(0.0, 1.0) * s;
+    let eta_c = eta.clamp(0.0, 1.0);
+    let y = eta_c * s;
     let c = p.chord_at(eta);
     let tan_omega = p.tan_semi_apex();
+    let te = p.te_offset();
+    // Step 2: the section is cut at the local trailing edge x_te(y) (= c_r when unswept).
+    let x_te = p.root_chord + eta_c * te;
     let base = if !tan_omega.is_finite() || tan_omega > 1e9 {
         4.0 * c / beta.max(1e-12)
     } else {
         let bt = beta * tan_omega;
-        let big_b = p.root_chord * tan_omega;
+        let big_b = x_te * tan_omega;
         if bt <= 1.0 + 1e-9 {
             let m = (1.0 - bt * bt).max(0.0);
-            4.0 * p.root_chord * tan_omega / elliptic_e(m)
-                * (1.0 - (y / big_b).powi(2)).max(0.0).sqrt()
-        } else if y >= p.root_chord / beta {
+            4.0 * x_te * tan_omega / elliptic_e(m) * (1.0 - (y / big_b).powi(2)).max(0.0).sqrt()
+        } else if y >= x_te / beta {
             // (A2.9): 4 (B - y) cot(omega) / sqrt(beta^2 - cot^2 omega)
             let cot = 1.0 / tan_omega;
             4.0 * (big_b - y) * cot / (beta * beta - cot * cot).sqrt()
@@ -313,11 +382,13 @@ fn supersonic_span_load(p: &FinPlanform, beta: f64, eta: f64) -> f64 {
             4.0 / (b2 - 1.0).sqrt() * (big_b + (big_b - y) / PI * a1 - (big_b + y) / PI * a2)
         }
     };
-    let t = beta * (s - y) / p.tip_chord;
-    if t >= 1.0 {
+    // Step 3: the tip-affected length of the local chord (= c_t when unswept).
+    let l_tip = p.tip_chord - (1.0 - eta_c) * te;
+    let t = beta * (s - y) / l_tip;
+    if l_tip <= 0.0 || t >= 1.0 {
         base
     } else {
-        base * (1.0 - p.tip_chord / c * (1.0 - tip_retained(t)))
+        base * (1.0 - l_tip / c * (1.0 - tip_retained(t)))
     }
 }
 
@@ -497,6 +568,43 @@ impl FinLoadTable {
             n_nodes: nodes.len(),
             weights,
         })
+    }
+
+    /// A table from weights computed before (the cache): `weights[i * n_nodes + k]` is node
+    /// k's weight at `machs[i]`. Checks the shape and the grid, not the values.
+    pub fn from_weights(
+        machs: Vec<f64>,
+        n_nodes: usize,
+        weights: Vec<f64>,
+    ) -> Result<Self, FinLoadError> {
+        if machs.is_empty()
+            || machs
+                .windows(2)
+                .any(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+            || weights.len() != machs.len() * n_nodes
+            || n_nodes == 0
+        {
+            return Err(FinLoadError::Table(format!(
+                "{} weights for {} Machs x {n_nodes} nodes, or a Mach grid that is not strictly increasing",
+                weights.len(),
+                machs.len()
+            )));
+        }
+        Ok(FinLoadTable {
+            machs,
+            n_nodes,
+            weights,
+        })
+    }
+
+    /// Number of nodes.
+    pub fn n_nodes(&self) -> usize {
+        self.n_nodes
+    }
+
+    /// All weights, row-major by Mach.
+    pub fn weights(&self) -> &[f64] {
+        &self.weights
     }
 
     /// The Mach grid of the table.

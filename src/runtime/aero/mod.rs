@@ -24,5 +24,6 @@ pub use fin_loads::{
 };
 pub use leeward::f_lw;
 pub use tables::{
-    Axis, BodyCoefficients, CoefficientTable, FinCoefficients, TableError, TableKind,
+    Axis, BodyCoefficients, BodyRateCoefficients, CoefficientTable, FinCoefficients, TableError,
+    TableKind,
 };

@@ -23,6 +23,18 @@
 //!   angle of attack alpha_f (5.4.5)-(5.4.14), on the same reference area S, and the
 //!   chordwise centre of pressure in metres aft of the root-chord leading edge.
 //!
+//! - Optional rate columns, body tables only: `mach,alpha_deg,altitude_m,cn,ca,cm,cn_q,cm_q`.
+//!   `cn_q` is C_Nq + C_Nα̇ and `cm_q` is C_mq + C_mα̇ of the fuselage alone, per radian of
+//!   the non-dimensional rate `ω b_b/(2V)`, for a rotation about the moment reference point
+//!   with the angle of attack taken there (the convention of the thesis' C_Nα̇, C_Mα̇ in
+//!   (5.3.7)-(5.3.8), whose α̇ (5.3.22) is the kinematic rate of the flow direction in the
+//!   rotating nodal frame, `q` in a pure pitch rotation; see
+//!   [`crate::runtime::forces::body_aero`]). Positive `cn_q` is a normal force in the
+//!   direction of positive C_N for a nose-up rate; pitch damping is `cm_q < 0`. A table
+//!   without these columns stays valid; `body_aero { rate_terms = true }` then refuses to
+//!   start (it has no derivatives to apply). Fin tables hold no rate columns: the fin block
+//!   sees the rotation through the velocity of the fin itself (5.4.8).
+//!
 //! The grid must be full: every combination of the distinct Mach, alpha and altitude values
 //! present must appear exactly once. Rows may come in any order, but each axis must introduce
 //! its values in strictly increasing order (a value smaller than one already seen on the same
@@ -73,7 +85,40 @@ impl TableKind {
     pub fn header(self) -> String {
         self.columns().join(",")
     }
+
+    /// The optional rate columns after the six of [`Self::columns`] (body tables only).
+    pub fn rate_columns(self) -> &'static [&'static str] {
+        match self {
+            TableKind::Body => &RATE_COLUMNS,
+            TableKind::Fin => &[],
+        }
+    }
+
+    /// The header line with the rate columns.
+    pub fn header_with_rates(self) -> String {
+        let mut h = self.header();
+        for c in self.rate_columns() {
+            h.push(',');
+            h.push_str(c);
+        }
+        h
+    }
+
+    /// What the header may be, for errors.
+    fn expected_header(self) -> String {
+        if self.rate_columns().is_empty() {
+            self.header()
+        } else {
+            format!("{}` or `{}", self.header(), self.header_with_rates())
+        }
+    }
 }
+
+/// The optional rate columns of a body table (module doc).
+pub const RATE_COLUMNS: [&str; 2] = ["cn_q", "cm_q"];
+
+/// Most value columns a table holds (three coefficients and two rate derivatives).
+const MAX_VALUES: usize = 5;
 
 /// One of the three table axes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -110,10 +155,11 @@ pub enum TableError {
         expected: String,
         found: String,
     },
-    #[error("{}:{line}: expected 6 comma-separated fields, found {found}", path.display())]
+    #[error("{}:{line}: expected {expected} comma-separated fields (as the header), found {found}", path.display())]
     FieldCount {
         path: PathBuf,
         line: usize,
+        expected: usize,
         found: usize,
     },
     #[error("{}:{line}: column `{column}` is not a number: `{text}`", path.display())]
@@ -208,6 +254,16 @@ pub struct FinCoefficients {
     pub x_cp_m: f64,
 }
 
+/// Rate derivatives of the fuselage at one flight condition (the optional `cn_q`, `cm_q`
+/// columns; module doc).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BodyRateCoefficients {
+    /// C_Nq + C_Nα̇, per rad of `ω b/(2V)`.
+    pub cn_q: f64,
+    /// C_mq + C_mα̇ about the moment reference point, per rad of `ω b/(2V)`.
+    pub cm_q: f64,
+}
+
 /// A full-grid coefficient table over (Mach, alpha in degrees, altitude in m).
 #[derive(Clone, Debug, PartialEq)]
 pub struct CoefficientTable {
@@ -215,9 +271,10 @@ pub struct CoefficientTable {
     /// Where the table came from (for errors); a label for built tables.
     source: PathBuf,
     axes: [Vec<f64>; 3],
-    /// Three values per grid point; point (i, j, k) starts at i*strides[0] + j*strides[1] +
-    /// k*strides[2].
+    /// `width` values per grid point (3, or 5 with the rate columns); point (i, j, k)
+    /// starts at i*strides[0] + j*strides[1] + k*strides[2].
     values: Vec<f64>,
+    width: usize,
     strides: [usize; 3],
     policy: OutOfRange,
 }
@@ -278,9 +335,54 @@ impl CoefficientTable {
             source,
             axes,
             values,
+            width: 3,
             strides,
             policy,
         })
+    }
+
+    /// Adds the rate columns (module doc) of every grid point, in the order of
+    /// [`Self::from_grid`]; body tables only, every number finite.
+    pub fn with_rates(self, rates: &[[f64; 2]]) -> Result<Self, TableError> {
+        let columns = self.kind.rate_columns();
+        let n = self.values.len() / self.width;
+        if columns.len() != 2 || rates.len() != n {
+            return Err(TableError::Shape {
+                path: self.source,
+                expected: if columns.len() == 2 { n } else { 0 },
+                found: rates.len(),
+            });
+        }
+        for (k, r) in rates.iter().enumerate() {
+            for (c, &v) in r.iter().enumerate() {
+                if !v.is_finite() {
+                    return Err(TableError::NonFinite {
+                        path: self.source,
+                        line: k + 2,
+                        column: columns[c],
+                        value: v,
+                    });
+                }
+            }
+        }
+        let w = 3 + 2;
+        let mut values = Vec::with_capacity(w * n);
+        for (k, r) in rates.iter().enumerate() {
+            values.extend_from_slice(&self.values[self.width * k..self.width * k + 3]);
+            values.extend_from_slice(r);
+        }
+        let (n1, n2) = (self.axes[1].len(), self.axes[2].len());
+        Ok(CoefficientTable {
+            values,
+            width: w,
+            strides: [w * n1 * n2, w * n2, w],
+            ..self
+        })
+    }
+
+    /// True when the table holds the rate columns.
+    pub fn has_rates(&self) -> bool {
+        self.width == 5
     }
 
     /// Reads a table file (see the module doc for the layout).
@@ -299,8 +401,9 @@ impl CoefficientTable {
         text: &str,
         policy: OutOfRange,
     ) -> Result<Self, TableError> {
-        let columns = kind.columns();
-        let expected_header = kind.header();
+        let base = kind.columns();
+        let with_rates: Vec<&'static str> =
+            base.iter().chain(kind.rate_columns()).copied().collect();
         let mut lines = text
             .lines()
             .enumerate()
@@ -309,31 +412,37 @@ impl CoefficientTable {
         let Some((hline, header)) = lines.next() else {
             return Err(TableError::MissingHeader {
                 path: path.to_path_buf(),
-                expected: expected_header,
+                expected: kind.expected_header(),
             });
         };
         let found: Vec<&str> = header.split(',').map(str::trim).collect();
-        if found != columns {
+        let columns: &[&'static str] = if found == base {
+            &base
+        } else if found.len() > base.len() && found == with_rates {
+            &with_rates
+        } else {
             return Err(TableError::Header {
                 path: path.to_path_buf(),
                 line: hline,
-                expected: expected_header,
+                expected: kind.expected_header(),
                 found: header.to_string(),
             });
-        }
-        // Rows as (line, [6 numbers]).
-        let mut rows: Vec<(usize, [f64; 6])> = Vec::new();
+        };
+        let ncol = columns.len();
+        // Rows as (line, [numbers]); the rate columns, when present, follow the first six.
+        let mut rows: Vec<(usize, [f64; 8])> = Vec::new();
         let mut axes: [Vec<f64>; 3] = [Vec::new(), Vec::new(), Vec::new()];
         for (line, l) in lines {
             let fields: Vec<&str> = l.split(',').map(str::trim).collect();
-            if fields.len() != 6 {
+            if fields.len() != ncol {
                 return Err(TableError::FieldCount {
                     path: path.to_path_buf(),
                     line,
+                    expected: ncol,
                     found: fields.len(),
                 });
             }
-            let mut row = [0.0; 6];
+            let mut row = [0.0; 8];
             for (c, f) in fields.iter().enumerate() {
                 let v: f64 = f.parse().map_err(|_| TableError::NotANumber {
                     path: path.to_path_buf(),
@@ -378,6 +487,7 @@ impl CoefficientTable {
         let n = [axes[0].len(), axes[1].len(), axes[2].len()];
         let mut slot_line = vec![0usize; n[0] * n[1] * n[2]];
         let mut points = vec![[0.0; 3]; n[0] * n[1] * n[2]];
+        let mut rates = vec![[0.0; 2]; n[0] * n[1] * n[2]];
         for &(line, row) in &rows {
             // Each value is in its axis (we pushed it), so position() succeeds.
             let idx: Vec<usize> = (0..3)
@@ -396,6 +506,7 @@ impl CoefficientTable {
             }
             slot_line[slot] = line;
             points[slot] = [row[3], row[4], row[5]];
+            rates[slot] = [row[6], row[7]];
         }
         if let Some(slot) = slot_line.iter().position(|&l| l == 0) {
             let (i, rest) = (slot / (n[1] * n[2]), slot % (n[1] * n[2]));
@@ -411,20 +522,32 @@ impl CoefficientTable {
                 n_altitude: n[2],
             });
         }
-        Self::from_grid(kind, path, axes, &points, policy)
+        let table = Self::from_grid(kind, path, axes, &points, policy)?;
+        if ncol > 6 {
+            table.with_rates(&rates)
+        } else {
+            Ok(table)
+        }
     }
 
     /// The table in the CSV layout of the module doc (values printed so they read back
     /// exactly).
     pub fn to_csv(&self) -> String {
-        let mut s = self.kind.header();
+        let mut s = if self.has_rates() {
+            self.kind.header_with_rates()
+        } else {
+            self.kind.header()
+        };
         s.push('\n');
         for (i, m) in self.axes[0].iter().enumerate() {
             for (j, a) in self.axes[1].iter().enumerate() {
                 for (k, h) in self.axes[2].iter().enumerate() {
                     let o = i * self.strides[0] + j * self.strides[1] + k * self.strides[2];
-                    let v = &self.values[o..o + 3];
-                    s.push_str(&format!("{m},{a},{h},{},{},{}\n", v[0], v[1], v[2]));
+                    s.push_str(&format!("{m},{a},{h}"));
+                    for v in &self.values[o..o + self.width] {
+                        s.push_str(&format!(",{v}"));
+                    }
+                    s.push('\n');
                 }
             }
         }
@@ -437,6 +560,11 @@ impl CoefficientTable {
             path: path.to_path_buf(),
             message: e.to_string(),
         })
+    }
+
+    /// Where the table came from (a file, or a label for built tables).
+    pub fn source(&self) -> &Path {
+        &self.source
     }
 
     /// What the table holds.
@@ -500,19 +628,32 @@ impl CoefficientTable {
         Ok((i, (v - axis[i]) / (axis[i + 1] - axis[i])))
     }
 
-    /// Trilinear interpolation of the three value columns at (Mach, alpha deg, altitude m).
+    /// Trilinear interpolation of the three coefficient columns at (Mach, alpha deg,
+    /// altitude m).
     pub fn lookup(
         &self,
         mach: f64,
         alpha_deg: f64,
         altitude_m: f64,
     ) -> Result<[f64; 3], TableError> {
+        let v = self.interpolate(mach, alpha_deg, altitude_m)?;
+        Ok([v[0], v[1], v[2]])
+    }
+
+    /// Trilinear interpolation of every value column (the unused tail stays zero).
+    fn interpolate(
+        &self,
+        mach: f64,
+        alpha_deg: f64,
+        altitude_m: f64,
+    ) -> Result<[f64; MAX_VALUES], TableError> {
         let q = [mach, alpha_deg, altitude_m];
         let mut base = [(0usize, 0.0f64); 3];
         for a in 0..3 {
             base[a] = self.locate(a, q[a])?;
         }
-        let mut out = [0.0; 3];
+        let mut out = [0.0; MAX_VALUES];
+        let w_n = self.width;
         for corner in 0..8usize {
             let mut w = 1.0;
             let mut o = 0;
@@ -531,7 +672,7 @@ impl CoefficientTable {
                 }
             }
             if w != 0.0 {
-                for (x, v) in out.iter_mut().zip(&self.values[o..o + 3]) {
+                for (x, v) in out.iter_mut().zip(&self.values[o..o + w_n]) {
                     *x += w * v;
                 }
             }
@@ -548,6 +689,24 @@ impl CoefficientTable {
     ) -> Result<BodyCoefficients, TableError> {
         let [cn, ca, cm] = self.lookup(mach, alpha_deg, altitude_m)?;
         Ok(BodyCoefficients { cn, ca, cm })
+    }
+
+    /// The rate derivatives of a body table at (Mach, alpha deg, altitude m), `None` when
+    /// the table has no rate columns. Same interpolation and policy as [`Self::lookup`].
+    pub fn body_rates(
+        &self,
+        mach: f64,
+        alpha_deg: f64,
+        altitude_m: f64,
+    ) -> Result<Option<BodyRateCoefficients>, TableError> {
+        if !self.has_rates() {
+            return Ok(None);
+        }
+        let v = self.interpolate(mach, alpha_deg, altitude_m)?;
+        Ok(Some(BodyRateCoefficients {
+            cn_q: v[3],
+            cm_q: v[4],
+        }))
     }
 
     /// Fin coefficients (for a [`TableKind::Fin`] table).
@@ -714,6 +873,63 @@ mod tests {
         let back = CoefficientTable::parse_csv(TableKind::Fin, p(), &t.to_csv(), OutOfRange::Clamp)
             .unwrap();
         assert_eq!(t, back);
+    }
+
+    #[test]
+    fn optional_rate_columns() {
+        // A six-column body table stays valid and has no rates.
+        let plain =
+            CoefficientTable::parse_csv(TableKind::Body, p(), &grid_text(None), OutOfRange::Stop)
+                .unwrap();
+        assert!(!plain.has_rates());
+        assert_eq!(plain.body_rates(0.7, 3.0, 0.0).unwrap(), None);
+        // The same grid with rate columns linear in each axis: interpolated exactly, the
+        // coefficient columns unchanged, and the CSV round trip exact.
+        let mut text = String::from("mach,alpha_deg,altitude_m,cn,ca,cm,cn_q,cm_q\n");
+        for line in grid_text(None).lines().skip(2) {
+            let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+            let (m, a, h) = (v[0], v[1], v[2]);
+            text.push_str(&format!("{line},{},{}\n", 100.0 + m, -300.0 - a + 1e-3 * h));
+        }
+        let rated =
+            CoefficientTable::parse_csv(TableKind::Body, p(), &text, OutOfRange::Stop).unwrap();
+        assert!(rated.has_rates());
+        let r = rated.body_rates(0.75, 2.5, 2500.0).unwrap().unwrap();
+        assert!(
+            (r.cn_q - 100.75).abs() < 1e-12 && (r.cm_q + 300.0).abs() < 1e-12,
+            "{r:?}"
+        );
+        assert_eq!(
+            rated.lookup(0.75, 2.5, 2500.0).unwrap(),
+            plain.lookup(0.75, 2.5, 2500.0).unwrap()
+        );
+        let back =
+            CoefficientTable::parse_csv(TableKind::Body, p(), &rated.to_csv(), OutOfRange::Stop)
+                .unwrap();
+        assert_eq!(back, rated);
+        // Rows must have as many fields as the header.
+        let short = "mach,alpha_deg,altitude_m,cn,ca,cm,cn_q,cm_q\n0,0,0,1,1,1\n";
+        assert!(matches!(
+            CoefficientTable::parse_csv(TableKind::Body, p(), short, OutOfRange::Stop),
+            Err(TableError::FieldCount {
+                line: 2,
+                expected: 8,
+                found: 6,
+                ..
+            })
+        ));
+        // Fin tables take no rate columns; one of the two alone is no header either.
+        for (kind, hdr) in [
+            (
+                TableKind::Fin,
+                "mach,alpha_deg,altitude_m,cn,ca,x_cp_m,cn_q,cm_q",
+            ),
+            (TableKind::Body, "mach,alpha_deg,altitude_m,cn,ca,cm,cn_q"),
+        ] {
+            let e = CoefficientTable::parse_csv(kind, p(), &format!("{hdr}\n"), OutOfRange::Stop)
+                .unwrap_err();
+            assert!(matches!(e, TableError::Header { line: 1, .. }), "{e}");
+        }
     }
 
     #[test]

@@ -16,20 +16,39 @@
 //!    `α_b = atan2(r, V_x)` (the exact form of (5.3.19); (5.3.20) is its small-angle limit),
 //!    always >= 0. At `r = 0` (no crossflow) the ba frame is taken equal to bn.
 //! 4. Rates (5.3.22)-(5.3.25), used only with `rate_terms`:
-//!    `α̇_b = (ż_baᵀ V - z_baᵀ(ω_B × V))/|V|`, `ż_ba = (θ̇_y, -θ̇_x, 0)`,
-//!    `β̇_b = (ẏ_baᵀ V - y_baᵀ(ω_B × V))/|V|`, `ẏ_ba = (-θ̇_z, 0, θ̇_x)` — closed forms of the
-//!    state, no finite differences and no stored history.
-//! 5. Coefficients at (Mach, α_b in degrees, altitude `-z`), Mach from the 1976 speed of sound:
-//!    `C_N = C_N(α) + C_Nα̇ (α̇ + β̇) b/(2V)`, `C_M = C_M(α) + C_Mα̇ (α̇ + β̇) b/(2V)`
-//!    (5.3.8), (5.3.7) with the body-of-revolution symmetry `C_Nα̇ = C_Nβ̇`. The rate
-//!    derivatives are NOT in the coefficient tables (the CSV layout holds C_N, C_A, C_M only);
-//!    they are given by [`RateDerivatives`] and are zero unless the caller supplies them.
+//!    `α̇_b = (ż_baᵀ V - z_baᵀ(ω_B × V))/|V|`, `β̇_b = (ẏ_baᵀ V - y_baᵀ(ω_B × V))/|V|`, with
+//!    the ba axes turning with the key node's elastic rotation, `ż_ba = θ̇ × z_ba`,
+//!    `ẏ_ba = θ̇ × y_ba`; so `α̇_b = -z_baᵀ((ω_B + θ̇) × V)/|V|` and
+//!    `β̇_b = -y_baᵀ((ω_B + θ̇) × V)/|V|` (ω_bn of (5.3.14)). For the unrolled frame
+//!    `z_ba = e3`, `y_ba = e2` this is the thesis' `ż_ba = (θ̇_y, -θ̇_x, 0)`, `ẏ_ba = (-θ̇_z, 0,
+//!    θ̇_x)` (5.3.23), (5.3.25); the thesis takes those columns of `θ̇^×` for any roll of the
+//!    ba frame, which is right only at zero roll. Closed forms of the state, no finite
+//!    differences and no stored history. This α̇ is the rate of the flow direction in the
+//!    rotating key-node frame: in a pure pitch rotation `α̇_b = q`, whatever the flight path
+//!    does, so the derivatives it multiplies are the sums C_Nq + C_Nα̇ and C_mq + C_mα̇.
+//! 5. Coefficients at (Mach, α_b in degrees, altitude `-z`), Mach from the 1976 speed of sound.
+//!    The rate derivatives `cn_q` = C_Nq + C_Nα̇ and `cm_q` = C_mq + C_mα̇ (per rad of
+//!    `ω b/(2V)`, about the reference point) are the optional rate columns of the body table
+//!    ([`crate::runtime::aero::tables`], written by the built-in estimator); with
+//!    `rate_terms` and a table without them the block cannot be built
+//!    ([`AeroForceError::NoRateColumns`]).
 //! 6. Loads in the coefficient frame co, `C_co,ba = diag(-1, -1, 1)` (5.3.27), at the
 //!    reference point: x_co points aft, so the axial force is `+C_A q S` along x_co; the normal
 //!    force opposes the crossflow, `-C_N q S` along z_co = z_ba (5.3.1)-(5.3.2); the pitching
 //!    moment `C_M q S b` is positive nose up, i.e. about +y_ba = -y_co (5.3.3):
 //!    `F_co = q S (C_A, 0, -C_N)`, `M_co = q S b (0, -C_M, 0)`; then `F_ba = C_co,baᵀ F_co`,
-//!    `M_ba = C_co,baᵀ M_co` (5.3.28).
+//!    `M_ba = C_co,baᵀ M_co` (5.3.28). The rate loads, in ba axes at the reference point:
+//!    `F_rate = -q S k cn_q (0, β̇_b, α̇_b)`, `M_rate = q S b k cm_q (0, α̇_b, -β̇_b)`,
+//!    `k = b/(2V)`. The thesis writes `C_N = C_Nα α + C_Nα̇ (α̇ + β̇)` (5.3.8) with the symmetry
+//!    `C_Nα̇ = C_Nβ̇`, which would put the out-of-plane rate β̇ into the in-plane normal force;
+//!    for a body of revolution the response to β̇ (a rate of the flow across the α plane,
+//!    along y_ba) is the response to α̇ turned by 90 deg about x: a side force along `-y_ba`
+//!    and a moment about `-z_ba` (the rotation taking z_ba to y_ba takes y_ba to -z_ba). So
+//!    the rate loads are `-q S k cn_q ρ_⊥` and `-q S b k cm_q (e1 × ρ_⊥)` with
+//!    `ρ_⊥ = α̇_b z_ba + β̇_b y_ba`, the flow-direction rate across the body axis: independent
+//!    of how the ba frame is rolled (continuous through α_b = 0, where the frame flips), and
+//!    for a body rate `(p, q, r)` at `V = (V, 0, 0)` exactly `cn_q (0, r, -q)` in force and
+//!    `cm_q (0, q, r)` in moment, the standard pitch and yaw damping.
 //! 7. Back to the nodal and body frames (5.3.30)-(5.3.32): `F_bn = C_ba,bnᵀ F_ba`,
 //!    `F_B = C_bn,Bᵀ F_bn = F_bn + θ_bn × F_bn` (and the same for the moment).
 //! 8. Transfer from the reference point to the key node (5.3.29): the reference point moves
@@ -66,6 +85,11 @@ pub enum AeroForceError {
         "the built-in aerodynamic estimator needs the generated body geometry (diameter, length, nose); give `aero {{ source = tables ... }}` for an imported FE model"
     )]
     NoBodyGeometry,
+    #[error(
+        "`body_aero {{ rate_terms = true }}` needs the rate derivatives, but the body table {} has no `cn_q,cm_q` columns (add them, or set `rate_terms = false`)",
+        path.display()
+    )]
+    NoRateColumns { path: std::path::PathBuf },
     #[error("vehicle `{vehicle}` has fin aerodynamics but no `fins` block")]
     NoFins { vehicle: String },
     #[error("{what} node index {index} is outside the compiled model ({n_nodes} nodes)")]
@@ -87,6 +111,8 @@ pub enum AeroForceError {
         "the compiled vehicle has {key_nodes} fin key nodes, the `fins` block has {declared} fins"
     )]
     FinCount { key_nodes: usize, declared: usize },
+    #[error("cached aerodynamics: {0}")]
+    Cached(String),
     #[error("fin {fin} has no nodes in the compiled model")]
     EmptyFin { fin: usize },
     #[error(
@@ -110,16 +136,6 @@ pub enum AeroFault {
     Atmosphere { altitude_m: f64 },
     /// A non-finite state reached the aerodynamics.
     NonFinite,
-}
-
-/// Rate derivatives of (5.3.7)-(5.3.9) per radian, non-dimensionalised by `b/(2V)`. The
-/// coefficient tables do not hold them; zero unless supplied.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct RateDerivatives {
-    /// C_Nα̇ (= C_Nβ̇ for a body of revolution, (5.3.8)).
-    pub cn_alpha_dot: f64,
-    /// C_Mα̇.
-    pub cm_alpha_dot: f64,
 }
 
 /// The body and fin coefficient tables of a vehicle: the CSV files of `aero { source =
@@ -183,6 +199,8 @@ pub fn planform(f: &ir::Fins, body_radius: f64) -> FinPlanform {
 /// The six shape rows of one node (translations then rotations), copied at construction.
 #[derive(Clone, Debug)]
 pub(crate) struct NodeRows {
+    /// Index of the node in the compiled model.
+    pub index: usize,
     /// Undeformed body-frame position.
     pub position: [f64; 3],
     /// Row-major 6 x n.
@@ -214,10 +232,16 @@ impl NodeRows {
             });
         }
         Ok(NodeRows {
+            index: node,
             position: c.node_positions[node],
             rows: c.shapes[6 * node * n..6 * (node + 1) * n].to_vec(),
             n,
         })
+    }
+
+    /// The six rows (u, v, w, θx, θy, θz), row-major 6 x n.
+    pub(crate) fn rows(&self) -> &[f64] {
+        &self.rows
     }
 
     /// `(S_u q, S_θ q)` for modal coordinates (or rates) `q`.
@@ -316,7 +340,8 @@ pub struct BodyAero {
     table: CoefficientTable,
     atmosphere: Standard1976,
     stimuli: Stimuli,
-    rates: Option<RateDerivatives>,
+    /// `body_aero { rate_terms }`: apply the table's rate columns.
+    rate_terms: bool,
     fault: Option<AeroFault>,
     last: BodyAeroSample,
 }
@@ -324,19 +349,24 @@ pub struct BodyAero {
 impl BodyAero {
     /// Builds the block for the compiled vehicle `c` of the checked vehicle `v` with the body
     /// coefficient table `table` (see [`aero_tables`]). Rate terms follow
-    /// `v.forces.body_aero.rate_terms`, with the derivatives `rates`.
+    /// `v.forces.body_aero.rate_terms`, with the derivatives of the table's rate columns
+    /// (an error when it has none).
     pub fn new(
         c: &CompiledVehicle,
         v: &ir::Vehicle,
         table: CoefficientTable,
         atmosphere: Standard1976,
         stimuli: Stimuli,
-        rates: RateDerivatives,
     ) -> Result<Self, AeroForceError> {
         let key = NodeRows::new(c, c.key_body as usize, "body key node")?;
         let r_ref = v.aero.reference_point.value;
         let lever = [0, 1, 2].map(|k| r_ref[k] - key.position[k]);
         let rate_terms = v.forces.body_aero.as_ref().is_some_and(|b| b.rate_terms);
+        if rate_terms && !table.has_rates() {
+            return Err(AeroForceError::NoRateColumns {
+                path: table.source().to_path_buf(),
+            });
+        }
         Ok(BodyAero {
             key,
             lever,
@@ -345,7 +375,7 @@ impl BodyAero {
             table,
             atmosphere,
             stimuli,
-            rates: rate_terms.then_some(rates),
+            rate_terms,
             fault: None,
             last: BodyAeroSample::default(),
         })
@@ -375,6 +405,31 @@ impl BodyAero {
     /// What the last evaluation computed.
     pub fn last(&self) -> BodyAeroSample {
         self.last
+    }
+
+    /// Index of the body key node in the compiled model.
+    pub fn key_node(&self) -> usize {
+        self.key.index
+    }
+
+    /// Undeformed position of the body key node, m.
+    pub fn key_node_position(&self) -> [f64; 3] {
+        self.key.position
+    }
+
+    /// The shape rows at the body key node (u, v, w, θx, θy, θz; 6 x n, row-major).
+    pub fn key_node_rows(&self) -> &[f64] {
+        self.key.rows()
+    }
+
+    /// `r_ref - r_bn` (undeformed), m.
+    pub fn lever(&self) -> [f64; 3] {
+        self.lever
+    }
+
+    /// The body coefficient table.
+    pub fn table(&self) -> &CoefficientTable {
+        &self.table
     }
 }
 
@@ -428,25 +483,32 @@ impl ForceModel for BodyAero {
             self.fault.get_or_insert(AeroFault::NonFinite);
             return;
         };
-        let (mut cn, mut cm) = (coef.cn, coef.cm);
-        let (mut alpha_dot, mut beta_dot) = (0.0, 0.0);
-        if let Some(rd) = self.rates {
-            // (5.3.22)-(5.3.25).
-            let wv = cross(&state.angular_velocity, &v_bn);
-            let z_dot = [theta_dot[1], -theta_dot[0], 0.0];
-            let y_dot = [-theta_dot[2], 0.0, theta_dot[0]];
-            alpha_dot = (dot(&z_dot, &v_bn) - dot(&z_ba, &wv)) / speed;
-            beta_dot = (dot(&y_dot, &v_bn) - dot(&y_ba, &wv)) / speed;
-            let k = (alpha_dot + beta_dot) * self.length / (2.0 * speed);
-            cn += rd.cn_alpha_dot * k;
-            cm += rd.cm_alpha_dot * k;
-        }
+        let (cn, cm) = (coef.cn, coef.cm);
         // Coefficient frame (5.3.27) and back to ba (5.3.28): F_ba = diag(-1,-1,1) F_co.
         let qs = q * self.area;
         let f_co = [coef.ca * qs, 0.0, -cn * qs];
         let m_co = [0.0, -cm * qs * self.length, 0.0];
-        let f_ba = [-f_co[0], -f_co[1], f_co[2]];
-        let m_ba = [-m_co[0], -m_co[1], m_co[2]];
+        let mut f_ba = [-f_co[0], -f_co[1], f_co[2]];
+        let mut m_ba = [-m_co[0], -m_co[1], m_co[2]];
+        let (mut alpha_dot, mut beta_dot) = (0.0, 0.0);
+        if self.rate_terms {
+            let Ok(Some(rd)) = self.table.body_rates(m_q, a_q, h_q) else {
+                self.fault.get_or_insert(AeroFault::NonFinite);
+                return;
+            };
+            // (5.3.22)-(5.3.25) with the ba axes turning with the key node (module doc).
+            let w = [0, 1, 2].map(|k| state.angular_velocity[k] + theta_dot[k]);
+            let wv = cross(&w, &v_bn);
+            alpha_dot = -dot(&z_ba, &wv) / speed;
+            beta_dot = -dot(&y_ba, &wv) / speed;
+            // Rate loads in ba axes at the reference point (module doc, step 6).
+            let k = self.length / (2.0 * speed);
+            let (fn_k, m_k) = (-qs * k * rd.cn_q, qs * self.length * k * rd.cm_q);
+            f_ba[1] += fn_k * beta_dot;
+            f_ba[2] += fn_k * alpha_dot;
+            m_ba[1] += m_k * alpha_dot;
+            m_ba[2] -= m_k * beta_dot;
+        }
         // ba -> bn (5.3.30)-(5.3.31): C_ba,bnᵀ x = x_ba x0 + y_ba x1 + z_ba x2 (x_ba = e1).
         let to_bn = |x: [f64; 3]| {
             [

@@ -103,6 +103,8 @@ struct Fin {
     delta: f64,
     positions: Vec<[f64; 3]>,
     nodes: Vec<FinNode>,
+    /// Virtual nodes on the root chord (the last `n_virtual` of `nodes`).
+    n_virtual: usize,
     loads: FinLoadTable,
     /// The distribution lumped per grid Mach g (stride `6 n + 4`): `Σ_k w_k S_k` (3 x n,
     /// row-major), `Σ_k w_k r_k` (3), `Σ_k w_k (y_k - y_root)` (1), `Σ_k w_k S_θ,k` (3 x n,
@@ -163,6 +165,21 @@ impl FinAero {
         table: CoefficientTable,
         atmosphere: Standard1976,
         stimuli: Stimuli,
+    ) -> Result<Self, AeroForceError> {
+        Self::with_load_tables(c, v, table, atmosphere, stimuli, None)
+    }
+
+    /// [`Self::new`] with each fin's load weights taken from `precomputed` (one per fin, built
+    /// before for the same vehicle, e.g. read from the cache) instead of being computed; a
+    /// table whose Mach grid or node count does not fit the fin is not used (the weights
+    /// are computed instead).
+    pub fn with_load_tables(
+        c: &CompiledVehicle,
+        v: &ir::Vehicle,
+        table: CoefficientTable,
+        atmosphere: Standard1976,
+        stimuli: Stimuli,
+        precomputed: Option<&[FinLoadTable]>,
     ) -> Result<Self, AeroForceError> {
         let f = v.fins.as_ref().ok_or_else(|| AeroForceError::NoFins {
             vehicle: v.name.value.clone(),
@@ -256,7 +273,11 @@ impl FinAero {
                     span_arm.push(0.0);
                 }
             }
-            let loads = FinLoadTable::new(&planform(f, y_root), &nodes, &machs, model)?;
+            let n_virtual = nodes.len() - members.len();
+            let loads = match precomputed.and_then(|l| l.get(i)) {
+                Some(t) if t.machs() == machs.as_slice() && t.n_nodes() == nodes.len() => t.clone(),
+                _ => FinLoadTable::new(&planform(f, y_root), &nodes, &machs, model)?,
+            };
             let stride = LUMPED_EXTRA + 6 * n;
             let mut lumped = vec![0.0; loads.machs().len() * stride];
             for (g, chunk) in lumped.chunks_exact_mut(stride).enumerate() {
@@ -287,6 +308,7 @@ impl FinAero {
                 lumped,
                 lumped_now: vec![0.0; LUMPED_EXTRA + 6 * n],
                 nodes,
+                n_virtual,
                 loads,
                 stress: FinRootStress {
                     thickness: f.thickness.value,
@@ -353,6 +375,41 @@ impl FinAero {
     /// The fin's nodes in non-dimensional planform coordinates (5.4.17)-(5.4.18).
     pub fn nodes(&self, fin: usize) -> &[FinNode] {
         self.fins.get(fin).map_or(&[], |f| &f.nodes)
+    }
+
+    /// The load weights of every fin on the Mach grid, in fin order.
+    pub fn load_tables(&self) -> Vec<FinLoadTable> {
+        self.fins.iter().map(|f| f.loads.clone()).collect()
+    }
+
+    /// The load weights of fin `fin` on the Mach grid.
+    pub fn load_table(&self, fin: usize) -> Option<&FinLoadTable> {
+        self.fins.get(fin).map(|f| &f.loads)
+    }
+
+    /// Index of fin `fin`'s key node in the compiled model.
+    pub fn key_node(&self, fin: usize) -> Option<usize> {
+        self.fins.get(fin).map(|f| f.key.index)
+    }
+
+    /// Undeformed position of fin `fin`'s key node, m.
+    pub fn key_node_position(&self, fin: usize) -> Option<[f64; 3]> {
+        self.fins.get(fin).map(|f| f.key.position)
+    }
+
+    /// The shape rows at fin `fin`'s key node (u, v, w, θx, θy, θz; 6 x n, row-major).
+    pub fn key_node_rows(&self, fin: usize) -> &[f64] {
+        self.fins.get(fin).map_or(&[], |f| f.key.rows())
+    }
+
+    /// Number of virtual nodes added on fin `fin`'s root chord.
+    pub fn virtual_root_nodes(&self, fin: usize) -> usize {
+        self.fins.get(fin).map_or(0, |f| f.n_virtual)
+    }
+
+    /// The fin coefficient table.
+    pub fn table(&self) -> &CoefficientTable {
+        &self.table
     }
 
     /// Undeformed body-frame positions of the fin's nodes.

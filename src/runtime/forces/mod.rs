@@ -18,7 +18,7 @@ pub mod thrust;
 
 use super::eom::{ForceModel, StateView};
 
-pub use body_aero::{AeroFault, AeroForceError, BodyAero, RateDerivatives, aero_tables};
+pub use body_aero::{AeroFault, AeroForceError, BodyAero, aero_tables};
 pub use fin_aero::FinAero;
 pub use gravity::GravityBlock;
 pub use stress::FinRootStress;
