@@ -151,7 +151,7 @@ pub(crate) fn check_scenario(
                 [0.0, l.elevation.value, l.heading.value],
                 l.span,
             )),
-            position: InitialPosition::Altitude(l.site_altitude.clone()),
+            position: InitialPosition::Altitude(l.site_altitude),
         }),
         (Some(_), _, None) => None,
         (None, _, ib) => ib.and_then(|ib| check_initial(cx, ib)),

@@ -132,6 +132,7 @@ pub struct SteadyWind {
 }
 
 #[derive(Clone, Debug, PartialEq)]
+#[allow(clippy::large_enum_variant)] // fixed-size table: no heap copy per block
 enum SteadyKind {
     Constant([f64; 3]),
     PowerLaw {
@@ -205,7 +206,7 @@ impl SteadyWind {
                 reference_height,
                 exponent,
             } => {
-                if !(z > 0.0) {
+                if z.is_nan() || z <= 0.0 {
                     return [0.0; 3];
                 }
                 let f = (z / reference_height).powf(*exponent);
