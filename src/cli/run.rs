@@ -89,11 +89,11 @@ pub fn cmd_plan(
     cache_dir: Option<&Path>,
     term: Terminal,
 ) -> u8 {
-    let (p, compiled, sc, _, _) = match prepare_with_scenario(file, scenario, common, cache_dir, term)
-    {
-        Ok(x) => x,
-        Err(code) => return code,
-    };
+    let (p, compiled, sc, _, _) =
+        match prepare_with_scenario(file, scenario, common, cache_dir, term) {
+            Ok(x) => x,
+            Err(code) => return code,
+        };
     match common.output.format {
         Format::Human => {
             print!("{}", plan::summary_text(&p));
