@@ -350,8 +350,9 @@ fn burning_flight_energy_balance_closes() {
     let diss = b["dissipated_j"].as_f64().unwrap();
     eprintln!("energy balance: {b}");
     assert!(wp > 1e5 && wl < 0.0 && diss > 0.0, "{b}");
-    // Achieved: 2.5e-12 (rtol 1e-12).
-    assert!(rel < 2e-11, "relative residual {rel:e}");
+    // Achieved: 2.5e-12 (rtol 1e-12) with the old modal damping; 2.55e-11 since `damping`
+    // became the free vehicle's damping ratio (a full damping matrix on this vehicle).
+    assert!(rel < 5e-11, "relative residual {rel:e}");
     assert_eq!(s["mass"]["motor"]["propellant_kg"].as_f64(), Some(3.0));
 }
 

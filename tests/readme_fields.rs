@@ -220,6 +220,7 @@ vehicle mm {
   origin = nearest((0, 0, 0) m)
   structure { files { format = matrix_market; mass = "m.mtx"; stiffness = "k.mtx"; nodes = "n.csv"; elements = "e.csv"; dof_order = [u, v, w, rx, ry, rz]; coordinates_unit = mm } }
   key_nodes { body = node(1); nozzle = node(2) }
+  motor mo { curve = "c.eng"; position = (-1, 0, 0) m; length = 0.5 m; diameter = 50 mm; propellant_mass = 1 kg; total_mass = 2 kg }
   modes { indices = [1, 2]; band = [1 Hz, 100 Hz]; fixity = none; damping = 0.01 }
   aero { source = tables; body_table = "b.csv"; fin_table = "f.csv"; out_of_range = clamp; reference_area = 1 m^2; reference_length = 1 m; reference_point = (0, 0, 0) m }
   forces {
