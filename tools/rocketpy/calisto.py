@@ -37,10 +37,9 @@ def motor_file():
     sys.exit("Cesaroni_M1670.eng not found in shared/motors or examples/calisto")
 
 
-def build():
-    env = Environment(latitude=32.990254, longitude=-106.974998, elevation=1400)
-    env.set_atmospheric_model(type="standard_atmosphere")
-    motor = SolidMotor(
+def pro75_m1670():
+    """The Cesaroni Pro75 M1670 of RocketPy's first-simulation page."""
+    return SolidMotor(
         thrust_source=motor_file(),
         dry_mass=1.815,
         dry_inertia=(0.125, 0.125, 0.002),
@@ -58,6 +57,12 @@ def build():
         throat_radius=11 / 1000,
         coordinate_system_orientation="nozzle_to_combustion_chamber",
     )
+
+
+def build():
+    env = Environment(latitude=32.990254, longitude=-106.974998, elevation=1400)
+    env.set_atmospheric_model(type="standard_atmosphere")
+    motor = pro75_m1670()
     calisto = Rocket(
         radius=127 / 2000,
         mass=14.426,

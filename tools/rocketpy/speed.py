@@ -17,34 +17,17 @@ import os
 import statistics
 import time
 
-from rocketpy import Environment, Flight, Rocket, SolidMotor
+from calisto import pro75_m1670
+from rocketpy import Environment, Flight, Rocket
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "data")
-MOTOR = os.path.join(HERE, "..", "..", "..", "shared", "motors", "Cesaroni_M1670.eng")
 
 
 def build():
     env = Environment(latitude=0, longitude=0, elevation=0)
     env.set_atmospheric_model(type="standard_atmosphere")
-    motor = SolidMotor(
-        thrust_source=MOTOR,
-        dry_mass=1.815,
-        dry_inertia=(0.125, 0.125, 0.002),
-        nozzle_radius=33 / 1000,
-        grain_number=5,
-        grain_density=1815,
-        grain_outer_radius=33 / 1000,
-        grain_initial_inner_radius=15 / 1000,
-        grain_initial_height=120 / 1000,
-        grain_separation=5 / 1000,
-        grains_center_of_mass_position=0.397,
-        center_of_dry_mass_position=0.317,
-        nozzle_position=0,
-        burn_time=3.9,
-        throat_radius=11 / 1000,
-        coordinate_system_orientation="nozzle_to_combustion_chamber",
-    )
+    motor = pro75_m1670()
     # Nose tip at +1.5896 m, tail at -1.1604 m about the centre of mass (tail_to_nose axis).
     r = Rocket(
         radius=0.127 / 2,
