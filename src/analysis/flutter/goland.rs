@@ -1,0 +1,1 @@
+//! The Goland wing (placeholder until the next step).
