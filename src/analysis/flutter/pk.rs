@@ -25,7 +25,7 @@
 //! problem is reduced with `M⁻¹` (LU), `A = [[0, I], [-M⁻¹ K̃, -M⁻¹ B̃]]`, eigenvalues
 //! `p = ω (γ ± i)`. For each mode the reduced frequency is iterated until the `k` of its root,
 //! `k = Im(p) b / V`, matches the `k` at which `Q` was evaluated (Hassig's consistency
-//! condition; fixed point with relaxation, tolerance [`PkSettings::k_tolerance`]). The damping
+//! condition; fixed point, with a bracketing fallback, tolerance [`PkSettings::k_tolerance`]). The damping
 //! is reported as `g = 2γ = 2 Re(p)/Im(p)` (Rodden & Johnson's convention), and the roots are
 //! tracked from speed to speed by continuation: each mode starts from its converged root at
 //! the previous speed (at the first speed from `i ω_j` of the vacuum modes).
@@ -350,15 +350,11 @@ fn inverse(m: &[f64], n: usize) -> Option<Mat<f64>> {
 pub struct PkSettings {
     /// Converged when `|k_new - k| <= k_tolerance * max(k, K_FLOOR)`.
     pub k_tolerance: f64,
-    pub max_iterations: usize,
 }
 
 impl Default for PkSettings {
     fn default() -> Self {
-        PkSettings {
-            k_tolerance: 1e-11,
-            max_iterations: 200,
-        }
+        PkSettings { k_tolerance: 1e-11 }
     }
 }
 
@@ -497,14 +493,30 @@ impl<'a> PkProblem<'a> {
         Ok(ev)
     }
 
-    /// The converged root of the branch started at `p0`, at speed `v`.
+    /// The root of `A(v, k)` continuing the branch: nearest (Im >= 0) to `p0`.
+    fn select(&mut self, v: f64, k: f64, p0: c64) -> Result<c64, FlutterError> {
+        let ev = self.eigenvalues(v, k)?;
+        let scale = p0.norm().max(1e-12);
+        ev.iter()
+            .filter(|z| z.im >= -1e-12 * scale)
+            .min_by(|x, y| (**x - p0).norm().total_cmp(&(**y - p0).norm()))
+            .copied()
+            .ok_or(FlutterError::Eigen { speed: v })
+    }
+
+    /// The converged root of the branch started at `p0`, at speed `v`: a zero of the residual
+    /// `r(k) = Im(p(k)) b / V - k` (Hassig's consistency condition), `p(k)` the root of
+    /// `A(v, k)` that continues the branch (nearest to the previous iterate's root).
+    ///
+    /// The first step is the classical fixed-point step `k <- k + r`; while `r` keeps its sign
+    /// the step is doubled (the fixed-point map of a heavily damped root has a slope near 1 and
+    /// would crawl); once `r` changes sign the zero is bracketed and found by Brent's method. A
+    /// branch whose root turns real (no oscillatory consistent root: `r < 0` down to the point
+    /// where `p` leaves the imaginary half-plane) is reported as non-oscillatory, `k = K_FLOOR`.
     fn solve_mode(&mut self, mode: usize, v: f64, p0: c64) -> Result<PkRoot, FlutterError> {
         let b = self.model.b_ref;
         let (lo, hi) = self.gaf.k_range();
-        let mut p = p0;
-        let mut k = (p.im.max(0.0) * b / v).max(K_FLOOR);
-        let mut relax = 1.0;
-        for it in 0..self.settings.max_iterations {
+        let check = |k: f64| -> Result<(), FlutterError> {
             if k > hi * (1.0 + 1e-12) || (lo > 0.0 && k < lo * (1.0 - 1e-12) && k > 10.0 * K_FLOOR)
             {
                 return Err(FlutterError::KOutOfRange {
@@ -515,28 +527,67 @@ impl<'a> PkProblem<'a> {
                     hi,
                 });
             }
-            let ev = self.eigenvalues(v, k)?;
-            // Nearest root with Im >= 0 to the current estimate.
-            let scale = p.norm().max(1e-12);
-            let next = ev
-                .iter()
-                .filter(|z| z.im >= -1e-12 * scale)
-                .min_by(|x, y| (**x - p).norm().total_cmp(&(**y - p).norm()))
-                .copied()
-                .ok_or(FlutterError::Eigen { speed: v })?;
-            let k_new = (next.im.max(0.0) * b / v).max(K_FLOOR);
-            p = next;
-            if (k_new - k).abs() <= self.settings.k_tolerance * k.max(K_FLOOR) {
+            Ok(())
+        };
+        let tol = self.settings.k_tolerance;
+        let is_real = |p: c64| p.im <= 1e-9 * p.norm();
+        let mut k = (p0.im.max(0.0) * b / v).max(10.0 * K_FLOOR);
+        let mut p = p0;
+        let mut last: Option<(f64, f64, c64)> = None;
+        let mut gamma = 1.0_f64;
+        for _ in 0..200 {
+            check(k)?;
+            p = self.select(v, k, p)?;
+            if is_real(p) {
+                return Ok(PkRoot {
+                    speed: v,
+                    p: c64::new(p.re, 0.0),
+                    k: K_FLOOR,
+                });
+            }
+            let r = p.im * b / v - k;
+            if r.abs() <= tol * k {
                 return Ok(PkRoot {
                     speed: v,
                     p,
-                    k: k_new,
+                    k: k + r,
                 });
             }
-            if it == 50 || it == 100 {
-                relax *= 0.5;
+            if let Some((kl, rl, pl)) = last {
+                if rl.signum() != r.signum() {
+                    let mut f = |kk: f64| -> Result<f64, FlutterError> {
+                        check(kk)?;
+                        let q = self.select(v, kk, pl)?;
+                        Ok(if is_real(q) { -kk } else { q.im * b / v - kk })
+                    };
+                    let ks = brent(&mut f, kl, k, rl, r)?;
+                    let q = self.select(v, ks, pl)?;
+                    if is_real(q) {
+                        return Ok(PkRoot {
+                            speed: v,
+                            p: c64::new(q.re, 0.0),
+                            k: K_FLOOR,
+                        });
+                    }
+                    let kn = q.im * b / v;
+                    if (kn - ks).abs() > 1e3 * tol * ks {
+                        // The selected root jumps inside the bracket: no continuous zero.
+                        return Err(FlutterError::NoConvergence {
+                            mode,
+                            speed: v,
+                            k: ks,
+                        });
+                    }
+                    return Ok(PkRoot {
+                        speed: v,
+                        p: q,
+                        k: kn,
+                    });
+                }
+                gamma = (2.0 * gamma).min(1e6);
             }
-            k += relax * (k_new - k);
+            last = Some((k, r, p));
+            k = (k + gamma * r).clamp(10.0 * K_FLOOR, hi);
         }
         Err(FlutterError::NoConvergence { mode, speed: v, k })
     }
