@@ -1,6 +1,7 @@
 //! A uniform cantilever wing in bending and torsion with Theodorsen strip theory, and the
 //! Goland wing (Goland, "The flutter of a uniform cantilever wing", J. Appl. Mech. 12(4),
-//! 1945, A197-A208; Goland & Luke, J. Aeronaut. Sci. 15, 1948).
+//! 1945, A197-A208; Goland & Luke, "The flutter of a uniform wing with tip weights",
+//! J. Appl. Mech. 15, 1948).
 //!
 //! # Structure: beam elements
 //!
@@ -35,8 +36,8 @@
 //!
 //! Semi-span 20 ft, chord 6 ft, elastic axis at 33 % chord, mass centre at 43 % chord,
 //! mass 0.746 slug/ft, `I_α` = 1.943 slug ft²/ft about the elastic axis, `EI` = 23.65e6 lb ft²,
-//! `GJ` = 2.39e6 lb ft², sea-level air 0.002378 slug/ft³ (Goland 1945, as tabulated by
-//! Bisplinghoff, Ashley & Halfman, *Aeroelasticity*, 1955, §9-3). Converted to SI exactly
+//! `GJ` = 2.39e6 lb ft², sea-level air 0.002378 slug/ft³ (Goland 1945; the same data are
+//! used in Bisplinghoff, Ashley & Halfman, *Aeroelasticity*, 1955, ch. 9). Converted to SI exactly
 //! (1 ft = 0.3048 m, 1 slug = 14.593 902 937 kg, 1 lbf = 4.448 221 615 260 5 N).
 
 use faer::c64;
