@@ -50,6 +50,10 @@ pub const FT: f64 = 0.3048;
 pub const SLUG: f64 = 14.593_902_937;
 pub const LBF: f64 = 4.448_221_615_260_5;
 
+/// A flutter problem of [`UniformWing::flutter_problem`]: the modal model, its strip-theory
+/// GAF and the modes.
+pub type StripProblem<F> = (FlutterModel, GafFn<F>, Modes);
+
 /// A uniform cantilever wing (SI).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct UniformWing {
@@ -273,7 +277,7 @@ impl UniformWing {
         &self,
         elements: usize,
         count: usize,
-    ) -> Result<(FlutterModel, GafFn<impl Fn(f64, &mut [c64]) + use<>>, Modes), FlutterError> {
+    ) -> Result<StripProblem<impl Fn(f64, &mut [c64]) + use<>>, FlutterError> {
         let (beam, modes) = self.modes(elements, count)?;
         let phi = &modes.shapes;
         let p = |w: &DMatrix<f64>| -> Vec<f64> {

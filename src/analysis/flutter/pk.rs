@@ -203,8 +203,8 @@ impl Gaf for GafTable {
         let b = (k - x0) / h;
         let ca = (a * a * a - a) * h * h / 6.0;
         let cb = (b * b * b - b) * h * h / 6.0;
-        for e in 0..nn {
-            out[e] = self.values[i * nn + e] * a
+        for (e, o) in out.iter_mut().enumerate().take(nn) {
+            *o = self.values[i * nn + e] * a
                 + self.values[(i + 1) * nn + e] * b
                 + self.second[i * nn + e] * ca
                 + self.second[(i + 1) * nn + e] * cb;
@@ -831,7 +831,7 @@ fn k_method_eigs(
 }
 
 fn k_root(k: f64, b: f64, mu: c64) -> Option<KRoot> {
-    if !(mu.re > 0.0) {
+    if mu.re.is_nan() || mu.re <= 0.0 {
         return None;
     }
     let omega = 1.0 / mu.re.sqrt();
