@@ -166,7 +166,9 @@ struct Fin {
 }
 
 /// The lifting-surface model's matrices: per fin, per grid Mach, the `η` and `η̇ / V` columns
-/// of the panel transfer matrix (`(n + 3) x 2 n`, row-major).
+/// of the panel transfer matrix (`(n + 3) x 2 n`), stored column by column so that the
+/// product is a sequence of independent axpy's over the `n + 3` outputs (vectorisable; a
+/// row-by-row dot product is one serial chain of additions per output).
 #[derive(Clone, Debug)]
 struct Elastic {
     model: Arc<PanelModel>,
@@ -443,8 +445,9 @@ impl FinAero {
                         let (rows, cols) = (t.rows(), t.cols());
                         let mut b = Vec::with_capacity(machs.len() * rows * 2 * n);
                         for g in 0..machs.len() {
-                            for r in t.at(g).chunks_exact(cols).take(rows) {
-                                b.extend_from_slice(&r[..2 * n]);
+                            let m = t.at(g);
+                            for col in 0..2 * n {
+                                b.extend((0..rows).map(|r| m[r * cols + col]));
                             }
                         }
                         b
@@ -790,27 +793,32 @@ impl ForceModel for FinAero {
                 for (x, e) in u[n..].iter_mut().zip(state.eta_dot) {
                     *x = e / speed;
                 }
-                let cols = 2 * n;
-                let block = (n + 3) * cols;
+                let rows = n + 3;
+                let block = rows * 2 * n;
                 let t = &el.blocks[fin_index];
                 let lo = &t[g * block..(g + 1) * block];
-                let hi = if tg > 0.0 {
-                    &t[(g + 1) * block..(g + 2) * block]
-                } else {
-                    lo
-                };
-                let (wl, wh) = (q * leeward_factor * (1.0 - tg), q * leeward_factor * tg);
-                for ((out_r, a), b) in y
-                    .iter_mut()
-                    .zip(lo.chunks_exact(cols))
-                    .zip(hi.chunks_exact(cols))
-                {
-                    let (mut sa, mut sb) = (0.0, 0.0);
-                    for ((x, ta), tb) in u.iter().zip(a).zip(b) {
-                        sa += ta * x;
-                        sb += tb * x;
+                let scale = q * leeward_factor;
+                y.fill(0.0);
+                if tg > 0.0 {
+                    let hi = &t[(g + 1) * block..(g + 2) * block];
+                    let (wl, wh) = (scale * (1.0 - tg), scale * tg);
+                    for ((x, a), b) in u
+                        .iter()
+                        .zip(lo.chunks_exact(rows))
+                        .zip(hi.chunks_exact(rows))
+                    {
+                        let (xa, xb) = (wl * x, wh * x);
+                        for ((yr, ta), tb) in y.iter_mut().zip(a).zip(b) {
+                            *yr += ta * xa + tb * xb;
+                        }
                     }
-                    *out_r = wl * sa + wh * sb;
+                } else {
+                    for (x, a) in u.iter().zip(lo.chunks_exact(rows)) {
+                        let xa = scale * x;
+                        for (yr, ta) in y.iter_mut().zip(a) {
+                            *yr += ta * xa;
+                        }
+                    }
                 }
                 for (qm, yj) in out[6..6 + n].iter_mut().zip(&y[..n]) {
                     *qm += yj;
