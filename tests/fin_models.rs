@@ -384,3 +384,75 @@ fn panel_matrices_are_cached_with_the_aerodynamics() {
         .unwrap();
     assert!(kc.aero.panels.is_none());
 }
+
+/// The lifting-surface model's elastic increments are the panel loads `q T(M) u` scaled by the
+/// leeward factor: the modal forces, the net normal force and the root bending moment (so the
+/// root stress monitor sees them), fin by fin, in a crossflow where some fins are leeward.
+#[test]
+fn lifting_surface_increments_are_the_panel_loads() {
+    use flexflight::runtime::atmosphere::{Atmosphere, Standard1976};
+    use flexflight::runtime::eom::{ForceModel, StateLayout, StateView};
+    let v = variant("subsonic_t06", &[LIFTING]);
+    let mut block = v.plan.aero.as_ref().unwrap().fin.clone().unwrap();
+    let panels = block.panel_model().unwrap().clone();
+    let n = v.plan.n_modes;
+    let altitude = 5000.0;
+    let eval = |block: &mut flexflight::runtime::forces::FinAero, eta: &[f64], eta_dot: &[f64]| {
+        let layout = StateLayout { n };
+        let x = layout.state(
+            [0.0, 0.0, -altitude],
+            [0.0, 0.0, 0.0, 1.0],
+            [200.0, 6.0, 15.0],
+            [0.0; 3],
+            eta,
+            eta_dot,
+        );
+        let view = StateView::new(layout, &x);
+        let mut out = vec![0.0; 6 + n];
+        block.generalized_forces(0.0, &view, &mut out);
+        let samples: Vec<_> = (0..block.n_fins()).map(|i| block.last(i).unwrap()).collect();
+        (out, samples)
+    };
+    let eta: Vec<f64> = (0..n).map(|k| 1e-4 * (k as f64 + 1.0)).collect();
+    let eta_dot: Vec<f64> = (0..n).map(|k| 1e-2 * (k as f64 - 3.0)).collect();
+    let (out0, s0) = eval(&mut block, &vec![0.0; n], &vec![0.0; n]);
+    let (out1, s1) = eval(&mut block, &eta, &eta_dot);
+    let a = Standard1976::new().at(altitude).unwrap().speed_of_sound;
+    let mut q_sum = vec![0.0; n];
+    let mut leeward = 0;
+    for (i, (p, d)) in s0.iter().zip(&s1).enumerate() {
+        assert_eq!(p.mach.to_bits(), d.mach.to_bits(), "the rigid airspeed ignores η");
+        assert_eq!(p.leeward_factor.to_bits(), d.leeward_factor.to_bits());
+        if d.leeward_factor < 1.0 {
+            leeward += 1;
+        }
+        let speed = d.mach * a;
+        let mut u: Vec<f64> = eta.clone();
+        u.extend(eta_dot.iter().map(|e| e / speed));
+        u.extend([0.0; 3]);
+        let mut y = vec![0.0; n + 3];
+        assert!(panels.apply(i, d.mach, d.dynamic_pressure * d.leeward_factor, &u, &mut y));
+        let close = |x: f64, y: f64, what: &str| {
+            assert!(
+                (x - y).abs() <= 1e-12 * y.abs().max(1e-9),
+                "fin {i} {what}: {x} vs {y}"
+            )
+        };
+        close(d.root_moment - p.root_moment, -y[n + 1], "root moment");
+        close(d.force_fin[2] - p.force_fin[2], -y[n], "normal force");
+        let stress = block.stress_model(i).unwrap().stress(d.root_moment);
+        assert_eq!(stress.to_bits(), d.root_stress.to_bits());
+        for j in 0..n {
+            q_sum[j] += y[j];
+        }
+    }
+    assert!(leeward > 0, "a crossflow makes some fins leeward");
+    for j in 0..n {
+        let dq = out1[6 + j] - out0[6 + j];
+        assert!(
+            (dq - q_sum[j]).abs() <= 1e-12 * q_sum[j].abs().max(1e-9),
+            "mode {j}: {dq} vs {}",
+            q_sum[j]
+        );
+    }
+}
