@@ -19,6 +19,7 @@
 pub mod aero;
 pub mod atmosphere;
 pub mod eom;
+pub mod flight;
 pub mod forces;
 pub mod integrate;
 pub mod kinematics;

@@ -658,7 +658,7 @@ impl ForceModel for FinAero {
             });
             return;
         };
-        let wind = self.stimuli.wind(t);
+        let wind = self.stimuli.wind_at(t, -state.position[2]);
         let n = self.n;
         let stride = LUMPED_EXTRA + 6 * n;
         for (fin_index, fin) in self.fins.iter_mut().enumerate() {
