@@ -1334,7 +1334,8 @@ fn check_forces(cx: &mut Cx, b: &Block) -> Option<Forces> {
             .value("leeward_reduction")
             .and_then(|v| f::boolean(cx, v))
             .unwrap_or(true);
-        let incidence = match fl.value("incidence") {
+        let incidence_value = fl.value("incidence");
+        let incidence = match incidence_value {
             Some(v) => f::keyword(
                 cx,
                 v,
@@ -1346,6 +1347,36 @@ fn check_forces(cx: &mut Cx, b: &Block) -> Option<Forces> {
             .map(|d| Spanned::new(d, v.span)),
             None => Some(Spanned::new(FinIncidence::KeyNode, fa.header)),
         };
+        let incidence_given = incidence_value.is_some();
+        let model = match fl.value("model") {
+            Some(v) => f::keyword(
+                cx,
+                v,
+                &[
+                    ("key_node", FinAeroModel::KeyNode),
+                    ("lifting_surface", FinAeroModel::LiftingSurface),
+                ],
+            )
+            .map(|d| Spanned::new(d, v.span)),
+            None => Some(Spanned::new(FinAeroModel::LiftingSurface, fa.header)),
+        };
+        // `incidence` chooses where the key-node model reads the fin's deformation; the
+        // lifting-surface model reads all of it from the panels, so the field would be
+        // silently ignored.
+        if let (Some(m), Some(i), true) = (&model, &incidence, incidence_given) {
+            if m.value == FinAeroModel::LiftingSurface {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::fin_aero::incidence_unused",
+                        "`incidence` only applies to `model = key_node`: the lifting-surface model takes the fin's deformation from its panels",
+                    )
+                    .label(i.span, "`incidence` given here")
+                    .label(m.span, "the fin aerodynamic model in effect")
+                    .with_help("remove `incidence`, or set `model = key_node`"),
+                );
+                ok = false;
+            }
+        }
         let stress = fl.value("stress_limit").map(|v| {
             f::check_range(
                 f::number(cx, v),
@@ -1363,17 +1394,18 @@ fn check_forces(cx: &mut Cx, b: &Block) -> Option<Forces> {
             Some(s) => s,
             None => None,
         };
-        match (dist, incidence) {
-            (Some(distribution), Some(incidence)) if on => {
+        match (dist, incidence, model) {
+            (Some(distribution), Some(incidence), Some(model)) if on => {
                 forces.fin_aero = Some(FinAero {
                     span: fa.header,
                     distribution,
                     leeward_reduction: lw,
                     stress_limit_fraction: stress,
                     incidence,
+                    model,
                 })
             }
-            (Some(_), Some(_)) => {}
+            (Some(_), Some(_), Some(_)) => {}
             _ => ok = false,
         }
     }
