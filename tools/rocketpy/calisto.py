@@ -37,10 +37,39 @@ def motor_file():
     sys.exit("Cesaroni_M1670.eng not found in shared/motors or examples/calisto")
 
 
+def thrust_points(path):
+    """The (time, thrust) points of a RASP .eng file, with one (0, 0) point.
+
+    RocketPy's `.eng` reader prepends (0, 0) itself and documents that the file "must not
+    contain the 0 0 point" (`Motor.import_eng`); the shared Cesaroni_M1670.eng has it, and
+    the duplicated t = 0 made the thrust NaN at ignition, the total impulse NaN and the
+    propellant never burn (RocketPy 1.13.0 flew the loaded 19.197 kg to apogee). Reading the
+    points here and handing RocketPy the list avoids that; the curve is the same.
+    """
+    pts = []
+    header = False
+    with open(path) as fh:
+        for line in fh:
+            line = line.split(";", 1)[0].strip()
+            if not line:
+                continue
+            if not header:
+                header = True
+                continue
+            t, f = (float(v) for v in line.split()[:2])
+            pts.append((t, f))
+    if not pts or pts[0][0] > 0.0:
+        pts.insert(0, (0.0, 0.0))
+    times = [p[0] for p in pts]
+    if any(b <= a for a, b in zip(times, times[1:])):
+        sys.exit(f"{path}: thrust curve times are not strictly increasing")
+    return pts
+
+
 def pro75_m1670():
     """The Cesaroni Pro75 M1670 of RocketPy's first-simulation page."""
     return SolidMotor(
-        thrust_source=motor_file(),
+        thrust_source=thrust_points(motor_file()),
         dry_mass=1.815,
         dry_inertia=(0.125, 0.125, 0.002),
         nozzle_radius=33 / 1000,
