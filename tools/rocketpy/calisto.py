@@ -11,7 +11,10 @@ Two changes, both to make the comparison about the same physics and not about in
 * no parachute noise.
 
 Prints one JSON object: apogee (m above the pad), time of apogee, speed at burnout, maximum
-Mach, out-of-rail speed and time, and the wall time of the flight solve.
+Mach, out-of-rail speed and time, maximum dynamic pressure and acceleration, the static
+margin (Mach 0) and the stability margin (at the flight's Mach) at rail exit, maximum q and
+its minimum, the landing point (north and east of the pad) and time, and the wall time of
+the flight solve.
 
 Usage: python calisto.py [--until-apogee] [--json OUT]
 """
@@ -148,7 +151,27 @@ def main():
         "out_of_rail_speed_m_s": float(f.out_of_rail_velocity),
         "out_of_rail_time_s": float(f.out_of_rail_time),
         "max_dynamic_pressure_pa": float(f.max_dynamic_pressure),
+        "max_dynamic_pressure_time_s": float(f.max_dynamic_pressure_time),
+        "max_acceleration_m_s2": float(f.max_acceleration),
+        "max_acceleration_time_s": float(f.max_acceleration_time),
+        # Rocket.static_margin is at Mach 0; Flight.stability_margin at the flight's Mach.
         "static_margin_at_rail_exit_cal": float(calisto.static_margin(f.out_of_rail_time)),
+        "stability_margin_at_rail_exit_cal": float(f.stability_margin(f.out_of_rail_time)),
+        "stability_margin_at_max_q_cal": float(f.stability_margin(f.max_dynamic_pressure_time)),
+        "min_stability_margin_cal": float(f.min_stability_margin),
+        "min_stability_margin_time_s": float(f.min_stability_margin_time),
+        "apogee_north_m": float(f.apogee_y),
+        "apogee_east_m": float(f.apogee_x),
+        "final_time_s": float(f.t_final),
+        "landing": None
+        if a.until_apogee
+        else {
+            "t": float(f.t_final),
+            "north_m": float(f.y_impact),
+            "east_m": float(f.x_impact),
+            "vertical_speed_m_s": float(f.impact_velocity),
+            "speed_m_s": float(f.speed(f.t_final)),
+        },
         "solve_wall_s": wall,
     }
     text = json.dumps(out, indent=2)
