@@ -175,7 +175,8 @@ pub struct FlightEvents {
 
 /// The static margin of the vehicle from the SAME coefficient tables its aerodynamic blocks
 /// use: with the normal-force slopes `C_N_alpha` by central difference at `alpha = ±2 deg`
-/// (the estimator's grid spacing), the body's centre of pressure
+/// (the estimator's grid spacing; one-sided over [0, 2] deg for a table whose alpha axis
+/// starts at 0, which the body block allows since it only queries `alpha_b >= 0`), the body's centre of pressure
 /// `x_b = x_ref + b C_M_alpha / C_N_alpha` (from (5.3.3): `C_M = C_N (x_cp - x_ref) / b`,
 /// x forward), each fin's `x_f = x_le,root - x_cp,f` (the fin table's chordwise centre of
 /// pressure aft of the root leading edge), and the fins' pitch-plane sum
@@ -234,12 +235,24 @@ impl StaticMargin {
             );
             t.lookup(m, a, h).ok()
         };
-        let da = 4f64.to_radians();
-        let (b_p, b_m) = (q(&self.body, 2.0)?, q(&self.body, -2.0)?);
-        let (f_p, f_m) = (q(&self.fin, 2.0)?, q(&self.fin, -2.0)?);
-        let cn_b = (b_p[0] - b_m[0]) / da;
-        let cm_b = (b_p[2] - b_m[2]) / da;
-        let cn_f = 0.5 * self.fins * (f_p[0] - f_m[0]) / da;
+        // The difference over [-2, 2] deg, cut to the table's alpha axis: a body table may
+        // start at alpha = 0 (the body block only queries alpha_b >= 0), where the slope is
+        // the one-sided (C(2) - C(0))/2 deg, equal to the central one for coefficients odd in
+        // alpha (a body of revolution).
+        let pair = |t: &crate::runtime::aero::CoefficientTable| {
+            let ax = t.axis(crate::runtime::aero::Axis::AlphaDeg);
+            let lo = (-2f64).max(ax[0]);
+            let hi = 2f64.min(*ax.last()?);
+            (hi > lo).then_some((hi, lo))
+        };
+        let (hb, lb) = pair(&self.body)?;
+        let (hf, lf) = pair(&self.fin)?;
+        let (b_p, b_m) = (q(&self.body, hb)?, q(&self.body, lb)?);
+        let (f_p, f_m) = (q(&self.fin, hf)?, q(&self.fin, lf)?);
+        let (db, df) = ((hb - lb).to_radians(), (hf - lf).to_radians());
+        let cn_b = (b_p[0] - b_m[0]) / db;
+        let cm_b = (b_p[2] - b_m[2]) / db;
+        let cn_f = 0.5 * self.fins * (f_p[0] - f_m[0]) / df;
         let x_cp_f = self.x_root_le - 0.5 * (f_p[2] + f_m[2]);
         let x_b = if cn_b != 0.0 {
             self.x_ref + self.length * cm_b / cn_b

@@ -150,6 +150,7 @@ def main():
         "max_mach_time_s": float(f.max_mach_number_time),
         "out_of_rail_speed_m_s": float(f.out_of_rail_velocity),
         "out_of_rail_time_s": float(f.out_of_rail_time),
+        "effective_rail_length_m": float(f.effective_1rl),
         "max_dynamic_pressure_pa": float(f.max_dynamic_pressure),
         "max_dynamic_pressure_time_s": float(f.max_dynamic_pressure_time),
         "max_acceleration_m_s2": float(f.max_acceleration),

@@ -27,8 +27,7 @@ flexflight's table model (docs/language.md, "Aerodynamic coefficient tables"):
 
 Grid: the drag curve's own Mach points (RocketPy interpolates it linearly, so the tables
 give the same C_D), angle of attack 0..180 deg (body) and -180..180 deg (fin) at points where
-linear interpolation of a linear function is exact, one altitude (none of it depends on
-altitude). Writes examples/calisto/calisto_body.csv and calisto_fins.csv and prints the
+linear interpolation of a linear function is exact, two altitudes with the same values. Writes examples/calisto/calisto_body.csv and calisto_fins.csv and prints the
 surfaces' numbers as JSON.
 
 Usage: python calisto_tables.py [--out DIR]
@@ -53,6 +52,9 @@ NOSE_TIP = 1.278
 REFERENCE_X = -1.39315  # the vdl's aero reference_point (the body key node, README)
 BODY_ALPHA = [0, 1, 2, 5, 10, 20, 45, 90, 135, 180]
 FIN_ALPHA = [-a for a in reversed(BODY_ALPHA[1:])] + BODY_ALPHA
+# Nothing depends on altitude; two rows spanning flexflight's atmosphere (-500 m .. 86 km)
+# because a one-value axis is a range of one point to the `stop` policy (README).
+ALTITUDES = [-500, 86000]
 
 
 def read_curve(path):
@@ -112,11 +114,13 @@ def main():
         for al in BODY_ALPHA:
             cn = cna_b * math.radians(al)
             cm = cn * (x_cp_b - REFERENCE_X) / d
-            body_rows.append((m, al, cn, cd, cm, cn_q, cm_q))
+            for h in ALTITUDES:
+                body_rows.append((m, al, h, cn, cd, cm, cn_q, cm_q))
         s = fins[0]
         cna_1 = float(s.lift_interference_factor * s.clalpha_single_fin(m))
         for al in FIN_ALPHA:
-            fin_rows.append((m, al, cna_1 * math.radians(al), 0.0, float(s.cpz)))
+            for h in ALTITUDES:
+                fin_rows.append((m, al, h, cna_1 * math.radians(al), 0.0, float(s.cpz)))
 
     prov = (
         "# derived from RocketPy 1.13.0 by tools/rocketpy/calisto_tables.py (calisto.py's rocket);"
@@ -127,14 +131,14 @@ def main():
         fh.write(prov)
         fh.write(f"# nose + tail: C_D(M) = powerOffDragCurve.csv, reference point x = {REFERENCE_X} m\n")
         fh.write("mach,alpha_deg,altitude_m,cn,ca,cm,cn_q,cm_q\n")
-        for m, al, cn, ca, cm, q1, q2 in body_rows:
-            fh.write(f"{m:.6g},{al},0,{cn:.12g},{ca:.12g},{cm:.12g},{q1:.12g},{q2:.12g}\n")
+        for m, al, h, cn, ca, cm, q1, q2 in body_rows:
+            fh.write(f"{m:.6g},{al},{h},{cn:.12g},{ca:.12g},{cm:.12g},{q1:.12g},{q2:.12g}\n")
     with open(os.path.join(a.out, "calisto_fins.csv"), "w") as fh:
         fh.write(prov)
         fh.write("# one fin: K * C_Nalpha,1(M) * alpha_f, Barrowman cpz\n")
         fh.write("mach,alpha_deg,altitude_m,cn,ca,x_cp_m\n")
-        for m, al, cn, ca, x in fin_rows:
-            fh.write(f"{m:.6g},{al},0,{cn:.12g},{ca:.12g},{x:.12g}\n")
+        for m, al, h, cn, ca, x in fin_rows:
+            fh.write(f"{m:.6g},{al},{h},{cn:.12g},{ca:.12g},{x:.12g}\n")
 
     info = {
         "reference_area_m2": rocket.area,

@@ -4,7 +4,7 @@
 Sets up tools/rocketpy/.venv if it is missing (setup_venv.sh), runs RocketPy's flight, runs
 `flexflight run examples/calisto/calisto.vdl --scenario calisto` with RocketPy's aerodynamics
 as tables (calisto_tables.py) and, for a second column, the same flight with flexflight's
-built-in estimator (`--set aero.source=builtin`), and prints a side-by-side table (the
+built-in estimator (a copy of the vdl with `aero { source = builtin }`), and prints a side-by-side table (the
 Markdown of docs/validation.md, "Calisto against RocketPy", with --markdown).
 
 Only the standard library is needed here; RocketPy runs in the venv. The flexflight binary is
@@ -16,6 +16,7 @@ Usage: python3 tools/rocketpy/compare_calisto.py [--markdown] [--keep DIR]
 import argparse
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -48,16 +49,48 @@ def rocketpy(work):
     return json.load(open(out))
 
 
-def flexflight(work, name, extra):
+BUILTIN_AERO = """  aero {
+    source = builtin
+    reference_length = 127 mm
+    reference_point = (-1.39315, 0, 0) m
+  }
+"""
+
+
+def vdl_variant(work, name, builtin):
+    """The vdl as it is, or a copy (with its motor and tables) whose aero block is the
+    built-in estimator's (a vehicle's `aero.source` cannot be overridden while it names
+    tables)."""
+    if not builtin:
+        return VDL
+    d = os.path.join(work, name + "_vdl")
+    os.makedirs(d, exist_ok=True)
+    src = os.path.dirname(VDL)
+    for f in os.listdir(src):
+        if f.endswith((".eng", ".csv")):
+            shutil.copy(os.path.join(src, f), d)
+    text = open(VDL).read()
+    text, n = re.subn(r"  aero \{\n.*?\n  \}\n", BUILTIN_AERO, text, count=1, flags=re.S)
+    if n != 1:
+        sys.exit("no aero block found in the vdl")
+    p = os.path.join(d, "calisto.vdl")
+    open(p, "w").write(text)
+    return p
+
+
+def flexflight(work, name, sets=(), builtin=False):
     out = os.path.join(work, name)
-    r = subprocess.run(
-        [flexflight_bin(), "run", VDL, "--scenario", "calisto", "--out", out,
-         "--cache-dir", os.path.join(work, "cache")] + extra,
-        capture_output=True, text=True,
-    )
+    cmd = [flexflight_bin(), "run", vdl_variant(work, name, builtin), "--scenario", "calisto",
+           "--out", out, "--cache-dir", os.path.join(work, "cache")]
+    for s in sets:
+        cmd += ["--set", s]
+    r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         sys.exit(f"flexflight run ({name}) failed:\n{r.stdout}\n{r.stderr}")
-    return json.load(open(os.path.join(out, "summary.json")))
+    s = json.load(open(os.path.join(out, "summary.json")))
+    if s["stop_reason"] != "ground":
+        sys.exit(f"flexflight run ({name}) did not reach the ground: {s['stop_detail']}")
+    return s
 
 
 def ff_values(s):
@@ -111,6 +144,7 @@ def rp_values(r):
         "land_v": land.get("speed_m_s"),
         "m0": None,
         "m1": None,
+        "rail_eff": r["effective_rail_length_m"],
     }
 
 
@@ -170,10 +204,21 @@ def main():
     os.makedirs(work, exist_ok=True)
     try:
         rp = rp_values(rocketpy(work))
-        ft = ff_values(flexflight(work, "tables", []))
-        fb = ff_values(flexflight(work, "builtin", ["--set", "aero.source=builtin"]))
+        ft = ff_values(flexflight(work, "tables"))
+        fb = ff_values(flexflight(work, "builtin", builtin=True))
+        # RocketPy's rail: the vehicle is free when its upper rail button leaves the rail,
+        # after `rail_length - |nozzle - upper button|` (Flight.effective_1rl); flexflight's
+        # after the whole rail_length. The same flight on RocketPy's effective length:
+        fr = ff_values(flexflight(work, "rail", [f"launch.rail_length={rp['rail_eff']} m"]))
         print(table(rp, ft, fb, a.markdown))
-        print(f"\nflexflight mass: {ft['m0']:.4f} kg at ignition, {ft['m1']:.4f} kg at the end")
+        print()
+        print(f"flexflight mass: {ft['m0']:.4f} kg at ignition, {ft['m1']:.4f} kg at the end")
+        print(
+            f"with rail_length = {rp['rail_eff']:.4f} m (RocketPy's effective rail): off-rail "
+            f"{fr['rail_v']:.2f} m/s at {fr['rail_t']:.3f} s ({diff(fr['rail_v'], rp['rail_v'])}, "
+            f"{diff(fr['rail_t'], rp['rail_t'])}), apogee {fr['apogee']:.1f} m "
+            f"({diff(fr['apogee'], rp['apogee'])}) at {fr['apogee_t']:.2f} s"
+        )
     finally:
         if not a.keep:
             shutil.rmtree(work)
