@@ -719,3 +719,39 @@ fn a_body_table_from_alpha_zero_gives_the_same_static_margin_and_flight() {
     }
     assert!(a.col("static_margin").iter().all(|m| m.is_finite()));
 }
+
+/// The static margin follows the burning vehicle's centre of mass: `(x_cg(t) - x_cp) / d`
+/// with `x_cg(t)` the history's `cm_body_x`. Before the fix it used the ignition centre of
+/// mass for the whole flight (examples/calisto: 2.77 cal at maximum q at burnout instead of
+/// 3.68, the centre of mass having moved 0.116 m = 0.91 cal forward). Below the tables'
+/// lowest Mach (0.01, held) the centre of pressure is constant, so on the first part of the
+/// rail `d sm(t) - cm_body_x(t)` is constant while the propellant burns.
+#[test]
+fn the_static_margin_follows_the_centre_of_mass_of_a_burning_vehicle() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = run(
+        &repo("examples/calisto/calisto.vdl"),
+        "calisto",
+        &out,
+        &["run.stop_time=0.2 s"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let h = History::read(&out);
+    let (mach, sm, cm) = (h.col("mach"), h.col("static_margin"), h.col("cm_body_x"));
+    let d = 0.127;
+    let held: Vec<usize> = (0..mach.len()).filter(|&k| mach[k] < 0.01).collect();
+    assert!(held.len() > 5, "{} rows below Mach 0.01", held.len());
+    let (first, last) = (held[0], *held.last().unwrap());
+    assert!(
+        (cm[last] - cm[first]).abs() > 1e-4,
+        "the centre of mass must move: {} -> {}",
+        cm[first],
+        cm[last]
+    );
+    let x_cp = cm[first] - d * sm[first];
+    for &k in &held {
+        let got = cm[k] - d * sm[k];
+        assert!((got - x_cp).abs() < 1e-12, "t {}: x_cp {got} vs {x_cp}", h.col("t")[k]);
+    }
+}

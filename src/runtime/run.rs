@@ -184,8 +184,10 @@ pub struct FlightEvents {
 /// (the fin at roll angle delta sees `alpha cos delta` and its normal force has the share
 /// `cos delta` in the pitch plane; Barrowman 1967 sums the fins the same way). The total
 /// centre of pressure is the slope-weighted mean, and the margin in calibres is
-/// `(x_cg - x_cp) / d` with `x_cg` the undeformed mass centre and `d` the aerodynamic
-/// reference length (the body diameter for the built-in estimator).
+/// `(x_cg - x_cp) / d` with `x_cg` the undeformed mass centre at the row's time (it moves as
+/// the propellant burns: `c̄ / m` of the coefficients at the current propellant fraction,
+/// without the elastic `P̄ η`) and `d` the aerodynamic reference length (the body diameter
+/// for the built-in estimator).
 #[derive(Debug, Clone)]
 pub struct StaticMargin {
     body: crate::runtime::aero::CoefficientTable,
@@ -194,7 +196,6 @@ pub struct StaticMargin {
     x_ref: f64,
     length: f64,
     x_root_le: f64,
-    x_cg: f64,
 }
 
 impl StaticMargin {
@@ -216,7 +217,6 @@ impl StaticMargin {
             x_ref: v.aero.reference_point.value[0],
             length: v.aero.reference_length.value,
             x_root_le: f.root_trailing_edge_x.value + f.root_chord.value,
-            x_cg: compiled.reduced.first_moment[0] / m,
         })
     }
 
@@ -266,10 +266,10 @@ impl StaticMargin {
         Some(((cn_b * x_b + cn_f * x_cp_f) / cn, cn))
     }
 
-    /// `(x_cg - x_cp) / d`, calibres.
-    pub fn calibres(&self, mach: f64, altitude: f64) -> Option<f64> {
+    /// `(x_cg - x_cp) / d`, calibres, for the undeformed mass centre `x_cg` (body x, m).
+    pub fn calibres(&self, mach: f64, altitude: f64, x_cg: f64) -> Option<f64> {
         self.centre_of_pressure(mach, altitude)
-            .map(|(x, _)| (self.x_cg - x) / self.length)
+            .map(|(x, _)| (x_cg - x) / self.length)
     }
 }
 
@@ -661,7 +661,9 @@ impl Monitor<'_> {
         r.push(h - self.plan.stop.ground_altitude);
         if let Some(sm) = &self.static_margin {
             let m = if a > 0.0 { speed / a } else { 0.0 };
-            r.push(sm.calibres(m, h).unwrap_or(f64::NAN));
+            // The undeformed centre of mass at this time (`invariants_at` set the fraction).
+            let (mass, c) = self.eval.mass_properties(&[]);
+            r.push(sm.calibres(m, h, c[0] / mass).unwrap_or(f64::NAN));
         }
         Ok(r)
     }
