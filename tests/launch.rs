@@ -608,7 +608,12 @@ fn a_burning_vehicle_leaves_the_rail_at_the_variable_mass_speed() {
     // The mass channel burns linearly from the first row.
     let (tt, mm) = (h.col("t"), h.col("mass"));
     for k in 0..tt.len() {
-        assert!((mm[k] - mass(tt[k])).abs() < 1e-12 * m0, "t {}: {}", tt[k], mm[k]);
+        assert!(
+            (mm[k] - mass(tt[k])).abs() < 1e-12 * m0,
+            "t {}: {}",
+            tt[k],
+            mm[k]
+        );
     }
     // On the rail the momentum is m(t) u (no rotation, modes held).
     let (p, u) = (h.col("momentum_body_x"), h.col("v_body_x"));
@@ -648,7 +653,9 @@ fn the_energy_balance_closes_from_the_pad_to_the_ground() {
     // The freeze at deployment keeps the momentum and removes energy (>= 0).
     assert!(eb["dissipated_j"].as_f64().unwrap() >= 0.0, "{eb}");
     let m = &s["mass"];
-    assert!((m["final_kg"].as_f64().unwrap() - (m["initial_kg"].as_f64().unwrap() - 3.0)).abs() < 1e-12);
+    assert!(
+        (m["final_kg"].as_f64().unwrap() - (m["initial_kg"].as_f64().unwrap() - 3.0)).abs() < 1e-12
+    );
 }
 
 /// A body table that starts at alpha = 0 (the body block only ever queries `alpha_b >= 0`,
