@@ -215,6 +215,46 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
             return None;
         }
     }
+    // `body_aero { rate_terms = true }` applies the body table's `cn_q`, `cm_q` columns: a
+    // table without them is refused here (the plan would refuse it too, later). A table that
+    // does not parse is left to the plan, which reports it with its line.
+    if let (Some(a), Some(fo)) = (&aero, &forces) {
+        if let (AeroSource::Tables { body, .. }, Some(ba)) = (&a.source, &fo.body_aero) {
+            use crate::runtime::aero::tables::{CoefficientTable, TableKind};
+            let parsed = cx.loader.read(&body.value).ok().and_then(|text| {
+                CoefficientTable::parse_csv(TableKind::Body, &body.value, &text, OutOfRange::Clamp)
+                    .ok()
+            });
+            if ba.rate_terms && parsed.is_some_and(|t| !t.has_rates()) {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::aero::rate_columns",
+                        "`rate_terms = true` needs the body table's rate derivatives, but it has no `cn_q,cm_q` columns",
+                    )
+                    .label(ba.span, "rate terms asked for here")
+                    .label(body.span, "this body table has the six base columns only")
+                    .with_help("add the columns `cn_q,cm_q` (C_Nq + C_Nalpha-dot, C_mq + C_malpha-dot per rad of omega b/(2V)) to the table, or set `rate_terms = false`"),
+                );
+                return None;
+            }
+        }
+    }
+    // The fin generator meshes each fin with MITC4 quadrilaterals between the root and the
+    // tip chord (structure/generate/spec.rs): a pointed fin (tip chord 0) would need
+    // degenerate elements. The aerodynamics take it; the generated structure does not.
+    if let (Some(fi), Some(Structure::Generate(_))) = (&fins, &structure) {
+        if fi.tip_chord.value == 0.0 {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::fins::tip_chord",
+                    "a generated fin needs a tip chord > 0: its shell mesh is quadrilaterals from the root chord to the tip chord",
+                )
+                .label(fi.tip_chord.span, "tip chord 0 (a pointed fin)")
+                .with_help("give a small tip chord (the aerodynamics of a nearly pointed fin are continuous), or import the fin's FE model with `structure { files { ... } }`"),
+            );
+            return None;
+        }
+    }
     // The supersonic load model of the `theory` distribution (App. A.2.6 generalised to any
     // trapezoid, runtime/aero/fin_loads.rs) builds on the apex of the leading edge at the
     // root: a leading edge swept forward has none. Its weights are tabulated over the whole
