@@ -759,6 +759,10 @@ fn the_static_margin_follows_the_centre_of_mass_of_a_burning_vehicle() {
     let x_cp = cm[first] - d * sm[first];
     for &k in &held {
         let got = cm[k] - d * sm[k];
-        assert!((got - x_cp).abs() < 1e-12, "t {}: x_cp {got} vs {x_cp}", h.col("t")[k]);
+        assert!(
+            (got - x_cp).abs() < 1e-12,
+            "t {}: x_cp {got} vs {x_cp}",
+            h.col("t")[k]
+        );
     }
 }
