@@ -657,3 +657,112 @@ fn the_energy_balance_closes_from_the_pad_to_the_ground() {
         (m["final_kg"].as_f64().unwrap() - (m["initial_kg"].as_f64().unwrap() - 3.0)).abs() < 1e-12
     );
 }
+
+/// A body table that starts at alpha = 0 (the body block only ever queries `alpha_b >= 0`,
+/// `runtime::forces::body_aero` step 3) is a complete body table: the static margin must not
+/// query it at -2 deg. Before the fix the margin was NaN from t = 0 and the first output row
+/// stopped the run as `non_finite at t = 0 s` (examples/calisto, whose RocketPy-derived body
+/// table has alpha 0..180 deg). Property: cutting the negative angles out of the built-in
+/// (odd in alpha) body table changes neither the flight nor the static margin.
+#[test]
+fn a_body_table_from_alpha_zero_gives_the_same_static_margin_and_flight() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = rail_scenario(dir.path(), 1000.0, 2.0, true, "");
+    let out_builtin = dir.path().join("builtin");
+    let sets = ["run.stop_time=1.5 s", "run.rtol=1e-8", "run.atol=1e-10"];
+    let o = run(&file, "pad", &out_builtin, &sets);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // The estimated tables, the body one without its negative angles of attack.
+    let body = std::fs::read_to_string(out_builtin.join("aero_tables/body.csv")).unwrap();
+    let mut kept = 0;
+    let mut cut = 0;
+    let body: String = body
+        .lines()
+        .filter(|l| {
+            let neg = l
+                .split(',')
+                .nth(1)
+                .and_then(|a| a.trim().parse::<f64>().ok())
+                .is_some_and(|a| a < 0.0);
+            if neg {
+                cut += 1;
+            } else {
+                kept += 1;
+            }
+            !neg
+        })
+        .map(|l| format!("{l}\n"))
+        .collect();
+    assert!(cut > 0 && kept > cut, "{cut} rows cut, {kept} kept");
+    std::fs::write(dir.path().join("body.csv"), body).unwrap();
+    std::fs::copy(
+        out_builtin.join("aero_tables/fins.csv"),
+        dir.path().join("fins.csv"),
+    )
+    .unwrap();
+    let vdl = dir.path().join("sphads1_motor.vdl");
+    let text = std::fs::read_to_string(&vdl).unwrap().replacen(
+        "    source = builtin\n",
+        "    source = tables\n    body_table = \"body.csv\"\n    fin_table = \"fins.csv\"\n",
+        1,
+    );
+    assert!(text.contains("body_table"));
+    std::fs::write(&vdl, text).unwrap();
+    let out_tables = dir.path().join("tables");
+    let o = run(&file, "pad", &out_tables, &sets);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = summary(&out_tables);
+    assert_eq!(s["stop_reason"], "completed", "{}", s["stop_detail"]);
+    let (a, b) = (History::read(&out_builtin), History::read(&out_tables));
+    for name in ["static_margin", "altitude", "mach", "alpha"] {
+        let (x, y) = (a.col(name), b.col(name));
+        assert_eq!(x.len(), y.len(), "{name}");
+        let worst = x
+            .iter()
+            .zip(&y)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0f64, f64::max);
+        assert!(worst < 1e-9, "{name}: largest difference {worst:e}");
+    }
+    assert!(a.col("static_margin").iter().all(|m| m.is_finite()));
+}
+
+/// The static margin follows the burning vehicle's centre of mass: `(x_cg(t) - x_cp) / d`
+/// with `x_cg(t)` the history's `cm_body_x`. Before the fix it used the ignition centre of
+/// mass for the whole flight (examples/calisto: 2.77 cal at maximum q at burnout instead of
+/// 3.68, the centre of mass having moved 0.116 m = 0.91 cal forward). Below the tables'
+/// lowest Mach (0.01, held) the centre of pressure is constant, so on the first part of the
+/// rail `d sm(t) - cm_body_x(t)` is constant while the propellant burns.
+#[test]
+fn the_static_margin_follows_the_centre_of_mass_of_a_burning_vehicle() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = run(
+        &repo("examples/calisto/calisto.vdl"),
+        "calisto",
+        &out,
+        &["run.stop_time=0.2 s"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let h = History::read(&out);
+    let (mach, sm, cm) = (h.col("mach"), h.col("static_margin"), h.col("cm_body_x"));
+    let d = 0.127;
+    let held: Vec<usize> = (0..mach.len()).filter(|&k| mach[k] < 0.01).collect();
+    assert!(held.len() > 5, "{} rows below Mach 0.01", held.len());
+    let (first, last) = (held[0], *held.last().unwrap());
+    assert!(
+        (cm[last] - cm[first]).abs() > 1e-4,
+        "the centre of mass must move: {} -> {}",
+        cm[first],
+        cm[last]
+    );
+    let x_cp = cm[first] - d * sm[first];
+    for &k in &held {
+        let got = cm[k] - d * sm[k];
+        assert!(
+            (got - x_cp).abs() < 1e-12,
+            "t {}: x_cp {got} vs {x_cp}",
+            h.col("t")[k]
+        );
+    }
+}

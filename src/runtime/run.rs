@@ -175,7 +175,8 @@ pub struct FlightEvents {
 
 /// The static margin of the vehicle from the SAME coefficient tables its aerodynamic blocks
 /// use: with the normal-force slopes `C_N_alpha` by central difference at `alpha = ±2 deg`
-/// (the estimator's grid spacing), the body's centre of pressure
+/// (the estimator's grid spacing; one-sided over [0, 2] deg for a table whose alpha axis
+/// starts at 0, which the body block allows since it only queries `alpha_b >= 0`), the body's centre of pressure
 /// `x_b = x_ref + b C_M_alpha / C_N_alpha` (from (5.3.3): `C_M = C_N (x_cp - x_ref) / b`,
 /// x forward), each fin's `x_f = x_le,root - x_cp,f` (the fin table's chordwise centre of
 /// pressure aft of the root leading edge), and the fins' pitch-plane sum
@@ -183,8 +184,10 @@ pub struct FlightEvents {
 /// (the fin at roll angle delta sees `alpha cos delta` and its normal force has the share
 /// `cos delta` in the pitch plane; Barrowman 1967 sums the fins the same way). The total
 /// centre of pressure is the slope-weighted mean, and the margin in calibres is
-/// `(x_cg - x_cp) / d` with `x_cg` the undeformed mass centre and `d` the aerodynamic
-/// reference length (the body diameter for the built-in estimator).
+/// `(x_cg - x_cp) / d` with `x_cg` the undeformed mass centre at the row's time (it moves as
+/// the propellant burns: `c̄ / m` of the coefficients at the current propellant fraction,
+/// without the elastic `P̄ η`) and `d` the aerodynamic reference length (the body diameter
+/// for the built-in estimator).
 #[derive(Debug, Clone)]
 pub struct StaticMargin {
     body: crate::runtime::aero::CoefficientTable,
@@ -193,7 +196,6 @@ pub struct StaticMargin {
     x_ref: f64,
     length: f64,
     x_root_le: f64,
-    x_cg: f64,
 }
 
 impl StaticMargin {
@@ -215,7 +217,6 @@ impl StaticMargin {
             x_ref: v.aero.reference_point.value[0],
             length: v.aero.reference_length.value,
             x_root_le: f.root_trailing_edge_x.value + f.root_chord.value,
-            x_cg: compiled.reduced.first_moment[0] / m,
         })
     }
 
@@ -234,12 +235,24 @@ impl StaticMargin {
             );
             t.lookup(m, a, h).ok()
         };
-        let da = 4f64.to_radians();
-        let (b_p, b_m) = (q(&self.body, 2.0)?, q(&self.body, -2.0)?);
-        let (f_p, f_m) = (q(&self.fin, 2.0)?, q(&self.fin, -2.0)?);
-        let cn_b = (b_p[0] - b_m[0]) / da;
-        let cm_b = (b_p[2] - b_m[2]) / da;
-        let cn_f = 0.5 * self.fins * (f_p[0] - f_m[0]) / da;
+        // The difference over [-2, 2] deg, cut to the table's alpha axis: a body table may
+        // start at alpha = 0 (the body block only queries alpha_b >= 0), where the slope is
+        // the one-sided (C(2) - C(0))/2 deg, equal to the central one for coefficients odd in
+        // alpha (a body of revolution).
+        let pair = |t: &crate::runtime::aero::CoefficientTable| {
+            let ax = t.axis(crate::runtime::aero::Axis::AlphaDeg);
+            let lo = (-2f64).max(ax[0]);
+            let hi = 2f64.min(*ax.last()?);
+            (hi > lo).then_some((hi, lo))
+        };
+        let (hb, lb) = pair(&self.body)?;
+        let (hf, lf) = pair(&self.fin)?;
+        let (b_p, b_m) = (q(&self.body, hb)?, q(&self.body, lb)?);
+        let (f_p, f_m) = (q(&self.fin, hf)?, q(&self.fin, lf)?);
+        let (db, df) = ((hb - lb).to_radians(), (hf - lf).to_radians());
+        let cn_b = (b_p[0] - b_m[0]) / db;
+        let cm_b = (b_p[2] - b_m[2]) / db;
+        let cn_f = 0.5 * self.fins * (f_p[0] - f_m[0]) / df;
         let x_cp_f = self.x_root_le - 0.5 * (f_p[2] + f_m[2]);
         let x_b = if cn_b != 0.0 {
             self.x_ref + self.length * cm_b / cn_b
@@ -253,10 +266,10 @@ impl StaticMargin {
         Some(((cn_b * x_b + cn_f * x_cp_f) / cn, cn))
     }
 
-    /// `(x_cg - x_cp) / d`, calibres.
-    pub fn calibres(&self, mach: f64, altitude: f64) -> Option<f64> {
+    /// `(x_cg - x_cp) / d`, calibres, for the undeformed mass centre `x_cg` (body x, m).
+    pub fn calibres(&self, mach: f64, altitude: f64, x_cg: f64) -> Option<f64> {
         self.centre_of_pressure(mach, altitude)
-            .map(|(x, _)| (self.x_cg - x) / self.length)
+            .map(|(x, _)| (x_cg - x) / self.length)
     }
 }
 
@@ -648,7 +661,9 @@ impl Monitor<'_> {
         r.push(h - self.plan.stop.ground_altitude);
         if let Some(sm) = &self.static_margin {
             let m = if a > 0.0 { speed / a } else { 0.0 };
-            r.push(sm.calibres(m, h).unwrap_or(f64::NAN));
+            // The undeformed centre of mass at this time (`invariants_at` set the fraction).
+            let (mass, c) = self.eval.mass_properties(&[]);
+            r.push(sm.calibres(m, h, c[0] / mass).unwrap_or(f64::NAN));
         }
         Ok(r)
     }

@@ -11,7 +11,10 @@ Two changes, both to make the comparison about the same physics and not about in
 * no parachute noise.
 
 Prints one JSON object: apogee (m above the pad), time of apogee, speed at burnout, maximum
-Mach, out-of-rail speed and time, and the wall time of the flight solve.
+Mach, out-of-rail speed and time, maximum dynamic pressure and acceleration, the static
+margin (Mach 0) and the stability margin (at the flight's Mach) at rail exit, maximum q and
+its minimum, the landing point (north and east of the pad) and time, and the wall time of
+the flight solve.
 
 Usage: python calisto.py [--until-apogee] [--json OUT]
 """
@@ -37,10 +40,39 @@ def motor_file():
     sys.exit("Cesaroni_M1670.eng not found in shared/motors or examples/calisto")
 
 
+def thrust_points(path):
+    """The (time, thrust) points of a RASP .eng file, with one (0, 0) point.
+
+    RocketPy's `.eng` reader prepends (0, 0) itself and documents that the file "must not
+    contain the 0 0 point" (`Motor.import_eng`); the shared Cesaroni_M1670.eng has it, and
+    the duplicated t = 0 made the thrust NaN at ignition, the total impulse NaN and the
+    propellant never burn (RocketPy 1.13.0 flew the loaded 19.197 kg to apogee). Reading the
+    points here and handing RocketPy the list avoids that; the curve is the same.
+    """
+    pts = []
+    header = False
+    with open(path) as fh:
+        for line in fh:
+            line = line.split(";", 1)[0].strip()
+            if not line:
+                continue
+            if not header:
+                header = True
+                continue
+            t, f = (float(v) for v in line.split()[:2])
+            pts.append((t, f))
+    if not pts or pts[0][0] > 0.0:
+        pts.insert(0, (0.0, 0.0))
+    times = [p[0] for p in pts]
+    if any(b <= a for a, b in zip(times, times[1:])):
+        sys.exit(f"{path}: thrust curve times are not strictly increasing")
+    return pts
+
+
 def pro75_m1670():
     """The Cesaroni Pro75 M1670 of RocketPy's first-simulation page."""
     return SolidMotor(
-        thrust_source=motor_file(),
+        thrust_source=thrust_points(motor_file()),
         dry_mass=1.815,
         dry_inertia=(0.125, 0.125, 0.002),
         nozzle_radius=33 / 1000,
@@ -118,8 +150,29 @@ def main():
         "max_mach_time_s": float(f.max_mach_number_time),
         "out_of_rail_speed_m_s": float(f.out_of_rail_velocity),
         "out_of_rail_time_s": float(f.out_of_rail_time),
+        "effective_rail_length_m": float(f.effective_1rl),
         "max_dynamic_pressure_pa": float(f.max_dynamic_pressure),
+        "max_dynamic_pressure_time_s": float(f.max_dynamic_pressure_time),
+        "max_acceleration_m_s2": float(f.max_acceleration),
+        "max_acceleration_time_s": float(f.max_acceleration_time),
+        # Rocket.static_margin is at Mach 0; Flight.stability_margin at the flight's Mach.
         "static_margin_at_rail_exit_cal": float(calisto.static_margin(f.out_of_rail_time)),
+        "stability_margin_at_rail_exit_cal": float(f.stability_margin(f.out_of_rail_time)),
+        "stability_margin_at_max_q_cal": float(f.stability_margin(f.max_dynamic_pressure_time)),
+        "min_stability_margin_cal": float(f.min_stability_margin),
+        "min_stability_margin_time_s": float(f.min_stability_margin_time),
+        "apogee_north_m": float(f.apogee_y),
+        "apogee_east_m": float(f.apogee_x),
+        "final_time_s": float(f.t_final),
+        "landing": None
+        if a.until_apogee
+        else {
+            "t": float(f.t_final),
+            "north_m": float(f.y_impact),
+            "east_m": float(f.x_impact),
+            "vertical_speed_m_s": float(f.impact_velocity),
+            "speed_m_s": float(f.speed(f.t_final)),
+        },
         "solve_wall_s": wall,
     }
     text = json.dumps(out, indent=2)
