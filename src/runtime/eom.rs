@@ -628,14 +628,12 @@ impl Propulsion {
 
     /// Sets the working coefficients to the propellant fraction at `t` (a few axpy's on the
     /// coefficient arrays, only when `f` changed; no allocation).
-    fn update(&mut self, t: f64) -> bool {
+    fn update(&mut self, t: f64) {
         let f = self.schedule.fraction(t);
         if f != self.fraction {
             combine_into(&self.dry, &self.prop, f, &mut self.current);
             self.fraction = f;
-            return true;
         }
-        false
     }
 }
 
@@ -649,6 +647,9 @@ pub struct Eom<'m, F> {
     ws: Workspace,
     /// The coefficients rearranged for the right-hand side (of the current model).
     pre: Precomputed,
+    /// The propellant fraction `pre` was built for (a motor's working model may have moved
+    /// on through any caller of `Propulsion::update`; [`Self::sync_precomputed`]).
+    pre_fraction: f64,
     /// The burning motor of a variable-mass vehicle.
     propulsion: Option<Box<Propulsion>>,
     /// Integrate the works of the energy balance after the state ([`Self::track_energy`]).
@@ -712,6 +713,7 @@ impl<'m, F: ForceModel> Eom<'m, F> {
                 z: vec![0.0; n],
             },
             pre: Precomputed::new(model),
+            pre_fraction: 1.0,
             propulsion: None,
             track_energy: false,
         })
@@ -729,6 +731,7 @@ impl<'m, F: ForceModel> Eom<'m, F> {
             });
         }
         self.pre.rebuild(&propulsion.current);
+        self.pre_fraction = propulsion.fraction;
         self.propulsion = Some(Box::new(propulsion));
         Ok(self)
     }
@@ -756,8 +759,18 @@ impl<'m, F: ForceModel> Eom<'m, F> {
     /// schedule); nothing without a motor.
     pub fn set_time(&mut self, t: f64) {
         if let Some(p) = &mut self.propulsion {
-            if p.update(t) {
+            p.update(t);
+        }
+        self.sync_precomputed();
+    }
+
+    /// Rebuilds the precomputed coefficients if the motor's propellant fraction moved since
+    /// they were built (no allocation).
+    fn sync_precomputed(&mut self) {
+        if let Some(p) = &self.propulsion {
+            if p.fraction != self.pre_fraction {
                 self.pre.rebuild(&p.current);
+                self.pre_fraction = p.fraction;
             }
         }
     }
@@ -797,6 +810,7 @@ impl<'m, F: ForceModel> Eom<'m, F> {
                 found: x.len(),
             });
         }
+        self.sync_precomputed();
         let n = l.n;
         let eta = &x[13..13 + n];
         let eta_dot = &x[13 + n..13 + 2 * n];
@@ -1201,10 +1215,9 @@ impl<F: ForceModel> OdeSystem for Eom<'_, F> {
         let d = 6 + n;
         let view = StateView::new(l, x);
         if let Some(p) = &mut self.propulsion {
-            if p.update(t) {
-                self.pre.rebuild(&p.current);
-            }
+            p.update(t);
         }
+        self.sync_precomputed();
         self.ws.forces.iter_mut().for_each(|f| *f = 0.0);
         self.forces
             .generalized_forces(t, &view, &mut self.ws.forces);
