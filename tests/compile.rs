@@ -132,14 +132,19 @@ fn rigid_properties_equal_the_analytic_ones() {
 fn fin_thickness_override_changes_the_fin_frequencies() {
     let thin = compile_file("vehicles/sphads1.vdl", &["fins.thickness=0.4 mm".into()]);
     let thick = compile_file("vehicles/sphads1.vdl", &["fins.thickness=0.8 mm".into()]);
-    // Plate bending: f ~ t (D ~ t^3, mass ~ t): doubling t roughly doubles the flap frequency.
+    // Plate bending: f ~ t (D ~ t^3, mass ~ t), so doubling t doubles the flap frequency of
+    // a fin clamped rigidly at its root. The fin root sits on the flexible, massive body shell,
+    // which does not scale with t: measured 2.0119 (48.860 / 24.286 Hz), 0.6 % above.
     let ratio = thick.modes[2].frequency_hz / thin.modes[2].frequency_hz;
-    assert!((1.8..2.2).contains(&ratio), "flap ratio {ratio}");
+    assert!((ratio - 2.0).abs() < 0.015, "flap ratio {ratio}");
 }
 
 /// With 1.0 mm fins the flap combinations that roll or bend the body sit 5.7 % above the
-/// others (60.27, 60.32, 60.32, 63.74 Hz); all four are still one cluster, localised one per
-/// fin, and no fin takes a second flap mode (263 Hz) instead.
+/// others (eigenfrequencies 60.27, 60.32, 60.32, 63.74 Hz); all four are still one cluster,
+/// localised one per fin, and no fin takes a second flap mode (263 Hz) instead. A localised
+/// mode is a combination of the cluster's eigenvectors, so its frequency (the Rayleigh
+/// quotient, the modal stiffness over the modal mass) is the cluster's RMS, 61.18 Hz, the
+/// same for the four fins (they are identical): to 2e-11 measured.
 #[test]
 fn thick_fins_keep_one_first_flap_mode_per_fin() {
     let c = compile_file("vehicles/sphads1.vdl", &["fins.thickness=1.0 mm".into()]);
@@ -152,7 +157,7 @@ fn thick_fins_keep_one_first_flap_mode_per_fin() {
     assert_eq!(flap.len(), 4);
     for f in &flap {
         assert!((60.0..64.0).contains(f), "flap {f} Hz: {flap:?}");
-        assert!(rel(*f, flap[0]) < 1e-6, "{flap:?}");
+        assert!(rel(*f, flap[0]) < 1e-9, "{flap:?}");
     }
 }
 

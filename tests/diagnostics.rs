@@ -420,6 +420,13 @@ assert_error!(
     "vdl::value::range",
     edit(FINNED, "tip_chord = 100 mm", "tip_chord = 250 mm")
 );
+// Issue 9 audit: `check` accepted a pointed fin (tip chord 0) that the fin generator then
+// refused at compile time.
+assert_error!(
+    generated_pointed_fin_is_refused_at_check,
+    "vdl::fins::tip_chord",
+    edit(FINNED, "tip_chord = 100 mm", "tip_chord = 0 mm")
+);
 assert_error!(
     fins_forward_swept_leading_edge_with_theory_loads,
     "vdl::fins::forward_sweep",

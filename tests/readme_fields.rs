@@ -282,6 +282,13 @@ scenario b {
   initial { velocity = (10, 0, 0) m/s; attitude = euler(0 deg, 0 deg, 0 deg); altitude = 1 km }
   run { stop_time = 1 s; integrator = dopri5 }
 }
+scenario c {
+  vehicle = gen
+  launch { site_altitude = 100 m; rail_length = 3 m; elevation = 85 deg; heading = 10 deg }
+  wind { speed = 5 m/s; direction = 270 deg; reference_height = 10 m; exponent = 0.14 }
+  parachute p { cd_area = 1 m^2; trigger = apogee; lag = 1 s }
+  run { stop_time = 1 s }
+}
 sweep z { scenario = a; analysis = planar_unpinned; zip { fins.thickness = [1 mm, 2 mm]; run.stop_time = [1 s, 2 s] } }
 sweep y { scenario = a; analysis = linear3d; grid { fins.thickness = range(1 mm, 2 mm, count = 2) } }
 "#;
@@ -303,6 +310,12 @@ vehicle gen {
 scenario a {
   vehicle = gen
   initial { velocity = (10, 0, 0) m/s; altitude = 1 km }
+  run { stop_time = 1 s }
+}
+scenario w {
+  vehicle = gen
+  launch { site_altitude = 0 m; rail_length = 0 m; elevation = 90 deg }
+  wind { profile = [at(0 m, 2 m/s, 270 deg), at(500 m, 6 m/s, 280 deg)] }
   run { stop_time = 1 s }
 }
 sweep p { scenario = a; analysis = planar_pinned; grid { run.stop_time = [1 s] } }

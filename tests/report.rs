@@ -61,6 +61,7 @@ fn sine_plot() -> TimePlot {
                 ys: t.iter().map(|x| 0.5 * (2.0 * x).cos()).collect(),
             },
         ],
+        markers: vec![],
     }
 }
 

@@ -270,7 +270,11 @@ fn plan_prints_json() {
     assert_eq!(p["initial_state"].as_array().unwrap().len(), 33);
     assert_eq!(p["initial_state"][2], -5000.0);
     assert_eq!(p["forces"].as_array().unwrap().len(), 0);
-    assert_eq!(p["channels"].as_array().unwrap().len(), 24 + 2 * 10 + 25);
+    // + speed, acceleration, height (no aero blocks: no static margin).
+    assert_eq!(
+        p["channels"].as_array().unwrap().len(),
+        24 + 2 * 10 + 25 + 3
+    );
     assert!(p["motor"].is_null());
 }
 

@@ -181,6 +181,7 @@ mod tests {
             t_end: 2.0,
             stats: Default::default(),
             wall_seconds: 0.0,
+            events: Default::default(),
         };
         let fits = identify_after_stimuli(
             &[gust("g", 0.4, 0.1)],

@@ -367,9 +367,92 @@ pub struct Scenario {
     pub vehicle: Vehicle,
     /// The overrides applied, as written (path, canonical value text, span).
     pub overrides: Vec<Override>,
+    /// The initial conditions; with a `launch` block they are derived from it (at rest,
+    /// pitched to the rail elevation, yawed to its heading; the plan puts the vehicle at the
+    /// foot of the rail).
     pub initial: Initial,
     pub stimuli: Vec<Stimulus>,
     pub run: RunSettings,
+    /// A launch from a rail at a site (`launch { ... }`), if written.
+    pub launch: Option<Launch>,
+    /// A steady wind in the inertial frame (`wind { ... }`), on top of the stimuli.
+    pub wind: Option<Wind>,
+    /// Recovery devices (`parachute NAME { ... }`), in the order written.
+    pub parachutes: Vec<Parachute>,
+}
+
+/// A launch from a rail: the vehicle slides along the rail (1-DOF) until it has travelled
+/// `rail_length`, then flies freely; the ground is at the site altitude.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Launch {
+    pub span: Span,
+    /// Altitude of the launch site above sea level, m (inside the 1976 atmosphere).
+    pub site_altitude: Q,
+    /// Distance the vehicle travels along the rail before it is free, m (>= 0).
+    pub rail_length: Q,
+    /// Rail elevation above the horizon, rad (0 < elevation <= 90 deg).
+    pub elevation: Q,
+    /// Rail heading, rad, clockwise from inertial x (north) toward inertial y (east).
+    pub heading: Q,
+}
+
+/// A steady wind, inertial frame (x north, y east, z down), as a function of the height
+/// above the ground.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Wind {
+    pub span: Span,
+    pub profile: WindProfile,
+}
+
+/// How the steady wind varies with height `z` above the ground.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum WindProfile {
+    /// The same speed and direction at every height.
+    Constant { speed: Q, direction: Q },
+    /// Power law `V(z) = V_ref (z / z_ref)^alpha` for `z > 0`, zero at and below the ground.
+    PowerLaw {
+        speed: Q,
+        direction: Q,
+        reference_height: Q,
+        exponent: Q,
+    },
+    /// Speed and direction at heights (strictly increasing), interpolated linearly in the
+    /// north and east components, held beyond the first and last height.
+    Table(Vec<WindPoint>),
+}
+
+/// One row of a wind table: height above the ground (m), speed (m/s), and the direction the
+/// wind blows FROM (rad, clockwise from north), as meteorologists give it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WindPoint {
+    pub span: Span,
+    pub height: f64,
+    pub speed: f64,
+    pub direction: f64,
+}
+
+/// A recovery device: from deployment on it adds the drag `-1/2 rho |V| V cd_area` along the
+/// air-relative velocity, and the vehicle descends as a rigid point mass.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Parachute {
+    pub name: Spanned<String>,
+    /// Drag area C_D S, m^2 (> 0).
+    pub cd_area: Q,
+    pub trigger: Spanned<Trigger>,
+    /// Delay from the trigger to full deployment, s (>= 0).
+    pub lag: Q,
+}
+
+/// What triggers a recovery device.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Trigger {
+    /// At apogee (the vertical velocity changes sign).
+    Apogee,
+    /// On descent through this height above the ground, m.
+    Altitude(f64),
+    /// At this time after the start, s.
+    Time(f64),
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

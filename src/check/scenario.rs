@@ -26,8 +26,15 @@ pub(crate) fn check_scenario(
     let mut fl = Fields::new(cx, format!("scenario `{}`", name.name), b.header, &b.body);
     let vehicle_v = fl.required(cx, "vehicle", "sphads1");
     let with_b = fl.block("with");
-    let initial_b = fl.required_block(cx, "initial");
+    let launch_b = fl.block("launch");
+    let initial_b = if launch_b.is_some() {
+        fl.block("initial")
+    } else {
+        fl.required_block(cx, "initial")
+    };
     let stimuli_b = fl.block("stimuli");
+    let wind_b = fl.block("wind");
+    let parachute_bs = fl.blocks("parachute");
     let run_b = fl.required_block(cx, "run");
     fl.finish(cx);
 
@@ -123,7 +130,37 @@ pub(crate) fn check_scenario(
         vehicle::check_vehicle(cx, &patched, materials)
     });
 
-    let initial = initial_b.and_then(|ib| check_initial(cx, ib));
+    let launch = launch_b.map(|lb| check_launch(cx, lb));
+    let initial = match (launch_b, &launch, initial_b) {
+        (Some(lb), _, Some(ib)) => {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::launch::initial",
+                    "a scenario with a `launch` block starts at rest on the rail: it takes no `initial` block",
+                )
+                .label(ib.header, "remove this block")
+                .label(lb.header, "the launch sets the initial state"),
+            );
+            None
+        }
+        (Some(_), Some(Some(l)), None) => Some(Initial {
+            span: l.span,
+            velocity: InitialVelocity::Body(Spanned::new([0.0; 3], l.span)),
+            angular_velocity: Spanned::new([0.0; 3], l.span),
+            attitude: Attitude::Euler(Spanned::new(
+                [0.0, l.elevation.value, l.heading.value],
+                l.span,
+            )),
+            position: InitialPosition::Altitude(l.site_altitude),
+        }),
+        (Some(_), _, None) => None,
+        (None, _, ib) => ib.and_then(|ib| check_initial(cx, ib)),
+    };
+    let wind = wind_b.map(|wb| check_wind(cx, wb));
+    let parachutes: Vec<Option<Parachute>> = parachute_bs
+        .iter()
+        .map(|pb| check_parachute(cx, pb))
+        .collect();
     let stimuli = match stimuli_b {
         Some(sb) => check_stimuli(cx, sb),
         None => Some(Vec::new()),
@@ -137,6 +174,298 @@ pub(crate) fn check_scenario(
         initial: initial?,
         stimuli: stimuli?,
         run: run?,
+        launch: match launch {
+            Some(l) => Some(l?),
+            None => None,
+        },
+        wind: match wind {
+            Some(w) => Some(w?),
+            None => None,
+        },
+        parachutes: parachutes.into_iter().collect::<Option<Vec<_>>>()?,
+    })
+}
+
+/// `launch { site_altitude, rail_length, elevation, heading }`.
+fn check_launch(cx: &mut Cx, b: &Block) -> Option<Launch> {
+    let mut fl = Fields::new(cx, "the `launch` block", b.header, &b.body);
+    let site = f::check_range(
+        fl.required(cx, "site_altitude", "0 m")
+            .and_then(|v| f::quantity(cx, v, Dim::LENGTH)),
+        cx,
+        |h| (-500.0..=86_000.0).contains(&h),
+        "a site altitude from -500 m to 86 km (the 1976 standard atmosphere)",
+    );
+    let rail = f::non_negative(
+        fl.required(cx, "rail_length", "3 m")
+            .and_then(|v| f::quantity(cx, v, Dim::LENGTH)),
+        cx,
+    );
+    let elevation = f::check_range(
+        fl.required(cx, "elevation", "85 deg")
+            .and_then(|v| f::quantity(cx, v, Dim::ANGLE)),
+        cx,
+        |e| e > 0.0 && e <= std::f64::consts::FRAC_PI_2 + 1e-12,
+        "an elevation above the horizon, 0 < elevation <= 90 deg",
+    );
+    let heading = match fl.value("heading") {
+        Some(v) => f::check_range(
+            f::quantity(cx, v, Dim::ANGLE),
+            cx,
+            |h| (-2.0 * std::f64::consts::PI..=2.0 * std::f64::consts::PI).contains(&h),
+            "a heading from -360 deg to 360 deg",
+        ),
+        None => Some(Spanned::new(0.0, b.header)),
+    };
+    fl.finish(cx);
+    Some(Launch {
+        span: b.header,
+        site_altitude: site?,
+        rail_length: rail?,
+        elevation: elevation?,
+        heading: heading?,
+    })
+}
+
+/// `wind { speed, direction [, reference_height, exponent] }` or `wind { profile = [...] }`.
+fn check_wind(cx: &mut Cx, b: &Block) -> Option<Wind> {
+    let mut fl = Fields::new(cx, "the `wind` block", b.header, &b.body);
+    let profile_v = fl.value("profile");
+    let speed_v = fl.value("speed");
+    let direction_v = fl.value("direction");
+    let href_v = fl.value("reference_height");
+    let exp_v = fl.value("exponent");
+    fl.finish(cx);
+    let speed_of = |cx: &mut Cx, v: &crate::syntax::ast::Value| {
+        f::non_negative(f::quantity(cx, v, Dim::VELOCITY), cx)
+    };
+    let profile = match profile_v {
+        Some(p) => {
+            if let Some(extra) = speed_v.or(direction_v).or(href_v).or(exp_v) {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::wind::profile",
+                        "a wind `profile` table gives speed and direction at each height; it takes no other field",
+                    )
+                    .label(extra.span, "remove this field")
+                    .label(p.span, "the table"),
+                );
+                return None;
+            }
+            let ValueKind::List(items) = &p.kind else {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::type::mismatch",
+                        format!(
+                            "expected a list of `at(height, speed, direction)`, found {}",
+                            p.describe()
+                        ),
+                    )
+                    .label(p.span, "not a list"),
+                );
+                return None;
+            };
+            let mut points: Vec<WindPoint> = Vec::new();
+            let mut ok = true;
+            for item in items {
+                let ValueKind::Call { name, args } = &item.kind else {
+                    cx.push(
+                        Diagnostic::error(
+                            "vdl::type::mismatch",
+                            format!(
+                                "expected `at(height, speed, direction)`, found {}",
+                                item.describe()
+                            ),
+                        )
+                        .label(item.span, "not a table row"),
+                    );
+                    ok = false;
+                    continue;
+                };
+                if name.name != "at" || args.len() != 3 {
+                    cx.push(
+                        Diagnostic::error(
+                            "vdl::type::mismatch",
+                            "a wind table row is `at(height, speed, direction)`",
+                        )
+                        .label(item.span, "write `at(100 m, 5 m/s, 270 deg)`"),
+                    );
+                    ok = false;
+                    continue;
+                }
+                let h = f::quantity(cx, &args[0].value, Dim::LENGTH);
+                let v = speed_of(cx, &args[1].value);
+                let d = f::quantity(cx, &args[2].value, Dim::ANGLE);
+                let (Some(h), Some(v), Some(d)) = (h, v, d) else {
+                    ok = false;
+                    continue;
+                };
+                if let Some(prev) = points.last() {
+                    if h.value <= prev.height {
+                        cx.push(
+                            Diagnostic::error(
+                                "vdl::wind::profile",
+                                "wind table heights must increase strictly",
+                            )
+                            .label(h.span, "not above the previous height")
+                            .label(prev.span, "previous row"),
+                        );
+                        ok = false;
+                        continue;
+                    }
+                }
+                points.push(WindPoint {
+                    span: item.span,
+                    height: h.value,
+                    speed: v.value,
+                    direction: d.value,
+                });
+            }
+            if points.is_empty() && ok {
+                cx.push(
+                    Diagnostic::error("vdl::wind::profile", "a wind table needs at least one row")
+                        .label(p.span, "empty"),
+                );
+                ok = false;
+            }
+            if points.len() > crate::runtime::stimuli::MAX_WIND_ROWS {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::wind::profile",
+                        format!(
+                            "a wind table holds at most {} rows, this one has {}",
+                            crate::runtime::stimuli::MAX_WIND_ROWS,
+                            points.len()
+                        ),
+                    )
+                    .label(p.span, "too many rows"),
+                );
+                ok = false;
+            }
+            if !ok {
+                return None;
+            }
+            WindProfile::Table(points)
+        }
+        None => {
+            let speed = match speed_v {
+                Some(v) => speed_of(cx, v),
+                None => {
+                    cx.push(
+                        Diagnostic::error(
+                            "vdl::field::missing",
+                            "the `wind` block needs a `speed` (or a `profile` table)",
+                        )
+                        .label(b.header, "`speed` is missing here")
+                        .with_help("add a line such as `speed = 5 m/s`"),
+                    );
+                    None
+                }
+            };
+            let direction = match direction_v {
+                Some(v) => f::quantity(cx, v, Dim::ANGLE),
+                None => {
+                    cx.push(
+                        Diagnostic::error("vdl::field::missing", "the `wind` block needs a `direction` (where the wind blows from, clockwise from north)")
+                            .label(b.header, "`direction` is missing here")
+                            .with_help("add a line such as `direction = 270 deg`"),
+                    );
+                    None
+                }
+            };
+            match (href_v, exp_v) {
+                (None, None) => WindProfile::Constant {
+                    speed: speed?,
+                    direction: direction?,
+                },
+                (Some(h), e) => {
+                    let h = f::positive(f::quantity(cx, h, Dim::LENGTH), cx);
+                    let e = match e {
+                        Some(e) => f::check_range(
+                            f::number(cx, e),
+                            cx,
+                            |x| (0.0..=1.0).contains(&x),
+                            "a power-law exponent from 0 to 1",
+                        ),
+                        None => Some(Spanned::new(1.0 / 7.0, b.header)),
+                    };
+                    WindProfile::PowerLaw {
+                        speed: speed?,
+                        direction: direction?,
+                        reference_height: h?,
+                        exponent: e?,
+                    }
+                }
+                (None, Some(e)) => {
+                    cx.push(
+                        Diagnostic::error(
+                            "vdl::field::missing",
+                            "a power-law wind needs the `reference_height` its `speed` is given at",
+                        )
+                        .label(e.span, "exponent without a reference height")
+                        .with_help("add a line such as `reference_height = 10 m`"),
+                    );
+                    return None;
+                }
+            }
+        }
+    };
+    Some(Wind {
+        span: b.header,
+        profile,
+    })
+}
+
+/// `parachute NAME { cd_area, trigger = apogee | altitude(h) | time(t), lag }`.
+fn check_parachute(cx: &mut Cx, b: &Block) -> Option<Parachute> {
+    let name = match &b.name {
+        Some(n) => Some(Spanned::new(n.name.clone(), n.span)),
+        None => {
+            cx.push(
+                Diagnostic::error("vdl::name::missing", "a `parachute` needs a name")
+                    .label(b.header, "write `parachute NAME {`"),
+            );
+            None
+        }
+    };
+    let mut fl = Fields::new(cx, "a `parachute`", b.header, &b.body);
+    let cd_area = f::positive(
+        fl.required(cx, "cd_area", "1.5 m^2")
+            .and_then(|v| f::quantity(cx, v, Dim::AREA)),
+        cx,
+    );
+    let trigger = fl.required(cx, "trigger", "apogee").and_then(|v| {
+        let t = match &v.kind {
+            ValueKind::Name(id) if id.name == "apogee" => Some(Trigger::Apogee),
+            ValueKind::Call { name, args } if name.name == "altitude" && args.len() == 1 => {
+                f::non_negative(f::quantity(cx, &args[0].value, Dim::LENGTH), cx)
+                    .map(|h| Trigger::Altitude(h.value))
+            }
+            ValueKind::Call { name, args } if name.name == "time" && args.len() == 1 => {
+                f::non_negative(f::quantity(cx, &args[0].value, Dim::TIME), cx)
+                    .map(|t| Trigger::Time(t.value))
+            }
+            _ => {
+                cx.push(
+                    Diagnostic::error("vdl::type::mismatch", format!("expected a parachute trigger, found {}", v.describe()))
+                        .label(v.span, "not a trigger")
+                        .with_help("write `apogee`, `altitude(300 m)` (on descent, above the ground) or `time(12 s)`"),
+                );
+                None
+            }
+        };
+        t.map(|t| Spanned::new(t, v.span))
+    });
+    let lag = match fl.value("lag") {
+        Some(v) => f::non_negative(f::quantity(cx, v, Dim::TIME), cx),
+        None => Some(Spanned::new(0.0, b.header)),
+    };
+    fl.finish(cx);
+    Some(Parachute {
+        name: name?,
+        cd_area: cd_area?,
+        trigger: trigger?,
+        lag: lag?,
     })
 }
 

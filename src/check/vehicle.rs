@@ -215,6 +215,22 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
             return None;
         }
     }
+    // The fin generator meshes each fin with MITC4 quadrilaterals between the root and the
+    // tip chord (structure/generate/spec.rs): a pointed fin (tip chord 0) would need
+    // degenerate elements. The aerodynamics take it; the generated structure does not.
+    if let (Some(fi), Some(Structure::Generate(_))) = (&fins, &structure) {
+        if fi.tip_chord.value == 0.0 {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::fins::tip_chord",
+                    "a generated fin needs a tip chord > 0: its shell mesh is quadrilaterals from the root chord to the tip chord",
+                )
+                .label(fi.tip_chord.span, "tip chord 0 (a pointed fin)")
+                .with_help("give a small tip chord (the aerodynamics of a nearly pointed fin are continuous), or import the fin's FE model with `structure { files { ... } }`"),
+            );
+            return None;
+        }
+    }
     // The supersonic load model of the `theory` distribution (App. A.2.6 generalised to any
     // trapezoid, runtime/aero/fin_loads.rs) builds on the apex of the leading edge at the
     // root: a leading edge swept forward has none. Its weights are tabulated over the whole

@@ -79,6 +79,31 @@ fn parse_hex_key(hex: &str) -> Option<CacheKey> {
     Some(CacheKey(key))
 }
 
+/// The flight events of a run's `summary.json` (`flight`), as (time, label) markers.
+fn flight_events(summary: &serde_json::Value) -> Vec<(f64, String)> {
+    let f = &summary["flight"];
+    let mut out = Vec::new();
+    for (key, label) in [
+        ("rail_exit", "rail exit"),
+        ("burnout", "burnout"),
+        ("apogee", "apogee"),
+        ("landing", "landing"),
+    ] {
+        if let Some(t) = f[key]["t"].as_f64() {
+            out.push((t, label.to_string()));
+        }
+    }
+    if let Some(d) = f["deployments"].as_array() {
+        for dep in d {
+            if let (Some(t), Some(n)) = (dep["deployment"]["t"].as_f64(), dep["name"].as_str()) {
+                out.push((t, format!("{n} deploys")));
+            }
+        }
+    }
+    out.sort_by(|a, b| a.0.total_cmp(&b.0));
+    out
+}
+
 /// The compiled vehicle recorded in `summary.json`: the artifact at its recorded path, or
 /// the one with its hash in the cache directory.
 fn load_compiled(
@@ -336,6 +361,7 @@ pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
         let options = RunReportOptions {
             frame_times,
             magnify,
+            events: summary.as_ref().map(flight_events).unwrap_or_default(),
         };
         if let Err(e) = run_figures(h, &group, mesh.as_ref(), &options, &out, &mut report) {
             return fail(&e);

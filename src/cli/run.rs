@@ -74,7 +74,7 @@ fn prepare_with_scenario(
 }
 
 fn plan_diagnostic(e: &PlanError, sc: &Scenario) -> Diagnostic {
-    let d = Diagnostic::error("plan::invalid", e.to_string());
+    let d = Diagnostic::error(e.code(), e.to_string());
     match e.span() {
         Some(span) => d.label(span, "here"),
         None => d.label(sc.name.span, "while planning this scenario"),
@@ -188,6 +188,16 @@ pub fn cmd_run(
     bar.finish_and_clear();
     let output = match result {
         Ok(o) => o,
+        Err(e @ run::RunError::CannotLeaveGround { .. }) => {
+            let d = Diagnostic::error("run::on_ground", e.to_string())
+                .label(sc.initial.span, "this initial condition")
+                .with_help(
+                    "start above the ground, climbing, or fly from a rail with a \
+                     `launch { site_altitude, rail_length, elevation, heading }` block",
+                );
+            emit(&[d], &sources, common.output.format, term);
+            return EXIT_DIAGNOSTICS;
+        }
         Err(e) => {
             eprintln!("error[run::cannot_start]: {e}");
             return EXIT_DIAGNOSTICS;
@@ -226,6 +236,9 @@ pub fn cmd_run(
             output.wall_seconds,
             out.display()
         );
+        if let Some(line) = flight_line(&flight_summary(&p, &output)) {
+            eprintln!("{line}");
+        }
     } else {
         println!(
             "{}",
@@ -305,6 +318,7 @@ pub fn summary_json(p: &Plan, c: &CompileOutcome, o: &RunOutput) -> serde_json::
         "output_interval": p.output_interval,
         "energy_balance": energy_balance,
         "mass": mass,
+        "flight": flight_summary(p, o),
         "extrema": extrema,
         "identification": crate::analysis::gust_response::identify_after_stimuli(
             &p.stimuli,
@@ -382,6 +396,135 @@ fn mass_json(p: &Plan, o: &RunOutput) -> serde_json::Value {
             "burnout_mass_kg": mo.burnout_mass,
         })),
     })
+}
+
+/// The figures a rocketry engineer reads first (`summary.json`'s `flight`): events located
+/// in time by the run, maxima over the output rows (and the event rows), and the static
+/// margin at rail exit, at maximum dynamic pressure and its minimum from the start (or the
+/// rail exit) to apogee (or the first deployment, whichever comes first).
+pub fn flight_summary(p: &Plan, o: &RunOutput) -> serde_json::Value {
+    use serde_json::json;
+    let col = |name: &str| o.channels.iter().position(|c| c == name);
+    let ev = &o.events;
+    let point = |e: &run::EventPoint| {
+        json!({
+            "t": e.t,
+            "altitude": e.altitude(),
+            "height": e.altitude() - p.stop.ground_altitude,
+            "position": e.position,
+            "velocity": e.velocity,
+            "speed": e.speed(),
+        })
+    };
+    let max_of = |name: &str| -> Option<(f64, f64)> {
+        let c = col(name)?;
+        o.rows
+            .iter()
+            .map(|r| (r[c], r[0]))
+            .fold(None, |acc: Option<(f64, f64)>, x| match acc {
+                Some(a) if a.0 >= x.0 => Some(a),
+                _ => Some(x),
+            })
+    };
+    let value_at = |name: &str, t: f64| -> Option<f64> {
+        let c = col(name)?;
+        o.rows
+            .iter()
+            .min_by(|a, b| (a[0] - t).abs().total_cmp(&(b[0] - t).abs()))
+            .map(|r| r[c])
+    };
+    let max_q = max_of("dynamic_pressure");
+    let t_from = ev.rail_exit.map_or(0.0, |e| e.t);
+    let t_to = [
+        ev.apogee.map(|a| a.t),
+        ev.deployments.first().map(|d| d.2.t),
+    ]
+    .into_iter()
+    .flatten()
+    .reduce(f64::min)
+    .unwrap_or(o.t_end);
+    let margin_min = col("static_margin").and_then(|c| {
+        o.rows
+            .iter()
+            .filter(|r| r[0] >= t_from && r[0] <= t_to)
+            .map(|r| (r[c], r[0]))
+            .reduce(|a, b| if b.0 < a.0 { b } else { a })
+    });
+    let landing = ev.landing.map(|l| {
+        let mut v = point(&l);
+        v["ground_range"] = json!((l.position[0].powi(2) + l.position[1].powi(2)).sqrt());
+        v
+    });
+    json!({
+        "apogee": ev.apogee.map(|a| point(&a)),
+        "max_mach": max_of("mach").map(|(m, t)| json!({"value": m, "t": t})),
+        "max_dynamic_pressure": max_q.map(|(q, t)| json!({"value": q, "t": t})),
+        "max_acceleration": max_of("acceleration").map(|(a, t)| json!({"value": a, "t": t})),
+        "rail_exit": ev.rail_exit.map(|e| point(&e)),
+        "off_rail_speed": ev.rail_exit.map(|e| e.speed()),
+        "burnout": ev.burnout.map(|b| point(&b)),
+        "deployments": ev.deployments.iter().map(|(name, trig, dep)| json!({
+            "name": name, "trigger": point(trig), "deployment": point(dep)
+        })).collect::<Vec<_>>(),
+        "landing": landing,
+        "static_margin_calibres": {
+            "at_rail_exit": ev.rail_exit.and_then(|e| value_at("static_margin", e.t)),
+            "at_max_q": max_q.and_then(|(_, t)| value_at("static_margin", t)),
+            "min": margin_min.map(|(m, t)| json!({"value": m, "t": t})),
+        },
+        "maxima_sampled_at": "output rows and event rows",
+    })
+}
+
+/// The one-line flight summary printed after a run, when the flight has an apogee.
+fn flight_line(f: &serde_json::Value) -> Option<String> {
+    let num = |v: &serde_json::Value| v.as_f64();
+    let ap = &f["apogee"];
+    let mut s = format!(
+        "  apogee {:.1} m at {:.2} s",
+        num(&ap["height"])?,
+        num(&ap["t"])?
+    );
+    if let Some(m) = num(&f["max_mach"]["value"]) {
+        let _ = write!(s, ", max Mach {m:.3}");
+    }
+    if let (Some(q), Some(t)) = (
+        num(&f["max_dynamic_pressure"]["value"]),
+        num(&f["max_dynamic_pressure"]["t"]),
+    ) {
+        let _ = write!(s, ", max q {:.1} kPa at {t:.2} s", q / 1e3);
+    }
+    if let Some(a) = num(&f["max_acceleration"]["value"]) {
+        let _ = write!(s, ", max accel {:.1} g", a / 9.806);
+    }
+    if let Some(v) = num(&f["off_rail_speed"]) {
+        let _ = write!(s, ", off rail {v:.2} m/s");
+    }
+    if let (Some(t), Some(v)) = (num(&f["burnout"]["t"]), num(&f["burnout"]["speed"])) {
+        let _ = write!(s, ", burnout {t:.3} s at {v:.1} m/s");
+    }
+    let sm = &f["static_margin_calibres"];
+    if let Some(m) = num(&sm["at_rail_exit"]) {
+        let _ = write!(s, ", margin {m:.2} cal off rail");
+    }
+    if let Some(m) = num(&sm["at_max_q"]) {
+        let _ = write!(s, ", {m:.2} at max q");
+    }
+    if let Some(m) = num(&sm["min"]["value"]) {
+        let _ = write!(s, ", min {m:.2}");
+    }
+    if let Some(l) = f["landing"].as_object() {
+        let _ = write!(
+            s,
+            ", landing {:.1} m from the pad at {:.2} m/s ({:.1} s)",
+            l.get("ground_range")
+                .and_then(|v| v.as_f64())
+                .unwrap_or(f64::NAN),
+            l.get("speed").and_then(|v| v.as_f64()).unwrap_or(f64::NAN),
+            l.get("t").and_then(|v| v.as_f64()).unwrap_or(f64::NAN),
+        );
+    }
+    Some(s)
 }
 
 /// `summary` with the aerodynamics' cache key and whether the cache held them

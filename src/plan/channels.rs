@@ -88,6 +88,11 @@ pub const FIN_AERO_CHANNELS: &[&str] = &[
     "fin_aero_moment_cm_body_z",
 ];
 
+/// Flight channels, last: inertial speed and acceleration magnitude of the body origin
+/// (m/s, m/s^2) and its height above the ground (m); then `static_margin` (calibres) when
+/// both aerodynamic blocks are on.
+pub const FLIGHT_CHANNELS: &[&str] = &["speed", "acceleration", "height"];
+
 /// All column names for the given mode names: rigid channels, `eta_<mode>` for every mode,
 /// `eta_dot_<mode>` for every mode, energies and momenta, then the aerodynamic channels
 /// (body aero force and moment; fin aero force and moment; per fin `fin<i>_alpha` in degrees
@@ -107,6 +112,10 @@ pub fn channel_names(mode_names: &[String], aero: AeroChannels) -> Vec<String> {
             v.push(format!("fin{i}_root_stress"));
         }
     }
+    v.extend(FLIGHT_CHANNELS.iter().map(|s| s.to_string()));
+    if aero.body && aero.fins > 0 {
+        v.push("static_margin".to_string());
+    }
     v
 }
 
@@ -122,7 +131,7 @@ mod tests {
         );
         assert_eq!(
             names.len(),
-            RIGID_CHANNELS.len() + 4 + INVARIANT_CHANNELS.len()
+            RIGID_CHANNELS.len() + 4 + INVARIANT_CHANNELS.len() + FLIGHT_CHANNELS.len()
         );
         let k = RIGID_CHANNELS.len();
         assert_eq!(names[k - 1], "speed_of_sound");
@@ -160,7 +169,11 @@ mod tests {
                 "fin1_alpha",
                 "fin1_root_stress",
                 "fin2_alpha",
-                "fin2_root_stress"
+                "fin2_root_stress",
+                "speed",
+                "acceleration",
+                "height",
+                "static_margin"
             ]
         );
     }

@@ -46,6 +46,16 @@ pub enum PlanError {
     /// The compiled vehicle's arrays disagree with its mode count.
     #[error("compiled vehicle `{vehicle}`: {what}")]
     Compiled { vehicle: String, what: String },
+    /// A rail launch whose thrust never exceeds the weight component along the rail.
+    #[error(
+        "the vehicle cannot leave the rail: its largest thrust, {max_thrust:.1} N, never exceeds \
+         its weight along the rail, m g sin(elevation) = {weight_along_rail:.1} N"
+    )]
+    NoLiftOff {
+        span: Span,
+        max_thrust: f64,
+        weight_along_rail: f64,
+    },
     /// The aerodynamic blocks could not be built (tables, fin geometry).
     #[error("aerodynamics: {error}")]
     Aero {
@@ -58,8 +68,21 @@ impl PlanError {
     /// Where in the vehicle or scenario file the problem was written, if known.
     pub fn span(&self) -> Option<Span> {
         match self {
-            PlanError::NoNozzle { span, .. } | PlanError::Aero { span, .. } => Some(*span),
+            PlanError::NoNozzle { span, .. }
+            | PlanError::NoLiftOff { span, .. }
+            | PlanError::Aero { span, .. } => Some(*span),
+            PlanError::Stimulus(
+                StimulusError::BadParameter { span, .. } | StimulusError::NoAirspeed { span, .. },
+            ) => Some(*span),
             _ => None,
+        }
+    }
+
+    /// The diagnostic code (docs/diagnostic-codes.md).
+    pub fn code(&self) -> &'static str {
+        match self {
+            PlanError::NoLiftOff { .. } => "plan::no_liftoff",
+            _ => "plan::invalid",
         }
     }
 }
@@ -82,8 +105,11 @@ pub struct IntegratorPlan {
 pub struct StopConditions {
     /// Final time, s.
     pub stop_time: f64,
-    /// Stop when the body origin reaches the ground, inertial `z >= 0`.
+    /// Stop when the body origin descends through the ground: inertial `z >= -ground_altitude`
+    /// while `ż > 0` (descending).
     pub ground: bool,
+    /// Altitude of the ground, m: the launch site's, else sea level (0).
+    pub ground_altitude: f64,
     /// Stop when `|α|` exceeds this, rad.
     pub max_alpha: Option<f64>,
     /// Stop when the elastic displacement `|S_trans,i η|` at any node exceeds this, m.
@@ -149,6 +175,36 @@ pub struct MotorPlan {
     pub propellant: crate::structure::coefficients::ReducedModel,
 }
 
+/// A rail launch, resolved (`launch { ... }`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LaunchPlan {
+    /// Site altitude (the ground), m.
+    pub site_altitude: f64,
+    /// Distance travelled along the rail before the vehicle is free, m.
+    pub rail_length: f64,
+    /// Elevation and heading of the rail, rad.
+    pub elevation: f64,
+    pub heading: f64,
+    /// Unit vector up the rail, inertial frame (x north, y east, z down):
+    /// `(cos e cos psi, cos e sin psi, -sin e)`, the body x axis of the attitude
+    /// `euler(0, e, psi)` (4.4.4).
+    pub rail_direction: [f64; 3],
+    /// Initial position of the body origin (nose tip): the aft end of the vehicle (its
+    /// most aft node) at the foot of the rail, on the ground.
+    pub start: [f64; 3],
+}
+
+/// A recovery device, resolved.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ParachutePlan {
+    pub name: String,
+    /// C_D S, m^2.
+    pub cd_area: f64,
+    pub trigger: ir::Trigger,
+    /// Trigger-to-deployment delay, s.
+    pub lag: f64,
+}
+
 /// One force block with its resolved parameters, in evaluation order.
 #[derive(Debug, Clone, Serialize)]
 #[serde(rename_all = "snake_case", tag = "block")]
@@ -210,6 +266,13 @@ pub struct Plan {
     /// deformation stop and monitor.
     #[serde(skip)]
     pub node_translation_shapes: Vec<f64>,
+    /// The rail launch, if the scenario has one.
+    pub launch: Option<LaunchPlan>,
+    /// Recovery devices in the order written.
+    pub parachutes: Vec<ParachutePlan>,
+    /// The static margin model from the same tables as the aerodynamic blocks (both on).
+    #[serde(skip)]
+    pub static_margin: Option<crate::runtime::run::StaticMargin>,
     /// The aerodynamic blocks (with `body_aero` or `fin_aero`), built with the planned
     /// stimuli; a run copies them into its force blocks.
     #[serde(skip)]
@@ -286,9 +349,29 @@ pub fn build_with_aero(
 
     // Initial state.
     let init = &scenario.initial;
-    let position = match &init.position {
-        InitialPosition::Altitude(h) => [0.0, 0.0, -h.value],
-        InitialPosition::Inertial(p) => p.value,
+    let launch = scenario.launch.as_ref().map(|l| {
+        let (e, psi) = (l.elevation.value, l.heading.value);
+        let d = [e.cos() * psi.cos(), e.cos() * psi.sin(), -e.sin()];
+        // Most aft point of the vehicle (x <= 0 in the body frame).
+        let x_aft = compiled
+            .node_positions
+            .iter()
+            .map(|p| p[0])
+            .fold(0.0_f64, f64::min);
+        let h = l.site_altitude.value;
+        LaunchPlan {
+            site_altitude: h,
+            rail_length: l.rail_length.value,
+            elevation: e,
+            heading: psi,
+            rail_direction: d,
+            start: [-x_aft * d[0], -x_aft * d[1], -h - x_aft * d[2]],
+        }
+    });
+    let position = match (&launch, &init.position) {
+        (Some(l), _) => l.start,
+        (None, InitialPosition::Altitude(h)) => [0.0, 0.0, -h.value],
+        (None, InitialPosition::Inertial(p)) => p.value,
     };
     let velocity = match &init.velocity {
         InitialVelocity::Body(v) => v.value,
@@ -405,9 +488,44 @@ pub fn build_with_aero(
         });
     }
 
+    // A rail launch needs a thrust that exceeds the weight along the rail at some time
+    // (the rail's foot holds the vehicle until then). The mass is the initial one.
+    if let (Some(l), Some(sl)) = (&launch, &scenario.launch) {
+        let g = match &vehicle.forces.gravity {
+            Some(g) => {
+                crate::runtime::forces::gravity::gravity_at(l.site_altitude, g.altitude_correction)
+            }
+            None => 0.0,
+        };
+        let weight_along_rail = compiled.reduced.mass * g * l.elevation.sin();
+        // With a motor the thrust is its curve and the mass its ignition mass (the
+        // compiled vehicle's, which includes the propellant).
+        let max_thrust = motor
+            .as_ref()
+            .map(|m| &m.thrust)
+            .or_else(|| {
+                forces.iter().find_map(|f| match f {
+                    ForcePlan::Thrust(t) => Some(&**t),
+                    _ => None,
+                })
+            })
+            .map_or(0.0, |t| t.curve.points().map(|p| p.1).fold(0.0, f64::max));
+        if max_thrust <= weight_along_rail {
+            return Err(PlanError::NoLiftOff {
+                span: sl.span,
+                max_thrust,
+                weight_along_rail,
+            });
+        }
+    }
+
     let run = &scenario.run;
     let airspeed = velocity.iter().map(|v| v * v).sum::<f64>().sqrt();
-    let planned_stimuli = Stimuli::new(&scenario.stimuli, airspeed, run.stop_time.value)?;
+    let mut planned_stimuli = Stimuli::new(&scenario.stimuli, airspeed, run.stop_time.value)?;
+    let ground_altitude = launch.as_ref().map_or(0.0, |l| l.site_altitude);
+    if let Some(w) = &scenario.wind {
+        planned_stimuli.set_steady_wind(&w.profile, ground_altitude);
+    }
     let aero = aero::resolve(vehicle, compiled, &planned_stimuli, cached).map_err(|error| {
         use crate::runtime::forces::AeroForceError as E;
         let fins_span = vehicle.fins.as_ref().map(|f| f.span_);
@@ -424,6 +542,9 @@ pub fn build_with_aero(
         PlanError::Aero { error, span }
     })?;
     let aero_summary = aero.as_ref().map(aero::AeroSummary::new);
+    let static_margin = aero
+        .as_ref()
+        .and_then(|a| crate::runtime::run::StaticMargin::new(vehicle, compiled, &a.tables));
     let mode_names: Vec<String> = compiled.modes.iter().map(|m| m.name.clone()).collect();
     let mut node_translation_shapes = Vec::with_capacity(3 * n_nodes * n);
     for node in 0..n_nodes {
@@ -461,6 +582,7 @@ pub fn build_with_aero(
         stop: StopConditions {
             stop_time: run.stop_time.value,
             ground: run.stop_on_ground,
+            ground_altitude,
             max_alpha: run.max_alpha.as_ref().map(|q| q.value),
             max_deformation: run.max_deformation.as_ref().map(|q| q.value),
         },
@@ -470,6 +592,18 @@ pub fn build_with_aero(
         stimuli: scenario.stimuli.clone(),
         planned_stimuli,
         node_translation_shapes,
+        launch,
+        parachutes: scenario
+            .parachutes
+            .iter()
+            .map(|p| ParachutePlan {
+                name: p.name.value.clone(),
+                cd_area: p.cd_area.value,
+                trigger: p.trigger.value,
+                lag: p.lag.value,
+            })
+            .collect(),
+        static_margin,
         aero,
         aero_summary,
     })
@@ -521,7 +655,28 @@ pub fn summary_text(p: &Plan) -> String {
     let st = &p.stop;
     let _ = writeln!(s, "stop           t = {} s", st.stop_time);
     if st.ground {
-        let _ = writeln!(s, "               ground (body origin z >= 0)");
+        let _ = writeln!(
+            s,
+            "               ground: body origin descending through altitude {} m",
+            st.ground_altitude
+        );
+    }
+    if let Some(l) = &p.launch {
+        let _ = writeln!(
+            s,
+            "launch         rail {} m at elevation {:.3} deg, heading {:.3} deg, site altitude {} m",
+            l.rail_length,
+            l.elevation.to_degrees(),
+            l.heading.to_degrees(),
+            l.site_altitude
+        );
+    }
+    for c in &p.parachutes {
+        let _ = writeln!(
+            s,
+            "parachute      {}: cd_area {} m^2, trigger {:?}, lag {} s",
+            c.name, c.cd_area, c.trigger, c.lag
+        );
     }
     if let Some(a) = st.max_alpha {
         let _ = writeln!(s, "               |alpha| > {:.3} deg", a.to_degrees());

@@ -26,6 +26,8 @@ pub struct RunReportOptions {
     pub frame_times: Vec<f64>,
     /// Displacement magnification; `None`: automatic ([`AUTO_MAGNIFY_FRACTION`]).
     pub magnify: Option<f64>,
+    /// Flight events (time, label) marked on every time plot (from `summary.json`).
+    pub events: Vec<(f64, String)>,
 }
 
 /// The result of a report: index entries in page order and every file written.
@@ -159,7 +161,16 @@ pub fn run_figures(
     out: &Path,
     report: &mut ReportOutput,
 ) -> Result<(), ReportError> {
-    for fig in plan_figures(h, mode_group) {
+    let mut figures = plan_figures(h, mode_group);
+    for f in &mut figures {
+        if let Ok(p) = &mut f.plot {
+            p.markers = options.events.clone();
+        }
+    }
+    if h.column("speed").is_some() {
+        figures.push(super::figures::ground_track(h));
+    }
+    for fig in figures {
         match fig.plot {
             Ok(plot) => {
                 let files = save_svg_png(&plot, &out.join(&fig.stem), FIGURE_SIZE)?;

@@ -89,6 +89,30 @@ fn aero(part: &'static str, what: &'static str) -> ColumnSelector {
     matching(move |c| c.contains("aero") && c.contains(part) && c.contains(what))
 }
 
+/// The ground track: the nose tip's north position against its east position (inertial
+/// x against y), when the history has them.
+pub fn ground_track(h: &History) -> PlannedFigure {
+    let plot = match (h.column("p_inertial_y"), h.column("p_inertial_x")) {
+        (Some(east), Some(north)) => Ok(TimePlot {
+            title: "Ground track".to_string(),
+            x_label: "east (m)".to_string(),
+            y_label: "north (m)".to_string(),
+            series: vec![Series {
+                label: "nose tip".to_string(),
+                xs: east.to_vec(),
+                ys: north.to_vec(),
+            }],
+            markers: Vec::new(),
+        }),
+        _ => Err("no columns: wanted p_inertial_x, p_inertial_y".to_string()),
+    };
+    PlannedFigure {
+        stem: "ground_track".to_string(),
+        caption: "Ground track (inertial x north against y east)".to_string(),
+        plot,
+    }
+}
+
 /// The figure set for a history. `group_of` classifies a mode name (the part after
 /// `eta_`): from the artifact's mode classes when available.
 pub fn plan_figures(h: &History, group_of: &dyn Fn(&str) -> ModeGroup) -> Vec<PlannedFigure> {
@@ -187,6 +211,46 @@ pub fn plan_figures(h: &History, group_of: &dyn Fn(&str) -> ModeGroup) -> Vec<Pl
             y_label: "altitude (m)",
             columns: exact(&["altitude"]),
             wanted: "altitude",
+        },
+        Recipe {
+            stem: "speed",
+            caption: "Inertial speed of the nose tip",
+            title: "Speed",
+            y_label: "speed (m/s)",
+            columns: exact(&["speed"]),
+            wanted: "speed",
+        },
+        Recipe {
+            stem: "acceleration",
+            caption: "Magnitude of the inertial acceleration of the nose tip",
+            title: "Acceleration",
+            y_label: "acceleration (m/s^2)",
+            columns: exact(&["acceleration"]),
+            wanted: "acceleration",
+        },
+        Recipe {
+            stem: "dynamic_pressure",
+            caption: "Dynamic pressure",
+            title: "Dynamic pressure",
+            y_label: "q (Pa)",
+            columns: exact(&["dynamic_pressure"]),
+            wanted: "dynamic_pressure",
+        },
+        Recipe {
+            stem: "static_margin",
+            caption: "Static margin from the run's coefficient tables (calibres; meaningful while the vehicle flies nose first, before deployment)",
+            title: "Static margin",
+            y_label: "static margin (cal)",
+            columns: exact(&["static_margin"]),
+            wanted: "static_margin",
+        },
+        Recipe {
+            stem: "fin_root_stress",
+            caption: "Fin root bending stress (5.6)",
+            title: "Fin root stress",
+            y_label: "stress (Pa)",
+            columns: matching(|c| c.starts_with("fin") && c.ends_with("_root_stress")),
+            wanted: "fin<i>_root_stress",
         },
         Recipe {
             stem: "body_aero_force",
@@ -302,6 +366,7 @@ pub fn plan_figures(h: &History, group_of: &dyn Fn(&str) -> ModeGroup) -> Vec<Pl
                             })
                         })
                         .collect(),
+                    markers: Vec::new(),
                 })
             };
             PlannedFigure {

@@ -58,6 +58,9 @@ pub struct TimePlot {
     pub y_label: String,
     /// The lines, drawn in [`PALETTE`] order.
     pub series: Vec<Series>,
+    /// Events marked as labelled vertical lines at their abscissa (flight events: rail
+    /// exit, burnout, apogee, deployments, landing); those outside the x range are skipped.
+    pub markers: Vec<(f64, String)>,
 }
 
 pub(crate) fn draw_err<E: std::fmt::Display>(e: E) -> ReportError {
@@ -203,6 +206,30 @@ impl Figure for TimePlot {
                 .legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2))
                 });
+        }
+        let marker_style = RGBColor(120, 120, 120).stroke_width(1);
+        for (k, (x, label)) in self.markers.iter().enumerate() {
+            if !(x0..=x1).contains(x) {
+                continue;
+            }
+            // Dashed: short segments along the line.
+            let dashes = 40;
+            chart
+                .draw_series((0..dashes).filter(|d| d % 2 == 0).map(|d| {
+                    let a = y0 + (y1 - y0) * d as f64 / dashes as f64;
+                    let b = y0 + (y1 - y0) * (d + 1) as f64 / dashes as f64;
+                    PathElement::new(vec![(*x, a), (*x, b)], marker_style)
+                }))
+                .map_err(draw_err)?;
+            // Labels stagger downwards so neighbouring events stay readable.
+            let y = y1 - (y1 - y0) * (0.04 + 0.05 * (k % 4) as f64);
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    format!(" {label}"),
+                    (*x, y),
+                    font(13),
+                )))
+                .map_err(draw_err)?;
         }
         if !self.series.is_empty() {
             chart

@@ -775,6 +775,22 @@ impl<'m, F: ForceModel> Eom<'m, F> {
         }
     }
 
+    /// For the constrained phases of a flight (rail, point-mass descent; see
+    /// [`crate::runtime::flight`]): sets the mass properties to time `t`, writes the motor's
+    /// thrust generalised forces at `s` into `thrust` (zeros without a motor) and returns the
+    /// mass and the exit mass flow `ṁ_e` (0 without a motor). No allocation.
+    pub fn motor_at(&mut self, t: f64, s: &StateView, thrust: &mut [f64]) -> (f64, f64) {
+        thrust.iter_mut().for_each(|x| *x = 0.0);
+        match &mut self.propulsion {
+            Some(p) => {
+                p.update(t);
+                p.thrust.generalized_forces(t, s, thrust);
+                (p.current.mass, p.schedule.mass_flow(t))
+            }
+            None => (self.model.mass, 0.0),
+        }
+    }
+
     /// Mass and first moment `c̄_tot(η)` at the current propellant fraction.
     pub fn mass_properties(&self, eta: &[f64]) -> (f64, [f64; 3]) {
         let md = self.current_model();

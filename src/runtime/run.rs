@@ -21,14 +21,14 @@ use std::time::Instant;
 use super::atmosphere::{Atmosphere, Standard1976};
 use super::deformation::NodeDeformation;
 use super::eom::{EnergyLayout, Eom, EomError, FreeFlight, Propulsion, StateView};
+use super::flight::{Flight, Phase};
 use super::forces::{
     AeroFault, BodyAero, FinAero, ForceBlock, ForceBlocks, GravityBlock, ThrustBlock,
 };
-use super::integrate::OdeSystem;
 use super::integrate::{
-    AdaptiveOptions, Dop853, DormandPrince54, Integrator, Rk4, StepStats, StopReason,
+    AdaptiveOptions, Dop853, DormandPrince54, Integrator, OdeSystem, Rk4, StepStats, StopReason,
 };
-use super::kinematics::{euler_angles, mat_vec, normalize_euler_parameters};
+use super::kinematics::{cross, euler_angles, mat_t_vec, mat_vec, normalize_euler_parameters};
 use super::motor::BurnSchedule;
 use crate::check::ir;
 use crate::plan::{ForcePlan, Plan};
@@ -50,6 +50,18 @@ pub enum RunError {
     /// The plan's initial state does not fit the model.
     #[error("initial state has {found} entries, the model needs {expected}")]
     InitialState { expected: usize, found: usize },
+    /// The vehicle starts on or below the ground and cannot leave it.
+    #[error(
+        "the vehicle starts at altitude {altitude} m, on or below the ground ({ground} m), \
+         with vertical speed {climb_rate:.6} m/s and vertical acceleration {climb_acceleration:.6} m/s^2: \
+         it cannot leave the ground"
+    )]
+    CannotLeaveGround {
+        altitude: f64,
+        ground: f64,
+        climb_rate: f64,
+        climb_acceleration: f64,
+    },
 }
 
 /// Why a run stopped.
@@ -110,6 +122,143 @@ pub struct RunOutput {
     pub t_end: f64,
     pub stats: StepStats,
     pub wall_seconds: f64,
+    /// Flight events located in time (rail exit, burnout, apogee, deployments, landing).
+    pub events: FlightEvents,
+}
+
+/// The state at a flight event.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct EventPoint {
+    /// Time, s.
+    pub t: f64,
+    /// Inertial position of the body origin, m (z down).
+    pub position: [f64; 3],
+    /// Inertial velocity of the body origin, m/s.
+    pub velocity: [f64; 3],
+}
+
+impl EventPoint {
+    fn of(layout: crate::runtime::eom::StateLayout, t: f64, x: &[f64]) -> Self {
+        let s = StateView::new(layout, x);
+        EventPoint {
+            t,
+            position: s.position,
+            velocity: mat_t_vec(&s.c_bi, &s.velocity),
+        }
+    }
+
+    /// `|V_I|`, m/s.
+    pub fn speed(&self) -> f64 {
+        self.velocity.iter().map(|v| v * v).sum::<f64>().sqrt()
+    }
+
+    /// Altitude above sea level, m.
+    pub fn altitude(&self) -> f64 {
+        -self.position[2]
+    }
+}
+
+/// The events of a flight, each located on the interpolant of the step that crossed it
+/// (bisection to the double-precision resolution of the step, as the stop conditions).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FlightEvents {
+    /// The vehicle has travelled the rail length (a rail launch only).
+    pub rail_exit: Option<EventPoint>,
+    /// The thrust curve's last point.
+    pub burnout: Option<EventPoint>,
+    /// The vertical velocity changes sign from climbing to descending.
+    pub apogee: Option<EventPoint>,
+    /// Each recovery device that deployed: its name, the trigger and the deployment.
+    pub deployments: Vec<(String, EventPoint, EventPoint)>,
+    /// The body origin descended through the ground.
+    pub landing: Option<EventPoint>,
+}
+
+/// The static margin of the vehicle from the SAME coefficient tables its aerodynamic blocks
+/// use: with the normal-force slopes `C_N_alpha` by central difference at `alpha = ±2 deg`
+/// (the estimator's grid spacing), the body's centre of pressure
+/// `x_b = x_ref + b C_M_alpha / C_N_alpha` (from (5.3.3): `C_M = C_N (x_cp - x_ref) / b`,
+/// x forward), each fin's `x_f = x_le,root - x_cp,f` (the fin table's chordwise centre of
+/// pressure aft of the root leading edge), and the fins' pitch-plane sum
+/// `Σ_i C_N_alpha,f cos^2(delta_i) = (N/2) C_N_alpha,f`, exact for N >= 3 fins evenly spaced
+/// (the fin at roll angle delta sees `alpha cos delta` and its normal force has the share
+/// `cos delta` in the pitch plane; Barrowman 1967 sums the fins the same way). The total
+/// centre of pressure is the slope-weighted mean, and the margin in calibres is
+/// `(x_cg - x_cp) / d` with `x_cg` the undeformed mass centre and `d` the aerodynamic
+/// reference length (the body diameter for the built-in estimator).
+#[derive(Debug, Clone)]
+pub struct StaticMargin {
+    body: crate::runtime::aero::CoefficientTable,
+    fin: crate::runtime::aero::CoefficientTable,
+    fins: f64,
+    x_ref: f64,
+    length: f64,
+    x_root_le: f64,
+    x_cg: f64,
+}
+
+impl StaticMargin {
+    /// The model of a vehicle with body and fin tables and fins (both aero blocks on).
+    pub fn new(
+        v: &crate::check::ir::Vehicle,
+        compiled: &crate::structure::compile::CompiledVehicle,
+        tables: &crate::runtime::aero::EstimatedTables,
+    ) -> Option<Self> {
+        let f = v.fins.as_ref()?;
+        if v.forces.body_aero.is_none() || v.forces.fin_aero.is_none() {
+            return None;
+        }
+        let m = compiled.reduced.mass;
+        (m > 0.0).then(|| StaticMargin {
+            body: tables.body.clone(),
+            fin: tables.fin.clone(),
+            fins: f.count.value as f64,
+            x_ref: v.aero.reference_point.value[0],
+            length: v.aero.reference_length.value,
+            x_root_le: f.root_trailing_edge_x.value + f.root_chord.value,
+            x_cg: compiled.reduced.first_moment[0] / m,
+        })
+    }
+
+    /// The centre of pressure `x_cp` (body frame, m) at `(mach, altitude)`, and the total
+    /// `C_N_alpha` (1/rad). Queries are clamped into the tables (this is a monitor, never a stop).
+    pub fn centre_of_pressure(&self, mach: f64, altitude: f64) -> Option<(f64, f64)> {
+        let q = |t: &crate::runtime::aero::CoefficientTable, a: f64| {
+            let ax = |k| t.axis(k);
+            let m = mach.clamp(
+                ax(crate::runtime::aero::Axis::Mach)[0],
+                *ax(crate::runtime::aero::Axis::Mach).last()?,
+            );
+            let h = altitude.clamp(
+                ax(crate::runtime::aero::Axis::AltitudeM)[0],
+                *ax(crate::runtime::aero::Axis::AltitudeM).last()?,
+            );
+            t.lookup(m, a, h).ok()
+        };
+        let da = 4f64.to_radians();
+        let (b_p, b_m) = (q(&self.body, 2.0)?, q(&self.body, -2.0)?);
+        let (f_p, f_m) = (q(&self.fin, 2.0)?, q(&self.fin, -2.0)?);
+        let cn_b = (b_p[0] - b_m[0]) / da;
+        let cm_b = (b_p[2] - b_m[2]) / da;
+        let cn_f = 0.5 * self.fins * (f_p[0] - f_m[0]) / da;
+        let x_cp_f = self.x_root_le - 0.5 * (f_p[2] + f_m[2]);
+        let x_b = if cn_b != 0.0 {
+            self.x_ref + self.length * cm_b / cn_b
+        } else {
+            self.x_ref
+        };
+        let cn = cn_b + cn_f;
+        if !(cn.is_finite() && cn != 0.0) {
+            return None;
+        }
+        Some(((cn_b * x_b + cn_f * x_cp_f) / cn, cn))
+    }
+
+    /// `(x_cg - x_cp) / d`, calibres.
+    pub fn calibres(&self, mach: f64, altitude: f64) -> Option<f64> {
+        self.centre_of_pressure(mach, altitude)
+            .map(|(x, _)| (self.x_cg - x) / self.length)
+    }
 }
 
 /// The stop condition the aerodynamic blocks raise at the plan's initial state, if any: an
@@ -200,6 +349,12 @@ pub fn build_propulsion(plan: &Plan, model: &ReducedModel) -> Result<Option<Prop
 /// Evaluates the output channels of a state and the stop conditions (outside the RHS).
 struct Monitor<'a> {
     plan: &'a Plan,
+    /// The phase the run is in (kept equal to the integrated system's).
+    phase: Phase,
+    /// A copy of the run's right-hand side, for the acceleration channel at output rows.
+    accel: Flight<'a>,
+    accel_buf: Vec<f64>,
+    static_margin: Option<StaticMargin>,
     eval: Eom<'a, FreeFlight>,
     gravity: Option<GravityBlock>,
     atmosphere: Standard1976,
@@ -353,7 +508,12 @@ impl Monitor<'_> {
     fn stop_condition(&mut self, t: f64, x: &[f64]) -> Option<RunStop> {
         let s = StateView::new(self.plan.layout(), x);
         let st = &self.plan.stop;
-        if st.ground && s.position[2] >= 0.0 {
+        // The ground stops a run only when the vehicle descends through it: a start on the
+        // pad (checked before the run to be able to leave it) is not an impact.
+        if st.ground
+            && s.position[2] >= -st.ground_altitude
+            && mat_t_vec(&s.c_bi, &s.velocity)[2] > 0.0
+        {
             return Some(RunStop::Ground);
         }
         let h = -s.position[2];
@@ -371,9 +531,12 @@ impl Monitor<'_> {
                 return Some(RunStop::MaxDeformation);
             }
         }
-        if let Some((stop, note)) = self.aero.evaluate(t, &s) {
-            self.stop_note = Some(note);
-            return Some(stop);
+        // Under a canopy the vehicle's own aerodynamics are off (crate::runtime::flight).
+        if self.phase != Phase::Descent {
+            if let Some((stop, note)) = self.aero.evaluate(t, &s) {
+                self.stop_note = Some(note);
+                return Some(stop);
+            }
         }
         None
     }
@@ -450,8 +613,32 @@ impl Monitor<'_> {
         r.push(diss);
         r.push(inv.total_energy() - self.energy0 - w_loads - w_prop + diss);
         // The aero channels at this state (a stop raised here is the step check's business).
-        let _ = self.aero.evaluate(t, &s);
+        if self.phase == Phase::Descent {
+            self.aero.body_load = [0.0; 6];
+            self.aero.fin_load = [0.0; 6];
+        } else {
+            let _ = self.aero.evaluate(t, &s);
+        }
         self.aero.channels(&mut r);
+        // Flight channels: inertial speed and acceleration of the origin,
+        // d/dt (C_IB V_B) = C_IB (V̇_B + ω_B × V_B), from the run's own right-hand side.
+        let v_i = mat_t_vec(&s.c_bi, &s.velocity);
+        r.push(v_i.iter().map(|c| c * c).sum::<f64>().sqrt());
+        let acc = match self.accel.rhs(t, x, &mut self.accel_buf) {
+            Ok(()) => {
+                let vd = [self.accel_buf[7], self.accel_buf[8], self.accel_buf[9]];
+                let wv = cross(&s.angular_velocity, &s.velocity);
+                let a_b = [0, 1, 2].map(|k| vd[k] + wv[k]);
+                a_b.iter().map(|c| c * c).sum::<f64>().sqrt()
+            }
+            Err(_) => f64::NAN,
+        };
+        r.push(acc);
+        r.push(h - self.plan.stop.ground_altitude);
+        if let Some(sm) = &self.static_margin {
+            let m = if a > 0.0 { speed / a } else { 0.0 };
+            r.push(sm.calibres(m, h).unwrap_or(f64::NAN));
+        }
         Ok(r)
     }
 }
@@ -473,7 +660,330 @@ fn hermite((t0, x0, d0): StepEnd, (t1, x1, d1): StepEnd, t: f64, out: &mut [f64]
     }
 }
 
+/// Upward vertical speed `-ż` of the origin (z down), m/s.
+fn climb_rate(layout: crate::runtime::eom::StateLayout, x: &[f64]) -> f64 {
+    let s = StateView::new(layout, x);
+    -mat_t_vec(&s.c_bi, &s.velocity)[2]
+}
+
+/// Bisection for the first time in `(lo, hi]` where `pred` holds, given it fails at `lo`
+/// and holds at `hi` (64 halvings: the double-precision resolution of the interval).
+fn bisect(mut lo: f64, mut hi: f64, mut pred: impl FnMut(f64) -> bool) -> f64 {
+    for _ in 0..64 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if pred(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi
+}
+
+/// What ends an integration segment before the stop: the equations of motion change.
+#[derive(Debug, Clone, PartialEq)]
+enum SegmentEnd {
+    /// The vehicle leaves the rail: free flight from here.
+    RailExit,
+    /// These recovery devices deploy: the point-mass descent from here.
+    Deploy(Vec<usize>),
+}
+
+/// The observer's state across the accepted steps and segments of a run.
+struct Driver<'a, 'p> {
+    plan: &'p Plan,
+    monitor: Monitor<'a>,
+    layout: crate::runtime::eom::StateLayout,
+    rows: Vec<Vec<f64>>,
+    prev: Option<(f64, Vec<f64>, Vec<f64>)>,
+    next_k: u64,
+    last_row_t: f64,
+    stop_cond: Option<RunStop>,
+    stopped_at: Option<f64>,
+    row_error: Option<EomError>,
+    scratch: Vec<f64>,
+    eps: f64,
+    t_end: f64,
+    dt_out: f64,
+    /// Burnout time (the thrust curve's last point), if the vehicle has thrust.
+    burn_time: Option<f64>,
+    apogee_armed: bool,
+    events: FlightEvents,
+    /// Per recovery device: its trigger point and deployment time, once triggered.
+    triggered: Vec<Option<(EventPoint, f64)>>,
+    deployed: Vec<bool>,
+    /// The segment end met in the last step, its time and state.
+    segment: Option<(SegmentEnd, f64, Vec<f64>)>,
+    progress: &'a mut dyn FnMut(f64, f64),
+}
+
+impl Driver<'_, '_> {
+    fn interp(&mut self, t: f64, xs: &[f64], dx: &[f64], tau: f64) {
+        match &self.prev {
+            Some((tp, xp, dp)) if tau < t => {
+                hermite((*tp, xp, dp), (t, xs, dx), tau, &mut self.scratch)
+            }
+            _ => self.scratch.copy_from_slice(xs),
+        }
+    }
+
+    /// First time in `(tp, t]` where `pred(τ, x(τ))` holds on the step's interpolant, if it
+    /// holds at `t`.
+    fn locate(
+        &mut self,
+        t: f64,
+        xs: &[f64],
+        dx: &[f64],
+        mut pred: impl FnMut(&Self, f64, &[f64]) -> bool,
+    ) -> Option<f64> {
+        if self.prev.is_none() || !pred(self, t, xs) {
+            return None;
+        }
+        let (tp, xp, dp) = self.prev.take()?;
+        let mut buf = std::mem::take(&mut self.scratch);
+        let hit = bisect(tp, t, |tau| {
+            hermite((tp, &xp, &dp), (t, xs, dx), tau, &mut buf);
+            pred(self, tau, &buf)
+        });
+        self.scratch = buf;
+        self.prev = Some((tp, xp, dp));
+        Some(hit)
+    }
+
+    fn rail_distance(&self, x: &[f64]) -> f64 {
+        match &self.plan.launch {
+            Some(l) => (0..3)
+                .map(|k| (x[k] - l.start[k]) * l.rail_direction[k])
+                .sum(),
+            None => 0.0,
+        }
+    }
+
+    fn event_point(&mut self, t: f64, xs: &[f64], dx: &[f64], tau: f64) -> EventPoint {
+        self.interp(t, xs, dx, tau);
+        EventPoint::of(self.layout, tau, &self.scratch)
+    }
+
+    /// The observer: stops, segment ends and events located in the accepted step
+    /// `(t_prev, t]`, then the output rows up to the first of them.
+    fn observe(&mut self, t: f64, xs: &[f64], dx: &[f64]) -> bool {
+        let mut hit = self.monitor.stop_condition(t, xs);
+        // A stop inside this step: locate the first state that meets a condition by
+        // bisection on the step's Hermite interpolant (the step start met none).
+        let mut t_stop = t;
+        if let (Some(_), Some((tp, xp, dp))) = (hit, &self.prev) {
+            let (mut lo, mut hi) = (*tp, t);
+            for _ in 0..64 {
+                let mid = 0.5 * (lo + hi);
+                if mid <= lo || mid >= hi {
+                    break;
+                }
+                hermite((*tp, xp, dp), (t, xs, dx), mid, &mut self.scratch);
+                match self.monitor.stop_condition(mid, &self.scratch) {
+                    Some(reason) => {
+                        hi = mid;
+                        hit = Some(reason);
+                    }
+                    None => lo = mid,
+                }
+            }
+            t_stop = hi;
+        }
+        let mut t_lim = if hit.is_some() { t_stop } else { t };
+        let mut segment: Option<(SegmentEnd, f64)> = None;
+        // Rail exit.
+        if self.monitor.phase == Phase::Rail {
+            let length = self.plan.launch.as_ref().map_or(0.0, |l| l.rail_length);
+            if let Some(te) = self.locate(t, xs, dx, |d, _, x| d.rail_distance(x) >= length) {
+                if te < t_lim || (hit.is_none() && te <= t_lim) {
+                    t_lim = te;
+                    segment = Some((SegmentEnd::RailExit, te));
+                    hit = None;
+                }
+            }
+        }
+        // Events that only get recorded (burnout, apogee, triggers), in (t_prev, t_lim].
+        let tp = self.prev.as_ref().map(|p| p.0);
+        let mut burnout = None;
+        let mut apogee = None;
+        let mut triggers: Vec<(usize, EventPoint, f64)> = Vec::new();
+        if let Some(tp) = tp {
+            if let Some(tb) = self.burn_time {
+                if self.events.burnout.is_none() && tb > tp && tb <= t_lim {
+                    burnout = Some(self.event_point(t, xs, dx, tb));
+                }
+            }
+            if self.apogee_armed
+                && self.events.apogee.is_none()
+                && self.monitor.phase != Phase::Rail
+            {
+                let layout = self.layout;
+                if let Some(ta) = self.locate(t, xs, dx, |_, _, x| climb_rate(layout, x) <= 0.0) {
+                    if ta <= t_lim {
+                        apogee = Some(self.event_point(t, xs, dx, ta));
+                    }
+                }
+            }
+            let t_apogee = self.events.apogee.or(apogee).map(|a| a.t);
+            for i in 0..self.plan.parachutes.len() {
+                if self.triggered[i].is_some() {
+                    continue;
+                }
+                let c = &self.plan.parachutes[i];
+                let (trigger, lag) = (c.trigger, c.lag);
+                let at = match trigger {
+                    crate::check::ir::Trigger::Apogee => apogee.map(|a| a.t),
+                    crate::check::ir::Trigger::Time(tt) => (tt <= t_lim).then_some(tt.max(tp)),
+                    crate::check::ir::Trigger::Altitude(h) => match t_apogee {
+                        Some(ta) => {
+                            let g = self.plan.stop.ground_altitude;
+                            self.locate(t, xs, dx, |_, tau, x| tau >= ta && -x[2] - g <= h)
+                        }
+                        None => None,
+                    },
+                };
+                if let Some(at) = at.filter(|&a| a <= t_lim) {
+                    let p = self.event_point(t, xs, dx, at);
+                    triggers.push((i, p, at + lag));
+                }
+            }
+        }
+        // Deployments due in this step (already triggered, or just now).
+        let mut due: Vec<(usize, f64)> = Vec::new();
+        if let Some(tp) = tp {
+            for (i, tr) in self.triggered.iter().enumerate() {
+                if let Some((_, td)) = tr {
+                    if !self.deployed[i] && *td <= t_lim {
+                        due.push((i, td.max(tp)));
+                    }
+                }
+            }
+        }
+        for (i, _, td) in &triggers {
+            if *td <= t_lim {
+                due.push((*i, *td));
+            }
+        }
+        if let Some(td) = due.iter().map(|d| d.1).reduce(f64::min) {
+            if td < t_lim || (hit.is_none() && td <= t_lim) {
+                t_lim = td;
+                hit = None;
+                let ids = due.iter().filter(|d| d.1 <= td).map(|d| d.0).collect();
+                segment = Some((SegmentEnd::Deploy(ids), td));
+            }
+        }
+        if hit.is_some() {
+            t_stop = t_lim;
+        }
+        // Commit the recorded events up to the end of this step's flight.
+        if let Some(b) = burnout.filter(|b| b.t <= t_lim) {
+            self.events.burnout = Some(b);
+        }
+        if let Some(a) = apogee.filter(|a| a.t <= t_lim) {
+            self.events.apogee = Some(a);
+        }
+        for (i, p, td) in triggers {
+            if p.t <= t_lim {
+                self.triggered[i] = Some((p, td));
+            }
+        }
+        if climb_rate(self.layout, xs) > 0.0 && segment.is_none() && hit.is_none() {
+            self.apogee_armed = true;
+        }
+        let cut = hit.is_some() || segment.is_some();
+        // Output times in (t_prev, t] (and t = 0 at the start) up to the stop time; when
+        // a condition or a segment end cuts the step, the rows end with that state (below).
+        loop {
+            let tk = self.next_k as f64 * self.dt_out;
+            if tk > t + self.eps || tk > self.t_end + self.eps || (cut && tk >= t_lim - self.eps) {
+                break;
+            }
+            if tk <= self.last_row_t + self.eps {
+                self.next_k += 1;
+                continue;
+            }
+            let tk = if (tk - t).abs() <= self.eps { t } else { tk };
+            self.interp(t, xs, dx, tk);
+            let mut row_state = std::mem::take(&mut self.scratch);
+            let r = self.monitor.row(tk, &mut row_state);
+            self.scratch = row_state;
+            match r {
+                Ok(r) if r.iter().all(|v| v.is_finite()) => {
+                    self.rows.push(r);
+                    self.last_row_t = tk;
+                }
+                Ok(_) => {
+                    self.stop_cond = Some(RunStop::NonFinite);
+                    return false;
+                }
+                Err(e) => {
+                    self.row_error = Some(e);
+                    return false;
+                }
+            }
+            self.next_k += 1;
+        }
+        if cut {
+            self.interp(t, xs, dx, t_lim);
+            let mut row_state = std::mem::take(&mut self.scratch);
+            if let Ok(r) = self.monitor.row(t_lim, &mut row_state) {
+                if r.iter().all(|v| v.is_finite()) && t_lim > self.last_row_t + self.eps {
+                    self.rows.push(r);
+                    self.last_row_t = t_lim;
+                }
+            }
+            if let Some(stop) = hit {
+                if stop == RunStop::Ground {
+                    self.events.landing = Some(EventPoint::of(self.layout, t_lim, &row_state));
+                }
+                self.stop_cond = Some(stop);
+                self.stopped_at = Some(t_stop);
+            } else if let Some((kind, te)) = segment {
+                self.segment = Some((kind, te, row_state.clone()));
+            }
+            self.scratch = row_state;
+            return false;
+        }
+        match &mut self.prev {
+            Some((tp, xp, dp)) => {
+                *tp = t;
+                xp.copy_from_slice(xs);
+                dp.copy_from_slice(dx);
+            }
+            None => self.prev = Some((t, xs.to_vec(), dx.to_vec())),
+        }
+        (self.progress)(t, self.t_end);
+        true
+    }
+}
+
+/// The upward speed and acceleration of the origin at the plan's initial state, m/s and
+/// m/s^2, from the run's own right-hand side in its first phase.
+fn initial_climb(flight: &mut Flight, x: &[f64]) -> Result<(f64, f64), RunError> {
+    let layout = flight.eom.layout();
+    let mut dx = vec![0.0; x.len()];
+    flight
+        .rhs(0.0, x, &mut dx)
+        .map_err(|_| RunError::InitialState {
+            expected: layout.len(),
+            found: x.len(),
+        })?;
+    let s = StateView::new(layout, x);
+    let vd = [dx[7], dx[8], dx[9]];
+    let wv = cross(&s.angular_velocity, &s.velocity);
+    let a_i = mat_t_vec(&s.c_bi, &[vd[0] + wv[0], vd[1] + wv[1], vd[2] + wv[2]]);
+    Ok((climb_rate(layout, x), -a_i[2]))
+}
+
 /// Runs the plan on `model`. `progress(t, t_end)` is called after each accepted step.
+///
+/// The run is integrated in segments: a rail launch first integrates the rail phase until
+/// the rail exit, then free flight; the first deployment of a recovery device switches to
+/// the descent (crate::runtime::flight). Each segment restarts the integrator at the event,
+/// so no step straddles a change of the equations of motion.
 pub fn run(
     plan: &Plan,
     model: &ReducedModel,
@@ -481,6 +991,7 @@ pub fn run(
 ) -> Result<RunOutput, RunError> {
     let started = Instant::now();
     let probe = AeroProbe::of_plan(plan, model);
+    let static_margin = plan.static_margin.clone();
     let forces = build_force_blocks(plan, model)?;
     let mut eom = Eom::new(model, forces)?.track_energy();
     let mut eval = Eom::new(model, FreeFlight)?;
@@ -489,15 +1000,43 @@ pub fn run(
         eval = eval.with_propulsion(p)?;
     }
     let layout = eom.layout();
+    // The state with the works of the energy balance appended (they start at zero).
+    let dim = eom.dim();
     if plan.initial_state.len() != layout.len() {
         return Err(RunError::InitialState {
             expected: layout.len(),
             found: plan.initial_state.len(),
         });
     }
+    let first_phase = match &plan.launch {
+        Some(l) if l.rail_length > 0.0 => Phase::Rail,
+        _ => Phase::Free,
+    };
+    let mut flight = Flight::new(eom, first_phase, plan.planned_stimuli.clone());
+    // A start on or below the ground must be able to leave it: climbing, or at rest with
+    // an upward acceleration (a rail launch waits on the rail's foot instead, and the plan
+    // has checked its thrust can lift it).
+    let mut x = plan.initial_state.clone();
+    x.resize(dim, 0.0);
     let energy0 = eval.invariants_at(0.0, &plan.initial_state)?.total_energy();
-    let mut monitor = Monitor {
+    let h0 = -plan.initial_state[2];
+    if plan.stop.ground && h0 <= plan.stop.ground_altitude && first_phase != Phase::Rail {
+        let (climb, climb_acc) = initial_climb(&mut flight, &x)?;
+        if !(climb > 0.0 || (climb == 0.0 && climb_acc > 0.0)) {
+            return Err(RunError::CannotLeaveGround {
+                altitude: h0,
+                ground: plan.stop.ground_altitude,
+                climb_rate: climb,
+                climb_acceleration: climb_acc,
+            });
+        }
+    }
+    let monitor = Monitor {
         plan,
+        phase: first_phase,
+        accel: flight.clone(),
+        accel_buf: vec![0.0; dim],
+        static_margin,
         eval,
         gravity: plan
             .gravity()
@@ -518,112 +1057,121 @@ pub fn run(
         max_steps: 2_000_000,
         ..AdaptiveOptions::default()
     };
-    let mut integrator: Box<dyn Integrator> = match plan.integrator.method {
-        ir::Integrator::Dopri5 => Box::new(DormandPrince54::new(adaptive)),
-        ir::Integrator::Dop853 => Box::new(Dop853::new(adaptive)),
-        ir::Integrator::Rk4 => Box::new(Rk4::new(plan.integrator.step)),
+    let make_integrator = || -> Box<dyn Integrator> {
+        match plan.integrator.method {
+            ir::Integrator::Dopri5 => Box::new(DormandPrince54::new(adaptive)),
+            ir::Integrator::Dop853 => Box::new(Dop853::new(adaptive)),
+            ir::Integrator::Rk4 => Box::new(Rk4::new(plan.integrator.step)),
+        }
     };
 
     let t_end = plan.stop.stop_time;
     let dt_out = plan.output_interval;
-    // The state with the works of the energy balance appended (they start at zero).
-    let dim = eom.dim();
-    let mut rows: Vec<Vec<f64>> = Vec::new();
-    let mut prev: Option<(f64, Vec<f64>, Vec<f64>)> = None;
-    let mut next_k: u64 = 0;
-    let mut last_row_t = f64::NEG_INFINITY;
-    let mut stop_cond: Option<RunStop> = None;
-    let mut stopped_at: Option<f64> = None;
-    let mut row_error: Option<EomError> = None;
-    let mut scratch = vec![0.0; dim];
-    let mut x = plan.initial_state.clone();
-    x.resize(dim, 0.0);
-    let eps = 1e-9 * dt_out;
-
-    let report = {
-        let mut observer = |t: f64, xs: &[f64], dx: &[f64]| -> bool {
-            let mut hit = monitor.stop_condition(t, xs);
-            // A stop inside this step: locate the first state that meets a condition by
-            // bisection on the step's Hermite interpolant (the step start met none).
-            let mut t_stop = t;
-            if let (Some(_), Some((tp, xp, dp))) = (hit, &prev) {
-                let (mut lo, mut hi) = (*tp, t);
-                for _ in 0..64 {
-                    let mid = 0.5 * (lo + hi);
-                    if mid <= lo || mid >= hi {
-                        break;
-                    }
-                    hermite((*tp, xp, dp), (t, xs, dx), mid, &mut scratch);
-                    match monitor.stop_condition(mid, &scratch) {
-                        Some(reason) => {
-                            hi = mid;
-                            hit = Some(reason);
-                        }
-                        None => lo = mid,
-                    }
-                }
-                t_stop = hi;
-            }
-            // Output times in (t_prev, t] (and t = 0 at the start) up to the stop time; when
-            // a condition stops the run, the rows end with the stopping state itself (below).
-            loop {
-                let tk = next_k as f64 * dt_out;
-                if tk > t + eps || tk > t_end + eps || (hit.is_some() && tk >= t_stop - eps) {
-                    break;
-                }
-                let tk = if (tk - t).abs() <= eps { t } else { tk };
-                match &prev {
-                    Some((tp, xp, dp)) if tk > *tp && tk < t => {
-                        hermite((*tp, xp, dp), (t, xs, dx), tk, &mut scratch)
-                    }
-                    _ => scratch.copy_from_slice(xs),
-                }
-                match monitor.row(tk, &mut scratch) {
-                    Ok(r) if r.iter().all(|v| v.is_finite()) => {
-                        rows.push(r);
-                        last_row_t = tk;
-                    }
-                    Ok(_) => {
-                        stop_cond = Some(RunStop::NonFinite);
-                        return false;
-                    }
-                    Err(e) => {
-                        row_error = Some(e);
-                        return false;
-                    }
-                }
-                next_k += 1;
-            }
-            if let Some(stop) = hit {
-                match &prev {
-                    Some((tp, xp, dp)) if t_stop < t => {
-                        hermite((*tp, xp, dp), (t, xs, dx), t_stop, &mut scratch)
-                    }
-                    _ => scratch.copy_from_slice(xs),
-                }
-                if let Ok(r) = monitor.row(t_stop, &mut scratch) {
-                    if r.iter().all(|v| v.is_finite()) {
-                        rows.push(r);
-                        last_row_t = t_stop;
-                    }
-                }
-                stop_cond = Some(stop);
-                stopped_at = Some(t_stop);
-                return false;
-            }
-            match &mut prev {
-                Some((tp, xp, dp)) => {
-                    *tp = t;
-                    xp.copy_from_slice(xs);
-                    dp.copy_from_slice(dx);
-                }
-                None => prev = Some((t, xs.to_vec(), dx.to_vec())),
-            }
-            progress(t, t_end);
-            true
-        };
-        integrator.integrate(&mut eom, 0.0, &mut x, t_end, &mut observer)
+    let burn_time = plan
+        .motor
+        .as_ref()
+        .map(|m| m.thrust.burn_time)
+        .or_else(|| {
+            plan.forces.iter().find_map(|f| match f {
+                ForcePlan::Thrust(t) => Some(t.burn_time),
+                _ => None,
+            })
+        })
+        .filter(|&t| t > 0.0);
+    let mut driver = Driver {
+        plan,
+        monitor,
+        layout,
+        rows: Vec::new(),
+        prev: None,
+        next_k: 0,
+        last_row_t: f64::NEG_INFINITY,
+        stop_cond: None,
+        stopped_at: None,
+        row_error: None,
+        scratch: vec![0.0; dim],
+        eps: 1e-9 * dt_out,
+        t_end,
+        dt_out,
+        burn_time,
+        apogee_armed: climb_rate(layout, &plan.initial_state) > 0.0,
+        events: FlightEvents::default(),
+        triggered: vec![None; plan.parachutes.len()],
+        deployed: vec![false; plan.parachutes.len()],
+        segment: None,
+        progress,
     };
+    let mut t0 = 0.0;
+    let mut stats = StepStats::default();
+    let report = loop {
+        let mut integrator = make_integrator();
+        let report = {
+            let mut observer =
+                |t: f64, xs: &[f64], dx: &[f64]| -> bool { driver.observe(t, xs, dx) };
+            integrator.integrate(&mut flight, t0, &mut x, t_end, &mut observer)
+        };
+        stats.accepted += report.stats.accepted;
+        stats.rejected += report.stats.rejected;
+        stats.rhs_evaluations += report.stats.rhs_evaluations;
+        let Some((kind, te, xe)) = driver.segment.take() else {
+            break report;
+        };
+        x.copy_from_slice(&xe);
+        match kind {
+            SegmentEnd::RailExit => {
+                driver.events.rail_exit = Some(EventPoint::of(layout, te, &x));
+                flight.phase = Phase::Free;
+            }
+            SegmentEnd::Deploy(ids) => {
+                for i in ids {
+                    driver.deployed[i] = true;
+                    flight.cd_area += plan.parachutes[i].cd_area;
+                    let trigger = driver.triggered[i].map_or_else(EventPoint::default, |p| p.0);
+                    driver.events.deployments.push((
+                        plan.parachutes[i].name.clone(),
+                        trigger,
+                        EventPoint::of(layout, te, &x),
+                    ));
+                }
+                // Frozen to a rigid body at its attitude of this instant, keeping its linear
+                // momentum: every point then moves with the mass centre's velocity
+                // `p_B / m` (which includes the elastic and rotational contributions). The
+                // kinetic energy of the motion relative to the mass centre and the strain
+                // energy this removes (>= 0, Koenig's theorem) are booked as dissipated
+                // (absorbed by the opening), so the energy balance stays closed.
+                let n = layout.n;
+                let inv = driver.monitor.eval.invariants_at(te, &x)?;
+                let before = inv.total_energy();
+                for k in 0..3 {
+                    x[7 + k] = inv.momentum_body[k] / inv.mass;
+                }
+                x[10..13].fill(0.0);
+                x[13..13 + 2 * n].fill(0.0);
+                let after = driver.monitor.eval.invariants_at(te, &x)?.total_energy();
+                if let Some(d) = x.get_mut(layout.len() + EnergyLayout::DISSIPATED) {
+                    *d += before - after;
+                }
+                flight.phase = Phase::Descent;
+            }
+        }
+        driver.monitor.phase = flight.phase;
+        driver.monitor.accel.phase = flight.phase;
+        driver.monitor.accel.cd_area = flight.cd_area;
+        driver.prev = None;
+        driver.apogee_armed |= climb_rate(layout, &x) > 0.0;
+        t0 = te;
+    };
+    let Driver {
+        mut monitor,
+        mut rows,
+        last_row_t,
+        stop_cond,
+        stopped_at,
+        row_error,
+        eps,
+        events,
+        ..
+    } = driver;
     if let Some(e) = row_error {
         return Err(RunError::Eom(e));
     }
@@ -671,8 +1219,9 @@ pub fn run(
         stop,
         stop_detail: detail,
         t_end: stopped_at.unwrap_or(report.t),
-        stats: report.stats,
+        stats,
         wall_seconds: started.elapsed().as_secs_f64(),
+        events,
     })
 }
 

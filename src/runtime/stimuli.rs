@@ -109,11 +109,144 @@ impl TurbulenceSeries {
     }
 }
 
+/// Largest number of rows of a steady-wind table (fixed-size storage: the lookup never
+/// allocates and the struct stays `Clone` without a heap copy per block).
+pub const MAX_WIND_ROWS: usize = 64;
+
+/// The steady wind of a scenario's `wind` block, inertial frame (x north, y east, z down),
+/// as a function of the height `z` above the ground.
+///
+/// A wind "from" direction `psi` (meteorological convention, clockwise from north) blows
+/// toward `psi + 180 deg`: its velocity is `-V (cos psi, sin psi, 0)`.
+/// - constant: `V` at every height;
+/// - power law (Hellmann; e.g. Peterson and Hennessey, J. Appl. Meteorol. 17, 1978, eq. 1):
+///   `V(z) = V_ref (z / z_ref)^alpha` for `z > 0`, zero at and below the ground; `alpha = 1/7`
+///   is the usual neutral-stability value over open ground;
+/// - table: rows `(z_k, V_k, psi_k)`; the north and east components are interpolated
+///   linearly in `z` (continuous, no wrap-around of the direction) and held below the first
+///   and above the last row.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SteadyWind {
+    ground_altitude: f64,
+    kind: SteadyKind,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+#[allow(clippy::large_enum_variant)] // fixed-size table: no heap copy per block
+enum SteadyKind {
+    Constant([f64; 3]),
+    PowerLaw {
+        at_reference: [f64; 3],
+        reference_height: f64,
+        exponent: f64,
+    },
+    Table {
+        len: usize,
+        heights: [f64; MAX_WIND_ROWS],
+        north: [f64; MAX_WIND_ROWS],
+        east: [f64; MAX_WIND_ROWS],
+    },
+}
+
+fn wind_from(speed: f64, direction: f64) -> [f64; 3] {
+    [-speed * direction.cos(), -speed * direction.sin(), 0.0]
+}
+
+impl SteadyWind {
+    /// The wind of a checked profile over a ground at `ground_altitude` (m above sea level).
+    /// Tables longer than [`MAX_WIND_ROWS`] keep their first rows (the checker refuses them).
+    pub fn new(profile: &crate::check::ir::WindProfile, ground_altitude: f64) -> Self {
+        use crate::check::ir::WindProfile as P;
+        let kind = match profile {
+            P::Constant { speed, direction } => {
+                SteadyKind::Constant(wind_from(speed.value, direction.value))
+            }
+            P::PowerLaw {
+                speed,
+                direction,
+                reference_height,
+                exponent,
+            } => SteadyKind::PowerLaw {
+                at_reference: wind_from(speed.value, direction.value),
+                reference_height: reference_height.value,
+                exponent: exponent.value,
+            },
+            P::Table(rows) => {
+                let len = rows.len().min(MAX_WIND_ROWS);
+                let mut heights = [0.0; MAX_WIND_ROWS];
+                let mut north = [0.0; MAX_WIND_ROWS];
+                let mut east = [0.0; MAX_WIND_ROWS];
+                for (k, r) in rows.iter().take(len).enumerate() {
+                    let w = wind_from(r.speed, r.direction);
+                    heights[k] = r.height;
+                    north[k] = w[0];
+                    east[k] = w[1];
+                }
+                SteadyKind::Table {
+                    len,
+                    heights,
+                    north,
+                    east,
+                }
+            }
+        };
+        SteadyWind {
+            ground_altitude,
+            kind,
+        }
+    }
+
+    /// Wind velocity at `altitude` (m above sea level), inertial frame. Never allocates.
+    pub fn at(&self, altitude: f64) -> [f64; 3] {
+        let z = altitude - self.ground_altitude;
+        match &self.kind {
+            SteadyKind::Constant(w) => *w,
+            SteadyKind::PowerLaw {
+                at_reference,
+                reference_height,
+                exponent,
+            } => {
+                if z.is_nan() || z <= 0.0 {
+                    return [0.0; 3];
+                }
+                let f = (z / reference_height).powf(*exponent);
+                at_reference.map(|c| c * f)
+            }
+            SteadyKind::Table {
+                len,
+                heights,
+                north,
+                east,
+            } => {
+                let n = *len;
+                if n == 0 || z.is_nan() {
+                    return [0.0; 3];
+                }
+                if z <= heights[0] {
+                    return [north[0], east[0], 0.0];
+                }
+                if z >= heights[n - 1] {
+                    return [north[n - 1], east[n - 1], 0.0];
+                }
+                let k = heights[..n].partition_point(|&h| h <= z).clamp(1, n - 1) - 1;
+                let f = (z - heights[k]) / (heights[k + 1] - heights[k]);
+                [
+                    north[k] + f * (north[k + 1] - north[k]),
+                    east[k] + f * (east[k + 1] - east[k]),
+                    0.0,
+                ]
+            }
+        }
+    }
+}
+
 /// The planned stimuli of one run.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Stimuli {
     pulses: Vec<Pulse>,
     turbulence: Vec<TurbulenceSeries>,
+    /// The scenario's steady wind (inertial frame, a function of altitude).
+    steady: Option<SteadyWind>,
 }
 
 impl Stimuli {
@@ -266,6 +399,28 @@ impl Stimuli {
             let v = series.at(t);
             for k in 0..3 {
                 body[k] += v[k];
+            }
+        }
+        (body, inertial)
+    }
+
+    /// Adds the scenario's steady wind (profile over a ground at `ground_altitude`).
+    pub fn set_steady_wind(
+        &mut self,
+        profile: &crate::check::ir::WindProfile,
+        ground_altitude: f64,
+    ) {
+        self.steady = Some(SteadyWind::new(profile, ground_altitude));
+    }
+
+    /// [`Self::wind`] plus the steady wind at `altitude` (m above sea level), added to the
+    /// inertial part. Never allocates.
+    pub fn wind_at(&self, t: f64, altitude: f64) -> ([f64; 3], [f64; 3]) {
+        let (body, mut inertial) = self.wind(t);
+        if let Some(s) = &self.steady {
+            let w = s.at(altitude);
+            for k in 0..3 {
+                inertial[k] += w[k];
             }
         }
         (body, inertial)
@@ -473,5 +628,81 @@ fn generate_turbulence(
         start,
         step,
         samples,
+    }
+}
+
+#[cfg(test)]
+mod wind_tests {
+    use super::*;
+    use crate::check::ir::{WindPoint, WindProfile};
+    use crate::syntax::{Span, Spanned};
+
+    fn q(v: f64) -> Spanned<f64> {
+        Spanned::new(v, Span::default())
+    }
+
+    #[test]
+    fn constant_wind_blows_from_its_direction() {
+        let w = SteadyWind::new(
+            &WindProfile::Constant {
+                speed: q(5.0),
+                direction: q(270f64.to_radians()),
+            },
+            100.0,
+        );
+        // From the west: toward the east (+y).
+        let v = w.at(1234.0);
+        assert!(
+            v[0].abs() < 1e-15 && (v[1] - 5.0).abs() < 1e-15 && v[2] == 0.0,
+            "{v:?}"
+        );
+    }
+
+    #[test]
+    fn the_power_law_scales_with_the_height_above_the_ground() {
+        let w = SteadyWind::new(
+            &WindProfile::PowerLaw {
+                speed: q(5.0),
+                direction: q(0.0),
+                reference_height: q(10.0),
+                exponent: q(1.0 / 7.0),
+            },
+            100.0,
+        );
+        // From the north, toward -x; 40 m above a ground at 100 m: 5 x 4^(1/7).
+        assert_eq!(w.at(140.0)[0], -5.0 * 4f64.powf(1.0 / 7.0));
+        assert_eq!(w.at(110.0)[0], -5.0);
+        assert_eq!(w.at(100.0), [0.0; 3]);
+        assert_eq!(w.at(50.0), [0.0; 3]);
+    }
+
+    #[test]
+    fn a_wind_table_interpolates_components_and_holds_its_ends() {
+        let row = |h: f64, v: f64, d: f64| WindPoint {
+            span: Span::default(),
+            height: h,
+            speed: v,
+            direction: d.to_radians(),
+        };
+        let w = SteadyWind::new(
+            &WindProfile::Table(vec![row(0.0, 2.0, 270.0), row(100.0, 4.0, 180.0)]),
+            0.0,
+        );
+        let (a, b) = ([0.0, 2.0], [4.0, 0.0]); // toward east, then toward north
+        let mid = w.at(25.0);
+        for k in 0..2 {
+            let want = a[k] + 0.25 * (b[k] - a[k]);
+            assert!((mid[k] - want).abs() < 1e-14, "{mid:?}");
+        }
+        assert!((w.at(-10.0)[1] - 2.0).abs() < 1e-14);
+        assert!((w.at(500.0)[0] - 4.0).abs() < 1e-14);
+        // Added to the stimuli's inertial part, by altitude.
+        let mut s = Stimuli::default();
+        s.set_steady_wind(
+            &WindProfile::Table(vec![row(0.0, 2.0, 270.0), row(100.0, 4.0, 180.0)]),
+            0.0,
+        );
+        assert_eq!(s.wind_at(3.0, 25.0).1, mid);
+        assert_eq!(s.wind_at(3.0, 25.0).0, [0.0; 3]);
     }
 }

@@ -223,6 +223,12 @@ fn atmosphere(h: f64) -> (f64, f64, f64, f64) {
     }
 }
 
+/// Below this Mach the Reynolds number of the friction law is taken at this Mach: the
+/// turbulent flat-plate law has no limit as Re -> 0, and the coefficient multiplies a dynamic
+/// pressure that vanishes there (at M = 0.1, sea level, 34 m/s, the estimator's second grid
+/// Mach). So the tables start at Mach 0 with the friction of M = 0.1.
+pub const FRICTION_REYNOLDS_MIN_MACH: f64 = 0.1;
+
 /// Turbulent skin-friction coefficient (Prandtl-Schlichting, compressibility-corrected; see
 /// the module doc) for Reynolds number `re` at Mach `mach`.
 pub fn skin_friction(re: f64, mach: f64) -> f64 {
@@ -259,7 +265,7 @@ pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f
     let cm = (cn_pot * (x_nose_cp - b.reference_x) + cn_cross * (x_p - b.reference_x)) / d;
     // Axial force.
     let (_, rho, sound, mu) = atmosphere(altitude_m);
-    let v = mach * sound;
+    let v = mach.max(FRICTION_REYNOLDS_MIN_MACH) * sound;
     let re = rho * v * b.length / mu;
     let slant = (0.25 * d * d + nose_len * nose_len).sqrt();
     let wetted =
@@ -374,14 +380,15 @@ pub fn fin_coefficients(
     let cn = f.interference() * f.cn_alpha(mach, s_ref) * alpha_deg.to_radians();
     let (_, rho, sound, mu) = atmosphere(altitude_m);
     let (mac, _) = f.mean_aerodynamic_chord();
-    let re = rho * mach * sound * mac / mu;
+    let re = rho * mach.max(FRICTION_REYNOLDS_MIN_MACH) * sound * mac / mu;
     let ca = skin_friction(re, mach) * 2.0 * f.area() / s_ref;
     [cn, ca, f.x_cp(mach)]
 }
 
-/// The grid the estimator writes: Mach 0.1..5, alpha -20..20 deg by 2, altitude 0..30 km.
-pub const ESTIMATOR_MACH: [f64; 17] = [
-    0.1, 0.3, 0.5, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.1, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0,
+/// The grid the estimator writes: Mach 0..5 (a launch starts at rest), alpha -20..20 deg by
+/// 2, altitude 0..30 km.
+pub const ESTIMATOR_MACH: [f64; 18] = [
+    0.0, 0.1, 0.3, 0.5, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.1, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0,
 ];
 /// Altitudes of the estimator grid, m.
 pub const ESTIMATOR_ALTITUDE: [f64; 6] = [0.0, 5_000.0, 10_000.0, 15_000.0, 20_000.0, 30_000.0];

@@ -46,13 +46,22 @@
 //! Multilinear (trilinear) interpolation between the eight surrounding grid points; an axis
 //! with a single value is constant along it. Outside an axis range the table's
 //! [`OutOfRange`] policy applies: `Stop` returns [`TableError::OutOfRange`] naming the axis,
-//! value and range; `Clamp` holds the edge value. Lookups do not allocate: the grid index
+//! value and range; `Clamp` holds the edge value. One exception makes every table cover a
+//! launch from Mach 0: below the lowest Mach of a table whose lowest Mach is at most
+//! [`HELD_BELOW_MACH`] (0.3) the lowest-Mach values are held under either policy. Subsonic
+//! coefficients tend to constants as M -> 0 (the Prandtl-Glauert factor 1/sqrt(1 - M^2)
+//! differs from 1 by less than 4.9 % below M = 0.3), so the hold is the incompressible
+//! limit, not an extrapolation. Lookups do not allocate: the grid index
 //! uses precomputed strides.
 
 use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::check::ir::OutOfRange;
+
+/// Below the lowest Mach of a table that starts at or below this Mach, the lowest-Mach
+/// values are held (the incompressible limit; see the module doc).
+pub const HELD_BELOW_MACH: f64 = 0.3;
 
 /// Which coefficients a table holds (three value columns after the three axes).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -573,6 +582,19 @@ impl CoefficientTable {
         self.policy
     }
 
+    /// Is `value` on axis `a` in the held low-Mach band `0 <= M < M_min` (module doc)?
+    fn held_below(&self, a: usize, value: f64) -> bool {
+        let min = self.axes[a][0];
+        a == Axis::Mach as usize && (0.0..min).contains(&value) && min <= HELD_BELOW_MACH
+    }
+
+    /// Is a query at `value` on `axis` outside what the table covers (the range of the axis,
+    /// extended down to Mach 0 for tables starting at or below [`HELD_BELOW_MACH`])?
+    pub fn outside(&self, axis: Axis, value: f64) -> bool {
+        let a = &self.axes[axis as usize];
+        (value < a[0] || value > a[a.len() - 1]) && !self.held_below(axis as usize, value)
+    }
+
     /// Bracketing index and fraction on one axis, after the out-of-range policy.
     fn locate(&self, a: usize, value: f64) -> Result<(usize, f64), TableError> {
         let axis = &self.axes[a];
@@ -584,7 +606,10 @@ impl CoefficientTable {
             });
         }
         let (min, max) = (axis[0], axis[axis.len() - 1]);
-        if (value < min || value > max) && self.policy == OutOfRange::Stop {
+        if (value < min || value > max)
+            && self.policy == OutOfRange::Stop
+            && !self.held_below(a, value)
+        {
             return Err(TableError::OutOfRange {
                 path: self.source.clone(),
                 axis: AXES[a],
@@ -753,6 +778,54 @@ mod tests {
         }
         // Hand value: m=0.75, a=2.5, h=2500: cn = 1 + 1.5 - 1.25 + 0.25 = 1.5.
         assert!((t.body(0.75, 2.5, 2500.0).unwrap().cn - 1.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn tables_starting_at_low_mach_hold_their_values_down_to_mach_0() {
+        let axes = [vec![0.3, 1.0], vec![0.0, 10.0], vec![0.0]];
+        let points = [
+            [1.0, 2.0, 3.0],
+            [1.5, 2.5, 3.5],
+            [4.0, 5.0, 6.0],
+            [4.5, 5.5, 6.5],
+        ];
+        let t = CoefficientTable::from_grid(
+            TableKind::Body,
+            "low.csv",
+            axes,
+            &points,
+            OutOfRange::Stop,
+        )
+        .unwrap();
+        for m in [0.0, 0.1, 0.299_999] {
+            assert_eq!(
+                t.lookup(m, 5.0, 0.0).unwrap(),
+                [1.25, 2.25, 3.25],
+                "M = {m}"
+            );
+            assert!(!t.outside(Axis::Mach, m));
+        }
+        assert!(
+            t.lookup(-0.01, 5.0, 0.0).is_err(),
+            "negative Mach is not a Mach"
+        );
+        assert!(t.outside(Axis::Mach, -0.01));
+        assert!(
+            t.lookup(1.01, 5.0, 0.0).is_err(),
+            "the upper end still stops"
+        );
+        // A table that starts above Mach 0.3 is not held: the stop policy stops there.
+        let axes = [vec![0.5, 1.0], vec![0.0, 10.0], vec![0.0]];
+        let t = CoefficientTable::from_grid(
+            TableKind::Body,
+            "high.csv",
+            axes,
+            &points,
+            OutOfRange::Stop,
+        )
+        .unwrap();
+        assert!(t.lookup(0.2, 5.0, 0.0).is_err());
+        assert!(t.outside(Axis::Mach, 0.2));
     }
 
     #[test]

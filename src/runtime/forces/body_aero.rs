@@ -291,7 +291,7 @@ pub(crate) fn clamp_axis(
 ) -> f64 {
     let a = table.axis(axis);
     let (lo, hi) = (a[0], a[a.len() - 1]);
-    if (value < lo || value > hi) && table.policy() == OutOfRange::Stop && fault.is_none() {
+    if table.outside(axis, value) && table.policy() == OutOfRange::Stop && fault.is_none() {
         *fault = Some(AeroFault::TableOutOfRange { axis, value });
     }
     value.clamp(lo, hi)
@@ -438,7 +438,7 @@ impl ForceModel for BodyAero {
         let (u, theta) = self.key.apply(state.eta);
         let (u_dot, theta_dot) = self.key.apply(state.eta_dot);
         let p = [0, 1, 2].map(|k| self.key.position[k] + u[k]);
-        let wind = self.stimuli.wind(t);
+        let wind = self.stimuli.wind_at(t, -state.position[2]);
         let v_b = relative_velocity(state, &p, &u_dot, &wind);
         // Nodal frame (5.3.11): C_bn,B v = v - θ × v.
         let tv = cross(&theta, &v_b);

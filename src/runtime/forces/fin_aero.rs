@@ -504,7 +504,7 @@ impl ForceModel for FinAero {
             });
             return;
         };
-        let wind = self.stimuli.wind(t);
+        let wind = self.stimuli.wind_at(t, -state.position[2]);
         let n = self.n;
         let stride = LUMPED_EXTRA + 6 * n;
         for fin in &mut self.fins {
