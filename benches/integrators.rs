@@ -2,7 +2,7 @@
 //! the plan, no output, no stop checks): steps, rejections, right-hand-side evaluations and
 //! wall time of DOPRI5 with the standard and the PI step-size controller and of DOP853, at
 //! several tolerances, each with its error at t = 10 s against a tight-tolerance reference
-//! (DOP853 at rtol 1e-12, atol 1e-15; its own error estimated against rtol 1e-13).
+//! (DOP853 at rtol 1e-10, atol 1e-13; its own error estimated against rtol 1e-11; at rtol 1e-12 the step underflows at the gust onset, t = 5 s).
 //!
 //! Error measure: the weighted RMS norm of the state difference in the scale of the
 //! scenario's tolerances, `sqrt(mean(((x - x_ref) / (1e-9 + 1e-6 |x_ref|))²))` over the
@@ -81,8 +81,8 @@ fn main() {
         let (x, stats) = last.expect("ran");
         (x, stats, wall)
     };
-    let (x_ref, s_ref, w_ref) = fly(Method::Dop853, 1e-12, 1e-15, 0.0);
-    let (x_ref2, ..) = fly(Method::Dop853, 1e-13, 1e-16, 0.0);
+    let (x_ref, s_ref, w_ref) = fly(Method::Dop853, 1e-10, 1e-13, 0.0);
+    let (x_ref2, ..) = fly(Method::Dop853, 1e-11, 1e-14, 0.0);
     let eta_max = x_ref[13..13 + n].iter().fold(0.0f64, |a, b| a.max(b.abs()));
     let error = |x: &[f64], r: &[f64]| -> (f64, f64) {
         let s: f64 = x
@@ -98,7 +98,7 @@ fn main() {
     };
     let (e_ref, eta_ref) = error(&x_ref, &x_ref2);
     println!(
-        "reference DOP853 rtol 1e-12: {} steps ({} rejected), {} RHS, {:.3} s; vs rtol 1e-13: weighted {:.2e}, eta {:.2e}",
+        "reference DOP853 rtol 1e-10: {} steps ({} rejected), {} RHS, {:.3} s; vs rtol 1e-11: weighted {:.2e}, eta {:.2e}",
         s_ref.accepted, s_ref.rejected, s_ref.rhs_evaluations, w_ref, e_ref, eta_ref
     );
     println!(
