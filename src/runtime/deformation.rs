@@ -25,11 +25,7 @@ impl NodeDeformation {
     /// From the row-major node blocks of [`crate::plan::Plan::node_translation_shapes`]:
     /// node `i`, axis `d`, mode `m` at `(3 i + d) n + m`.
     pub fn new(node_translation_shapes: &[f64], n: usize) -> Self {
-        let rows = if n == 0 {
-            0
-        } else {
-            node_translation_shapes.len() / n
-        };
+        let rows = node_translation_shapes.len().checked_div(n).unwrap_or(0);
         let mut shapes_by_mode = vec![0.0; rows * n];
         let mut bound: f64 = 0.0;
         for node in node_translation_shapes.chunks_exact((3 * n).max(1)) {

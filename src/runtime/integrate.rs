@@ -16,6 +16,8 @@
 
 // Stage loops index several buffers in step, as the Butcher tableau is written.
 #![allow(clippy::needless_range_loop)]
+// The DOP853 coefficients are copied digit for digit from dop853.f.
+#![allow(clippy::excessive_precision)]
 
 use thiserror::Error;
 
