@@ -63,5 +63,28 @@ fn bench_compile(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_compile);
+/// The fin panel matrices of SPHADS-1 (issue 12): 4 fins, 8 x 12 lattice, on the 17 Machs of
+/// the built-in fin table (target < 1 s).
+fn bench_panels(c: &mut Criterion) {
+    use flexflight::runtime::aero::estimator::ESTIMATOR_MACH;
+    use flexflight::runtime::aero::panel::fin_model::{self, PanelSettings};
+    let v = sphads1(&[]);
+    let compiled = compile(&v).expect("compiles").0;
+    let mut g = c.benchmark_group("fin panels");
+    g.sample_size(10).measurement_time(Duration::from_secs(10));
+    g.bench_function("sphads1 panel matrices, 17 Machs", |b| {
+        b.iter(|| {
+            fin_model::compile(
+                black_box(&compiled),
+                &v,
+                &ESTIMATOR_MACH,
+                PanelSettings::default(),
+            )
+            .map(|m| m.fins.len())
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench_panels, bench_compile);
 criterion_main!(benches);

@@ -41,31 +41,45 @@ fn bench_rhs(c: &mut Criterion) {
 criterion_group!(benches, bench_rhs);
 
 /// The RHS of the subsonic thesis scenario with every force block of its plan: gravity, body
-/// aerodynamics and fin aerodynamics distributed over the fin nodes.
+/// aerodynamics and fin aerodynamics distributed over the fin nodes, with the thesis'
+/// key-node fin model (the vehicle's) and with the lifting-surface model (issue 12: the
+/// elastic increments from the per-Mach panel matrices). Target: the lifting-surface RHS no
+/// slower than the key-node one.
 fn bench_rhs_with_aero(c: &mut Criterion) {
     use flexflight::runtime::run::build_force_blocks;
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/thesis/section_6_5.vdl");
-    let checked = check_files(&[root], &[], &DiskLoader);
-    let sc = checked
-        .program
-        .scenario("subsonic_t06")
-        .expect("scenario")
-        .clone();
-    let (compiled, _) = compile(&sc.vehicle).expect("compiles");
-    let plan = flexflight::plan::build(&sc, &compiled).expect("plan");
-    let forces = build_force_blocks(&plan, &compiled.reduced).expect("force blocks");
-    let mut eom = Eom::new(&compiled.reduced, forces).expect("eom");
-    let mut x = plan.initial_state.clone();
-    // A slightly disturbed state so every block does real work.
-    x[9] += 3.0;
-    for k in 0..plan.n_modes {
-        x[13 + k] = 1e-5 * (k as f64 + 1.0);
+    for (sets, label) in [
+        (
+            vec![],
+            "rhs sphads1 10 modes, gravity + body aero + distributed fin aero",
+        ),
+        (
+            vec!["forces.fin_aero.model=lifting_surface".to_string()],
+            "rhs sphads1 10 modes, gravity + body aero + lifting-surface fin aero",
+        ),
+    ] {
+        let checked = check_files(std::slice::from_ref(&root), &sets, &DiskLoader);
+        let sc = checked
+            .program
+            .scenario("subsonic_t06")
+            .expect("scenario")
+            .clone();
+        let (compiled, _) = compile(&sc.vehicle).expect("compiles");
+        let plan = flexflight::plan::build(&sc, &compiled).expect("plan");
+        let forces = build_force_blocks(&plan, &compiled.reduced).expect("force blocks");
+        let mut eom = Eom::new(&compiled.reduced, forces).expect("eom");
+        let mut x = plan.initial_state.clone();
+        // A slightly disturbed state so every block does real work.
+        x[9] += 3.0;
+        for k in 0..plan.n_modes {
+            x[13 + k] = 1e-5 * (k as f64 + 1.0);
+            x[13 + plan.n_modes + k] = 1e-3 * (k as f64 - 3.0);
+        }
+        let mut dx = vec![0.0; x.len()];
+        c.bench_function(label, |b| {
+            b.iter(|| eom.rhs(0.0, black_box(&x), &mut dx).map(|_| dx[7]))
+        });
     }
-    let mut dx = vec![0.0; x.len()];
-    c.bench_function(
-        "rhs sphads1 10 modes, gravity + body aero + distributed fin aero",
-        |b| b.iter(|| eom.rhs(0.0, black_box(&x), &mut dx).map(|_| dx[7])),
-    );
 }
 
 criterion_group!(aero_benches, bench_rhs_with_aero);

@@ -420,6 +420,31 @@ assert_error!(
     "vdl::value::range",
     edit(FINNED, "tip_chord = 100 mm", "tip_chord = 250 mm")
 );
+// Issue 9 audit: `body_aero { rate_terms = true }` with a body table that has no rate
+// columns passed `check` and was refused only when the plan built the block.
+assert_error!(
+    rate_terms_with_a_table_without_rate_columns_is_refused_at_check,
+    "vdl::aero::rate_columns",
+    edit(
+        &edit(
+            FINNED,
+            "source = builtin\n",
+            "source = tables\n    body_table = \"body.csv\"\n    fin_table = \"fin.csv\"\n"
+        ),
+        "gravity {}\n",
+        "gravity {}\n    body_aero { rate_terms = true }\n"
+    ),
+    files = [
+        (
+            "body.csv",
+            "mach,alpha_deg,altitude_m,cn,ca,cm\n0,0,0,0,0.3,0\n2,0,0,0,0.3,0\n0,10,0,1,0.3,-1\n2,10,0,1,0.3,-1\n0,0,10000,0,0.3,0\n2,0,10000,0,0.3,0\n0,10,10000,1,0.3,-1\n2,10,10000,1,0.3,-1\n"
+        ),
+        (
+            "fin.csv",
+            "mach,alpha_deg,altitude_m,cn,ca,cm\n0,0,0,0,0.01,0\n2,0,0,0,0.01,0\n"
+        )
+    ]
+);
 // Issue 9 audit: `check` accepted a pointed fin (tip chord 0) that the fin generator then
 // refused at compile time.
 assert_error!(

@@ -227,7 +227,7 @@ vehicle mm {
     gravity { enabled = true; altitude_correction = false }
     thrust { enabled = true; curve = "c.eng"; offset = (0, 0, 0) m; misalignment = (0, 0, 0) rad }
     body_aero { enabled = false; rate_terms = false }
-    fin_aero { enabled = false; distribution = uniform; leeward_reduction = false; stress_limit = 0.5; incidence = load_weighted }
+    fin_aero { enabled = false; distribution = uniform; leeward_reduction = false; stress_limit = 0.5; incidence = load_weighted; model = key_node }
   }
 }
 vehicle op4 {
@@ -305,7 +305,7 @@ vehicle gen {
   key_nodes { body = node(1); fins = fin_point(span = 0.5, chord = 0.25) }
   modes { fin_flap = per_fin; fin_twist = per_fin; fixity = origin }
   aero { source = builtin; out_of_range = stop; reference_point = (0, 0, 0) m }
-  forces { body_aero { rate_terms = true }; fin_aero { distribution = theory; incidence = key_node } }
+  forces { body_aero { rate_terms = true }; fin_aero { distribution = theory; incidence = key_node; model = key_node } }
 }
 scenario a {
   vehicle = gen

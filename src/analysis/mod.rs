@@ -3,6 +3,7 @@
 //! runs says about stability:
 //!
 //! - [`planar`]: the planar pinned (6.1) and unpinned (6.2) eigen-stability models;
+//! - [`flutter`]: p-k / k flutter analysis with unsteady aerodynamics (issue 13);
 //! - [`tn4197`]: the NACA TN 4197 fin flutter boundary, a baseline printed next to ours;
 //! - [`map`]: stability maps over fin thickness x Mach (Figs 6.3-6.8) and their CSV;
 //! - [`linearise`], [`roots`], [`linear`], [`linear_grid`]: the linearised 3-D model (beyond
@@ -12,6 +13,7 @@
 //! - [`gust_response`]: that fit after each stimulus of a run (Tables 6.1-6.2);
 //! - [`sweep`]: variant sweeps: case expansion, parallel runs, tables, shards and merging.
 
+pub mod flutter;
 pub mod gust_response;
 pub mod identify;
 pub mod linear;

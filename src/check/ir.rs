@@ -341,8 +341,23 @@ pub struct FinAero {
     pub leeward_reduction: bool,
     /// Stop the run when a fin root stress exceeds this fraction of yield (5.6).
     pub stress_limit_fraction: Option<Q>,
-    /// Where the fin's elastic incidence and velocity are taken.
+    /// Where the fin's elastic incidence and velocity are taken (key-node model only).
     pub incidence: Spanned<FinIncidence>,
+    /// How the fin's elastic deformation enters its loads.
+    pub model: Spanned<FinAeroModel>,
+}
+
+/// The fin aerodynamic model (issue 12).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FinAeroModel {
+    /// The thesis' model (5.4): the coefficient tables at the fin key node's elastic
+    /// incidence and velocity (or their load-weighted mean, `incidence`).
+    KeyNode,
+    /// The rigid load from the coefficient tables at the undeformed fin, the elastic
+    /// increments from the fin's panel model (vortex lattice / piston theory,
+    /// `runtime::aero::panel`): independent of `key_nodes.fins`. The default.
+    LiftingSurface,
 }
 
 /// Where the fin aerodynamics see the fin's deformation (5.4.3-5.4.10).

@@ -215,6 +215,30 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
             return None;
         }
     }
+    // `body_aero { rate_terms = true }` applies the body table's `cn_q`, `cm_q` columns: a
+    // table without them is refused here (the plan would refuse it too, later). A table that
+    // does not parse is left to the plan, which reports it with its line.
+    if let (Some(a), Some(fo)) = (&aero, &forces) {
+        if let (AeroSource::Tables { body, .. }, Some(ba)) = (&a.source, &fo.body_aero) {
+            use crate::runtime::aero::tables::{CoefficientTable, TableKind};
+            let parsed = cx.loader.read(&body.value).ok().and_then(|text| {
+                CoefficientTable::parse_csv(TableKind::Body, &body.value, &text, OutOfRange::Clamp)
+                    .ok()
+            });
+            if ba.rate_terms && parsed.is_some_and(|t| !t.has_rates()) {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::aero::rate_columns",
+                        "`rate_terms = true` needs the body table's rate derivatives, but it has no `cn_q,cm_q` columns",
+                    )
+                    .label(ba.span, "rate terms asked for here")
+                    .label(body.span, "this body table has the six base columns only")
+                    .with_help("add the columns `cn_q,cm_q` (C_Nq + C_Nalpha-dot, C_mq + C_malpha-dot per rad of omega b/(2V)) to the table, or set `rate_terms = false`"),
+                );
+                return None;
+            }
+        }
+    }
     // The fin generator meshes each fin with MITC4 quadrilaterals between the root and the
     // tip chord (structure/generate/spec.rs): a pointed fin (tip chord 0) would need
     // degenerate elements. The aerodynamics take it; the generated structure does not.
@@ -1310,7 +1334,8 @@ fn check_forces(cx: &mut Cx, b: &Block) -> Option<Forces> {
             .value("leeward_reduction")
             .and_then(|v| f::boolean(cx, v))
             .unwrap_or(true);
-        let incidence = match fl.value("incidence") {
+        let incidence_value = fl.value("incidence");
+        let incidence = match incidence_value {
             Some(v) => f::keyword(
                 cx,
                 v,
@@ -1322,6 +1347,36 @@ fn check_forces(cx: &mut Cx, b: &Block) -> Option<Forces> {
             .map(|d| Spanned::new(d, v.span)),
             None => Some(Spanned::new(FinIncidence::KeyNode, fa.header)),
         };
+        let incidence_given = incidence_value.is_some();
+        let model = match fl.value("model") {
+            Some(v) => f::keyword(
+                cx,
+                v,
+                &[
+                    ("key_node", FinAeroModel::KeyNode),
+                    ("lifting_surface", FinAeroModel::LiftingSurface),
+                ],
+            )
+            .map(|d| Spanned::new(d, v.span)),
+            None => Some(Spanned::new(FinAeroModel::LiftingSurface, fa.header)),
+        };
+        // `incidence` chooses where the key-node model reads the fin's deformation; the
+        // lifting-surface model reads all of it from the panels, so the field would be
+        // silently ignored.
+        if let (Some(m), Some(i), true) = (&model, &incidence, incidence_given) {
+            if m.value == FinAeroModel::LiftingSurface {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::fin_aero::incidence_unused",
+                        "`incidence` only applies to `model = key_node`: the lifting-surface model takes the fin's deformation from its panels",
+                    )
+                    .label(i.span, "`incidence` given here")
+                    .label(m.span, "the fin aerodynamic model in effect")
+                    .with_help("remove `incidence`, or set `model = key_node`"),
+                );
+                ok = false;
+            }
+        }
         let stress = fl.value("stress_limit").map(|v| {
             f::check_range(
                 f::number(cx, v),
@@ -1339,17 +1394,18 @@ fn check_forces(cx: &mut Cx, b: &Block) -> Option<Forces> {
             Some(s) => s,
             None => None,
         };
-        match (dist, incidence) {
-            (Some(distribution), Some(incidence)) if on => {
+        match (dist, incidence, model) {
+            (Some(distribution), Some(incidence), Some(model)) if on => {
                 forces.fin_aero = Some(FinAero {
                     span: fa.header,
                     distribution,
                     leeward_reduction: lw,
                     stress_limit_fraction: stress,
                     incidence,
+                    model,
                 })
             }
-            (Some(_), Some(_)) => {}
+            (Some(_), Some(_), Some(_)) => {}
             _ => ok = false,
         }
     }

@@ -97,15 +97,25 @@ pub fn cmd_plan(
     match common.output.format {
         Format::Human => {
             print!("{}", plan::summary_text(&p));
-            print!("{}", fin_panels_text(&sc, &compiled.compiled));
+            match p.aero.as_ref().and_then(|a| a.fin.as_ref()) {
+                // The lifting-surface model's matrices, as the run uses them (from the cache).
+                Some(f) if f.panel_model().is_some() => {
+                    if let (Some(m), Some(fi)) = (f.panel_model(), sc.vehicle.fins.as_ref()) {
+                        let area = 0.5 * (fi.root_chord.value + fi.tip_chord.value) * fi.span.value;
+                        print!("{}", m.summary_text(&compiled.compiled, area));
+                    }
+                }
+                _ => print!("{}", fin_panels_text(&sc, &compiled.compiled)),
+            }
         }
         Format::Json => println!("{}", serde_json::to_string_pretty(&p).unwrap_or_default()),
     }
     EXIT_OK
 }
 
-/// The fin panel matrices (issue 12) on the fin table's Mach grid, for `plan`; a line saying
-/// why when they cannot be built (they are not used by the run yet).
+/// The fin panel matrices (issue 12) on the fin table's Mach grid, for `plan` of a vehicle
+/// whose run does not use them (`model = key_node`); a line saying why when they cannot be
+/// built.
 fn fin_panels_text(sc: &Scenario, c: &crate::structure::compile::CompiledVehicle) -> String {
     use crate::runtime::aero::panel::fin_model::{self, PanelSettings};
     use crate::runtime::aero::tables::Axis;

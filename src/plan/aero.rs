@@ -7,8 +7,9 @@
 //! table's Mach grid (with the distribution lumped per grid Mach), and the shape rows at
 //! the key nodes. The plan owns the result ([`PlanAero`]); a run only copies it.
 //!
-//! The part that depends on the vehicle alone and costs time (the estimated tables and
-//! the fin load weights), [`VehicleAero`], is kept content-addressed in the artifact cache
+//! The part that depends on the vehicle alone and costs time (the estimated tables, the
+//! fin load weights and, for `fin_aero { model = lifting_surface }`, the fin panel matrices
+//! per grid Mach), [`VehicleAero`], is kept content-addressed in the artifact cache
 //! as an [`AeroArtifact`] keyed by the structural key and the whole checked vehicle (see
 //! `cli::compile::aero_cache_key`), so a warm run does not rebuild it. Everything else
 //! (key-node rows, node positions, the lumped sums) is rebuilt from the compiled vehicle,
@@ -21,6 +22,7 @@ use serde::Serialize;
 use crate::check::ir::{self, AeroSource};
 use crate::runtime::aero::estimator::EstimatedTables;
 use crate::runtime::aero::fin_loads::FinLoadTable;
+use crate::runtime::aero::panel::fin_model::{FinTransfer, PanelModel, PanelSettings};
 use crate::runtime::aero::tables::{Axis, CoefficientTable, TableKind};
 use crate::runtime::atmosphere::Standard1976;
 use crate::runtime::forces::{AeroForceError, BodyAero, FinAero, aero_tables};
@@ -30,7 +32,7 @@ use crate::structure::compile::CompiledVehicle;
 /// Revision of the vehicle-only aerodynamics (estimator, fin load weights). It is part of
 /// the aero cache key: bump it whenever a change makes the same vehicle give different
 /// tables or weights, so that no stale artifact is served.
-pub const AERO_REVISION: u32 = 1;
+pub const AERO_REVISION: u32 = 2;
 
 /// Source label of the estimated body table (as [`EstimatedTables::estimate`] names it).
 const BUILTIN_BODY: &str = "builtin-body.csv";
@@ -58,6 +60,7 @@ impl PlanAero {
                 .fin
                 .as_ref()
                 .map_or_else(Vec::new, FinAero::load_tables),
+            panels: self.fin.as_ref().and_then(FinAero::panel_model).cloned(),
         }
     }
 
@@ -80,17 +83,88 @@ pub struct VehicleAero {
     pub estimated: bool,
     /// One per fin, in fin order (empty without fin aerodynamics).
     pub fin_loads: Vec<FinLoadTable>,
+    /// The fin panel matrices on the fin table's Mach grid (lifting-surface model only).
+    pub panels: Option<PanelModel>,
 }
 
 /// The cached form of [`VehicleAero`]: the estimated tables as their CSV text (which reads
 /// back bit for bit: [`CoefficientTable::to_csv`] prints shortest round-trip floats) and
-/// the raw load weights. Tables read from files are not stored: their bytes are part of
-/// the key and they are read again.
+/// the raw load weights and panel matrices. Tables read from files are not stored: their
+/// bytes are part of the key and they are read again.
 #[derive(Clone, Debug, PartialEq, rkyv::Archive, rkyv::Serialize, rkyv::Deserialize)]
 pub struct AeroArtifact {
     pub body_table_csv: Option<String>,
     pub fin_table_csv: Option<String>,
     pub fin_loads: Vec<FinLoadWeights>,
+    pub fin_panels: Option<FinPanels>,
+}
+
+/// The fin panel matrices ([`PanelModel`]): lattice settings, Mach grid and each fin's
+/// transfer matrices `(n + 3) x (2 n + 3)` per grid Mach, row-major, concatenated by Mach.
+#[derive(Clone, Debug, PartialEq, rkyv::Archive, rkyv::Serialize, rkyv::Deserialize)]
+pub struct FinPanels {
+    pub chordwise: u64,
+    pub spanwise: u64,
+    /// 0 uniform, 1 cosine.
+    pub spacing: u8,
+    /// 0 none, 1 Ackeret.
+    pub correction: u8,
+    pub machs: Vec<f64>,
+    pub n_modes: u64,
+    pub transfer: Vec<Vec<f64>>,
+}
+
+impl FinPanels {
+    fn new(m: &PanelModel) -> Self {
+        use crate::runtime::aero::panel::Spacing;
+        use crate::runtime::aero::panel::piston::Correction;
+        FinPanels {
+            chordwise: m.settings.chordwise as u64,
+            spanwise: m.settings.spanwise as u64,
+            spacing: u8::from(m.settings.spacing == Spacing::Cosine),
+            correction: u8::from(m.settings.correction == Correction::Ackeret),
+            machs: m.machs.clone(),
+            n_modes: m.fins.first().map_or(0, |t| t.n as u64),
+            transfer: m.fins.iter().map(|t| t.t.clone()).collect(),
+        }
+    }
+
+    /// Back to a [`PanelModel`]; an error when a size does not fit.
+    fn to_model(&self) -> Result<PanelModel, String> {
+        use crate::runtime::aero::panel::Spacing;
+        use crate::runtime::aero::panel::piston::Correction;
+        let n = usize::try_from(self.n_modes).map_err(|e| e.to_string())?;
+        let size = self.machs.len() * (n + 3) * (2 * n + 3);
+        if let Some(t) = self.transfer.iter().find(|t| t.len() != size) {
+            return Err(format!(
+                "cached panel matrices hold {} values, expected {size}",
+                t.len()
+            ));
+        }
+        let settings = PanelSettings {
+            chordwise: usize::try_from(self.chordwise).map_err(|e| e.to_string())?,
+            spanwise: usize::try_from(self.spanwise).map_err(|e| e.to_string())?,
+            spacing: match self.spacing {
+                0 => Spacing::Uniform,
+                1 => Spacing::Cosine,
+                x => return Err(format!("cached panel spacing {x} is unknown")),
+            },
+            correction: match self.correction {
+                0 => Correction::None,
+                1 => Correction::Ackeret,
+                x => return Err(format!("cached piston correction {x} is unknown")),
+            },
+        };
+        Ok(PanelModel {
+            settings,
+            machs: self.machs.clone(),
+            fins: self
+                .transfer
+                .iter()
+                .map(|t| FinTransfer { n, t: t.clone() })
+                .collect(),
+        })
+    }
 }
 
 /// One fin's load weights: `weights[i * n_nodes + k]` is node k's weight at `machs[i]`.
@@ -102,7 +176,7 @@ pub struct FinLoadWeights {
 }
 
 impl crate::artifact::ArtifactPayload for AeroArtifact {
-    const SCHEMA: &'static str = "AeroArtifact v1: body_table_csv Option<String>, fin_table_csv Option<String> (CoefficientTable::to_csv of the estimated tables), fin_loads [machs Vec<f64>, n_nodes u64, weights Vec<f64> row-major by Mach]";
+    const SCHEMA: &'static str = "AeroArtifact v2: body_table_csv Option<String>, fin_table_csv Option<String> (CoefficientTable::to_csv of the estimated tables), fin_loads [machs Vec<f64>, n_nodes u64, weights Vec<f64> row-major by Mach], fin_panels Option<[chordwise u64, spanwise u64, spacing u8, correction u8, machs Vec<f64>, n_modes u64, transfer [Vec<f64> (n+3)x(2n+3) row-major per Mach]]>";
 }
 
 impl AeroArtifact {
@@ -120,6 +194,7 @@ impl AeroArtifact {
                     weights: t.weights().to_vec(),
                 })
                 .collect(),
+            fin_panels: v.panels.as_ref().map(FinPanels::new),
         }
     }
 
@@ -155,10 +230,17 @@ impl AeroArtifact {
                     .map_err(AeroForceError::FinLoad)
             })
             .collect::<Result<_, _>>()?;
+        let panels = self
+            .fin_panels
+            .as_ref()
+            .map(FinPanels::to_model)
+            .transpose()
+            .map_err(AeroForceError::Cached)?;
         Ok(VehicleAero {
             tables,
             estimated,
             fin_loads,
+            panels,
         })
     }
 }
@@ -194,13 +276,14 @@ pub fn resolve(
         None
     };
     let fin = if wants_fin {
-        Some(FinAero::with_load_tables(
+        Some(FinAero::with_cached(
             c,
             v,
             tables.fin.clone(),
             Standard1976::new(),
             stimuli.clone(),
             cached.map(|va| va.fin_loads.as_slice()),
+            cached.and_then(|va| va.panels.as_ref()),
         )?)
     } else {
         None
@@ -227,6 +310,8 @@ pub struct AeroSummary {
     pub tables: Vec<TableSummary>,
     pub body: Option<BodySummary>,
     pub fins: Vec<FinSummary>,
+    /// The fin aerodynamic model (`key_node` or `lifting_surface`), with fin aerodynamics.
+    pub fin_model: Option<ir::FinAeroModel>,
 }
 
 /// One coefficient table: its grid, ranges and a few values.
@@ -362,6 +447,7 @@ impl AeroSummary {
             tables,
             body,
             fins,
+            fin_model: a.fin.as_ref().map(FinAero::model),
         }
     }
 
@@ -370,6 +456,18 @@ impl AeroSummary {
         use std::fmt::Write as _;
         let mut s = String::new();
         let _ = writeln!(s, "aerodynamics   {} coefficient tables", self.source);
+        if let Some(m) = self.fin_model {
+            let _ = writeln!(
+                s,
+                "  fin model      {}",
+                match m {
+                    ir::FinAeroModel::KeyNode =>
+                        "key_node (thesis 5.4: tables at the fin key node)",
+                    ir::FinAeroModel::LiftingSurface =>
+                        "lifting_surface (rigid load from the tables, elastic increments from the panels)",
+                }
+            );
+        }
         for t in &self.tables {
             let range = |a: &[f64]| match (a.first(), a.last()) {
                 (Some(lo), Some(hi)) => format!("{lo} .. {hi} ({} values)", a.len()),

@@ -534,7 +534,8 @@ pub fn build_with_aero(
             | E::NoFins { .. }
             | E::FinCount { .. }
             | E::EmptyFin { .. }
-            | E::NodeOffPlanform { .. } => fins_span
+            | E::NodeOffPlanform { .. }
+            | E::FinPanels(_) => fins_span
                 .or(vehicle.forces.fin_aero.as_ref().map(|f| f.span))
                 .unwrap_or(vehicle.aero.span),
             _ => vehicle.aero.span,

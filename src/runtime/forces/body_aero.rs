@@ -111,6 +111,8 @@ pub enum AeroForceError {
         "the compiled vehicle has {key_nodes} fin key nodes, the `fins` block has {declared} fins"
     )]
     FinCount { key_nodes: usize, declared: usize },
+    #[error("fin panel model: {0}")]
+    FinPanels(#[from] crate::runtime::aero::panel::fin_model::FinPanelError),
     #[error("cached aerodynamics: {0}")]
     Cached(String),
     #[error("fin {fin} has no nodes in the compiled model")]

@@ -1,0 +1,21 @@
+//! Flutter analysis (issue 13): the p-k and k methods on generalised coordinates with
+//! tabulated unsteady generalised aerodynamic forces `Q(k)`, and the published cases it is
+//! validated on.
+//!
+//! - [`pk`]: the solver (p-k after Hassig 1971 and Rodden & Johnson's MSC Nastran Aeroelastic
+//!   User's Guide, the k method, flutter points by root finding, divergence);
+//! - [`bessel`], [`theodorsen`]: Theodorsen's function and the typical-section airloads;
+//! - [`typical_section`]: the two-degree-of-freedom section of Hodges & Pierce;
+//! - [`goland`]: the Goland wing, a uniform cantilever as bending-torsion beam elements with
+//!   Theodorsen strip theory.
+
+pub mod bessel;
+pub mod goland;
+pub mod pk;
+pub mod theodorsen;
+pub mod typical_section;
+
+pub use pk::{
+    Divergence, FlutterError, FlutterModel, FlutterPoint, Gaf, GafFn, GafTable, KSolution, PkRoot,
+    PkSettings, PkSolution, k_method, pk_solve,
+};
