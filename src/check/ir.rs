@@ -571,6 +571,8 @@ pub enum TurbulenceModel {
 pub enum Integrator {
     /// Adaptive Dormand-Prince 5(4).
     Dopri5,
+    /// Adaptive Dormand-Prince 8(5,3) (Hairer's DOP853).
+    Dop853,
     /// Classical fixed-step Runge-Kutta 4.
     Rk4,
 }

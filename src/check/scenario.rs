@@ -779,7 +779,11 @@ fn check_run(cx: &mut Cx, b: &Block) -> Option<RunSettings> {
         Some(v) => f::keyword(
             cx,
             v,
-            &[("dopri5", Integrator::Dopri5), ("rk4", Integrator::Rk4)],
+            &[
+                ("dopri5", Integrator::Dopri5),
+                ("dop853", Integrator::Dop853),
+                ("rk4", Integrator::Rk4),
+            ],
         )
         .map(|i| Spanned::new(i, v.span)),
         None => Some(Spanned::new(Integrator::Dopri5, b.header)),

@@ -340,8 +340,6 @@ pub enum EomError {
 /// only writes into it.
 #[derive(Debug, Clone)]
 pub struct Workspace {
-    /// `M_tot(η)`, then its Cholesky factor (row-major, `(6+n)²`).
-    mass_matrix: Vec<f64>,
     /// Right-hand side, then `v̇`.
     rhs: Vec<f64>,
     /// External generalised forces `(F_B, G_B, Q)`.
@@ -350,6 +348,148 @@ pub struct Workspace {
     h_tot: Vec<f64>,
     /// `∂T/∂η`.
     dt_deta: Vec<f64>,
+    /// `G_m = ∂J̄_tot/∂η_m` (9 per mode, [`Precomputed`]).
+    g: Vec<f64>,
+    /// `H̄̇_tot = Σ_m η̇_m H̄'_m` (3 x n).
+    h_dot: Vec<f64>,
+    /// `W_H = L⁻¹ H̄_totᵀ` (n x 3) of the Schur complement solve.
+    w_h: Vec<f64>,
+    /// `L⁻¹ r_η`, then the back-substituted modal accelerations.
+    z: Vec<f64>,
+}
+
+/// The coefficients of (3.2.1) rearranged once per model (again when a burning motor changes
+/// the propellant fraction) so that the right-hand side evaluates the η-dependent inertia
+/// as precomputed quadratic forms and solves `M_tot v̇ = r` on its 6 x 6 rigid block.
+///
+/// # The inertia sums
+/// `J̄_tot(η) = J + Σ_m η_m A_m + Σ_mp η_m η_p J̄''_mp` (eqs. 3.2.9, 3.2.11, 3.2.12) with
+/// `A_m = J̄'_ru,m + J̄'_ru,mᵀ`. Its gradient is `G_m = ∂J̄_tot/∂η_m = A_m + Σ_p η_p S_mp`
+/// with `S_mp = J̄''_mp + J̄''_pm` (precomputed, laid out so that the sum over `p` is one
+/// contiguous axpy of length 9n per mode). Since `J̄_tot` is quadratic in `η`,
+/// `Σ_m η_m G_m = Σ_m η_m A_m + 2 Σ_mp η_m η_p J̄''_mp`, hence
+/// `J̄_tot = J + ½ Σ_m η_m (A_m + G_m)`; and `J̄̇_tot = Σ_m η̇_m G_m`,
+/// `½ ωᵀ(∂J̄_tot/∂η_m)ω = ½ ωᵀ G_m ω`. So the one contraction `G` (9n² multiply-adds)
+/// replaces the three of the direct form (`J̄_tot`, `J̄̇_tot` and `∂T/∂η` each summed
+/// `S_mp` over `m, p`).
+///
+/// `H̄_tot = H̄ + Σ_m η_m H̄'_m` and `H̄̇_tot = Σ_m η̇_m H̄'_m` (eqs. 3.2.4-3.2.6) come from
+/// one pass over `H̄'`; then `(H̄̇_tot η̇)_i = Σ_p (H̄̇_tot)_ip η̇_p`,
+/// `(H̄̇_totᵀ ω)_m = Σ_i ω_i (H̄̇_tot)_im`, and `ωᵀ H̄'_m η̇ = Σ_ip (ω_i η̇_p) (H̄'_m)_ip` is
+/// one axpy per `(i, p)` over the transposed copy `H̄'ᵀ`.
+///
+/// # The solve (Schur complement on the rigid block)
+/// `M_tot = [[A, B], [Bᵀ, M̄]]` with `A` the 6 x 6 rigid block `[[m 1, -c̄_tot^×],
+/// [c̄_tot^×, J̄_tot]]`, `B = [P̄; H̄_tot]` (6 x n) and the constant modal mass `M̄ = L Lᵀ`
+/// (Cholesky, once). Block elimination (Golub & Van Loan, "Matrix Computations", 4th ed.,
+/// 3.2.10 and 4.2.6: the Schur complement of a symmetric positive definite matrix is
+/// positive definite) with `W = L⁻¹ Bᵀ` (n x 6), `z = L⁻¹ r_η`:
+/// ```text
+/// (A - WᵀW) v̇_r = r_r - Wᵀ z,      v̇_η = L⁻ᵀ (z - W v̇_r)
+/// ```
+/// Only `W_H = L⁻¹ H̄_totᵀ` depends on `η`; `W_P = L⁻¹ P̄ᵀ` and the translational block
+/// `m 1 - W_Pᵀ W_P` are precomputed. The 6 x 6 Schur complement is factored by Cholesky
+/// (its failure is the mass matrix's loss of positive definiteness). No allocation.
+#[derive(Debug, Clone)]
+struct Precomputed {
+    n: usize,
+    /// `A_m`, entry `(i, k)` at `m * 9 + 3 i + k`.
+    a_lin: Vec<f64>,
+    /// `S_mp`, entry `(i, k)` at `p * 9n + m * 9 + 3 i + k`.
+    s_quad: Vec<f64>,
+    /// `(H̄'_m)_ip` at `(i n + p) n + m`.
+    h_prime_t: Vec<f64>,
+    /// `L⁻¹` (lower triangular, row-major n x n) of `M̄ = L Lᵀ`.
+    linv: Vec<f64>,
+    /// `W_P = L⁻¹ P̄ᵀ`, entry `(p, i)` at `3 p + i`.
+    w_p: Vec<f64>,
+    /// `m 1 - W_Pᵀ W_P`.
+    s_vv: Mat3,
+    /// The modal mass is not positive definite: every evaluation fails with this.
+    modal_error: Option<RhsError>,
+    /// Scratch of [`Self::rebuild`] (n x n).
+    chol: Vec<f64>,
+}
+
+impl Precomputed {
+    fn new(md: &ReducedModel) -> Self {
+        let n = md.n();
+        let mut p = Self {
+            n,
+            a_lin: vec![0.0; 9 * n],
+            s_quad: vec![0.0; 9 * n * n],
+            h_prime_t: vec![0.0; 3 * n * n],
+            linv: vec![0.0; n * n],
+            w_p: vec![0.0; 3 * n],
+            s_vv: [[0.0; 3]; 3],
+            modal_error: None,
+            chol: vec![0.0; n * n],
+        };
+        p.rebuild(md);
+        p
+    }
+
+    /// Recomputes every array from `md` (same `n`; no allocation).
+    fn rebuild(&mut self, md: &ReducedModel) {
+        let n = self.n;
+        for m in 0..n {
+            for i in 0..3 {
+                for k in 0..3 {
+                    self.a_lin[m * 9 + 3 * i + k] = md.j_ru[m][i][k] + md.j_ru[m][k][i];
+                }
+            }
+            for p in 0..n {
+                let (a, b) = (&md.j_uu[m * n + p], &md.j_uu[p * n + m]);
+                for i in 0..3 {
+                    for k in 0..3 {
+                        self.s_quad[p * 9 * n + m * 9 + 3 * i + k] = a[i][k] + b[i][k];
+                    }
+                }
+            }
+            for i in 0..3 {
+                for p in 0..n {
+                    self.h_prime_t[(i * n + p) * n + m] = md.h_prime[(m * 3 + i) * n + p];
+                }
+            }
+        }
+        // M̄ = L Lᵀ, then L⁻¹ column by column (forward substitution on unit vectors).
+        self.chol.copy_from_slice(&md.modal_mass);
+        self.modal_error = cholesky_factor(&mut self.chol, n).err().map(|e| match e {
+            RhsError::SingularMassMatrix { row, pivot } => RhsError::SingularMassMatrix {
+                row: 6 + row,
+                pivot,
+            },
+            other => other,
+        });
+        self.linv.fill(0.0);
+        if self.modal_error.is_none() {
+            let l = &self.chol;
+            for j in 0..n {
+                for i in j..n {
+                    let mut s = if i == j { 1.0 } else { 0.0 };
+                    for k in j..i {
+                        s -= l[i * n + k] * self.linv[k * n + j];
+                    }
+                    self.linv[i * n + j] = s / l[i * n + i];
+                }
+            }
+        }
+        for p in 0..n {
+            for i in 0..3 {
+                self.w_p[3 * p + i] = (0..=p)
+                    .map(|q| self.linv[p * n + q] * md.p_bar[i * n + q])
+                    .sum();
+            }
+        }
+        for i in 0..3 {
+            for k in 0..3 {
+                let wtw: f64 = (0..n)
+                    .map(|p| self.w_p[3 * p + i] * self.w_p[3 * p + k])
+                    .sum();
+                self.s_vv[i][k] = if i == k { md.mass } else { 0.0 } - wtw;
+            }
+        }
+    }
 }
 
 /// Quantities of eq. (3.2.1) that depend on `η` only.
@@ -505,6 +645,11 @@ pub struct Eom<'m, F> {
     /// External loads.
     pub forces: F,
     ws: Workspace,
+    /// The coefficients rearranged for the right-hand side (of the current model).
+    pre: Precomputed,
+    /// The propellant fraction `pre` was built for (a motor's working model may have moved
+    /// on through any caller of `Propulsion::update`; [`Self::sync_precomputed`]).
+    pre_fraction: f64,
     /// The burning motor of a variable-mass vehicle.
     propulsion: Option<Box<Propulsion>>,
     /// Integrate the works of the energy balance after the state ([`Self::track_energy`]).
@@ -558,12 +703,17 @@ impl<'m, F: ForceModel> Eom<'m, F> {
             layout: StateLayout { n },
             forces,
             ws: Workspace {
-                mass_matrix: vec![0.0; d * d],
                 rhs: vec![0.0; d],
                 forces: vec![0.0; d],
                 h_tot: vec![0.0; 3 * n],
                 dt_deta: vec![0.0; n],
+                g: vec![0.0; 9 * n],
+                h_dot: vec![0.0; 3 * n],
+                w_h: vec![0.0; 3 * n],
+                z: vec![0.0; n],
             },
+            pre: Precomputed::new(model),
+            pre_fraction: 1.0,
             propulsion: None,
             track_energy: false,
         })
@@ -580,6 +730,8 @@ impl<'m, F: ForceModel> Eom<'m, F> {
                 n: self.layout.n,
             });
         }
+        self.pre.rebuild(&propulsion.current);
+        self.pre_fraction = propulsion.fraction;
         self.propulsion = Some(Box::new(propulsion));
         Ok(self)
     }
@@ -608,6 +760,18 @@ impl<'m, F: ForceModel> Eom<'m, F> {
     pub fn set_time(&mut self, t: f64) {
         if let Some(p) = &mut self.propulsion {
             p.update(t);
+        }
+        self.sync_precomputed();
+    }
+
+    /// Rebuilds the precomputed coefficients if the motor's propellant fraction moved since
+    /// they were built (no allocation).
+    fn sync_precomputed(&mut self) {
+        if let Some(p) = &self.propulsion {
+            if p.fraction != self.pre_fraction {
+                self.pre.rebuild(&p.current);
+                self.pre_fraction = p.fraction;
+            }
         }
     }
 
@@ -662,6 +826,7 @@ impl<'m, F: ForceModel> Eom<'m, F> {
                 found: x.len(),
             });
         }
+        self.sync_precomputed();
         let n = l.n;
         let eta = &x[13..13 + n];
         let eta_dot = &x[13 + n..13 + 2 * n];
@@ -672,7 +837,10 @@ impl<'m, F: ForceModel> Eom<'m, F> {
             None => self.model,
         };
         let ws = &mut self.ws;
-        let inr = assemble(md, eta, &mut ws.h_tot, &mut ws.mass_matrix);
+        let inr = inertia(&self.pre, md, eta, &mut ws.g);
+        if md.h_tot_into(eta, &mut ws.h_tot).is_err() {
+            ws.h_tot.fill(f64::NAN);
+        }
         let [pv, pw] = momenta(md, &ws.h_tot, &inr, &v, &w, eta_dot);
         let mut pe = 0.0;
         let mut strain = 0.0;
@@ -861,9 +1029,140 @@ fn propulsion_terms(p: &mut Propulsion, t: f64, s: &StateView, r: &mut [f64]) ->
     power
 }
 
-/// In-place Cholesky factorisation `A = L Lᵀ` of a row-major SPD matrix (lower triangle
-/// overwritten by `L`) and solve of `A y = b` into `b`.
-fn cholesky_solve(a: &mut [f64], d: usize, b: &mut [f64]) -> Result<(), RhsError> {
+/// `Σ a_i b_i`.
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// A row-major 3 x 3 matrix (9 entries) times a vector.
+fn mat9_vec(a: &[f64], x: &[f64; 3]) -> [f64; 3] {
+    [0, 1, 2].map(|i| a[3 * i] * x[0] + a[3 * i + 1] * x[1] + a[3 * i + 2] * x[2])
+}
+
+/// `c̄_tot = c + P̄η` (eq. 3.2.10), `G_m = A_m + Σ_p η_p S_mp` into `g` and
+/// `J̄_tot = J + ½ Σ_m η_m (A_m + G_m)` ([`Precomputed`]; eqs. 3.2.9, 3.2.11, 3.2.12).
+fn inertia(pre: &Precomputed, md: &ReducedModel, eta: &[f64], g: &mut [f64]) -> Inertia {
+    let n = pre.n;
+    let mut c = md.first_moment;
+    for i in 0..3 {
+        c[i] += dot(&md.p_bar[i * n..(i + 1) * n], eta);
+    }
+    g.copy_from_slice(&pre.a_lin);
+    for (p, ep) in eta.iter().enumerate() {
+        for (gi, si) in g.iter_mut().zip(&pre.s_quad[p * 9 * n..(p + 1) * 9 * n]) {
+            *gi += ep * si;
+        }
+    }
+    let mut j9 = [0.0; 9];
+    for m in 0..n {
+        let (a, gm) = (&pre.a_lin[m * 9..m * 9 + 9], &g[m * 9..m * 9 + 9]);
+        for ik in 0..9 {
+            j9[ik] += eta[m] * (a[ik] + gm[ik]);
+        }
+    }
+    let mut j = md.inertia;
+    for i in 0..3 {
+        for k in 0..3 {
+            j[i][k] += 0.5 * j9[3 * i + k];
+        }
+    }
+    Inertia { c_tot: c, j_tot: j }
+}
+
+/// `H̄_tot = H̄ + Σ_m η_m H̄'_m` and `H̄̇_tot = Σ_m η̇_m H̄'_m` (3 x n each, eqs.
+/// 3.2.4-3.2.6) in one pass over `H̄'`.
+fn h_tot_and_rate(md: &ReducedModel, eta: &[f64], eta_dot: &[f64], h: &mut [f64], hd: &mut [f64]) {
+    let n = eta.len();
+    h.copy_from_slice(&md.h_bar);
+    hd.fill(0.0);
+    for m in 0..n {
+        let block = &md.h_prime[m * 3 * n..(m + 1) * 3 * n];
+        let (e, ed) = (eta[m], eta_dot[m]);
+        for ((hi, hdi), b) in h.iter_mut().zip(hd.iter_mut()).zip(block) {
+            *hi += e * b;
+            *hdi += ed * b;
+        }
+    }
+}
+
+/// Solves `M_tot(η) v̇ = r` in place by the Schur complement on the rigid block
+/// ([`Precomputed`], "The solve"): `w_h` (3n) and `z` (n) are scratch. No allocation.
+fn schur_solve(
+    pre: &Precomputed,
+    inr: &Inertia,
+    h_tot: &[f64],
+    w_h: &mut [f64],
+    z: &mut [f64],
+    r: &mut [f64],
+) -> Result<(), RhsError> {
+    if let Some(e) = pre.modal_error {
+        return Err(e);
+    }
+    let n = pre.n;
+    let l = &pre.linv;
+    // W_H = L⁻¹ H̄_totᵀ and z = L⁻¹ r_η.
+    for p in 0..n {
+        let row = &l[p * n..p * n + p + 1];
+        let (mut a0, mut a1, mut a2, mut b) = (0.0, 0.0, 0.0, 0.0);
+        for (q, lq) in row.iter().enumerate() {
+            a0 += lq * h_tot[q];
+            a1 += lq * h_tot[n + q];
+            a2 += lq * h_tot[2 * n + q];
+            b += lq * r[6 + q];
+        }
+        w_h[3 * p] = a0;
+        w_h[3 * p + 1] = a1;
+        w_h[3 * p + 2] = a2;
+        z[p] = b;
+    }
+    // Lower triangle of S = A - WᵀW and the reduced right-hand side r_r - Wᵀ z.
+    let c = inr.c_tot;
+    let cx = [[0.0, -c[2], c[1]], [c[2], 0.0, -c[0]], [-c[1], c[0], 0.0]];
+    let mut s = [0.0; 36];
+    let mut y = [r[0], r[1], r[2], r[3], r[4], r[5]];
+    for i in 0..3 {
+        for k in 0..3 {
+            s[i * 6 + k] = pre.s_vv[i][k];
+            s[(3 + i) * 6 + k] = cx[i][k];
+            s[(3 + i) * 6 + 3 + k] = inr.j_tot[i][k];
+        }
+    }
+    for p in 0..n {
+        let (wp, wh, zp) = (&pre.w_p[3 * p..3 * p + 3], &w_h[3 * p..3 * p + 3], z[p]);
+        for i in 0..3 {
+            y[i] -= wp[i] * zp;
+            y[3 + i] -= wh[i] * zp;
+            for k in 0..3 {
+                s[(3 + i) * 6 + k] -= wh[i] * wp[k];
+            }
+            for k in 0..=i {
+                s[(3 + i) * 6 + 3 + k] -= wh[i] * wh[k];
+            }
+        }
+    }
+    cholesky_factor(&mut s, 6)?;
+    cholesky_substitute(&s, 6, &mut y);
+    // v̇_η = L⁻ᵀ (z - W v̇_r).
+    for p in 0..n {
+        let (wp, wh) = (&pre.w_p[3 * p..3 * p + 3], &w_h[3 * p..3 * p + 3]);
+        z[p] -=
+            wp[0] * y[0] + wp[1] * y[1] + wp[2] * y[2] + wh[0] * y[3] + wh[1] * y[4] + wh[2] * y[5];
+    }
+    let re = &mut r[6..6 + n];
+    re.fill(0.0);
+    for p in 0..n {
+        let zp = z[p];
+        for (rq, lq) in re.iter_mut().zip(&l[p * n..p * n + p + 1]) {
+            *rq += lq * zp;
+        }
+    }
+    r[..6].copy_from_slice(&y);
+    Ok(())
+}
+
+/// In-place Cholesky factorisation `A = L Lᵀ` of a row-major symmetric positive definite
+/// matrix (only its lower triangle is read; it is overwritten by `L`).
+fn cholesky_factor(a: &mut [f64], d: usize) -> Result<(), RhsError> {
     for j in 0..d {
         let mut s = a[j * d + j];
         for k in 0..j {
@@ -882,6 +1181,11 @@ fn cholesky_solve(a: &mut [f64], d: usize, b: &mut [f64]) -> Result<(), RhsError
             a[i * d + j] = s / ljj;
         }
     }
+    Ok(())
+}
+
+/// Solves `L Lᵀ y = b` into `b` with the factor of [`cholesky_factor`].
+fn cholesky_substitute(a: &[f64], d: usize, b: &mut [f64]) {
     for i in 0..d {
         let mut s = b[i];
         for k in 0..i {
@@ -896,6 +1200,13 @@ fn cholesky_solve(a: &mut [f64], d: usize, b: &mut [f64]) -> Result<(), RhsError
         }
         b[i] = s / a[i * d + i];
     }
+}
+
+/// Factorises and solves `A y = b` (tests; the right-hand side uses [`schur_solve`]).
+#[cfg(test)]
+fn cholesky_solve(a: &mut [f64], d: usize, b: &mut [f64]) -> Result<(), RhsError> {
+    cholesky_factor(a, d)?;
+    cholesky_substitute(a, d, b);
     Ok(())
 }
 
@@ -922,6 +1233,7 @@ impl<F: ForceModel> OdeSystem for Eom<'_, F> {
         if let Some(p) = &mut self.propulsion {
             p.update(t);
         }
+        self.sync_precomputed();
         self.ws.forces.iter_mut().for_each(|f| *f = 0.0);
         self.forces
             .generalized_forces(t, &view, &mut self.ws.forces);
@@ -937,67 +1249,45 @@ impl<F: ForceModel> OdeSystem for Eom<'_, F> {
             None => self.model,
         };
         let ws = &mut self.ws;
-        let inr = assemble(md, eta, &mut ws.h_tot, &mut ws.mass_matrix);
+        let pre = &self.pre;
+        let inr = inertia(pre, md, eta, &mut ws.g);
+        h_tot_and_rate(md, eta, eta_dot, &mut ws.h_tot, &mut ws.h_dot);
         let [pv, pw] = momenta(md, &ws.h_tot, &inr, &v, &w, eta_dot);
 
-        // ċ = P̄ η̇, J̄̇_tot ω, H̄̇_tot η̇.
+        // ċ = P̄ η̇, J̄̇_tot ω = Σ_m η̇_m G_m ω, H̄̇_tot η̇ ([`Precomputed`]).
         let mut c_dot = [0.0; 3];
-        let mut hdot_etadot = [0.0; 3];
-        let mut jdot: Mat3 = [[0.0; 3]; 3];
-        for m in 0..n {
-            let ed = eta_dot[m];
-            for i in 0..3 {
-                c_dot[i] += md.p_bar[i * n + m] * ed;
-                for p in 0..n {
-                    hdot_etadot[i] += ed * md.h_prime[(m * 3 + i) * n + p] * eta_dot[p];
-                }
-                for k in 0..3 {
-                    jdot[i][k] += ed * (md.j_ru[m][i][k] + md.j_ru[m][k][i]);
-                }
+        for i in 0..3 {
+            c_dot[i] = dot(&md.p_bar[i * n..(i + 1) * n], eta_dot);
+        }
+        let mut jdot = [0.0; 9];
+        for (m, gm) in ws.g.chunks_exact(9).enumerate() {
+            for (j, g) in jdot.iter_mut().zip(gm) {
+                *j += eta_dot[m] * g;
             }
+        }
+        let jdot_w = mat9_vec(&jdot, &w);
+        let hdot_etadot = [0, 1, 2].map(|i| dot(&ws.h_dot[i * n..(i + 1) * n], eta_dot));
+        // ∂T/∂η_m - (H̄̇_totᵀ ω)_m with ∂T/∂η_m = P̄_m·(V×ω) + ½ ωᵀ G_m ω + ωᵀ H̄'_m η̇.
+        ws.dt_deta.fill(0.0);
+        for i in 0..3 {
             for p in 0..n {
-                // ∂/∂η_m of Σ η_a η_b J''_ab = Σ_p η_p (J''_mp + J''_pm).
-                let wgt = ed * eta[p];
-                let (a, b) = (&md.j_uu[m * n + p], &md.j_uu[p * n + m]);
-                for i in 0..3 {
-                    for k in 0..3 {
-                        jdot[i][k] += wgt * (a[i][k] + b[i][k]);
-                    }
+                let c = w[i] * eta_dot[p];
+                let col = &pre.h_prime_t[(i * n + p) * n..(i * n + p + 1) * n];
+                for (d, h) in ws.dt_deta.iter_mut().zip(col) {
+                    *d += c * h;
                 }
             }
         }
-        let jdot_w = mat_vec(&jdot, &w);
         let vxw = cross(&v, &w);
-        // ∂T/∂η_m = P̄_m·(V×ω) + ½ ωᵀ(∂J̄_tot/∂η_m)ω + ωᵀ H̄'_m η̇, and (H̄̇_totᵀ ω)_m.
-        for m in 0..n {
+        for (m, gm) in ws.g.chunks_exact(9).enumerate() {
             let mut s = 0.0;
             for i in 0..3 {
                 s += md.p_bar[i * n + m] * vxw[i];
             }
-            let mut jd: Mat3 = [[0.0; 3]; 3];
-            for i in 0..3 {
-                for k in 0..3 {
-                    jd[i][k] = md.j_ru[m][i][k] + md.j_ru[m][k][i];
-                }
-            }
-            for p in 0..n {
-                let (a, b) = (&md.j_uu[m * n + p], &md.j_uu[p * n + m]);
-                for i in 0..3 {
-                    for k in 0..3 {
-                        jd[i][k] += eta[p] * (a[i][k] + b[i][k]);
-                    }
-                }
-            }
-            let jdw = mat_vec(&jd, &w);
-            s += 0.5 * (0..3).map(|i| w[i] * jdw[i]).sum::<f64>();
-            let mut hdot_t_w = 0.0;
-            for i in 0..3 {
-                for p in 0..n {
-                    s += w[i] * md.h_prime[(m * 3 + i) * n + p] * eta_dot[p];
-                    hdot_t_w += eta_dot[p] * md.h_prime[(p * 3 + i) * n + m] * w[i];
-                }
-            }
-            ws.dt_deta[m] = s - hdot_t_w;
+            let gw = mat9_vec(gm, &w);
+            s += 0.5 * (w[0] * gw[0] + w[1] * gw[1] + w[2] * gw[2]);
+            let hdot_t_w = w[0] * ws.h_dot[m] + w[1] * ws.h_dot[n + m] + w[2] * ws.h_dot[2 * n + m];
+            ws.dt_deta[m] += s - hdot_t_w;
         }
 
         let wxc = cross(&w, &c_dot);
@@ -1029,7 +1319,7 @@ impl<F: ForceModel> OdeSystem for Eom<'_, F> {
             Some(p) => propulsion_terms(p, t, &view, r),
             None => 0.0,
         };
-        cholesky_solve(&mut ws.mass_matrix, d, r)?;
+        schur_solve(pre, &inr, &ws.h_tot, &mut ws.w_h, &mut ws.z, r)?;
 
         let c_ib_v = mat_t_vec(&view.c_bi, &v);
         let qd = euler_parameter_rates(&view.attitude, &w);

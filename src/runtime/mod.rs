@@ -3,7 +3,8 @@
 //!
 //! - [`eom`]: eq. (3.2.1) as a first-order system, force-model trait, energy and momentum;
 //! - [`kinematics`]: Euler parameters and Euler angles (thesis 4.4);
-//! - [`integrate`]: Dormand-Prince 5(4) and fixed-step RK4;
+//! - [`integrate`]: Dormand-Prince 5(4), DOP853 and fixed-step RK4;
+//! - [`deformation`]: the largest nodal elastic displacement (stop condition, channel);
 //! - [`forces`]: the force blocks of chapter 5 (gravity, thrust; aerodynamics plugged in);
 //! - [`run`]: the run driver: stop conditions and output channels;
 //! - [`aero`]: coefficient tables, the built-in estimator, fin load distributions (5.4, App. A)
@@ -18,6 +19,7 @@
 
 pub mod aero;
 pub mod atmosphere;
+pub mod deformation;
 pub mod eom;
 pub mod flight;
 pub mod forces;

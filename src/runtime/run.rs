@@ -19,13 +19,14 @@
 use std::time::Instant;
 
 use super::atmosphere::{Atmosphere, Standard1976};
+use super::deformation::NodeDeformation;
 use super::eom::{EnergyLayout, Eom, EomError, FreeFlight, Propulsion, StateView};
 use super::flight::{Flight, Phase};
 use super::forces::{
     AeroFault, BodyAero, FinAero, ForceBlock, ForceBlocks, GravityBlock, ThrustBlock,
 };
 use super::integrate::{
-    AdaptiveOptions, DormandPrince54, Integrator, OdeSystem, Rk4, StepStats, StopReason,
+    AdaptiveOptions, Dop853, DormandPrince54, Integrator, OdeSystem, Rk4, StepStats, StopReason,
 };
 use super::kinematics::{cross, euler_angles, mat_t_vec, mat_vec, normalize_euler_parameters};
 use super::motor::BurnSchedule;
@@ -378,6 +379,8 @@ struct Monitor<'a> {
     stop_note: Option<String>,
     /// `T + ½ηᵀK̄η` at `t = 0` (the energy balance's reference).
     energy0: f64,
+    /// The node shapes for the largest elastic displacement.
+    deformation: NodeDeformation,
 }
 
 /// The aerodynamic blocks of a run outside its right-hand side, and what they gave at the
@@ -503,22 +506,8 @@ fn fault_stop(f: AeroFault, block: &str) -> Option<(RunStop, String)> {
 
 impl Monitor<'_> {
     /// Largest elastic displacement `|S_trans,i η|` over the nodes, m.
-    fn max_deformation(&self, eta: &[f64]) -> f64 {
-        let n = self.plan.n_modes;
-        let s = &self.plan.node_translation_shapes;
-        if n == 0 {
-            return 0.0;
-        }
-        let mut worst: f64 = 0.0;
-        for node in s.chunks_exact(3 * n) {
-            let mut d2 = 0.0;
-            for i in 0..3 {
-                let u: f64 = (0..n).map(|m| node[i * n + m] * eta[m]).sum();
-                d2 += u * u;
-            }
-            worst = worst.max(d2.sqrt());
-        }
-        worst
+    fn max_deformation(&mut self, eta: &[f64]) -> f64 {
+        self.deformation.max_displacement(eta)
     }
 
     /// Airspeed vector relative to the air, body frame (wind from the stimuli).
@@ -551,7 +540,7 @@ impl Monitor<'_> {
             }
         }
         if let Some(limit) = st.max_deformation {
-            if self.max_deformation(s.eta) > limit {
+            if self.deformation.exceeds(s.eta, limit) {
                 return Some(RunStop::MaxDeformation);
             }
         }
@@ -1071,19 +1060,22 @@ pub fn run(
         aero: probe,
         stop_note: None,
         energy0,
+        deformation: NodeDeformation::new(&plan.node_translation_shapes, plan.n_modes),
+    };
+    let adaptive = AdaptiveOptions {
+        rtol: plan.integrator.rtol,
+        atol: plan.integrator.atol,
+        h_initial: (plan.integrator.step > 0.0).then_some(plan.integrator.step),
+        h_min: plan.integrator.min_step,
+        // A run that needs more steps than this has gone stiff or unstable: stop it with
+        // `max_steps` rather than let it grind for many minutes.
+        max_steps: 2_000_000,
+        ..AdaptiveOptions::default()
     };
     let make_integrator = || -> Box<dyn Integrator> {
         match plan.integrator.method {
-            ir::Integrator::Dopri5 => Box::new(DormandPrince54::new(AdaptiveOptions {
-                rtol: plan.integrator.rtol,
-                atol: plan.integrator.atol,
-                h_initial: (plan.integrator.step > 0.0).then_some(plan.integrator.step),
-                h_min: plan.integrator.min_step,
-                // A run that needs more steps than this has gone stiff or unstable: stop it
-                // with `max_steps` rather than let it grind for many minutes.
-                max_steps: 2_000_000,
-                ..AdaptiveOptions::default()
-            })),
+            ir::Integrator::Dopri5 => Box::new(DormandPrince54::new(adaptive)),
+            ir::Integrator::Dop853 => Box::new(Dop853::new(adaptive)),
             ir::Integrator::Rk4 => Box::new(Rk4::new(plan.integrator.step)),
         }
     };
