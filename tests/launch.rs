@@ -3,6 +3,8 @@
 //! stop fires only on descent, a rail launch flies its rail and reports the exit, events
 //! are located in time, parachutes bring the vehicle down, wind blows in the inertial frame.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -490,55 +492,9 @@ fn burner_pad(dir: &Path, thrust: f64, extra: &str) -> PathBuf {
         format!("time_s,thrust_N\n0,{thrust}\n3,{thrust}\n"),
     )
     .unwrap();
+    let vehicle = common::burner_vehicle("gravity {\n      altitude_correction = false\n    }", "");
     let text = format!(
-        r#"import "std/materials.vdl"
-
-vehicle burner {{
-  material = aluminium_6061_t6
-  origin = node(1)
-  structure {{
-    generate {{
-      body {{
-        length = 2 m
-        diameter = 100 mm
-        wall = 2 mm
-        elements = 20
-      }}
-      point_mass payload {{
-        position = (-0.5, 0, 0) m
-        mass = 3 kg
-        inertia = (0.002, 0.03, 0.03) kg*m^2
-      }}
-    }}
-  }}
-  motor grain {{
-    curve = "constant.csv"
-    position = (-2, 0, 0) m
-    length = 600 mm
-    diameter = 75 mm
-    propellant_mass = 3 kg
-    total_mass = 4.5 kg
-  }}
-  key_nodes {{
-    body = nearest((-1, 0, 0) m)
-  }}
-  modes {{
-    body_bending = 2
-    fixity = origin
-    damping = 0.02
-  }}
-  aero {{
-    source = builtin
-    reference_length = 100 mm
-    reference_point = (-1, 0, 0) m
-  }}
-  forces {{
-    gravity {{
-      altitude_correction = false
-    }}
-  }}
-}}
-
+        r#"{vehicle}
 scenario pad {{
   vehicle = burner
   launch {{

@@ -3,6 +3,8 @@
 //! exhaust's share, the energy balance reported by a run, the mass properties of the motor
 //! in the compiled vehicle, and the motor's diagnostics at `check`.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -28,54 +30,9 @@ fn vehicle_files(dir: &Path, extra_forces: &str, motor_extra: &str) -> PathBuf {
         "time_s,thrust_N\n0,2000\n3,2000\n",
     )
     .unwrap();
+    let vehicle = common::burner_vehicle(extra_forces, motor_extra);
     let text = format!(
-        r#"import "std/materials.vdl"
-
-vehicle burner {{
-  material = aluminium_6061_t6
-  origin = node(1)
-  structure {{
-    generate {{
-      body {{
-        length = 2 m
-        diameter = 100 mm
-        wall = 2 mm
-        elements = 20
-      }}
-      point_mass payload {{
-        position = (-0.5, 0, 0) m
-        mass = 3 kg
-        inertia = (0.002, 0.03, 0.03) kg*m^2
-      }}
-    }}
-  }}
-  motor grain {{
-    curve = "constant.csv"
-    position = (-2, 0, 0) m
-    length = 600 mm
-    diameter = 75 mm
-    propellant_mass = 3 kg
-    total_mass = 4.5 kg
-    {motor_extra}
-  }}
-  key_nodes {{
-    body = nearest((-1, 0, 0) m)
-  }}
-  modes {{
-    body_bending = 2
-    fixity = origin
-    damping = 0.02
-  }}
-  aero {{
-    source = builtin
-    reference_length = 100 mm
-    reference_point = (-1, 0, 0) m
-  }}
-  forces {{
-    {extra_forces}
-  }}
-}}
-
+        r#"{vehicle}
 scenario climb {{
   vehicle = burner
   initial {{

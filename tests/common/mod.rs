@@ -110,3 +110,59 @@ pub fn program_json(p: &flexflight::Program) -> Value {
         "sweeps": p.sweeps,
     })
 }
+
+/// The body-only vehicle `burner` of the motor and launch tests (2 m aluminium tube, 3 kg
+/// payload forward, a motor component `grain` at the tail on `constant.csv`: 3 kg of
+/// propellant in a 4.5 kg motor), as `.vdl` text after the materials import; `forces` and
+/// `motor_extra` go into its `forces` and `motor` blocks.
+pub fn burner_vehicle(forces: &str, motor_extra: &str) -> String {
+    format!(
+        r#"import "std/materials.vdl"
+
+vehicle burner {{
+  material = aluminium_6061_t6
+  origin = node(1)
+  structure {{
+    generate {{
+      body {{
+        length = 2 m
+        diameter = 100 mm
+        wall = 2 mm
+        elements = 20
+      }}
+      point_mass payload {{
+        position = (-0.5, 0, 0) m
+        mass = 3 kg
+        inertia = (0.002, 0.03, 0.03) kg*m^2
+      }}
+    }}
+  }}
+  motor grain {{
+    curve = "constant.csv"
+    position = (-2, 0, 0) m
+    length = 600 mm
+    diameter = 75 mm
+    propellant_mass = 3 kg
+    total_mass = 4.5 kg
+    {motor_extra}
+  }}
+  key_nodes {{
+    body = nearest((-1, 0, 0) m)
+  }}
+  modes {{
+    body_bending = 2
+    fixity = origin
+    damping = 0.02
+  }}
+  aero {{
+    source = builtin
+    reference_length = 100 mm
+    reference_point = (-1, 0, 0) m
+  }}
+  forces {{
+    {forces}
+  }}
+}}
+"#
+    )
+}
