@@ -38,6 +38,9 @@ pub enum AnalyzeCommand {
     Planar(PlanarArgs),
     /// A stability map over fin thickness x Mach: writes DIR/map.csv and DIR/boundary.csv.
     Map(MapArgs),
+    /// The p-k flutter solution of the fin clamped at its root at a scenario's altitude and
+    /// Mach: V-g / V-f (DIR/vg.csv), flutter and divergence points, TN 4197 alongside.
+    Flutter(super::flutter::FlutterArgs),
     /// The linearised 3-D model (`linear`, `linear-map`).
     #[command(flatten)]
     Linear(super::Analyze),
@@ -113,6 +116,7 @@ pub fn cmd_analyze(cmd: &AnalyzeCommand, term: Terminal) -> u8 {
     match cmd {
         AnalyzeCommand::Planar(a) => cmd_planar(a, term),
         AnalyzeCommand::Map(a) => cmd_map(a, term),
+        AnalyzeCommand::Flutter(a) => super::flutter::cmd_flutter(a, term),
         AnalyzeCommand::Linear(a) => super::cmd_analyze_linear(a, term),
     }
 }

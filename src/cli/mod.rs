@@ -6,6 +6,7 @@
 
 pub mod analyze;
 pub mod compile;
+pub mod flutter;
 mod fmt;
 pub mod linear;
 pub mod report;
@@ -95,6 +96,13 @@ pub enum Command {
         /// Output directory (created if needed; nothing is written if the run cannot start).
         #[arg(long)]
         out: PathBuf,
+        /// Compute the flutter margin over the flight (clamped-fin boundary; on by default
+        /// for a launch from a rail, off otherwise).
+        #[arg(long, conflicts_with = "no_flutter_margin")]
+        flutter_margin: bool,
+        /// Skip the flutter margin.
+        #[arg(long)]
+        no_flutter_margin: bool,
         #[command(flatten)]
         common: Common,
         #[command(flatten)]
@@ -284,6 +292,8 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
             file,
             scenario,
             out,
+            flutter_margin,
+            no_flutter_margin,
             common,
             cache,
         } => run::cmd_run(
@@ -292,6 +302,11 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
             &common,
             cache.cache_dir.as_deref(),
             &out,
+            match (flutter_margin, no_flutter_margin) {
+                (true, _) => Some(true),
+                (_, true) => Some(false),
+                _ => None,
+            },
             term,
         ),
         Command::Analyze { command } => analyze::cmd_analyze(&command, term),

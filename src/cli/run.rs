@@ -11,6 +11,8 @@ use crate::check::ir::Scenario;
 use crate::diagnostics::Diagnostic;
 use crate::plan::{self, Plan, PlanError};
 use crate::runtime::run::{self, RunOutput};
+
+use super::flutter as margin;
 use crate::syntax::SourceMap;
 
 use super::compile::{CachedAero, CompileOutcome, compile_cached, plan_cached};
@@ -144,6 +146,7 @@ pub fn cmd_run(
     common: &Common,
     cache_dir: Option<&Path>,
     out: &Path,
+    flutter_margin: Option<bool>,
     term: Terminal,
 ) -> u8 {
     let (p, compiled, sc, sources, aero_cache) =
@@ -227,8 +230,22 @@ pub fn cmd_run(
             );
         }
     }
-    let summary = with_aero_cache(summary_json(&p, &compiled, &output), aero_cache.as_ref());
-    if let Err(e) = write_outputs(out, &output, &summary) {
+    let mut summary = with_aero_cache(summary_json(&p, &compiled, &output), aero_cache.as_ref());
+    let margin = if flutter_margin.unwrap_or(sc.launch.is_some()) {
+        let m = margin::flight_margin(&sc, &output);
+        if let Some(map) = summary.as_object_mut() {
+            map.insert("flutter_margin".into(), m.json.clone());
+        }
+        Some(m)
+    } else {
+        None
+    };
+    if let Err(e) = write_outputs(out, &output, &summary).and_then(|_| match &margin {
+        Some(m) if !m.csv.is_empty() => {
+            super::fmt::write_atomic(&out.join("flutter_margin.csv"), &m.csv)
+        }
+        _ => Ok(()),
+    }) {
         eprintln!(
             "error: cannot write the run outputs to `{}`: {e}",
             out.display()
@@ -247,6 +264,9 @@ pub fn cmd_run(
             out.display()
         );
         if let Some(line) = flight_line(&flight_summary(&p, &output)) {
+            eprintln!("{line}");
+        }
+        if let Some(line) = margin.as_ref().map(|m| m.line.as_str()) {
             eprintln!("{line}");
         }
     } else {

@@ -6,11 +6,15 @@
 //!   User's Guide, the k method, flutter points by root finding, divergence);
 //! - [`bessel`], [`theodorsen`]: Theodorsen's function and the typical-section airloads;
 //! - [`typical_section`]: the two-degree-of-freedom section of Hodges & Pierce;
+//! - [`fin`]: the fin clamped at its root with the fin panels' generalised forces (the fin
+//!   designer's case);
 //! - [`goland`]: the Goland wing, a uniform cantilever as bending-torsion beam elements with
 //!   Theodorsen strip theory.
 
 pub mod bessel;
+pub mod fin;
 pub mod goland;
+pub mod margin;
 pub mod pk;
 pub mod theodorsen;
 pub mod typical_section;

@@ -1,0 +1,442 @@
+//! The fin designer's flutter case (issue 13, deliverable 2a): one fin of the vehicle clamped
+//! at its root, its shell modes, and the generalised aerodynamic forces of the fin panels
+//! (issue 12's lattice) for the p-k solver of [`super::pk`].
+//!
+//! # Structure
+//!
+//! The fin is the vehicle's generated fin (`structure::generate::cantilever_fin_model`: the
+//! same shell mesh, material and thickness as in the vehicle, every root DOF removed). Its
+//! lowest `n` elastic modes, mass-normalised (`φᵀ M φ = I`), are the generalised coordinates:
+//! generalised mass `I`, stiffness `diag(ω_j²)`. No structural damping is assumed unless given
+//! (the classical flutter boundary is the `g = 0` crossing; Rodden & Johnson, MSC Nastran
+//! Aeroelastic Analysis User's Guide, §2.6). A clamped root is the usual fin-flutter idealisation
+//! (NACA TN 4197 assumes it); the flexible vehicle's own modes are analysed by `analyze
+//! linear`, whose body participation a clamped root ignores.
+//!
+//! Fin coordinates are those of `runtime::aero::panel` (`x` aft of the root leading edge,
+//! `y` out along the span from the root, panel `+z = x_aft × e_s`). The cantilever mesh lies
+//! in the body `x-y` plane with its root on `y = 0`; with cant `γ` its normal is
+//! `n = e_a × e_s = (-sin γ, 0, cos γ)` and the panel normal displacement is `z = -n · u`
+//! (as `fin_model::fin_structure`). The clamped root row is added to the spline's nodes with
+//! zero displacement, so the spline's slope near the root sees the clamp. Cant is ignored in
+//! the aerodynamics (as in the panel issue): the lattice lies on the uncanted planform.
+//!
+//! # Generalised aerodynamic forces
+//!
+//! For harmonic motion `η e^{iωt}`, `ν = ω / V = k / b` (`b` the reference semichord), the
+//! normalwash angle of `runtime::aero::panel` is `α_e = -∂z/∂x - (1/V) ∂z/∂t = (-Z_x - i ν Z_c) η`
+//! at the normalwash points (`Z_x`, `Z_c` the spline's slope and value rows times the modal
+//! normal displacements), the panel forces `F = q K(ν, M) α_e` at the force points, and the
+//! generalised forces by virtual work `Q = Z_fᵀ F` (`Z_f` the spline's value rows at the force
+//! points; `runtime::aero::panel::spline`, "consistent forces"):
+//!
+//! `Q(k) = Z_fᵀ K(k/b, M) (-Z_x - i (k/b) Z_c)`, the `q Q(k) η` of [`super::pk`].
+//!
+//! Two force maps `K` are offered ([`FinAero`]): the quasi-steady one of the flight
+//! (`vlm::force_map` / `piston::force_map`, `K` independent of `ν`: Theodorsen's `C(k) = 1`,
+//! no apparent mass) and the unsteady one (`panel::harmonic`, the vortex lattice with a
+//! harmonic wake; piston theory, being local, has the same map in both). Between Mach 0.9 and
+//! 1.2 no model is trusted ([`panel::Regime`]): a flutter solution there is refused
+//! ([`FinFlutterError::Transonic`]), the flight margin blends and says so.
+
+use faer::c64;
+
+use super::pk::{FlutterError, FlutterModel, GafTable, PkSettings, PkSolution, pk_solve};
+use crate::check::ir;
+use crate::runtime::aero::estimator::FinPlanform;
+use crate::runtime::aero::panel::piston::{self, Correction};
+use crate::runtime::aero::panel::spline::{SplineError, surface_spline};
+use crate::runtime::aero::panel::{self, Lattice, PanelError, Regime, Spacing, vlm};
+use crate::runtime::forces::body_aero::planform;
+use crate::structure::compile::generator_spec;
+use crate::structure::{generate, modal};
+
+/// Which panel force map the generalised forces use.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FinAero {
+    /// The flight's quasi-steady map (`K` independent of the reduced frequency).
+    QuasiSteady,
+    /// The harmonic vortex lattice (subsonic) and unsteady piston theory (supersonic).
+    Unsteady,
+}
+
+impl FinAero {
+    pub fn name(self) -> &'static str {
+        match self {
+            FinAero::QuasiSteady => "quasi_steady",
+            FinAero::Unsteady => "unsteady",
+        }
+    }
+}
+
+/// Why a fin flutter case could not be built or solved.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum FinFlutterError {
+    #[error("the vehicle declares no fins")]
+    NoFins,
+    #[error(
+        "a clamped fin needs a generated structure (`structure {{ generate {{ ... }} }}`); an imported FE model has no separable fin root"
+    )]
+    NotGenerated,
+    #[error("the clamped fin model could not be built: {0}")]
+    Generate(String),
+    #[error("the clamped fin's modes could not be computed: {0}")]
+    Modal(String),
+    #[error("the clamped fin has fewer elastic modes ({got}) than requested ({wanted})")]
+    TooFewModes { got: usize, wanted: usize },
+    #[error("fin panels: {0}")]
+    Panel(#[from] PanelError),
+    #[error("fin spline: {0}")]
+    Spline(#[from] SplineError),
+    #[error("flutter solution: {0}")]
+    Flutter(#[from] FlutterError),
+    #[error(
+        "Mach {mach} lies in the transonic gap 0.9 < M < 1.2 where neither the vortex lattice nor piston theory is trusted"
+    )]
+    Transonic { mach: f64 },
+}
+
+/// The clamped fin's modes as the panels see them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FinModes {
+    pub planform: FinPlanform,
+    /// Spline nodes in fin coordinates (m): the shell nodes, then the clamped root row.
+    pub nodes: Vec<[f64; 2]>,
+    /// Panel-normal displacement per unit modal coordinate, row-major `nodes x n`.
+    pub normal_rows: Vec<f64>,
+    /// Natural frequencies, rad/s, ascending.
+    pub omega: Vec<f64>,
+    /// Mode names, e.g. "mode 1 (bending, 112.3 Hz)".
+    pub names: Vec<String>,
+    /// Fin thickness, m, and its material's shear modulus, Pa (for TN 4197 alongside).
+    pub thickness: f64,
+    pub shear_modulus: f64,
+}
+
+impl FinModes {
+    pub fn order(&self) -> usize {
+        self.omega.len()
+    }
+    /// The reference semichord `b` of the reduced frequency: half the root chord (the
+    /// convention of AGARD 445.6 and NACA TN 4197's root-chord based parameters).
+    pub fn b_ref(&self) -> f64 {
+        0.5 * self.planform.root_chord
+    }
+}
+
+/// The lowest `n_modes` elastic modes of fin 0 of `v` clamped at its root (module doc).
+pub fn clamped_fin_modes(v: &ir::Vehicle, n_modes: usize) -> Result<FinModes, FinFlutterError> {
+    let f = v.fins.as_ref().ok_or(FinFlutterError::NoFins)?;
+    let ir::Structure::Generate(g) = &v.structure else {
+        return Err(FinFlutterError::NotGenerated);
+    };
+    let spec = generator_spec(v, g);
+    let fin = spec.fins.ok_or(FinFlutterError::NoFins)?;
+    let model = generate::cantilever_fin_model(&fin)
+        .map_err(|e| FinFlutterError::Generate(e.to_string()))?;
+    let modes = modal::solve(&model, n_modes).map_err(|e| FinFlutterError::Modal(e.to_string()))?;
+    let elastic = modes.omega2.len() - modes.n_rigid;
+    if elastic < n_modes {
+        return Err(FinFlutterError::TooFewModes {
+            got: elastic,
+            wanted: n_modes,
+        });
+    }
+    let root_le_x = fin.root_trailing_edge_x + fin.root_chord;
+    let (sg, cg) = fin.cant.sin_cos();
+    let mut nodes = Vec::with_capacity(model.nodes.len() + fin.chord_elements + 1);
+    let mut rows = Vec::with_capacity(nodes.capacity() * n_modes);
+    for (k, node) in model.nodes.iter().enumerate() {
+        let r = node.position;
+        nodes.push([root_le_x - r[0], r[1]]);
+        for j in 0..n_modes {
+            let col = modes.n_rigid + j;
+            let ux = modes.shapes[(6 * k, col)];
+            let uz = modes.shapes[(6 * k + 2, col)];
+            // z = -n · u, n = (-sin γ, 0, cos γ).
+            rows.push(sg * ux - cg * uz);
+        }
+    }
+    for i in 0..=fin.chord_elements {
+        let (x, _) = fin.planform_point(i, 0);
+        nodes.push([root_le_x - x, 0.0]);
+        rows.extend(std::iter::repeat_n(0.0, n_modes));
+    }
+    let omega: Vec<f64> = (0..n_modes)
+        .map(|j| modes.omega2[modes.n_rigid + j].max(0.0).sqrt())
+        .collect();
+    let pf = planform(f, 0.0);
+    let names = (0..n_modes)
+        .map(|j| {
+            format!(
+                "mode {} ({}, {:.1} Hz)",
+                j + 1,
+                mode_kind(&nodes, &rows, n_modes, j, &pf),
+                omega[j] / (2.0 * std::f64::consts::PI)
+            )
+        })
+        .collect();
+    Ok(FinModes {
+        planform: pf,
+        nodes,
+        normal_rows: rows,
+        omega,
+        names,
+        thickness: fin.thickness,
+        shear_modulus: fin.material.shear_modulus(),
+    })
+}
+
+/// "bending" when the tip row's leading- and trailing-edge nodes move the same way, else
+/// "torsion" (the nodal line runs along the span).
+fn mode_kind(
+    nodes: &[[f64; 2]],
+    rows: &[f64],
+    n: usize,
+    j: usize,
+    pf: &FinPlanform,
+) -> &'static str {
+    let tip = nodes.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max);
+    let on_tip: Vec<usize> = (0..nodes.len())
+        .filter(|&k| (nodes[k][1] - tip).abs() < 1e-9 * pf.span.max(1.0))
+        .collect();
+    let le = on_tip
+        .iter()
+        .copied()
+        .min_by(|&a, &b| nodes[a][0].total_cmp(&nodes[b][0]));
+    let te = on_tip
+        .iter()
+        .copied()
+        .max_by(|&a, &b| nodes[a][0].total_cmp(&nodes[b][0]));
+    match (le, te) {
+        (Some(a), Some(b)) if rows[a * n + j] * rows[b * n + j] >= 0.0 => "bending",
+        (Some(_), Some(_)) => "torsion",
+        _ => "mode",
+    }
+}
+
+/// A complex panel force map at one Mach and reduced frequency: panel forces
+/// `F = q K α_e`, `K` row-major `force.len() x eval.len()`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PanelMap {
+    pub eval: Vec<[f64; 2]>,
+    pub force: Vec<[f64; 2]>,
+    pub k: Vec<c64>,
+}
+
+/// The quasi-steady map of the flight at a trusted Mach (vortex lattice at control points and
+/// bound mid-points, or piston theory at the centroids).
+pub fn quasi_steady_map(
+    lattice: &Lattice,
+    mach: f64,
+    correction: Correction,
+) -> Result<PanelMap, FinFlutterError> {
+    let n = lattice.len();
+    let (eval, force, k) = match panel::regime(mach)? {
+        Regime::Subsonic => (
+            lattice.panels.iter().map(|p| p.control).collect(),
+            lattice.panels.iter().map(|p| p.bound_mid()).collect(),
+            vlm::force_map(lattice, mach)?,
+        ),
+        Regime::Supersonic => {
+            let c: Vec<[f64; 2]> = lattice.panels.iter().map(|p| p.centroid).collect();
+            (c.clone(), c, piston::force_map(lattice, mach, correction)?)
+        }
+        Regime::Transonic { .. } => return Err(FinFlutterError::Transonic { mach }),
+    };
+    debug_assert_eq!(k.len(), n * n);
+    Ok(PanelMap {
+        eval,
+        force,
+        k: k.into_iter().map(|v| c64::new(v, 0.0)).collect(),
+    })
+}
+
+/// The spline rows of the modes at a map's points: `Z_c`, `Z_x` (eval x n) and `Z_f`
+/// (force x n).
+struct PointRows {
+    zc: Vec<f64>,
+    zx: Vec<f64>,
+    zf: Vec<f64>,
+}
+
+fn point_rows(modes: &FinModes, map: &PanelMap) -> Result<PointRows, FinFlutterError> {
+    let n = modes.order();
+    let nn = modes.nodes.len();
+    let scale = modes.planform.root_chord;
+    let project = |g: &[f64], np: usize| -> Vec<f64> {
+        let mut z = vec![0.0; np * n];
+        for p in 0..np {
+            for k in 0..nn {
+                let w = g[p * nn + k];
+                if w != 0.0 {
+                    for j in 0..n {
+                        z[p * n + j] += w * modes.normal_rows[k * n + j];
+                    }
+                }
+            }
+        }
+        z
+    };
+    let (gc, gx) = surface_spline(&modes.nodes, &map.eval, scale)?;
+    let (gf, _) = surface_spline(&modes.nodes, &map.force, scale)?;
+    Ok(PointRows {
+        zc: project(&gc, map.eval.len()),
+        zx: project(&gx, map.eval.len()),
+        zf: project(&gf, map.force.len()),
+    })
+}
+
+/// `Q(k) = Z_fᵀ K (-Z_x - i (k/b) Z_c)` (module doc), row-major `n x n`.
+fn gaf_matrix(rows: &PointRows, map: &PanelMap, n: usize, nu: f64) -> Vec<c64> {
+    let (ne, nf) = (map.eval.len(), map.force.len());
+    // A = -Z_x - i ν Z_c (ne x n).
+    let a: Vec<c64> = (0..ne * n)
+        .map(|e| c64::new(-rows.zx[e], -nu * rows.zc[e]))
+        .collect();
+    // KA (nf x n).
+    let mut ka = vec![c64::new(0.0, 0.0); nf * n];
+    for p in 0..nf {
+        for r in 0..ne {
+            let kv = map.k[p * ne + r];
+            if kv != c64::new(0.0, 0.0) {
+                for j in 0..n {
+                    ka[p * n + j] += kv * a[r * n + j];
+                }
+            }
+        }
+    }
+    let mut q = vec![c64::new(0.0, 0.0); n * n];
+    for p in 0..nf {
+        for i in 0..n {
+            let z = rows.zf[p * n + i];
+            if z != 0.0 {
+                for j in 0..n {
+                    q[i * n + j] += ka[p * n + j] * z;
+                }
+            }
+        }
+    }
+    q
+}
+
+/// Settings of a fin flutter solution.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FinFlutterSettings {
+    pub aero: FinAero,
+    pub chordwise: usize,
+    pub spanwise: usize,
+    pub correction: Correction,
+    /// Reduced frequencies of the GAF table: `count` values from 0 to `k_max`.
+    pub k_count: usize,
+    pub k_max: f64,
+}
+
+impl Default for FinFlutterSettings {
+    fn default() -> Self {
+        FinFlutterSettings {
+            aero: FinAero::QuasiSteady,
+            chordwise: 8,
+            spanwise: 12,
+            correction: Correction::Ackeret,
+            k_count: 20,
+            k_max: 2.0,
+        }
+    }
+}
+
+/// The lattice of the fin for `settings`.
+pub fn fin_lattice(
+    modes: &FinModes,
+    settings: &FinFlutterSettings,
+) -> Result<Lattice, FinFlutterError> {
+    Ok(Lattice::new(
+        &modes.planform,
+        settings.chordwise,
+        settings.spanwise,
+        Spacing::Cosine,
+    )?)
+}
+
+/// The tabulated `Q(k)` of the clamped fin at Mach `mach` (module doc).
+pub fn gaf_table(
+    modes: &FinModes,
+    lattice: &Lattice,
+    mach: f64,
+    settings: &FinFlutterSettings,
+) -> Result<GafTable, FinFlutterError> {
+    let n = modes.order();
+    let b = modes.b_ref();
+    // The quasi-steady `Q(k) = Q(0) + i (k/b) Z_fᵀ K (-Z_c)` is exactly linear in `k`, and
+    // the natural spline through two knots is that line: two knots are exact.
+    let count = match settings.aero {
+        FinAero::QuasiSteady => 2,
+        FinAero::Unsteady => settings.k_count.max(2),
+    };
+    let ks: Vec<f64> = (0..count)
+        .map(|i| settings.k_max * i as f64 / (count - 1) as f64)
+        .collect();
+    let values = match settings.aero {
+        FinAero::QuasiSteady => {
+            let map = quasi_steady_map(lattice, mach, settings.correction)?;
+            let rows = point_rows(modes, &map)?;
+            ks.iter()
+                .map(|&k| gaf_matrix(&rows, &map, n, k / b))
+                .collect()
+        }
+        FinAero::Unsteady => unsteady_values(modes, lattice, mach, settings, &ks)?,
+    };
+    Ok(GafTable::new(n, ks, values)?)
+}
+
+fn unsteady_values(
+    modes: &FinModes,
+    lattice: &Lattice,
+    mach: f64,
+    settings: &FinFlutterSettings,
+    ks: &[f64],
+) -> Result<Vec<Vec<c64>>, FinFlutterError> {
+    // Piston theory is local: its unsteady map is the quasi-steady one (Ashley & Zartarian
+    // 1956); the subsonic harmonic lattice is `panel::harmonic` (issue 13, deliverable 1).
+    let _ = (modes, lattice, mach, settings, ks);
+    Err(FinFlutterError::Panel(PanelError::Untrusted(
+        mach,
+        "unsteady vortex lattice (not built yet)",
+    )))
+}
+
+/// The flutter model of the clamped fin at air density `density`: generalised mass `I`,
+/// stiffness `diag(ω²)`, no damping.
+pub fn flutter_model(modes: &FinModes, density: f64) -> FlutterModel {
+    let n = modes.order();
+    let mut mass = vec![0.0; n * n];
+    let mut stiffness = vec![0.0; n * n];
+    for j in 0..n {
+        mass[j * n + j] = 1.0;
+        stiffness[j * n + j] = modes.omega[j] * modes.omega[j];
+    }
+    FlutterModel {
+        names: modes.names.clone(),
+        mass,
+        stiffness,
+        damping: vec![0.0; n * n],
+        structural_g: 0.0,
+        b_ref: modes.b_ref(),
+        density,
+    }
+}
+
+/// The p-k solution of the clamped fin at Mach `mach` and density `density` over `speeds`.
+pub fn solve_at(
+    modes: &FinModes,
+    lattice: &Lattice,
+    mach: f64,
+    density: f64,
+    speeds: &[f64],
+    settings: &FinFlutterSettings,
+) -> Result<PkSolution, FinFlutterError> {
+    let gaf = gaf_table(modes, lattice, mach, settings)?;
+    let model = flutter_model(modes, density);
+    Ok(pk_solve(&model, &gaf, speeds, PkSettings::default())?)
+}

@@ -1,0 +1,587 @@
+//! `flexflight analyze flutter`: the p-k flutter solution of the fin clamped at its root
+//! ([`crate::analysis::flutter::fin`]) at a scenario's altitude and Mach, with the V-g / V-f
+//! table, the flutter and divergence points, the matched point and NACA TN 4197 alongside.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use clap::{Args, ValueEnum};
+
+use crate::analysis::flutter::fin::{
+    FinAero, FinFlutterError, FinFlutterSettings, FinModes, clamped_fin_modes, fin_lattice,
+    solve_at,
+};
+use crate::analysis::flutter::pk::PkSolution;
+use crate::analysis::tn4197::{Tn4197Fin, Tn4197Form};
+use crate::check::cli_values;
+use crate::check::ir;
+use crate::diagnostics::Diagnostic;
+use crate::runtime::aero::panel::Lattice;
+use crate::runtime::atmosphere::{Atmosphere, Standard1976};
+use crate::units::Dim;
+
+use super::analyze::refused;
+use super::{Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, emit, load_program};
+
+/// The aerodynamics of the generalised forces.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+pub enum AeroChoice {
+    /// The flight's quasi-steady panel map (no wake lag, no apparent mass).
+    QuasiSteady,
+}
+
+impl AeroChoice {
+    fn model(self) -> FinAero {
+        match self {
+            AeroChoice::QuasiSteady => FinAero::QuasiSteady,
+        }
+    }
+}
+
+#[derive(Args, Debug)]
+pub struct FlutterArgs {
+    pub file: PathBuf,
+    #[arg(long)]
+    pub scenario: String,
+    /// The fin alone, clamped at its root (the fin designer's case; required: the free
+    /// flexible vehicle is analysed by `analyze linear`).
+    #[arg(long)]
+    pub clamped: bool,
+    /// Altitude of the air (default: the scenario's initial altitude).
+    #[arg(long)]
+    pub altitude: Option<String>,
+    /// Mach number of the aerodynamics (default: the scenario's initial Mach).
+    #[arg(long)]
+    pub mach: Option<String>,
+    /// Speed range START:STOP:COUNT with units (default 0.1 a to 3 a, 40 speeds).
+    #[arg(long, value_name = "START:STOP:COUNT")]
+    pub speeds: Option<String>,
+    /// Number of clamped-fin modes.
+    #[arg(long, default_value_t = 6)]
+    pub modes: usize,
+    #[arg(long, value_enum, default_value_t = AeroChoice::QuasiSteady)]
+    pub aero: AeroChoice,
+    /// Directory for vg.csv and flutter.json (written only when the solution succeeds).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub common: Common,
+}
+
+/// The flight condition of the analysis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Condition {
+    pub altitude: f64,
+    pub mach: f64,
+    pub density: f64,
+    pub speed_of_sound: f64,
+    pub pressure: f64,
+}
+
+/// A solved fin flutter case.
+pub struct FinFlutter {
+    pub modes: FinModes,
+    pub condition: Condition,
+    pub aero: FinAero,
+    pub solution: PkSolution,
+}
+
+fn scenario_altitude(sc: &ir::Scenario) -> f64 {
+    if let Some(l) = &sc.launch {
+        return l.site_altitude.value;
+    }
+    match &sc.initial.position {
+        ir::InitialPosition::Altitude(h) => h.value,
+        ir::InitialPosition::Inertial(p) => -p.value[2],
+    }
+}
+
+fn scenario_speed(sc: &ir::Scenario, a: f64) -> f64 {
+    match &sc.initial.velocity {
+        ir::InitialVelocity::Mach(m) => m.value * a,
+        ir::InitialVelocity::Body(v) => {
+            let v = v.value;
+            (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+        }
+    }
+}
+
+pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
+    let format = a.common.output.format;
+    if !a.clamped {
+        eprintln!(
+            "error: `analyze flutter` solves the fin clamped at its root: pass --clamped (the free flexible vehicle's stability is `analyze linear`)"
+        );
+        return EXIT_USAGE;
+    }
+    if a.modes == 0 {
+        eprintln!("error: --modes must be at least 1");
+        return EXIT_USAGE;
+    }
+    let mut c = cli_values::CliChecker::new();
+    let h = a
+        .altitude
+        .as_deref()
+        .map(|t| c.quantity("--altitude", t, Dim::LENGTH));
+    let m = a
+        .mach
+        .as_deref()
+        .map(|t| c.quantity("--mach", t, Dim::NONE));
+    let v = a
+        .speeds
+        .as_deref()
+        .map(|t| c.range("--speeds", t, Dim::VELOCITY));
+    if let Err(e) = c.finish() {
+        return refused(e, format, term);
+    }
+    let checked = match load_program(std::slice::from_ref(&a.file), &a.common, term) {
+        Ok(c) => c,
+        Err(code) => return code,
+    };
+    let Some(sc) = checked.program.scenario(&a.scenario).cloned() else {
+        let declared = checked.program.scenarios.iter();
+        return super::unknown_name(
+            "scenario",
+            &a.scenario,
+            declared.map(|s| s.name.value.as_str()),
+        );
+    };
+    let altitude = h.flatten().unwrap_or_else(|| scenario_altitude(&sc));
+    let air = match Standard1976::new().at(altitude) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: --altitude: {e}");
+            return EXIT_USAGE;
+        }
+    };
+    let mach = match m.flatten() {
+        Some(m) => m,
+        None => scenario_speed(&sc, air.speed_of_sound) / air.speed_of_sound,
+    };
+    let speeds = match v.flatten() {
+        Some(r) => r.values(),
+        None => {
+            let (lo, hi) = (0.1 * air.speed_of_sound, 3.0 * air.speed_of_sound);
+            (0..40).map(|i| lo + (hi - lo) * i as f64 / 39.0).collect()
+        }
+    };
+    let condition = Condition {
+        altitude,
+        mach,
+        density: air.density,
+        speed_of_sound: air.speed_of_sound,
+        pressure: air.pressure,
+    };
+    let result = solve_clamped(&sc.vehicle, condition, &speeds, a.modes, a.aero.model());
+    let r = match result {
+        Ok(r) => r,
+        Err(e) => {
+            let d = Diagnostic::error(flutter_code(&e), format!("flutter: {e}"))
+                .label(sc.name.span, "in this scenario");
+            emit(&[d], &checked.sources, format, term);
+            return EXIT_DIAGNOSTICS;
+        }
+    };
+    if let Some(out) = &a.out {
+        if let Err(e) = write_outputs(out, &r) {
+            eprintln!("error: cannot write `{}`: {e}", out.display());
+            return EXIT_USAGE;
+        }
+    }
+    match format {
+        Format::Human => print!("{}", report_text(&r)),
+        Format::Json => println!(
+            "{}",
+            serde_json::to_string_pretty(&summary_json(&r)).unwrap_or_default()
+        ),
+    }
+    EXIT_OK
+}
+
+fn flutter_code(e: &FinFlutterError) -> &'static str {
+    match e {
+        FinFlutterError::Transonic { .. } => "analysis::flutter::transonic",
+        FinFlutterError::NotGenerated => "analysis::flutter::not_generated",
+        FinFlutterError::NoFins => "analysis::flutter::no_fins",
+        _ => "analysis::flutter::failed",
+    }
+}
+
+/// The clamped fin's p-k solution at `condition` over `speeds` (the reduced-frequency table
+/// reaches the highest mode's `k` at the lowest speed, with 20 % to spare).
+pub fn solve_clamped(
+    v: &ir::Vehicle,
+    condition: Condition,
+    speeds: &[f64],
+    n_modes: usize,
+    aero: FinAero,
+) -> Result<FinFlutter, FinFlutterError> {
+    let modes = clamped_fin_modes(v, n_modes)?;
+    let mut settings = FinFlutterSettings {
+        aero,
+        ..FinFlutterSettings::default()
+    };
+    let lattice: Lattice = fin_lattice(&modes, &settings)?;
+    let v_min = speeds.iter().copied().fold(f64::INFINITY, f64::min);
+    let w_max = modes.omega.iter().copied().fold(0.0, f64::max);
+    settings.k_max = (1.2 * w_max * modes.b_ref() / v_min).max(0.1);
+    settings.k_count = 40;
+    let solution = solve_at(
+        &modes,
+        &lattice,
+        condition.mach,
+        condition.density,
+        speeds,
+        &settings,
+    )?;
+    Ok(FinFlutter {
+        modes,
+        condition,
+        aero,
+        solution,
+    })
+}
+
+fn tn4197(r: &FinFlutter) -> Tn4197Fin {
+    Tn4197Fin {
+        shear_modulus: r.modes.shear_modulus,
+        span: r.modes.planform.span,
+        root_chord: r.modes.planform.root_chord,
+        tip_chord: r.modes.planform.tip_chord,
+        thickness: r.modes.thickness,
+    }
+}
+
+fn hz(w: f64) -> f64 {
+    w / (2.0 * std::f64::consts::PI)
+}
+
+pub fn report_text(r: &FinFlutter) -> String {
+    let c = &r.condition;
+    let s = &r.solution;
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "clamped fin, {} aerodynamics, Mach {:.4}, altitude {:.0} m (rho {:.4} kg/m3, a {:.2} m/s)",
+        r.aero.name(),
+        c.mach,
+        c.altitude,
+        c.density,
+        c.speed_of_sound
+    );
+    let _ = writeln!(t, "modes:");
+    for (j, name) in r.modes.names.iter().enumerate() {
+        let _ = writeln!(t, "  {}  {name}", j + 1);
+    }
+    match s.critical() {
+        Some(f) => {
+            let _ = writeln!(
+                t,
+                "flutter: V = {:.2} m/s (Mach {:.3} at this altitude), f = {:.2} Hz, q = {:.1} kPa, k = {:.4}, {} with {}",
+                f.speed,
+                f.speed / c.speed_of_sound,
+                hz(f.omega),
+                f.q / 1e3,
+                f.k,
+                f.name,
+                f.partner.as_ref().map_or("none", |p| p.1.as_str())
+            );
+        }
+        None => {
+            let _ = writeln!(
+                t,
+                "flutter: none up to V = {:.1} m/s (the largest speed tried)",
+                s.speeds.last().copied().unwrap_or(0.0)
+            );
+        }
+    }
+    if !s.unstable_at_start.is_empty() {
+        let _ = writeln!(
+            t,
+            "warning: branches already unstable at the lowest speed: {:?}",
+            s.unstable_at_start
+        );
+    }
+    match &s.divergence {
+        Some(d) => {
+            let _ = writeln!(
+                t,
+                "divergence: V = {:.2} m/s, q = {:.1} kPa ({})",
+                d.speed,
+                d.q / 1e3,
+                d.name
+            );
+        }
+        None => {
+            let _ = writeln!(t, "divergence: none");
+        }
+    }
+    let fin = tn4197(r);
+    for form in [Tn4197Form::Martin, Tn4197Form::PeakOfFlight291] {
+        let _ = writeln!(
+            t,
+            "NACA TN 4197 ({}): flutter speed {:.2} m/s",
+            form.name(),
+            fin.flutter_speed_in(form, c.pressure, c.speed_of_sound)
+        );
+    }
+    t
+}
+
+pub fn summary_json(r: &FinFlutter) -> serde_json::Value {
+    let c = &r.condition;
+    let s = &r.solution;
+    let fin = tn4197(r);
+    let tn = |form: Tn4197Form| {
+        serde_json::json!({
+            "form": form,
+            "flutter_speed_m_s": fin.flutter_speed_in(form, c.pressure, c.speed_of_sound),
+            "flutter_mach": fin.flutter_mach_in(form, c.pressure),
+        })
+    };
+    serde_json::json!({
+        "case": "clamped_fin",
+        "aero": r.aero,
+        "mach": c.mach,
+        "altitude_m": c.altitude,
+        "density_kg_m3": c.density,
+        "speed_of_sound_m_s": c.speed_of_sound,
+        "modes": r.modes.names.iter().zip(&r.modes.omega).map(|(n, w)| serde_json::json!({
+            "name": n, "frequency_hz": hz(*w)
+        })).collect::<Vec<_>>(),
+        "flutter": s.flutter.iter().map(|f| serde_json::json!({
+            "speed_m_s": f.speed,
+            "frequency_hz": hz(f.omega),
+            "dynamic_pressure_pa": f.q,
+            "reduced_frequency": f.k,
+            "mode": f.name,
+            "partner": f.partner.as_ref().map(|p| p.1.clone()),
+        })).collect::<Vec<_>>(),
+        "largest_speed_m_s": s.speeds.last(),
+        "unstable_at_lowest_speed": s.unstable_at_start,
+        "divergence": s.divergence.as_ref().map(|d| serde_json::json!({
+            "speed_m_s": d.speed, "dynamic_pressure_pa": d.q, "mode": d.name
+        })),
+        "tn4197": { "martin": tn(Tn4197Form::Martin), "peak_of_flight_291": tn(Tn4197Form::PeakOfFlight291) },
+    })
+}
+
+/// `vg.csv`: one row per speed and branch.
+pub fn vg_csv(r: &FinFlutter) -> String {
+    let s = &r.solution;
+    let mut t = String::from("speed_m_s,branch,name,g,frequency_hz,k,p_re,p_im\n");
+    for (j, branch) in s.roots.iter().enumerate() {
+        for root in branch {
+            let _ = writeln!(
+                t,
+                "{},{},\"{}\",{},{},{},{},{}",
+                root.speed,
+                j,
+                s.names[j],
+                root.g().map_or(String::new(), |g| g.to_string()),
+                hz(root.omega()),
+                root.k,
+                root.p.re,
+                root.p.im
+            );
+        }
+    }
+    t
+}
+
+fn write_outputs(out: &Path, r: &FinFlutter) -> std::io::Result<()> {
+    std::fs::create_dir_all(out)?;
+    super::fmt::write_atomic(&out.join("vg.csv"), &vg_csv(r))?;
+    let json = serde_json::to_string_pretty(&summary_json(r)).unwrap_or_default();
+    super::fmt::write_atomic(&out.join("flutter.json"), &json)
+}
+
+/// The flutter margin of a flown scenario ([`crate::analysis::flutter::margin`]):
+/// `summary.json`'s `flutter_margin`, `flutter_margin.csv` and the terminal line.
+pub struct FlightMargin {
+    pub json: serde_json::Value,
+    /// Empty when no margin could be computed.
+    pub csv: String,
+    pub line: String,
+}
+
+fn margin_skipped(why: String) -> FlightMargin {
+    FlightMargin {
+        line: format!("flutter margin: not computed ({why})"),
+        json: serde_json::json!({ "computed": false, "reason": why }),
+        csv: String::new(),
+    }
+}
+
+/// Number of clamped-fin modes of the flight margin.
+pub const MARGIN_MODES: usize = 4;
+
+/// The flutter margin at every output row of `o` (module doc of
+/// [`crate::analysis::flutter::margin`]).
+pub fn flight_margin(sc: &ir::Scenario, o: &crate::runtime::run::RunOutput) -> FlightMargin {
+    use crate::analysis::flutter::margin::{CRITERION, boundary, mach_nodes};
+    let started = std::time::Instant::now();
+    let col = |n: &str| o.channels.iter().position(|c| c == n);
+    let (Some(cm), Some(ch)) = (col("mach"), col("altitude")) else {
+        return margin_skipped("the history has no mach and altitude channels".into());
+    };
+    if o.rows.is_empty() {
+        return margin_skipped("the run wrote no rows".into());
+    }
+    let modes = match clamped_fin_modes(&sc.vehicle, MARGIN_MODES) {
+        Ok(m) => m,
+        Err(e) => return margin_skipped(e.to_string()),
+    };
+    let atm = Standard1976::new();
+    let fold =
+        |c: usize, f: fn(f64, f64) -> f64, init: f64| o.rows.iter().map(|r| r[c]).fold(init, f);
+    let max_mach = fold(cm, f64::max, 0.0);
+    let (h_lo, h_hi) = (
+        fold(ch, f64::min, f64::INFINITY),
+        fold(ch, f64::max, f64::NEG_INFINITY),
+    );
+    let h_hi = if h_hi - h_lo < 1.0 { h_lo + 1.0 } else { h_hi };
+    let altitudes = vec![h_lo, 0.5 * (h_lo + h_hi), h_hi];
+    let mut airspeed = Vec::with_capacity(o.rows.len());
+    for r in &o.rows {
+        match atm.at(r[ch]) {
+            Ok(a) => airspeed.push(r[cm] * a.speed_of_sound),
+            Err(e) => return margin_skipped(format!("atmosphere: {e}")),
+        }
+    }
+    let v_max = airspeed.iter().copied().fold(0.0, f64::max);
+    let largest = (3.0 * v_max).max(50.0);
+    let machs = mach_nodes(max_mach);
+    let b = match boundary(
+        &modes,
+        &machs,
+        &altitudes,
+        largest,
+        &FinFlutterSettings::default(),
+    ) {
+        Ok(b) => b,
+        Err(e) => return margin_skipped(e.to_string()),
+    };
+    let mut csv = String::from(
+        "t,mach,altitude,airspeed,flutter_speed,flutter_mach,speed_margin,q_margin,trusted,lower_bound\n",
+    );
+    // (margin, row) minima: over trusted rows and over all rows.
+    let mut min_trusted: Option<(f64, usize)> = None;
+    let mut min_all: Option<(f64, usize)> = None;
+    let mut untrusted = 0usize;
+    let mut points = Vec::with_capacity(o.rows.len());
+    for (i, r) in o.rows.iter().enumerate() {
+        let (m, h, v) = (r[cm], r[ch], airspeed[i]);
+        let p = b.at(m, h);
+        let a = v / m.max(1e-12);
+        let margin = if v > 0.0 {
+            p.flutter_speed / v
+        } else {
+            f64::INFINITY
+        };
+        if !p.trusted {
+            untrusted += 1;
+        }
+        if margin.is_finite() {
+            if min_all.is_none_or(|(x, _)| margin < x) {
+                min_all = Some((margin, i));
+            }
+            if p.trusted && min_trusted.is_none_or(|(x, _)| margin < x) {
+                min_trusted = Some((margin, i));
+            }
+        }
+        let fm = if m > 0.0 {
+            p.flutter_speed / a
+        } else {
+            f64::NAN
+        };
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{},{},{},{},{},{}",
+            r[0],
+            m,
+            h,
+            v,
+            p.flutter_speed,
+            if fm.is_finite() {
+                fm.to_string()
+            } else {
+                String::new()
+            },
+            if margin.is_finite() {
+                margin.to_string()
+            } else {
+                String::new()
+            },
+            if margin.is_finite() {
+                (margin * margin).to_string()
+            } else {
+                String::new()
+            },
+            p.trusted as u8,
+            p.lower_bound as u8
+        );
+        points.push(p);
+    }
+    let at = |x: Option<(f64, usize)>| {
+        x.map(|(margin, i)| {
+            let r = &o.rows[i];
+            serde_json::json!({
+                "speed_margin": margin,
+                "q_margin": margin * margin,
+                "t": r[0],
+                "mach": r[cm],
+                "altitude": r[ch],
+                "airspeed": airspeed[i],
+                "flutter_speed": points[i].flutter_speed,
+                "lower_bound": points[i].lower_bound,
+                "trusted": points[i].trusted,
+            })
+        })
+    };
+    let critical = min_trusted.or(min_all);
+    let meets = critical.map(|(m, _)| m >= CRITERION);
+    let line = match critical {
+        Some((m, i)) => format!(
+            "flutter margin (clamped fin): min V_F/V = {:.3}{} at t = {:.3} s (Mach {:.3}, {:.0} m), criterion {CRITERION}: {}{}",
+            m,
+            if points[i].lower_bound {
+                " or more"
+            } else {
+                ""
+            },
+            o.rows[i][0],
+            o.rows[i][cm],
+            o.rows[i][ch],
+            if m >= CRITERION { "met" } else { "NOT MET" },
+            if untrusted > 0 {
+                format!(
+                    "; warning: {untrusted} rows in the transonic gap 0.9 < M < 1.2 (blended, untrusted)"
+                )
+            } else {
+                String::new()
+            }
+        ),
+        None => "flutter margin: no row with airspeed".into(),
+    };
+    let json = serde_json::json!({
+        "computed": true,
+        "model": "fin clamped at its root, p-k with the quasi-steady fin panels (analysis::flutter::fin)",
+        "criterion_speed_margin": CRITERION,
+        "criterion_source": "15 % on equivalent airspeed (14 CFR 25.629(b)(1), MIL-A-8870C 3.1.1)",
+        "meets_criterion": meets,
+        "minimum": at(critical),
+        "minimum_including_transonic": at(min_all),
+        "transonic_rows": untrusted,
+        "modes": modes.names,
+        "boundary": {
+            "machs": b.machs,
+            "altitudes": b.altitudes,
+            "flutter_speeds": b.speeds,
+            "lower_bound": b.lower_bound,
+            "largest_speed": b.largest_speed,
+        },
+        "seconds": started.elapsed().as_secs_f64(),
+    });
+    FlightMargin { json, csv, line }
+}
