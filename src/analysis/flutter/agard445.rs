@@ -486,6 +486,9 @@ impl WingModes {
     }
 }
 
+/// A flutter problem of [`quasi_steady_problem`]: the modal model and its GAF.
+pub type QuasiSteadyProblem<F> = (FlutterModel, GafFn<F>);
+
 /// The planform as the panel model's fin (root at the reflection plane).
 pub fn planform() -> FinPlanform {
     FinPlanform {
@@ -517,7 +520,7 @@ pub fn quasi_steady_problem(
     density: f64,
     chordwise: usize,
     spanwise: usize,
-) -> Result<(FlutterModel, GafFn<impl Fn(f64, &mut [c64]) + use<>>), AgardError> {
+) -> Result<QuasiSteadyProblem<impl Fn(f64, &mut [c64]) + use<>>, AgardError> {
     let lattice = Lattice::new(&planform(), chordwise, spanwise, Spacing::Uniform)?;
     let kmap = vlm::force_map(&lattice, mach)?;
     let n = lattice.len();
@@ -674,8 +677,8 @@ mod tests {
 
     /// The equivalent orthotropic plate (16 x 16 quads, grain along the spanwise grid lines)
     /// against the measured frequencies: -5.31 %, -0.74 %, -0.26 %, -0.22 % (mode 1 is the
-    /// outlier; the other grain choice and the isotropic plate are printed, not asserted).
-    /// Tolerances: 6 % on mode 1, 1 % on modes 2-4.
+    /// outlier, and stays so on a 24 x 24 mesh: -5.17 %). Tolerances: 6 % on mode 1, 1 % on
+    /// modes 2-4.
     #[test]
     fn frequencies_against_measured() {
         let spec = ModelSpec::default();
@@ -694,6 +697,19 @@ mod tests {
         assert!(plate_volume(&probe) > 0.0);
         // The clamped row takes about half a strip of the mass off the free nodes.
         assert!(m.mass < wing_mass() && m.mass > wing_mass() * (1.0 - 1.0 / 16.0));
+        println!("errors: grid-line grain {e:?}");
+        assert!(e[0].abs() < 0.06, "{e:?}");
+        for k in 1..4 {
+            assert!(e[k].abs() < 0.01, "mode {}: {e:?}", k + 1);
+        }
+    }
+
+    /// The grain along the 45° line and the isotropic plate (printed, docs/validation.md):
+    /// 45°: -6.13, -0.05, -1.67, +1.03 %; isotropic: -26.2, -12.5, +6.7, -4.3 %.
+    #[test]
+    #[ignore = "slow (two more models); run with --ignored to print"]
+    fn material_sensitivity() {
+        let spec = ModelSpec::default();
         let quarter = report(&ModelSpec {
             material: Material::Orthotropic(Grain::QuarterChord),
             ..spec
@@ -702,13 +718,11 @@ mod tests {
             material: Material::Isotropic,
             ..spec
         });
-        println!("errors: grid-line grain {e:?}");
         println!("errors: 45 deg grain {:?}", errors(&quarter));
         println!("errors: isotropic {:?}", errors(&iso));
-        assert!(e[0].abs() < 0.06, "{e:?}");
-        for k in 1..4 {
-            assert!(e[k].abs() < 0.01, "mode {}: {e:?}", k + 1);
-        }
+        // The isotropic plate cannot carry the wood's torsional softness: its first bending
+        // is the worst of the three models.
+        assert!(errors(&iso)[0] < errors(&quarter)[0]);
     }
 
     /// The four modes are, in order, first bending, first torsion, second bending, second
@@ -749,6 +763,7 @@ mod tests {
     /// experiment, not asserted (this is not the unsteady comparison of issue 13). Asserted
     /// only: a flutter point exists below 400 m/s and is the torsion branch.
     #[test]
+    #[ignore = "slow (three p-k sweeps); run with --ignored to print the table"]
     fn quasi_steady_flutter_table() {
         use super::super::pk::{PkSettings, pk_solve};
         let modes = wing_modes(&ModelSpec::default(), 4).unwrap();
