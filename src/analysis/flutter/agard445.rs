@@ -475,6 +475,18 @@ impl WingModes {
         self.w[mode][n - self.row_len..].to_vec()
     }
 
+    /// The mode's kind read from its [`WingModes::nodal_signature`] (the four signatures of
+    /// the test `mode_shapes_identified_by_nodal_lines`), `None` for any other.
+    pub fn kind(&self, mode: usize) -> Option<&'static str> {
+        match self.nodal_signature(mode) {
+            (0, 0, 0) => Some("1st bending"),
+            (0, 0, 1) => Some("1st torsion"),
+            (0, 1, 0) => Some("2nd bending"),
+            (1, 1, 1) => Some("2nd torsion"),
+            _ => None,
+        }
+    }
+
     /// Nodal-line signature of `mode`: sign changes along (leading edge, trailing edge, tip
     /// chord).
     pub fn nodal_signature(&self, mode: usize) -> (usize, usize, usize) {
@@ -578,7 +590,6 @@ pub fn quasi_steady_problem(
             }
         },
     };
-    let kinds = ["1st bending", "1st torsion", "2nd bending", "2nd torsion"];
     let mut stiffness = vec![0.0; count * count];
     let mut mass = vec![0.0; count * count];
     for i in 0..count {
@@ -587,7 +598,7 @@ pub fn quasi_steady_problem(
         stiffness[i * count + i] = w * w;
     }
     let names = (0..count)
-        .map(|i| match kinds.get(i) {
+        .map(|i| match modes.kind(i) {
             Some(kind) => format!("mode {} ({kind})", i + 1),
             None => format!("mode {}", i + 1),
         })
@@ -737,6 +748,16 @@ mod tests {
         for (k, w) in want.iter().enumerate() {
             assert_eq!(m.nodal_signature(k), *w, "mode {}", k + 1);
         }
+        let kinds: Vec<_> = (0..4).map(|k| m.kind(k)).collect();
+        assert_eq!(
+            kinds,
+            [
+                Some("1st bending"),
+                Some("1st torsion"),
+                Some("2nd bending"),
+                Some("2nd torsion")
+            ]
+        );
         // First bending: the tip moves one way at both edges; first torsion: the tip's
         // leading and trailing edges move in opposite directions.
         let tip = |k: usize| {
