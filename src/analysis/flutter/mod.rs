@@ -11,6 +11,7 @@
 //! - [`goland`]: the Goland wing, a uniform cantilever as bending-torsion beam elements with
 //!   Theodorsen strip theory.
 
+pub mod agard445;
 pub mod bessel;
 pub mod fin;
 pub mod goland;

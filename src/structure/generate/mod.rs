@@ -31,6 +31,7 @@ pub use beam::{TubeSection, section_at};
 pub use mass_properties::{
     MassProperties, analytic_mass_properties, rigid_body_projection, rigid_body_vectors,
 };
+pub use shell::{Mat24, orthotropic_plane_stress, shell_element, shell_element_lamina};
 pub use spec::{
     BeamTheory, BodySpec, DistributedMass, FinSpec, GeneratorSpec, MaterialProps, PointMass,
 };
@@ -114,15 +115,31 @@ fn assemble_fin(
     elements: &mut Vec<Element>,
     plot_node: impl Fn(&NodeMap) -> Option<usize>,
 ) {
+    assemble_fin_with(f, grid, maps, asm, elements, plot_node, |_, _, ab| {
+        shell::shell_element(ab, f.thickness, &f.material)
+    });
+}
+
+/// [`assemble_fin`] with the element matrices from `element(i, j, ab)` (quad i chordwise from
+/// the trailing edge, j spanwise from the root, local corner coordinates `ab`).
+fn assemble_fin_with(
+    f: &FinSpec,
+    grid: &mesh::FinGrid,
+    maps: &[Vec<NodeMap>],
+    asm: &mut Assembler,
+    elements: &mut Vec<Element>,
+    plot_node: impl Fn(&NodeMap) -> Option<usize>,
+    element: impl Fn(usize, usize, &[[f64; 2]; 4]) -> (Mat24, Mat24),
+) {
     let lam = block_frame(&grid.frame);
     asm.reserve_blocks(16 * f.span_elements * f.chord_elements);
     for j in 0..f.span_elements {
         for i in 0..f.chord_elements {
             let corners = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)];
             let ab = corners.map(|(ci, cj)| grid.local[cj][ci]);
-            let (kl, ml) = shell::shell_element(&ab, f.thickness, &f.material);
+            let (kl, ml) = element(i, j, &ab);
             let node_maps = corners.map(|(ci, cj)| maps[cj][ci]);
-            let block = |m: &shell::Mat24, a: usize, b: usize| -> Matrix6<f64> {
+            let block = |m: &Mat24, a: usize, b: usize| -> Matrix6<f64> {
                 lam.transpose() * m.fixed_view::<6, 6>(6 * a, 6 * b) * lam
             };
             asm.add_element(&node_maps, |a, b| block(&kl, a, b), |a, b| block(&ml, a, b));
@@ -242,6 +259,20 @@ pub fn generate(spec: &GeneratorSpec) -> Result<FeModel, GenerateError> {
 /// body x-y plane (delta = 0) with its root on y = 0; `fin.count`, `angles` and the body
 /// placement are ignored. Nodes: rows j = 1..=span_elements, chordwise fastest.
 pub fn cantilever_fin_model(fin: &FinSpec) -> Result<FeModel, GenerateError> {
+    let (t, mat) = (fin.thickness, fin.material);
+    cantilever_plate_model(fin, |_, _, ab| shell::shell_element(ab, t, &mat))
+}
+
+/// [`cantilever_fin_model`] with the element matrices (local frame, see `shell`) given by
+/// `element(i, j, ab)` for quad i chordwise (0 at the trailing edge) and j spanwise (0 at the
+/// root), `ab` its local corner coordinates (a = x - pivot_x, toward the leading edge; b
+/// spanwise): a plate of varying thickness or an anisotropic lamina
+/// ([`shell_element_lamina`]). `fin.thickness` is checked (positive) but not used;
+/// `fin.material` is not used.
+pub fn cantilever_plate_model(
+    fin: &FinSpec,
+    element: impl Fn(usize, usize, &[[f64; 2]; 4]) -> (Mat24, Mat24),
+) -> Result<FeModel, GenerateError> {
     let mut f = fin.clone();
     f.count = 1;
     f.angles.clear();
@@ -262,10 +293,11 @@ pub fn cantilever_fin_model(fin: &FinSpec) -> Result<FeModel, GenerateError> {
         .collect();
     let mut asm = Assembler::new(nodes.len());
     let mut elements = Vec::new();
-    assemble_fin(&f, &grid, &maps, &mut asm, &mut elements, |m| match m {
+    let plot = |m: &NodeMap| match m {
         NodeMap::Node(i) => Some(*i),
         _ => None,
-    });
+    };
+    assemble_fin_with(&f, &grid, &maps, &mut asm, &mut elements, plot, element);
     let (mass, stiffness) = asm.finish()?;
     Ok(FeModel {
         nodes,

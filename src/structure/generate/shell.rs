@@ -120,7 +120,90 @@ pub fn shell_element(ab: &[[f64; 2]; 4], t: f64, mat: &MaterialProps) -> (Mat24,
         )
     };
     let (d_m, d_b) = (elastic(dm), elastic(db));
+    let inertia = [
+        rho * t,
+        rho * t,
+        rho * t,
+        rho * t.powi(3) / 12.0,
+        rho * t.powi(3) / 12.0,
+        0.0,
+    ];
+    shell_element_with(ab, &d_m, &d_b, ks, gamma, &inertia)
+}
 
+/// Plane-stress stiffness `Q̄` (3 x 3, Voigt order `(aa, bb, ab)` with the engineering shear
+/// strain, as the element's membrane strain and curvature vectors) of an orthotropic
+/// lamina whose principal direction 1 makes the angle `theta` (rad, counter-clockwise about
+/// n) with the local `a` axis.
+///
+/// Principal axes (Jones, *Mechanics of Composite Materials*, 2nd ed., 1999, eq. (2.61)):
+/// `Q11 = E1/(1 - ν12 ν21)`, `Q22 = E2/(1 - ν12 ν21)`, `Q12 = ν12 E2/(1 - ν12 ν21)`,
+/// `Q66 = G12`, `ν21 = ν12 E2/E1`. Rotated (Jones eq. (2.84)), `m = cos θ`, `n = sin θ`:
+/// `Q̄11 = Q11 m⁴ + 2(Q12 + 2Q66) n²m² + Q22 n⁴`,
+/// `Q̄12 = (Q11 + Q22 - 4Q66) n²m² + Q12 (n⁴ + m⁴)`,
+/// `Q̄22 = Q11 n⁴ + 2(Q12 + 2Q66) n²m² + Q22 m⁴`,
+/// `Q̄16 = (Q11 - Q12 - 2Q66) n m³ + (Q12 - Q22 + 2Q66) n³ m`,
+/// `Q̄26 = (Q11 - Q12 - 2Q66) n³ m + (Q12 - Q22 + 2Q66) n m³`,
+/// `Q̄66 = (Q11 + Q22 - 2Q12 - 2Q66) n²m² + Q66 (n⁴ + m⁴)`.
+/// With `E1 = E2 = E`, `G12 = E/(2(1+ν))` it is the isotropic matrix of [`shell_element`]
+/// for every `θ` (tested).
+pub fn orthotropic_plane_stress(
+    e1: f64,
+    e2: f64,
+    nu12: f64,
+    g12: f64,
+    theta: f64,
+) -> SMatrix<f64, 3, 3> {
+    let nu21 = nu12 * e2 / e1;
+    let den = 1.0 - nu12 * nu21;
+    let (q11, q22, q12, q66) = (e1 / den, e2 / den, nu12 * e2 / den, g12);
+    let (m, n) = (theta.cos(), theta.sin());
+    let (m2, n2) = (m * m, n * n);
+    let b11 = q11 * m2 * m2 + 2.0 * (q12 + 2.0 * q66) * n2 * m2 + q22 * n2 * n2;
+    let b12 = (q11 + q22 - 4.0 * q66) * n2 * m2 + q12 * (n2 * n2 + m2 * m2);
+    let b22 = q11 * n2 * n2 + 2.0 * (q12 + 2.0 * q66) * n2 * m2 + q22 * m2 * m2;
+    let b16 = (q11 - q12 - 2.0 * q66) * n * m2 * m + (q12 - q22 + 2.0 * q66) * n2 * n * m;
+    let b26 = (q11 - q12 - 2.0 * q66) * n2 * n * m + (q12 - q22 + 2.0 * q66) * n * m2 * m;
+    let b66 = (q11 + q22 - 2.0 * q12 - 2.0 * q66) * n2 * m2 + q66 * (n2 * n2 + m2 * m2);
+    SMatrix::<f64, 3, 3>::new(b11, b12, b16, b12, b22, b26, b16, b26, b66)
+}
+
+/// The element of a homogeneous lamina of thickness `t` with plane-stress stiffness `q`
+/// ([`orthotropic_plane_stress`]), transverse shear modulus `g_transverse` (the same in both
+/// transverse planes; `k_s = 5/6` as in [`shell_element`]) and density `rho`: `D_m = q t`,
+/// `D_b = q t³/12`, drilling penalty `DRILLING_FACTOR g_transverse t`, the mass of
+/// [`shell_element`].
+pub fn shell_element_lamina(
+    ab: &[[f64; 2]; 4],
+    t: f64,
+    q: &SMatrix<f64, 3, 3>,
+    g_transverse: f64,
+    rho: f64,
+) -> (Mat24, Mat24) {
+    let ks = PLATE_SHEAR_FACTOR * g_transverse * t;
+    let gamma = DRILLING_FACTOR * g_transverse * t;
+    let inertia = [
+        rho * t,
+        rho * t,
+        rho * t,
+        rho * t.powi(3) / 12.0,
+        rho * t.powi(3) / 12.0,
+        0.0,
+    ];
+    shell_element_with(ab, &(q * t), &(q * (t.powi(3) / 12.0)), ks, gamma, &inertia)
+}
+
+/// The element from its section constants: membrane `d_m` and bending `d_b` (3 x 3), shear
+/// `ks` (= k_s G t), drilling penalty `gamma`, and the mass per unit area of the six local
+/// DOFs `inertia` (module doc).
+fn shell_element_with(
+    ab: &[[f64; 2]; 4],
+    d_m: &SMatrix<f64, 3, 3>,
+    d_b: &SMatrix<f64, 3, 3>,
+    ks: f64,
+    gamma: f64,
+    inertia: &[f64; 6],
+) -> (Mat24, Mat24) {
     // MITC4 tying points.
     let (gx_a, _) = covariant_shear(ab, 0.0, 1.0);
     let (gx_c, _) = covariant_shear(ab, 0.0, -1.0);
@@ -130,14 +213,6 @@ pub fn shell_element(ab: &[[f64; 2]; 4], t: f64, mat: &MaterialProps) -> (Mat24,
     let gp = 1.0 / 3f64.sqrt();
     let mut k = Mat24::zeros();
     let mut m = Mat24::zeros();
-    let inertia = [
-        rho * t,
-        rho * t,
-        rho * t,
-        rho * t.powi(3) / 12.0,
-        rho * t.powi(3) / 12.0,
-        0.0,
-    ];
     for &(xi, eta) in &[(-gp, -gp), (gp, -gp), (gp, gp), (-gp, gp)] {
         let (n, dxi, deta) = q4(xi, eta);
         let j = jacobian(ab, &dxi, &deta);
@@ -202,6 +277,44 @@ mod tests {
             poisson: 0.3,
             density: 2700.0,
         }
+    }
+
+    /// `Q̄` of an isotropic lamina is the isotropic plane-stress matrix at every angle, and
+    /// the lamina element equals [`shell_element`] (to rounding: achieved 1e-16 relative).
+    #[test]
+    fn isotropic_lamina_is_the_isotropic_element() {
+        let m = alu();
+        let g = m.shear_modulus();
+        let ab = [[0.0, 0.0], [0.05, 0.01], [0.045, 0.06], [-0.01, 0.05]];
+        let (k0, m0) = shell_element(&ab, 0.002, &m);
+        for theta in [0.0, 0.3, 1.0, 2.5] {
+            let q = orthotropic_plane_stress(m.youngs_modulus, m.youngs_modulus, 0.3, g, theta);
+            let c = m.youngs_modulus / (1.0 - 0.09);
+            let want = SMatrix::<f64, 3, 3>::new(c, 0.3 * c, 0.0, 0.3 * c, c, 0.0, 0.0, 0.0, g);
+            assert!((q - want).abs().max() < 1e-12 * c, "theta {theta}: {q}");
+            let (k1, m1) = shell_element_lamina(&ab, 0.002, &q, g, m.density);
+            assert!((k1 - k0).abs().max() < 1e-12 * k0.abs().max());
+            assert!((m1 - m0).abs().max() < 1e-12 * m0.abs().max());
+        }
+    }
+
+    /// Turning the lamina by 90 degrees swaps the two directions (Q̄11 <-> Q̄22, no
+    /// coupling terms), and by 45 degrees it couples shear and extension with Q̄16 = Q̄26
+    /// only when E1 = E2 (it is not).
+    #[test]
+    fn orthotropic_rotation_swaps_directions() {
+        let (e1, e2, nu, g) = (3.151e9, 0.4162e9, 0.31, 0.4392e9);
+        let q0 = orthotropic_plane_stress(e1, e2, nu, g, 0.0);
+        let q90 = orthotropic_plane_stress(e1, e2, nu, g, std::f64::consts::FRAC_PI_2);
+        let tol = 1e-9 * q0[(0, 0)];
+        assert!((q0[(0, 0)] - q90[(1, 1)]).abs() < tol);
+        assert!((q0[(1, 1)] - q90[(0, 0)]).abs() < tol);
+        assert!((q0[(0, 1)] - q90[(0, 1)]).abs() < tol);
+        assert!(q90[(0, 2)].abs() < tol && q90[(1, 2)].abs() < tol);
+        let q45 = orthotropic_plane_stress(e1, e2, nu, g, std::f64::consts::FRAC_PI_4);
+        assert!(q45[(0, 2)] > 0.0 && q45[(1, 2)] > 0.0);
+        assert!((q45[(0, 0)] - q45[(1, 1)]).abs() < tol);
+        assert!((q45 - q45.transpose()).abs().max() < tol);
     }
 
     /// The six rigid-body motions of a skewed quad produce no strain energy.
