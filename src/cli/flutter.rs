@@ -443,9 +443,13 @@ pub fn flight_margin(sc: &ir::Scenario, o: &crate::runtime::run::RunOutput) -> F
     let h_hi = if h_hi - h_lo < 1.0 { h_lo + 1.0 } else { h_hi };
     let altitudes = vec![h_lo, 0.5 * (h_lo + h_hi), h_hi];
     let mut airspeed = Vec::with_capacity(o.rows.len());
+    let mut sound = Vec::with_capacity(o.rows.len());
     for r in &o.rows {
         match atm.at(r[ch]) {
-            Ok(a) => airspeed.push(r[cm] * a.speed_of_sound),
+            Ok(a) => {
+                airspeed.push(r[cm] * a.speed_of_sound);
+                sound.push(a.speed_of_sound);
+            }
             Err(e) => return margin_skipped(format!("atmosphere: {e}")),
         }
     }

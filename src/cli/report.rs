@@ -276,6 +276,15 @@ pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
     } else {
         None
     };
+    let margin_path = dir.join("flutter_margin.csv");
+    let flutter_margin = if history.is_some() && margin_path.is_file() {
+        match read_history(&margin_path) {
+            Ok(h) => Some(h),
+            Err(e) => return fail(&e),
+        }
+    } else {
+        None
+    };
     let summary_path = dir.join("summary.json");
     let summary: Option<serde_json::Value> = if history.is_some() && summary_path.is_file() {
         let parsed = std::fs::read_to_string(&summary_path)
@@ -362,6 +371,7 @@ pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
             frame_times,
             magnify,
             events: summary.as_ref().map(flight_events).unwrap_or_default(),
+            flutter_margin,
         };
         if let Err(e) = run_figures(h, &group, mesh.as_ref(), &options, &out, &mut report) {
             return fail(&e);

@@ -28,6 +28,8 @@ pub struct RunReportOptions {
     pub magnify: Option<f64>,
     /// Flight events (time, label) marked on every time plot (from `summary.json`).
     pub events: Vec<(f64, String)>,
+    /// The run's `flutter_margin.csv`, when it wrote one.
+    pub flutter_margin: Option<History>,
 }
 
 /// The result of a report: index entries in page order and every file written.
@@ -169,6 +171,13 @@ pub fn run_figures(
     }
     if h.column("speed").is_some() {
         figures.push(super::figures::ground_track(h));
+    }
+    if let Some(m) = &options.flutter_margin {
+        let mut f = super::figures::flutter_margin(m);
+        if let Ok(p) = &mut f.plot {
+            p.markers = options.events.clone();
+        }
+        figures.push(f);
     }
     for fig in figures {
         match fig.plot {

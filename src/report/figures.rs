@@ -113,6 +113,43 @@ pub fn ground_track(h: &History) -> PlannedFigure {
     }
 }
 
+/// Flight Mach against the clamped fin's flutter Mach over time (`flutter_margin.csv`).
+pub fn flutter_margin(m: &History) -> PlannedFigure {
+    let t = m.time().to_vec();
+    let plot = match (m.column("mach"), m.column("flutter_mach")) {
+        (Some(mach), Some(fm)) if !t.is_empty() => Ok(TimePlot {
+            title: "Flight Mach and flutter Mach (fin clamped at its root)".to_string(),
+            x_label: "t (s)".to_string(),
+            y_label: "Mach".to_string(),
+            series: vec![
+                Series {
+                    label: "flight".to_string(),
+                    xs: t.clone(),
+                    ys: mach.to_vec(),
+                },
+                Series {
+                    label: "flutter".to_string(),
+                    xs: t.clone(),
+                    ys: fm.to_vec(),
+                },
+                Series {
+                    label: "flutter / 1.15".to_string(),
+                    xs: t,
+                    ys: fm.iter().map(|x| x / 1.15).collect(),
+                },
+            ],
+            markers: Vec::new(),
+        }),
+        _ => Err("flutter_margin.csv has no mach and flutter_mach columns".to_string()),
+    };
+    PlannedFigure {
+        stem: "flutter_margin".to_string(),
+        caption: "Flight Mach against the flutter Mach of the clamped fin, and the 15 % margin line"
+            .to_string(),
+        plot,
+    }
+}
+
 /// The figure set for a history. `group_of` classifies a mode name (the part after
 /// `eta_`): from the artifact's mode classes when available.
 pub fn plan_figures(h: &History, group_of: &dyn Fn(&str) -> ModeGroup) -> Vec<PlannedFigure> {
