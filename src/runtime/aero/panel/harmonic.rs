@@ -20,13 +20,13 @@
 //! quarter-chord line (the bound vortex of [`super::Panel`]), its trailing segment on panel
 //! `i + 1`'s, and the side segments on the strip edges `y = y_j`, `y = y_{j+1}`; the last
 //! ring's trailing segment lies a quarter of the local panel chord behind the trailing edge
-//! (K&P Fig. 12.21 / 13.27). The flow-tangency condition is imposed at the panel's
+//! (K&P 12.3 and 13.12). The flow-tangency condition is imposed at the panel's
 //! three-quarter-chord control point, as in [`super::vlm`]. Ring strengths `G_p` are the jump of
 //! the perturbation potential `Δφ = φ_upper - φ_lower` over the ring (K&P 13.12: a vortex ring is
 //! a constant-strength doublet panel); the bound vortex of panel `i` carries `G_i - G_{i-1}`.
 //! Every ring is the closed polygon `LI -> LO -> TO -> TI -> LI` (leading-inner, leading-outer,
 //! trailing-outer, trailing-inner) of straight segments, each of the Biot-Savart law of
-//! [`super::vlm`] (K&P eq. (2.68)/(10.115)), with its wall image at `y = 0` (the polygon mirrored,
+//! [`super::vlm`] (K&P eq. (2.68)), with its wall image at `y = 0` (the polygon mirrored,
 //! `LO' -> LI' -> TI' -> TO'`, so that the image bound vortex runs along `+y` with the same
 //! strength as in [`super::vlm`]).
 //!
@@ -36,8 +36,9 @@
 //! (13.37) below): the potential jump is convected with the free stream, `Δφ(x, t) = Δφ_TE(t -
 //! ξ / V)`, `ξ` the distance behind the trailing edge, i.e. for harmonic motion
 //!
-//! `Γ_w(ξ) = Γ_TE e^{-iνξ}` (K&P 13.12, the wake condition (13.29) `Γ_W,t = Γ_TE,t-Δt` in the
-//! limit of small steps; Kelvin's theorem, K&P eq. (2.49): the shed vorticity `-∂Γ_w/∂ξ` is
+//! `Γ_w(ξ) = Γ_TE e^{-iνξ}` (K&P 13.12: the latest wake ring takes the trailing-edge ring's
+//! strength of the previous time step, `Γ_W(t) = Γ_TE(t - Δt)`, here in the limit of small
+//! steps; Kelvin's theorem, K&P ch. 2: the shed spanwise vorticity `∂Γ_w/∂ξ` (along `+y`) is
 //! what keeps the total circulation constant).
 //!
 //! Discretisation (derived here): behind strip `j` the wake continues the ring lattice with
@@ -47,19 +48,19 @@
 //! strength `G_w,m = G_TE e^{-iν (m + 1) Δξ_j}`, `G_TE` the strength of the strip's last bound
 //! ring. With `r = 1` this is the lumped-vortex rule of the lattice carried into the wake: the
 //! spanwise segment at the quarter point of the wake interval `[m Δξ, (m + 1) Δξ]` behind the
-//! trailing edge then carries `G_w,m - G_w,m-1 = ∫ (-∂Γ_w/∂ξ) dξ` over that interval EXACTLY
+//! trailing edge then carries `G_w,m - G_w,m-1 = ∫ ∂Γ_w/∂ξ dξ` over that interval EXACTLY
 //! (the potential jump at the interval ends), as the bound segments carry the bound vorticity
 //! of their panels. The ringed wake ends after `N_j = ceil(L / Δξ_j)` rings, `L` =
-//! [`WakeSettings::length`] times the root chord `c_r`, and is closed by a semi-infinite horseshoe (legs
-//! along `+x` on the strip edges) of the last ring's strength: its bound segment cancels the
+//! [`WakeSettings::length`] times the root chord `c_r`, and is closed by a semi-infinite
+//! horseshoe (legs along `+x` on the strip edges) of the last ring's strength: its bound segment cancels the
 //! last ring's trailing segment, so the shed vorticity beyond `L` is dropped while the trailing
 //! legs continue with constant strength. At `ν = 0` all wake rings carry `G_TE` and the wake is
 //! exactly the pair of semi-infinite legs of [`super::vlm`]'s horseshoes: the model is then the
 //! steady horseshoe lattice (ring `i` = `Σ_{k<=i} Γ_k`; tested to round-off).
 //!
 //! Truncation error (derived, two-dimensional worst case): the dropped shed sheet
-//! `γ = iνΓ_TE e^{-iνξ}` beyond `L` induces at the wing `(iνΓ_TE/2π) E_1(iνL) ≈ Γ_TE e^{-iνL}
-//! / (2π L)` for `νL >> 1` (and vanishes as `ν ln ν` for `νL << 1`); against the bound vortex'
+//! `γ = -iνΓ_TE e^{-iνξ}` beyond `L` induces at the wing `(νΓ_TE/2π) |E_1(iνL)| ≈ Γ_TE / (2π
+//! L)` in magnitude for `νL >> 1` (and vanishes as `ν ln ν` for `νL << 1`); against the bound vortex'
 //! own normalwash `~ Γ / (π c)` this is a relative error `~ c / (2L)` on a wing of large aspect
 //! ratio. On a low-aspect-ratio fin the trailing legs of neighbouring strips cancel and the far
 //! shed segments (span `s`) induce only `~ Γ s / (4π L²)`, a relative error `~ c s / (4L²)`.
@@ -70,7 +71,8 @@
 //!
 //! # Flow tangency
 //!
-//! `Σ_q A_pq(ν) G_q + V α_e,p = 0` (K&P eq. (13.26)), `A(ν) = B + W(ν)`: `B` the (real)
+//! `Σ_q A_pq(ν) G_q + V α_e,p = 0` (K&P 13.12, the zero-normal-flow condition with the wake's
+//! induced velocity on the right-hand side there, on the left here), `A(ν) = B + W(ν)`: `B` the (real)
 //! influence of the bound rings and their images at the control points, and `W(ν)`, which
 //! acts only on the columns of the strips' trailing-edge rings, `W_p,TE_j = Σ_m w_p,jm
 //! e^{-iν(m + 1)Δξ_j}` (`w_p,jm` the real influence of wake ring `m` of strip `j`, the closing
@@ -140,8 +142,8 @@
 //! # Supersonic: unsteady piston theory (Ashley & Zartarian 1956)
 //!
 //! First-order piston theory is local in space and time: `Δp = 2 ρ a w`, `w = V ∂z/∂x + ∂z/∂t`
-//! (Ashley & Zartarian, J. Aeronaut. Sci. 23(12), 1956, eq. (7)/(8) to first order; [`super::
-//! piston`]); for harmonic motion `w = -V α_e` with the complex `α_e` above, so the unsteady map
+//! (Ashley & Zartarian, J. Aeronaut. Sci. 23(12), 1956, the first-order term of their piston
+//! pressure; [`super::piston`]); for harmonic motion `w = -V α_e` with the complex `α_e` above, so the unsteady map
 //! is the quasi-steady one of [`super::piston::force_map`] applied to the complex normalwash,
 //! independent of `ν` (with the same optional Ackeret factor).
 
