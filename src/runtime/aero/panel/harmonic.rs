@@ -78,7 +78,10 @@
 //! e^{-iν(m + 1)Δξ_j}` (`w_p,jm` the real influence of wake ring `m` of strip `j`, the closing
 //! horseshoe added to the last one). The geometry (`B` and `w`) does not depend on `ν`:
 //! [`HarmonicVlm`] builds it once per Mach and [`HarmonicVlm::map`] only sums the phases,
-//! solves the complex `n x n` system and forms the loads.
+//! inverts the complex `n x n` system and forms the loads ([`HarmonicVlm::forces`] solves it for
+//! a few normalwash columns instead). Measured on SPHADS-1's fin, 8 x 12 panels, 1755 wake
+//! rings, test profile on a loaded 2-core machine: geometry 53-57 ms per Mach, `map` 2.5-2.8 ms
+//! and `forces` (11 columns) 1.4 ms per reduced frequency (docs/performance.md).
 //!
 //! # Loads: unsteady Bernoulli (K&P eq. (13.37), linearised)
 //!
@@ -147,7 +150,7 @@
 //! is the quasi-steady one of [`super::piston::force_map`] applied to the complex normalwash,
 //! independent of `ν` (with the same optional Ackeret factor).
 
-use faer::linalg::solvers::DenseSolveCore;
+use faer::linalg::solvers::{DenseSolveCore, Solve};
 use faer::{Mat, c64};
 
 use super::piston::{self, Correction};
@@ -438,9 +441,8 @@ impl HarmonicVlm {
         )
     }
 
-    /// The complex force map at reduced frequency `nu = ω / V` (1/m), module doc.
-    pub fn map(&self, nu: f64) -> Result<HarmonicMap, PanelError> {
-        self.check_resolution(nu)?;
+    /// The complex tangency matrix `A(ν) = B + W(ν)` (module doc, "flow tangency").
+    fn tangency(&self, nu: f64) -> Mat<c64> {
         let n = self.n;
         let nc = self.chordwise;
         let nw = self.wake_xi.len();
@@ -466,6 +468,53 @@ impl HarmonicVlm {
                 a[(p, te)] += c64::new(re, im);
             }
         }
+        a
+    }
+
+    /// The force amplitudes `F / q` (row-major `2n x m`, rows as [`HarmonicMap::force`]) for `m`
+    /// normalwash columns `alpha_e` (row-major `n x m`, at [`HarmonicMap::eval`]): the same as
+    /// [`Self::map`] then [`HarmonicMap::apply`] per column, by one LU solve instead of the
+    /// inverse (for a projection on a few modes).
+    pub fn forces(&self, nu: f64, alpha_e: &[c64], m: usize) -> Result<Vec<c64>, PanelError> {
+        self.check_resolution(nu)?;
+        let n = self.n;
+        if alpha_e.len() != n * m {
+            return Err(PanelError::Shape {
+                expected: n * m,
+                got: alpha_e.len(),
+            });
+        }
+        let mut g = Mat::<c64>::from_fn(n, m, |p, c| -alpha_e[p * m + c]);
+        self.tangency(nu)
+            .partial_piv_lu()
+            .solve_in_place(g.as_mut());
+        let nc = self.chordwise;
+        let mut f = vec![c64::new(0.0, 0.0); 2 * n * m];
+        for p in 0..n {
+            let w2 = 2.0 * self.widths[p];
+            let t = c64::new(0.0, 2.0 * nu * self.ring_areas[p]);
+            for c in 0..m {
+                let prev = if p % nc == 0 {
+                    c64::new(0.0, 0.0)
+                } else {
+                    g[(p - 1, c)]
+                };
+                f[p * m + c] = (g[(p, c)] - prev) * w2;
+                f[(n + p) * m + c] = t * g[(p, c)];
+            }
+        }
+        if f.iter().any(|v| !(v.re.is_finite() && v.im.is_finite())) {
+            return Err(PanelError::Singular(self.mach));
+        }
+        Ok(f)
+    }
+
+    /// The complex force map at reduced frequency `nu = ω / V` (1/m), module doc.
+    pub fn map(&self, nu: f64) -> Result<HarmonicMap, PanelError> {
+        self.check_resolution(nu)?;
+        let n = self.n;
+        let nc = self.chordwise;
+        let a = self.tangency(nu);
         let inv = a.partial_piv_lu().inverse();
         let mut k = vec![c64::new(0.0, 0.0); 2 * n * n];
         for p in 0..n {

@@ -97,6 +97,8 @@ pub enum PanelError {
     BadFrequency(f64),
     #[error("wake setting {what} = {value} must be finite and positive")]
     BadWake { what: &'static str, value: f64 },
+    #[error("normalwash columns have {got} entries, expected {expected}")]
+    Shape { expected: usize, got: usize },
 }
 
 /// One lattice panel in fin coordinates (see the module doc), metres.
