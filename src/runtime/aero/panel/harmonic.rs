@@ -202,7 +202,10 @@ impl Default for WakeSettings {
     }
 }
 
-/// A complex force map (module doc).
+/// A complex force map (module doc). From [`vlm_map`]: `eval` the `n` control points, `force`
+/// `2n` points (the `n` bound mid-points for the Kutta-Joukowski forces, then the `n`
+/// ring-area centroids for the `ρ ∂Δφ/∂t` forces); from [`piston_map`]: the `n` centroids for
+/// both.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HarmonicMap {
     /// Points where the normalwash alpha_e is imposed (fin coordinates, m).
