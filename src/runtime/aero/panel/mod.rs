@@ -47,10 +47,13 @@
 //! wall's no-through-flow condition, not a second fin.
 
 pub mod fin_model;
+pub mod harmonic;
 pub mod piston;
 pub mod spline;
 pub mod vlm;
 
+#[cfg(test)]
+mod harmonic_tests;
 #[cfg(test)]
 mod tests;
 
@@ -81,6 +84,21 @@ pub enum PanelError {
         "Mach {0} is outside the trusted range of the {1} model (vortex lattice M <= 0.9, piston theory M >= 1.2)"
     )]
     Untrusted(f64, &'static str),
+    /// The lattice or the wake does not resolve the reduced frequency ([`harmonic`]).
+    #[error("{what} = {value:.4} m at nu = {nu} 1/m: {rule} (limit {limit:.4} m)")]
+    TooCoarse {
+        what: &'static str,
+        value: f64,
+        limit: f64,
+        nu: f64,
+        rule: &'static str,
+    },
+    #[error("reduced frequency nu = omega / V = {0} 1/m is not finite and non-negative")]
+    BadFrequency(f64),
+    #[error("wake setting {what} = {value} must be finite and positive")]
+    BadWake { what: &'static str, value: f64 },
+    #[error("normalwash columns have {got} entries, expected {expected}")]
+    Shape { expected: usize, got: usize },
 }
 
 /// One lattice panel in fin coordinates (see the module doc), metres.

@@ -69,7 +69,7 @@ const FOUR_PI: f64 = 4.0 * std::f64::consts::PI;
 
 /// `z` velocity at `p` of a unit-strength straight segment `p1 -> p2` (all in `z = 0`; see the
 /// module doc). Zero when `p` is on the segment's line.
-fn segment_w(p: [f64; 2], p1: [f64; 2], p2: [f64; 2], cutoff: f64) -> f64 {
+pub(super) fn segment_w(p: [f64; 2], p1: [f64; 2], p2: [f64; 2], cutoff: f64) -> f64 {
     let r1 = [p[0] - p1[0], p[1] - p1[1]];
     let r2 = [p[0] - p2[0], p[1] - p2[1]];
     let r0 = [p2[0] - p1[0], p2[1] - p1[1]];
@@ -86,7 +86,7 @@ fn segment_w(p: [f64; 2], p1: [f64; 2], p2: [f64; 2], cutoff: f64) -> f64 {
 }
 
 /// `z` velocity at `p` of a unit-strength semi-infinite leg from `p1` along `+x`.
-fn leg_w(p: [f64; 2], p1: [f64; 2], cutoff: f64, scale: f64) -> f64 {
+pub(super) fn leg_w(p: [f64; 2], p1: [f64; 2], cutoff: f64, scale: f64) -> f64 {
     let r1 = [p[0] - p1[0], p[1] - p1[1]];
     // e × r1 with e = x̂: z component r1_y.
     let cz = r1[1];
