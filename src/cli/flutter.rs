@@ -8,15 +8,15 @@ use std::path::{Path, PathBuf};
 use clap::{Args, ValueEnum};
 
 use crate::analysis::flutter::fin::{
-    FinAero, FinFlutterError, FinFlutterSettings, FinModes, clamped_fin_modes, fin_lattice,
-    solve_at,
+    FinAero, FinFlutterError, FinFlutterSettings, FinModes, chordwise_for, clamped_fin_modes,
+    fin_lattice, solve_at,
 };
-use crate::analysis::flutter::pk::PkSolution;
+use crate::analysis::flutter::pk::{FlutterError, PkSolution};
 use crate::analysis::tn4197::{Tn4197Fin, Tn4197Form};
 use crate::check::cli_values;
 use crate::check::ir;
 use crate::diagnostics::Diagnostic;
-use crate::runtime::aero::panel::Lattice;
+use crate::runtime::aero::panel::{Lattice, PanelError};
 use crate::runtime::atmosphere::{Atmosphere, Standard1976};
 use crate::units::Dim;
 
@@ -26,6 +26,9 @@ use super::{Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, emi
 /// The aerodynamics of the generalised forces.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
 pub enum AeroChoice {
+    /// The harmonic vortex lattice with a convected wake (subsonic) and unsteady piston
+    /// theory (supersonic).
+    Unsteady,
     /// The flight's quasi-steady panel map (no wake lag, no apparent mass).
     QuasiSteady,
 }
@@ -34,6 +37,7 @@ impl AeroChoice {
     fn model(self) -> FinAero {
         match self {
             AeroChoice::QuasiSteady => FinAero::QuasiSteady,
+            AeroChoice::Unsteady => FinAero::Unsteady,
         }
     }
 }
@@ -59,7 +63,7 @@ pub struct FlutterArgs {
     /// Number of clamped-fin modes.
     #[arg(long, default_value_t = 6)]
     pub modes: usize,
-    #[arg(long, value_enum, default_value_t = AeroChoice::QuasiSteady)]
+    #[arg(long, value_enum, default_value_t = AeroChoice::Unsteady)]
     pub aero: AeroChoice,
     /// Directory for vg.csv and flutter.json (written only when the solution succeeds).
     #[arg(long)]
@@ -84,6 +88,8 @@ pub struct FinFlutter {
     pub condition: Condition,
     pub aero: FinAero,
     pub solution: PkSolution,
+    /// The speed (and branch) where a p-k iteration failed and the sweep was cut.
+    pub truncated: Option<(f64, usize)>,
 }
 
 fn scenario_altitude(sc: &ir::Scenario) -> f64 {
@@ -161,7 +167,13 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
     let speeds = match v.flatten() {
         Some(r) => r.values(),
         None => {
-            let (lo, hi) = (0.1 * air.speed_of_sound, 3.0 * air.speed_of_sound);
+            // The unsteady lattice must resolve the highest mode's reduced frequency at the
+            // lowest speed (box-size rule): start higher than the quasi-steady map needs.
+            let lo = match a.aero {
+                AeroChoice::Unsteady => 0.3,
+                AeroChoice::QuasiSteady => 0.1,
+            } * air.speed_of_sound;
+            let hi = 3.0 * air.speed_of_sound;
             (0..40).map(|i| lo + (hi - lo) * i as f64 / 39.0).collect()
         }
     };
@@ -176,8 +188,13 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
     let r = match result {
         Ok(r) => r,
         Err(e) => {
-            let d = Diagnostic::error(flutter_code(&e), format!("flutter: {e}"))
+            let mut d = Diagnostic::error(flutter_code(&e), format!("flutter: {e}"))
                 .label(sc.name.span, "in this scenario");
+            if let FinFlutterError::Panel(PanelError::TooCoarse { .. }) = e {
+                d = d.with_help(format!(
+                    "the lattice has at most {MAX_CHORDWISE} chordwise panels: raise the lowest speed of --speeds, use fewer --modes, or --aero quasi-steady"
+                ));
+            }
             emit(&[d], &checked.sources, format, term);
             return EXIT_DIAGNOSTICS;
         }
@@ -203,9 +220,13 @@ fn flutter_code(e: &FinFlutterError) -> &'static str {
         FinFlutterError::Transonic { .. } => "analysis::flutter::transonic",
         FinFlutterError::NotGenerated => "analysis::flutter::not_generated",
         FinFlutterError::NoFins => "analysis::flutter::no_fins",
+        FinFlutterError::Panel(PanelError::TooCoarse { .. }) => "analysis::flutter::too_few_panels",
         _ => "analysis::flutter::failed",
     }
 }
+
+/// The most chordwise panels `analyze flutter` lays out for the unsteady lattice.
+pub const MAX_CHORDWISE: usize = 32;
 
 /// The clamped fin's p-k solution at `condition` over `speeds` (the reduced-frequency table
 /// reaches the highest mode's `k` at the lowest speed, with 20 % to spare).
@@ -221,24 +242,46 @@ pub fn solve_clamped(
         aero,
         ..FinFlutterSettings::default()
     };
-    let lattice: Lattice = fin_lattice(&modes, &settings)?;
     let v_min = speeds.iter().copied().fold(f64::INFINITY, f64::min);
     let w_max = modes.omega.iter().copied().fold(0.0, f64::max);
     settings.k_max = (1.2 * w_max * modes.b_ref() / v_min).max(0.1);
     settings.k_count = 40;
-    let solution = solve_at(
-        &modes,
-        &lattice,
-        condition.mach,
-        condition.density,
-        speeds,
-        &settings,
-    )?;
+    if aero == FinAero::Unsteady {
+        // Enough chordwise panels for the highest reduced frequency (the box-size rule), up
+        // to MAX_CHORDWISE; beyond it the lattice check refuses the case.
+        settings.chordwise =
+            chordwise_for(&modes, settings.k_max, settings.chordwise).min(MAX_CHORDWISE);
+    }
+    let lattice: Lattice = fin_lattice(&modes, &settings)?;
+    // A branch whose p-k iteration does not converge at some speed (typically near zero
+    // frequency, where the unsteady Q^I/k varies fastest) ends the sweep there: the solution
+    // is re-run on the speeds below it and the cut is reported, never hidden.
+    let mut speeds = speeds.to_vec();
+    let mut truncated = None;
+    let solution = loop {
+        match solve_at(
+            &modes,
+            &lattice,
+            condition.mach,
+            condition.density,
+            &speeds,
+            &settings,
+        ) {
+            Err(FinFlutterError::Flutter(FlutterError::NoConvergence { speed, mode, .. }))
+                if speeds.iter().filter(|v| **v < speed).count() >= 2 =>
+            {
+                truncated = Some((speed, mode));
+                speeds.retain(|v| *v < speed);
+            }
+            other => break other?,
+        }
+    };
     Ok(FinFlutter {
         modes,
         condition,
         aero,
         solution,
+        truncated,
     })
 }
 
@@ -294,6 +337,13 @@ pub fn report_text(r: &FinFlutter) -> String {
                 s.speeds.last().copied().unwrap_or(0.0)
             );
         }
+    }
+    if let Some((v, j)) = r.truncated {
+        let _ = writeln!(
+            t,
+            "warning: the p-k iteration of branch {} did not converge at V = {v:.1} m/s: the sweep ends below it",
+            j + 1
+        );
     }
     if !s.unstable_at_start.is_empty() {
         let _ = writeln!(
@@ -358,6 +408,7 @@ pub fn summary_json(r: &FinFlutter) -> serde_json::Value {
             "partner": f.partner.as_ref().map(|p| p.1.clone()),
         })).collect::<Vec<_>>(),
         "largest_speed_m_s": s.speeds.last(),
+        "sweep_cut_at_m_s": r.truncated.map(|t| t.0),
         "unstable_at_lowest_speed": s.unstable_at_start,
         "divergence": s.divergence.as_ref().map(|d| serde_json::json!({
             "speed_m_s": d.speed, "dynamic_pressure_pa": d.q, "mode": d.name

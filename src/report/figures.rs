@@ -144,8 +144,9 @@ pub fn flutter_margin(m: &History) -> PlannedFigure {
     };
     PlannedFigure {
         stem: "flutter_margin".to_string(),
-        caption: "Flight Mach against the flutter Mach of the clamped fin, and the 15 % margin line"
-            .to_string(),
+        caption:
+            "Flight Mach against the flutter Mach of the clamped fin, and the 15 % margin line"
+                .to_string(),
         plot,
     }
 }

@@ -44,6 +44,7 @@ use faer::c64;
 use super::pk::{FlutterError, FlutterModel, GafTable, PkSettings, PkSolution, pk_solve};
 use crate::check::ir;
 use crate::runtime::aero::estimator::FinPlanform;
+use crate::runtime::aero::panel::harmonic::{self, HarmonicVlm, WakeSettings};
 use crate::runtime::aero::panel::piston::{self, Correction};
 use crate::runtime::aero::panel::spline::{SplineError, surface_spline};
 use crate::runtime::aero::panel::{self, Lattice, PanelError, Regime, Spacing, vlm};
@@ -397,13 +398,72 @@ fn unsteady_values(
     settings: &FinFlutterSettings,
     ks: &[f64],
 ) -> Result<Vec<Vec<c64>>, FinFlutterError> {
-    // Piston theory is local: its unsteady map is the quasi-steady one (Ashley & Zartarian
-    // 1956); the subsonic harmonic lattice is `panel::harmonic` (issue 13, deliverable 1).
-    let _ = (modes, lattice, mach, settings, ks);
-    Err(FinFlutterError::Panel(PanelError::Untrusted(
-        mach,
-        "unsteady vortex lattice (not built yet)",
-    )))
+    let n = modes.order();
+    let b = modes.b_ref();
+    match panel::regime(mach)? {
+        // Piston theory is local: its unsteady map is the quasi-steady one applied to the
+        // complex normalwash (Ashley & Zartarian 1956; `panel::harmonic::piston_map`).
+        Regime::Supersonic => {
+            let h = harmonic::piston_map(lattice, mach, settings.correction)?;
+            let map = PanelMap {
+                eval: h.eval,
+                force: h.force,
+                k: h.k,
+            };
+            let rows = point_rows(modes, &map)?;
+            Ok(ks
+                .iter()
+                .map(|&k| gaf_matrix(&rows, &map, n, k / b))
+                .collect())
+        }
+        Regime::Transonic { .. } => Err(FinFlutterError::Transonic { mach }),
+        Regime::Subsonic => {
+            let vlm = HarmonicVlm::new(lattice, mach, &WakeSettings::default())?;
+            // The points do not depend on ν: the spline rows once.
+            let m0 = vlm.map(0.0)?;
+            let points = PanelMap {
+                eval: m0.eval,
+                force: m0.force,
+                k: Vec::new(),
+            };
+            let rows = point_rows(modes, &points)?;
+            let (ne, nf) = (points.eval.len(), points.force.len());
+            let mut out = Vec::with_capacity(ks.len());
+            for &k in ks {
+                let nu = k / b;
+                // α = -Z_x - i ν Z_c (ne x n), forces F = K α (nf x n), Q = Z_fᵀ F.
+                let alpha: Vec<c64> = (0..ne * n)
+                    .map(|e| c64::new(-rows.zx[e], -nu * rows.zc[e]))
+                    .collect();
+                let f = vlm.forces(nu, &alpha, n)?;
+                let mut q = vec![c64::new(0.0, 0.0); n * n];
+                for p in 0..nf {
+                    for i in 0..n {
+                        let z = rows.zf[p * n + i];
+                        if z != 0.0 {
+                            for j in 0..n {
+                                q[i * n + j] += f[p * n + j] * z;
+                            }
+                        }
+                    }
+                }
+                out.push(q);
+            }
+            Ok(out)
+        }
+    }
+}
+
+/// The chordwise panel count the unsteady lattice needs up to reduced frequency `k_max`
+/// (the box-size rule of `panel::harmonic::check_resolution`, `Δx <= 0.08 · 2π b / k` on the
+/// root chord, the longest), at least `floor`.
+pub fn chordwise_for(modes: &FinModes, k_max: f64, floor: usize) -> usize {
+    let nu = k_max / modes.b_ref();
+    if !(nu > 0.0) {
+        return floor;
+    }
+    let dx = harmonic::BOX_RULE * 2.0 * std::f64::consts::PI / nu;
+    floor.max((modes.planform.root_chord / dx).ceil() as usize)
 }
 
 /// The flutter model of the clamped fin at air density `density`: generalised mass `I`,
