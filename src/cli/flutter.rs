@@ -65,6 +65,13 @@ pub struct FlutterArgs {
     pub modes: usize,
     #[arg(long, value_enum, default_value_t = AeroChoice::Unsteady)]
     pub aero: AeroChoice,
+    /// Find the fin thickness whose flutter speed is the target speed, by root finding:
+    /// START:STOP:COUNT lengths (COUNT thicknesses scanned for a bracket, then refined).
+    #[arg(long, value_name = "START:STOP:COUNT")]
+    pub critical_thickness: Option<String>,
+    /// The target speed of --critical-thickness (default: the scenario's initial speed).
+    #[arg(long)]
+    pub target_speed: Option<String>,
     /// Directory for vg.csv and flutter.json (written only when the solution succeeds).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -90,6 +97,99 @@ pub struct FinFlutter {
     pub solution: PkSolution,
     /// The speed (and branch) where a p-k iteration failed and the sweep was cut.
     pub truncated: Option<(f64, usize)>,
+    /// The result of `--critical-thickness` and its target speed.
+    pub critical_thickness: Option<(CriticalThickness, f64)>,
+}
+
+/// What the thickness root finding found.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CriticalThickness {
+    /// The thickness (m) whose flutter speed is the target, and the evaluations it took.
+    Found { thickness: f64, evaluations: usize },
+    /// No sign change of `V_F(t) - V_target` over the scanned thicknesses: `V_F` at the
+    /// thinnest and thickest (infinite: no flutter up to the largest speed).
+    NotBracketed {
+        thinnest: (f64, f64),
+        thickest: (f64, f64),
+    },
+}
+
+/// The thickness `t` with `V_F(t) = v0`: the scan `ts` (ascending) finds the first sign
+/// change of `V_F - v0` (a fin without flutter in the sweep counts as above), then the
+/// Illinois variant of regula falsi (Dowell & Jarratt, BIT 11, 1971) refines it to 1e-6 of
+/// the bracket (in thickness) or 1e-9 of `v0` (in speed).
+pub fn critical_thickness(
+    solve: &dyn Fn(f64) -> Result<f64, FinFlutterError>,
+    ts: Vec<f64>,
+    v0: f64,
+) -> Result<CriticalThickness, FinFlutterError> {
+    let mut evaluations = ts.len();
+    let mut f = |t: f64| -> Result<f64, FinFlutterError> {
+        evaluations += 1;
+        let v = solve(t)?;
+        // Finite stand-in for "no flutter": well above the target.
+        Ok(if v.is_finite() { v - v0 } else { v0 })
+    };
+    let mut prev: Option<(f64, f64)> = None;
+    let mut bracket = None;
+    let mut first = None;
+    let mut last = None;
+    for &t in &ts {
+        let raw = solve(t)?;
+        let g = if raw.is_finite() { raw - v0 } else { v0 };
+        first.get_or_insert((t, raw));
+        last = Some((t, raw));
+        if g == 0.0 {
+            return Ok(CriticalThickness::Found {
+                thickness: t,
+                evaluations,
+            });
+        }
+        if let Some((tp, gp)) = prev {
+            if gp < 0.0 && g > 0.0 || gp > 0.0 && g < 0.0 {
+                bracket = Some((tp, gp, t, g));
+                break;
+            }
+        }
+        prev = Some((t, g));
+    }
+    let Some((mut a, mut fa, mut b, mut fb)) = bracket else {
+        return Ok(CriticalThickness::NotBracketed {
+            thinnest: first.unwrap_or((f64::NAN, f64::NAN)),
+            thickest: last.unwrap_or((f64::NAN, f64::NAN)),
+        });
+    };
+    let width = (b - a).abs();
+    let mut side = 0i8;
+    for _ in 0..60 {
+        let c = (a * fb - b * fa) / (fb - fa);
+        let fc = f(c)?;
+        if fc.abs() <= 1e-9 * v0 || (b - a).abs() <= 1e-6 * width {
+            return Ok(CriticalThickness::Found {
+                thickness: c,
+                evaluations,
+            });
+        }
+        if (fc < 0.0) == (fb < 0.0) {
+            b = c;
+            fb = fc;
+            if side == 1 {
+                fa *= 0.5;
+            }
+            side = 1;
+        } else {
+            a = c;
+            fa = fc;
+            if side == -1 {
+                fb *= 0.5;
+            }
+            side = -1;
+        }
+    }
+    Ok(CriticalThickness::Found {
+        thickness: 0.5 * (a + b),
+        evaluations,
+    })
 }
 
 fn scenario_altitude(sc: &ir::Scenario) -> f64 {
@@ -137,6 +237,14 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
         .speeds
         .as_deref()
         .map(|t| c.range("--speeds", t, Dim::VELOCITY));
+    let crit = a
+        .critical_thickness
+        .as_deref()
+        .map(|t| c.range("--critical-thickness", t, Dim::LENGTH));
+    let target = a
+        .target_speed
+        .as_deref()
+        .map(|t| c.quantity("--target-speed", t, Dim::VELOCITY));
     if let Err(e) = c.finish() {
         return refused(e, format, term);
     }
@@ -184,8 +292,44 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
         speed_of_sound: air.speed_of_sound,
         pressure: air.pressure,
     };
+    let critical = match crit.flatten() {
+        None => None,
+        Some(range) => {
+            let v0 = target
+                .flatten()
+                .unwrap_or_else(|| scenario_speed(&sc, air.speed_of_sound));
+            if !(v0 > 0.0) {
+                eprintln!(
+                    "error: --critical-thickness needs a target speed: the scenario starts at rest, give --target-speed"
+                );
+                return EXIT_USAGE;
+            }
+            let solve = |t: f64| -> Result<f64, FinFlutterError> {
+                let mut v = sc.vehicle.clone();
+                if let Some(f) = v.fins.as_mut() {
+                    f.thickness.value = t;
+                }
+                let r = solve_clamped(&v, condition, &speeds, a.modes, a.aero.model())?;
+                // Unstable at the lowest speed: flutter at or below it (a bound, below the
+                // target whenever the target is in the sweep).
+                if !r.solution.unstable_at_start.is_empty() {
+                    return Ok(r.solution.speeds[0]);
+                }
+                Ok(r.solution.critical().map_or(f64::INFINITY, |f| f.speed))
+            };
+            match critical_thickness(&solve, range.values(), v0) {
+                Ok(c) => Some((c, v0)),
+                Err(e) => {
+                    let d = Diagnostic::error(flutter_code(&e), format!("flutter: {e}"))
+                        .label(sc.name.span, "in this scenario");
+                    emit(&[d], &checked.sources, format, term);
+                    return EXIT_DIAGNOSTICS;
+                }
+            }
+        }
+    };
     let result = solve_clamped(&sc.vehicle, condition, &speeds, a.modes, a.aero.model());
-    let r = match result {
+    let mut r = match result {
         Ok(r) => r,
         Err(e) => {
             let mut d = Diagnostic::error(flutter_code(&e), format!("flutter: {e}"))
@@ -199,6 +343,7 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
             return EXIT_DIAGNOSTICS;
         }
     };
+    r.critical_thickness = critical;
     if let Some(out) = &a.out {
         if let Err(e) = write_outputs(out, &r) {
             eprintln!("error: cannot write `{}`: {e}", out.display());
@@ -282,6 +427,7 @@ pub fn solve_clamped(
         aero,
         solution,
         truncated,
+        critical_thickness: None,
     })
 }
 
@@ -366,6 +512,32 @@ pub fn report_text(r: &FinFlutter) -> String {
             let _ = writeln!(t, "divergence: none");
         }
     }
+    match &r.critical_thickness {
+        Some((
+            CriticalThickness::Found {
+                thickness,
+                evaluations,
+            },
+            v0,
+        )) => {
+            let _ = writeln!(
+                t,
+                "critical thickness: {:.4} mm (flutter speed {v0:.2} m/s; {evaluations} p-k solutions)",
+                thickness * 1e3
+            );
+        }
+        Some((CriticalThickness::NotBracketed { thinnest, thickest }, v0)) => {
+            let _ = writeln!(
+                t,
+                "critical thickness: not in the range: flutter speed {:.1} m/s at {:.4} mm and {:.1} m/s at {:.4} mm against the target {v0:.2} m/s (inf: none in the sweep)",
+                thinnest.1,
+                thinnest.0 * 1e3,
+                thickest.1,
+                thickest.0 * 1e3
+            );
+        }
+        None => {}
+    }
     let fin = tn4197(r);
     for form in [Tn4197Form::Martin, Tn4197Form::PeakOfFlight291] {
         let _ = writeln!(
@@ -409,6 +581,16 @@ pub fn summary_json(r: &FinFlutter) -> serde_json::Value {
         })).collect::<Vec<_>>(),
         "largest_speed_m_s": s.speeds.last(),
         "sweep_cut_at_m_s": r.truncated.map(|t| t.0),
+        "critical_thickness": r.critical_thickness.as_ref().map(|(c, v0)| match c {
+            CriticalThickness::Found { thickness, evaluations } => serde_json::json!({
+                "target_speed_m_s": v0, "thickness_m": thickness, "evaluations": evaluations
+            }),
+            CriticalThickness::NotBracketed { thinnest, thickest } => serde_json::json!({
+                "target_speed_m_s": v0, "found": false,
+                "thinnest": {"thickness_m": thinnest.0, "flutter_speed_m_s": if thinnest.1.is_finite() { Some(thinnest.1) } else { None }},
+                "thickest": {"thickness_m": thickest.0, "flutter_speed_m_s": if thickest.1.is_finite() { Some(thickest.1) } else { None }},
+            }),
+        }),
         "unstable_at_lowest_speed": s.unstable_at_start,
         "divergence": s.divergence.as_ref().map(|d| serde_json::json!({
             "speed_m_s": d.speed, "dynamic_pressure_pa": d.q, "mode": d.name
