@@ -710,28 +710,21 @@ pub fn flight_margin(sc: &ir::Scenario, o: &crate::runtime::run::RunOutput) -> F
     for (i, r) in o.rows.iter().enumerate() {
         let (m, h, v) = (r[cm], r[ch], airspeed[i]);
         let p = b.at(m, h);
-        let a = v / m.max(1e-12);
-        let margin = if v > 0.0 {
-            p.flutter_speed / v
-        } else {
-            f64::INFINITY
-        };
+        points.push(p);
+        // At rest (on the pad) the margin is undefined: no row.
+        if v.is_nan() || v <= 0.0 {
+            continue;
+        }
+        let margin = p.flutter_speed / v;
         if !p.trusted {
             untrusted += 1;
         }
-        if margin.is_finite() {
-            if min_all.is_none_or(|(x, _)| margin < x) {
-                min_all = Some((margin, i));
-            }
-            if p.trusted && min_trusted.is_none_or(|(x, _)| margin < x) {
-                min_trusted = Some((margin, i));
-            }
+        if min_all.is_none_or(|(x, _)| margin < x) {
+            min_all = Some((margin, i));
         }
-        let fm = if m > 0.0 {
-            p.flutter_speed / a
-        } else {
-            f64::NAN
-        };
+        if p.trusted && min_trusted.is_none_or(|(x, _)| margin < x) {
+            min_trusted = Some((margin, i));
+        }
         let _ = writeln!(
             csv,
             "{},{},{},{},{},{},{},{},{},{}",
@@ -740,25 +733,12 @@ pub fn flight_margin(sc: &ir::Scenario, o: &crate::runtime::run::RunOutput) -> F
             h,
             v,
             p.flutter_speed,
-            if fm.is_finite() {
-                fm.to_string()
-            } else {
-                String::new()
-            },
-            if margin.is_finite() {
-                margin.to_string()
-            } else {
-                String::new()
-            },
-            if margin.is_finite() {
-                (margin * margin).to_string()
-            } else {
-                String::new()
-            },
+            p.flutter_speed / sound[i],
+            margin,
+            margin * margin,
             p.trusted as u8,
             p.lower_bound as u8
         );
-        points.push(p);
     }
     let at = |x: Option<(f64, usize)>| {
         x.map(|(margin, i)| {
