@@ -740,10 +740,24 @@ pub fn flight_margin(sc: &ir::Scenario, o: &crate::runtime::run::RunOutput) -> F
             p.lower_bound as u8
         );
     }
+    let fin = Tn4197Fin {
+        shear_modulus: modes.shear_modulus,
+        span: modes.planform.span,
+        root_chord: modes.planform.root_chord,
+        tip_chord: modes.planform.tip_chord,
+        thickness: modes.thickness,
+    };
     let at = |x: Option<(f64, usize)>| {
         x.map(|(margin, i)| {
             let r = &o.rows[i];
+            let tn = atm.at(r[ch]).ok().map(|air| {
+                serde_json::json!({
+                    "martin_flutter_speed": fin.flutter_speed_in(Tn4197Form::Martin, air.pressure, air.speed_of_sound),
+                    "peak_of_flight_291_flutter_speed": fin.flutter_speed_in(Tn4197Form::PeakOfFlight291, air.pressure, air.speed_of_sound),
+                })
+            });
             serde_json::json!({
+                "tn4197": tn,
                 "speed_margin": margin,
                 "q_margin": margin * margin,
                 "t": r[0],
