@@ -748,6 +748,21 @@ assert_error!(
     ),
     files = [("fe/model.op4", ""), ("fe/grid.bdf", "")]
 );
+// A loaded motor of 2575 kg (the K1000T's 2575 g written in kg) in a 75 mm x 396 mm
+// cylinder: mean density 1.47e6 kg/m^3, far above solid steel's 7850.
+assert_error!(
+    motor_heavier_than_its_size,
+    "vdl::motor::heavy",
+    edit(
+        VEHICLE,
+        "  forces {\n    gravity {}\n  }\n",
+        "  forces {\n    gravity {}\n  }\n  motor k1000 {\n    curve = \"motors/k1000.eng\"\n    position = (-2, 0, 0) m\n    length = 396 mm\n    diameter = 75 mm\n    total_mass = 2575 kg\n  }\n"
+    ),
+    files = [(
+        "motors/k1000.eng",
+        "; AeroTech K1000T\nK1000T-P 75 396 P 1.182 2.575 AT\n0.004 895.1\n1.0 1000.0\n2.5 0.0\n"
+    )]
+);
 assert_error!(
     keyword_unknown_with_suggestion,
     "vdl::value::keyword",

@@ -310,6 +310,12 @@ fn bad_launch_wind_and_parachute_input_is_reported_with_spans_at_check() {
             "site_altitude = 90 km",
             "site_altitude = 90 km",
         ),
+        // Below the atmosphere's lower end (-500 m, where the 1976 tables start).
+        (
+            "site_altitude = 100 m",
+            "site_altitude = -1 km",
+            "site_altitude = -1 km",
+        ),
         (
             "elevation = 80 deg",
             "elevation = 95 deg",

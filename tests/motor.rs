@@ -377,6 +377,18 @@ fn bad_motors_are_diagnostics_at_check() {
             "diameter = 98 mm",
             "vdl::motor::geometry",
         ),
+        // A motor heavier than it can be (4.5 t for 4.5 kg), and just above the bound: a
+        // 75 mm x 600 mm cylinder of solid steel (7850 kg/m^3) is 20.81 kg.
+        (
+            "total_mass = 4.5 kg",
+            "total_mass = 4500 kg",
+            "vdl::motor::heavy",
+        ),
+        (
+            "total_mass = 4.5 kg",
+            "total_mass = 20.9 kg",
+            "vdl::motor::heavy",
+        ),
         (
             "position = (-2, 0, 0) m",
             "position = (-2.3, 0, 0) m",
@@ -391,6 +403,17 @@ fn bad_motors_are_diagnostics_at_check() {
         assert!(out.contains(code), "{code}: {out}");
         assert!(out.contains("\"line\""), "no span: {out}");
     }
+    // Just below the bound the same motor is accepted.
+    let file = vehicle_files(dir.path(), "", "");
+    let text = std::fs::read_to_string(&file)
+        .unwrap()
+        .replace("total_mass = 4.5 kg", "total_mass = 20.7 kg");
+    std::fs::write(&file, text).unwrap();
+    let (ok, out) = check(&file);
+    assert!(
+        ok,
+        "a 20.7 kg motor of 75 mm x 600 mm is below solid steel: {out}"
+    );
     let file = vehicle_files(dir.path(), "thrust { curve = \"constant.csv\" }", "");
     let (ok, out) = check(&file);
     assert!(!ok && out.contains("vdl::motor::thrust_curve"), "{out}");

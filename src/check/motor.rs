@@ -13,6 +13,10 @@ use super::Cx;
 use super::fields::{self as f, Fields};
 use super::ir::{Motor, Structure};
 
+/// Upper bound on a loaded motor's mean density over its declared cylinder, kg/m³ (solid
+/// steel; see `check_motor`).
+const MAX_MEAN_DENSITY: f64 = 7850.0;
+
 /// Reads and checks a thrust curve (RASP `.eng` or CSV) named at `named_at`; a reader error
 /// is reported on the curve file's line (code `vdl::motor::curve`).
 pub(crate) fn read_curve(cx: &mut Cx, path: &Path, named_at: Span) -> Option<ThrustCurve> {
@@ -141,6 +145,38 @@ pub(crate) fn check_motor(cx: &mut Cx, b: &Block, structure: Option<&Structure>)
             )
             .label(propellant_mass.span, "propellant mass")
             .label(total_mass.span, "total mass (casing + propellant)"),
+        );
+        ok = false;
+    }
+    // A motor heavier than the vehicle. The motor is a component of the vehicle here (its
+    // casing and grain are added to the structure), so the lift-off vehicle always outweighs
+    // it, and a rail launch whose thrust cannot lift the whole vehicle is `plan::no_liftoff`.
+    // What remains to catch at `check` is a motor heavier than any motor of its size can be
+    // (a unit slip, `2575 kg` for `2575 g`, or a wrong header): the loaded motor fills at most
+    // its declared cylinder, `V = π D² L / 4`, so its mean density `m_total / V` cannot exceed
+    // that of the densest material it is built of. Solid-motor casings are steel, aluminium or
+    // composite, the propellant and liners lighter still: the bound is solid steel,
+    // 7850 kg/m³ (EN 1991-1-1, Annex A, Table A.4: steel 77.0-78.5 kN/m³). Real motors sit far
+    // below it (the AeroTech K1000T: 2.575 kg in 75 mm x 396 mm, 1472 kg/m³; the Cesaroni
+    // M1670: 5.231 kg in 75 mm x 757 mm, 1564 kg/m³), so the bound leaves real motors a
+    // factor of 5 and flags any mass slip larger than that (a unit slip is a factor 1000).
+    let volume = std::f64::consts::PI * diameter.value * diameter.value * length.value / 4.0;
+    let mean_density = total_mass.value / volume;
+    if mean_density > MAX_MEAN_DENSITY {
+        cx.push(
+            Diagnostic::error(
+                "vdl::motor::heavy",
+                format!(
+                    "the loaded motor ({} kg) is heavier than a solid steel cylinder of its size ({:.3} kg): its mean density would be {:.0} kg/m^3",
+                    total_mass.value,
+                    MAX_MEAN_DENSITY * volume,
+                    mean_density
+                ),
+            )
+            .label(total_mass.span, "total mass (casing + propellant)")
+            .label(length.span, "motor length")
+            .label(diameter.span, "motor diameter")
+            .with_help("check the mass unit (kg or g) or the `.eng` header's masses"),
         );
         ok = false;
     }

@@ -154,6 +154,9 @@ struct Fin {
     lumped_now: Vec<f64>,
     stress: FinRootStress,
     last: FinSample,
+    /// Grid intervals of the previous lumped-distribution and panel-matrix look-ups.
+    hint_lump: usize,
+    hint_panel: usize,
     /// Area centroid of the undeformed planform, body frame (the lifting-surface model's
     /// Mach reference point).
     centroid: [f64; 3],
@@ -165,35 +168,70 @@ struct Fin {
     e_span: [f64; 3],
 }
 
+/// Output rows per register block of the lifting-surface product (see [`Elastic`]): 8 rows
+/// are four independent two-wide accumulators, enough to hide the addition latency.
+const LANES: usize = 8;
+
 /// The lifting-surface model's matrices: per fin, per grid Mach, the `η` and `η̇ / V` columns
-/// of the panel transfer matrix (`(n + 3) x 2 n`), stored column by column so that the
-/// product is a sequence of independent axpy's over the `n + 3` outputs (vectorisable; a
-/// row-by-row dot product is one serial chain of additions per output).
+/// of the panel transfer matrix (`(n + 3) x 2 n`). The `n + 3` rows are cut into
+/// `ceil((n + 3) / LANES)` strips of [`LANES`] rows (the last padded with zero rows), and each
+/// strip is stored column by column (`2 n x LANES`): the product keeps a strip's outputs in a
+/// local array (registers) over all the columns instead of loading and storing every output
+/// once per column, and the additions into each output are the same, in the same column
+/// order, as in the plain column-by-column product (so the bits do not change).
 #[derive(Clone, Debug)]
 struct Elastic {
     model: Arc<PanelModel>,
-    /// Per fin: the grid Machs' blocks concatenated.
+    /// Per fin: the grid Machs' blocks concatenated (each `strips x 2 n x LANES`).
     blocks: Vec<Vec<f64>>,
+    /// Number of row strips.
+    strips: usize,
 }
 
 impl Fin {
-    /// Interpolates the lumped distribution at `mach` (clamped to the grid) into
-    /// `lumped_now`; false for a non-finite Mach.
-    fn lump_at(&mut self, mach: f64, stride: usize) -> bool {
-        let Ok((g, tg)) = self.loads.bracket(mach) else {
+    /// Interpolates the first `len` entries of the lumped distribution at `mach` (clamped to
+    /// the grid) into `lumped_now` (the rotation rows after `3 n + 4` only when the incidence
+    /// needs them); false for a non-finite Mach.
+    fn lump_at(&mut self, mach: f64, stride: usize, len: usize) -> bool {
+        let Some((g, tg)) = bracket_from(self.loads.machs(), mach, &mut self.hint_lump) else {
             return false;
         };
-        let lo = &self.lumped[g * stride..(g + 1) * stride];
+        let lo = &self.lumped[g * stride..g * stride + len];
         if tg == 0.0 {
-            self.lumped_now.copy_from_slice(lo);
+            self.lumped_now[..len].copy_from_slice(lo);
         } else {
-            let hi = &self.lumped[(g + 1) * stride..(g + 2) * stride];
+            let hi = &self.lumped[(g + 1) * stride..(g + 1) * stride + len];
             for ((o, a), b) in self.lumped_now.iter_mut().zip(lo).zip(hi) {
                 *o = (1.0 - tg) * a + tg * b;
             }
         }
         true
     }
+}
+
+/// [`FinLoadTable::bracket`] on the ascending grid `machs`, the same interval and weight bit
+/// for bit, tried first on the interval `hint` of the previous call (the Mach number moves
+/// little between right-hand-side evaluations, so the search is then one comparison pair)
+/// and updated; None for a non-finite Mach.
+fn bracket_from(machs: &[f64], mach: f64, hint: &mut usize) -> Option<(usize, f64)> {
+    if !mach.is_finite() || machs.is_empty() {
+        return None;
+    }
+    let last = machs.len() - 1;
+    let m = mach.clamp(machs[0], machs[last]);
+    if last == 0 {
+        return Some((0, 0.0));
+    }
+    // `FinLoadTable::bracket`: i = (first index with machs[i] > m, clamped to [1, last]) - 1,
+    // i.e. machs[i] <= m < machs[i + 1], or i = last - 1 at the upper end.
+    let h = *hint;
+    let i = if h < last && machs[h] <= m && (m < machs[h + 1] || h + 1 == last) {
+        h
+    } else {
+        machs.partition_point(|&x| x <= m).clamp(1, last) - 1
+    };
+    *hint = i;
+    Some((i, (m - machs[i]) / (machs[i + 1] - machs[i])))
 }
 
 /// The fin aerodynamic force block (thesis 5.4, 5.6); see the module doc.
@@ -212,8 +250,9 @@ pub struct FinAero {
     model: ir::FinAeroModel,
     /// The panel matrices (lifting-surface model only).
     elastic: Option<Elastic>,
-    /// `[η; η̇ / V]` and `y = q T u`, sized at construction.
+    /// `[η; η̇ / V]` times the two Mach weights, and `y = q T u`, sized at construction.
     panel_in: Vec<f64>,
+    panel_in_hi: Vec<f64>,
     panel_out: Vec<f64>,
 }
 
@@ -415,6 +454,8 @@ impl FinAero {
                     yield_stress: f.material.yield_stress.as_ref().map(|q| q.value),
                 },
                 last: FinSample::default(),
+                hint_lump: 0,
+                hint_panel: 0,
                 centroid,
                 root_le,
                 z_panel: z_f.map(|x| -x),
@@ -438,24 +479,31 @@ impl FinAero {
                     Some(m) if fits(m) => m.clone(),
                     _ => fin_model::compile(c, v, &machs, PanelSettings::default())?,
                 };
-                let blocks = model
-                    .fins
-                    .iter()
-                    .map(|t| {
-                        let (rows, cols) = (t.rows(), t.cols());
-                        let mut b = Vec::with_capacity(machs.len() * rows * 2 * n);
-                        for g in 0..machs.len() {
-                            let m = t.at(g);
-                            for col in 0..2 * n {
-                                b.extend((0..rows).map(|r| m[r * cols + col]));
+                let strips = (n + 3).div_ceil(LANES);
+                let blocks =
+                    model
+                        .fins
+                        .iter()
+                        .map(|t| {
+                            let (rows, cols) = (t.rows(), t.cols());
+                            let mut b = Vec::with_capacity(machs.len() * strips * 2 * n * LANES);
+                            for g in 0..machs.len() {
+                                let m = t.at(g);
+                                for strip in 0..strips {
+                                    for col in 0..2 * n {
+                                        b.extend((strip * LANES..(strip + 1) * LANES).map(|r| {
+                                            if r < rows { m[r * cols + col] } else { 0.0 }
+                                        }));
+                                    }
+                                }
                             }
-                        }
-                        b
-                    })
-                    .collect();
+                            b
+                        })
+                        .collect();
                 Some(Elastic {
                     model: Arc::new(model),
                     blocks,
+                    strips,
                 })
             }
         };
@@ -475,6 +523,7 @@ impl FinAero {
             model: fin_model,
             elastic,
             panel_in: vec![0.0; 2 * n],
+            panel_in_hi: vec![0.0; 2 * n],
             panel_out: vec![0.0; n + 3],
         })
     }
@@ -673,7 +722,7 @@ impl ForceModel for FinAero {
                 _ if lifting => {
                     let v0 = relative_velocity(state, &fin.centroid, &[0.0; 3], &wind);
                     let mach0 = dot3(&v0, &v0).sqrt() / air.speed_of_sound;
-                    if !fin.lump_at(mach0, stride) {
+                    if !fin.lump_at(mach0, stride, 3 * n + LUMPED_EXTRA) {
                         self.fault.get_or_insert(AeroFault::NonFinite);
                         continue;
                     }
@@ -690,7 +739,7 @@ impl ForceModel for FinAero {
                 ir::FinIncidence::LoadWeighted => {
                     let v0 = relative_velocity(state, &fin.key.position, &[0.0; 3], &wind);
                     let mach0 = dot3(&v0, &v0).sqrt() / air.speed_of_sound;
-                    if !fin.lump_at(mach0, stride) {
+                    if !fin.lump_at(mach0, stride, stride) {
                         self.fault.get_or_insert(AeroFault::NonFinite);
                         continue;
                     }
@@ -757,7 +806,7 @@ impl ForceModel for FinAero {
             let f_n = mat_t_vec(&fin.c_nominal, &f_f);
             let tf = cross(&theta, &f_n);
             let f_b = [0, 1, 2].map(|k| f_n[k] + tf[k]);
-            if !pre_bracketed && !fin.lump_at(m_q, stride) {
+            if !pre_bracketed && !fin.lump_at(m_q, stride, 3 * n + LUMPED_EXTRA) {
                 self.fault.get_or_insert(AeroFault::NonFinite);
                 continue;
             }
@@ -784,39 +833,69 @@ impl ForceModel for FinAero {
             let (mut force_fin, mut force_body) = (f_f, f_b);
             if let Some(el) = &self.elastic {
                 // The elastic increments from the panels (module doc): y = q T(M) [η; η̇/V].
-                let Ok((g, tg)) = fin.loads.bracket(mach) else {
+                let Some((g, tg)) = bracket_from(fin.loads.machs(), mach, &mut fin.hint_panel)
+                else {
                     self.fault.get_or_insert(AeroFault::NonFinite);
                     continue;
                 };
-                let (u, y) = (&mut self.panel_in, &mut self.panel_out);
-                u[..n].copy_from_slice(state.eta);
-                for (x, e) in u[n..].iter_mut().zip(state.eta_dot) {
-                    *x = e / speed;
-                }
-                let rows = n + 3;
-                let block = rows * 2 * n;
+                let (u, u_hi, y) = (
+                    &mut self.panel_in,
+                    &mut self.panel_in_hi,
+                    &mut self.panel_out,
+                );
+                let cols = 2 * n;
+                let block = el.strips * cols * LANES;
                 let t = &el.blocks[fin_index];
                 let lo = &t[g * block..(g + 1) * block];
                 let scale = q * leeward_factor;
-                y.fill(0.0);
+                // The inputs times the Mach weights: `x_a = w_l x`, `x_b = w_h x` with
+                // `x = [η; η̇ / V]` (the products of the column-by-column form).
+                let (wl, wh) = if tg > 0.0 {
+                    (scale * (1.0 - tg), scale * tg)
+                } else {
+                    (scale, 0.0)
+                };
+                let (ua, ud) = u.split_at_mut(n);
+                let (ha, hd) = u_hi.split_at_mut(n);
+                for ((a, b), &x) in ua.iter_mut().zip(ha.iter_mut()).zip(state.eta) {
+                    (*a, *b) = (wl * x, wh * x);
+                }
+                for ((a, b), &e) in ud.iter_mut().zip(hd.iter_mut()).zip(state.eta_dot) {
+                    let x = e / speed;
+                    (*a, *b) = (wl * x, wh * x);
+                }
                 if tg > 0.0 {
                     let hi = &t[(g + 1) * block..(g + 2) * block];
-                    let (wl, wh) = (scale * (1.0 - tg), scale * tg);
-                    for ((x, a), b) in u
-                        .iter()
-                        .zip(lo.chunks_exact(rows))
-                        .zip(hi.chunks_exact(rows))
+                    for ((ys, a), b) in y
+                        .chunks_mut(LANES)
+                        .zip(lo.chunks_exact(cols * LANES))
+                        .zip(hi.chunks_exact(cols * LANES))
                     {
-                        let (xa, xb) = (wl * x, wh * x);
-                        for ((yr, ta), tb) in y.iter_mut().zip(a).zip(b) {
-                            *yr += ta * xa + tb * xb;
+                        let mut acc = [0.0; LANES];
+                        for (((xa, xb), ta), tb) in u
+                            .iter()
+                            .zip(u_hi.iter())
+                            .zip(a.chunks_exact(LANES))
+                            .zip(b.chunks_exact(LANES))
+                        {
+                            for l in 0..LANES {
+                                acc[l] += ta[l] * xa + tb[l] * xb;
+                            }
+                        }
+                        for (yr, v) in ys.iter_mut().zip(acc) {
+                            *yr = v;
                         }
                     }
                 } else {
-                    for (x, a) in u.iter().zip(lo.chunks_exact(rows)) {
-                        let xa = scale * x;
-                        for (yr, ta) in y.iter_mut().zip(a) {
-                            *yr += ta * xa;
+                    for (ys, a) in y.chunks_mut(LANES).zip(lo.chunks_exact(cols * LANES)) {
+                        let mut acc = [0.0; LANES];
+                        for (xa, ta) in u.iter().zip(a.chunks_exact(LANES)) {
+                            for l in 0..LANES {
+                                acc[l] += ta[l] * xa;
+                            }
+                        }
+                        for (yr, v) in ys.iter_mut().zip(acc) {
+                            *yr = v;
                         }
                     }
                 }
