@@ -249,9 +249,10 @@ pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
     };
     let history_path = dir.join("history.csv");
     let map_path = dir.join("map.csv");
-    if !history_path.is_file() && !map_path.is_file() {
+    let vg_path = dir.join("vg.csv");
+    if !history_path.is_file() && !map_path.is_file() && !vg_path.is_file() {
         eprintln!(
-            "error[report::read]: `{}` has neither history.csv nor map.csv: nothing to report",
+            "error[report::read]: `{}` has no history.csv, map.csv or vg.csv: nothing to report",
             dir.display()
         );
         return EXIT_USAGE;
@@ -271,6 +272,14 @@ pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
     let history = if history_path.is_file() {
         match read_history(&history_path) {
             Ok(h) => Some(h),
+            Err(e) => return fail(&e),
+        }
+    } else {
+        None
+    };
+    let vg = if vg_path.is_file() {
+        match crate::report::build::read_vg_csv(&vg_path) {
+            Ok(v) => Some(v),
             Err(e) => return fail(&e),
         }
     } else {
@@ -350,6 +359,12 @@ pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
             "map".into(),
             format!("{} x {} points", m.xs.len(), m.ys.len()),
         ));
+    }
+    if let Some(v) = &vg {
+        if let Err(e) = crate::report::build::flutter_figures(v, &out, &mut report) {
+            return fail(&e);
+        }
+        facts.push(("flutter".into(), format!("{} branches", v.len())));
     }
     if let Some(h) = &history {
         let classes: Vec<(String, ModeGroup)> = compiled

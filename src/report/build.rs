@@ -288,3 +288,115 @@ mod tests {
         assert_eq!(frame_times(&h, &[0.3], 4), vec![0.3]);
     }
 }
+
+/// One branch of a flutter solution's `vg.csv` (`analyze flutter --out`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct VgBranch {
+    pub name: String,
+    /// (speed, g) where the root oscillates.
+    pub g: Vec<(f64, f64)>,
+    /// (speed, frequency in Hz).
+    pub f: Vec<(f64, f64)>,
+}
+
+/// Reads `vg.csv` (header `speed_m_s,branch,name,g,frequency_hz,k,p_re,p_im`; `name` quoted,
+/// `g` empty for a non-oscillatory root). Malformed lines are errors with their line.
+pub fn read_vg_csv(path: &Path) -> Result<Vec<VgBranch>, ReportError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ReportError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let bad = |line: usize, message: String| ReportError::Csv {
+        path: path.to_path_buf(),
+        line: line as u64,
+        message,
+    };
+    let mut lines = text.lines().enumerate();
+    match lines.next() {
+        Some((_, h)) if h.starts_with("speed_m_s,branch,name,g,frequency_hz") => {}
+        _ => return Err(bad(1, "not a vg.csv header".into())),
+    }
+    let mut branches: Vec<VgBranch> = Vec::new();
+    for (i, l) in lines {
+        // speed,branch,"name",g,frequency,...: the name is the only quoted field.
+        let (Some(q0), Some(q1)) = (l.find('"'), l.rfind('"')) else {
+            return Err(bad(i + 1, "no quoted branch name".into()));
+        };
+        if q1 <= q0 {
+            return Err(bad(i + 1, "no quoted branch name".into()));
+        }
+        let head: Vec<&str> = l[..q0].split(',').collect();
+        let tail: Vec<&str> = l[q1 + 1..].split(',').collect();
+        let num = |s: &str| -> Result<f64, ReportError> {
+            s.trim()
+                .parse::<f64>()
+                .map_err(|_| bad(i + 1, format!("`{s}` is not a number")))
+        };
+        if head.len() < 3 || tail.len() < 3 {
+            return Err(bad(i + 1, "too few fields".into()));
+        }
+        let speed = num(head[0])?;
+        let branch: usize = head[1]
+            .trim()
+            .parse()
+            .map_err(|_| bad(i + 1, format!("`{}` is not a branch index", head[1])))?;
+        if branch > 1000 {
+            return Err(bad(i + 1, "branch index too large".into()));
+        }
+        if branches.len() <= branch {
+            branches.resize(branch + 1, VgBranch::default());
+        }
+        let b = &mut branches[branch];
+        b.name = l[q0 + 1..q1].to_string();
+        if !tail[1].trim().is_empty() {
+            b.g.push((speed, num(tail[1])?));
+        }
+        b.f.push((speed, num(tail[2])?));
+    }
+    Ok(branches)
+}
+
+/// The V-g and V-f diagrams of a flutter solution.
+pub fn flutter_figures(
+    branches: &[VgBranch],
+    out: &Path,
+    report: &mut ReportOutput,
+) -> Result<(), ReportError> {
+    use super::plot::{Series, TimePlot};
+    let series = |pick: fn(&VgBranch) -> &Vec<(f64, f64)>| -> Vec<Series> {
+        branches
+            .iter()
+            .filter(|b| !pick(b).is_empty())
+            .map(|b| Series {
+                label: b.name.clone(),
+                xs: pick(b).iter().map(|p| p.0).collect(),
+                ys: pick(b).iter().map(|p| p.1).collect(),
+            })
+            .collect()
+    };
+    for (stem, caption, y_label, s) in [
+        (
+            "vg",
+            "V-g: damping g = 2 Re(p)/Im(p) of each branch against speed (flutter where g crosses 0)",
+            "g",
+            series(|b| &b.g),
+        ),
+        (
+            "vf",
+            "V-f: frequency of each branch against speed",
+            "frequency (Hz)",
+            series(|b| &b.f),
+        ),
+    ] {
+        let plot = TimePlot {
+            title: caption.split(':').next().unwrap_or(caption).to_string(),
+            x_label: "V (m/s)".to_string(),
+            y_label: y_label.to_string(),
+            series: s,
+            markers: Vec::new(),
+        };
+        let files = save_svg_png(&plot, &out.join(stem), FIGURE_SIZE)?;
+        report.push_drawn(caption.to_string(), files);
+    }
+    Ok(())
+}
