@@ -1040,7 +1040,8 @@ mod tests {
     }
 
     /// Convergence of the M = 0.499 unsteady case (printed): the k table doubled, the
-    /// chordwise and the spanwise panels doubled.
+    /// chordwise and the spanwise panels doubled; then sensitivities (not comparisons): the
+    /// same density at M = 0 and 0.3, 6 modes, the grain along the 45° line.
     #[test]
     #[ignore = "slow (four p-k sweeps, one on 26 x 12 and one on 13 x 24 panels)"]
     fn unsteady_convergence() {
@@ -1052,6 +1053,28 @@ mod tests {
             print!("{k_count} k: ");
             print_unsteady(t, &r);
         }
+        // Compressibility sensitivity (not a comparison): the same density at M = 0 and 0.3.
+        for mach in [0.0, 0.3] {
+            let r = unsteady_flutter(&modes, &FlutterTest { mach, ..*t }, 25, 12, 0).unwrap();
+            print!("M {mach} with the M = 0.499 density: ");
+            print_unsteady(t, &r);
+        }
+        // Structural sensitivity: 6 modes instead of 4; the grain along the 45° line.
+        let six = wing_modes(&ModelSpec::default(), 6).unwrap();
+        let r = unsteady_flutter(&six, t, 25, 12, 0).unwrap();
+        print!("6 modes: ");
+        print_unsteady(t, &r);
+        let quarter = wing_modes(
+            &ModelSpec {
+                material: Material::Orthotropic(Grain::QuarterChord),
+                ..ModelSpec::default()
+            },
+            4,
+        )
+        .unwrap();
+        let r = unsteady_flutter(&quarter, t, 25, 12, 0).unwrap();
+        print!("45 deg grain: ");
+        print_unsteady(t, &r);
     }
 
     /// The unsteady table at M = 0.499 and 0.678 (printed), and M = 0.901, which the
