@@ -80,8 +80,10 @@ fn thicker_fins_flutter_faster_and_the_k_method_agrees() {
     let v = sphads1(&["fins.thickness=0.875 mm"]);
     let (vf, wf) = flutter_speed(&v, RHO_5KM, 0.6);
     let modes = clamped_fin_modes(&v, 4).unwrap();
-    let mut s = FinFlutterSettings::default();
-    s.k_max = 2.0;
+    let s = FinFlutterSettings {
+        k_max: 2.0,
+        ..FinFlutterSettings::default()
+    };
     let lattice = fin_lattice(&modes, &s).unwrap();
     let gaf = gaf_table(&modes, &lattice, 0.6, &s).unwrap();
     let ks: Vec<f64> = (1..400).map(|i| 2.0 - 0.004 * i as f64).collect();

@@ -459,7 +459,7 @@ fn unsteady_values(
 /// root chord, the longest), at least `floor`.
 pub fn chordwise_for(modes: &FinModes, k_max: f64, floor: usize) -> usize {
     let nu = k_max / modes.b_ref();
-    if !(nu > 0.0) {
+    if nu.is_nan() || nu <= 0.0 {
         return floor;
     }
     let dx = harmonic::BOX_RULE * 2.0 * std::f64::consts::PI / nu;
