@@ -362,6 +362,12 @@ impl Default for PkSettings {
 /// `p`) is solved with `Q(K_FLOOR)` (its `Q^I / k` is finite there).
 pub const K_FLOOR: f64 = 1e-6;
 
+/// Damping changes below this are the eigensolver's round-off, not a crossing: `g =
+/// 2 Re(p)/Im(p)` of an aerodynamically inert branch is `~1e-16` of either sign (faer's
+/// eigenvalues are accurate to a few ulps of `|p|`); any physical crossing changes `g` by
+/// many orders more between two speeds of a sweep.
+pub const G_NOISE: f64 = 1e-10;
+
 /// One converged root of one mode at one speed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PkRoot {
@@ -634,7 +640,9 @@ pub fn pk_solve(
             let (Some(ga), Some(gb)) = (a.g(), b.g()) else {
                 continue;
             };
-            if !(ga < 0.0 && gb >= 0.0) {
+            // A branch the air does not act on has round-off damping (|g| ~ 1e-16, either
+            // sign): its sign changes are noise, not flutter.
+            if !(ga < 0.0 && gb >= 0.0) || gb - ga <= G_NOISE {
                 continue;
             }
             let start = a.p;

@@ -78,7 +78,7 @@ impl TypicalSection {
 
 #[cfg(test)]
 mod tests {
-    use super::super::pk::{GafTable, PkSettings, k_method, pk_solve};
+    use super::super::pk::{Gaf, GafTable, PkSettings, k_method, pk_solve};
     use super::*;
 
     fn speeds(lo: f64, hi: f64, n: usize) -> Vec<f64> {
@@ -106,6 +106,58 @@ mod tests {
         assert!((f.k - f.omega / f.speed).abs() < 1e-10);
         assert!((f.q - 0.5 * f.speed * f.speed).abs() < 1e-12);
         assert!(sol.unstable_at_start.is_empty());
+    }
+
+    /// A coordinate the air does not act on (an in-plane mode of a plate: no normal
+    /// displacement) has round-off damping `g = 2 Re(p)/Im(p) ~ 1e-17` of either sign; its
+    /// sign changes are not flutter. Failed before: spurious crossings on that branch.
+    #[test]
+    fn an_uncoupled_coordinate_does_not_flutter() {
+        let s = TypicalSection::hodges_pierce();
+        let m2 = s.model();
+        let n = 3;
+        let grow = |a: &[f64], diag: f64| {
+            let mut b = vec![0.0; n * n];
+            for i in 0..2 {
+                for j in 0..2 {
+                    b[i * n + j] = a[i * 2 + j];
+                }
+            }
+            b[n * n - 1] = diag;
+            b
+        };
+        let model = FlutterModel {
+            names: vec![m2.names[0].clone(), m2.names[1].clone(), "in-plane".into()],
+            mass: grow(&m2.mass, 1.0),
+            // A frequency between the section's two.
+            stiffness: grow(&m2.stiffness, 0.5),
+            damping: grow(&m2.damping, 0.0),
+            ..m2
+        };
+        let g2 = s.gaf(50.0);
+        let gaf = super::super::pk::GafFn {
+            order: 3,
+            k_max: 50.0,
+            f: move |k: f64, out: &mut [c64]| {
+                let mut q = [c64::new(0.0, 0.0); 4];
+                g2.eval(k, &mut q);
+                out.fill(c64::new(0.0, 0.0));
+                for i in 0..2 {
+                    for j in 0..2 {
+                        out[i * 3 + j] = q[i * 2 + j];
+                    }
+                }
+            },
+        };
+        let sol = pk_solve(&model, &gaf, &speeds(0.05, 3.0, 60), PkSettings::default()).unwrap();
+        assert!(
+            sol.flutter.iter().all(|f| f.name != "in-plane"),
+            "{:?}",
+            sol.flutter
+        );
+        let f = sol.critical().unwrap();
+        assert_eq!(f.name, "pitch");
+        assert!((f.speed - 2.183_914_959).abs() < 1e-8, "{}", f.speed);
     }
 
     /// Root finding, not a grid pick: two unrelated speed grids give the same flutter speed.
