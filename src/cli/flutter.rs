@@ -298,7 +298,7 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
             let v0 = target
                 .flatten()
                 .unwrap_or_else(|| scenario_speed(&sc, air.speed_of_sound));
-            if !(v0 > 0.0) {
+            if v0.is_nan() || v0 <= 0.0 {
                 eprintln!(
                     "error: --critical-thickness needs a target speed: the scenario starts at rest, give --target-speed"
                 );
