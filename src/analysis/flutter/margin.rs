@@ -29,7 +29,7 @@
 use super::fin::{
     FinFlutterError, FinFlutterSettings, FinModes, fin_lattice, flutter_model, gaf_table,
 };
-use super::pk::{PkSettings, pk_solve};
+use super::pk::{FlutterError, PkSettings, pk_solve};
 use crate::runtime::aero::panel::{SUBSONIC_LIMIT, SUPERSONIC_LIMIT};
 use crate::runtime::atmosphere::{Atmosphere, Standard1976};
 
@@ -91,15 +91,29 @@ pub fn boundary(
                 .at(h)
                 .map_err(|e| FinFlutterError::Generate(format!("atmosphere: {e}")))?;
             let model = flutter_model(modes, air.density);
-            let sol = pk_solve(&model, &gaf, &speeds, PkSettings::default())?;
+            // A branch whose p-k iteration does not converge at some speed (near zero
+            // frequency at high speed) ends the sweep there, as in `analyze flutter`: the
+            // node is solved on the speeds below it, and without a flutter point there it is a
+            // lower bound at the last speed solved.
+            let mut sp = speeds.clone();
+            let sol = loop {
+                match pk_solve(&model, &gaf, &sp, PkSettings::default()) {
+                    Err(FlutterError::NoConvergence { speed, .. })
+                        if sp.iter().filter(|v| **v < speed).count() >= 2 =>
+                    {
+                        sp.retain(|v| *v < speed);
+                    }
+                    other => break other?,
+                }
+            };
             if !sol.unstable_at_start.is_empty() {
-                out.push(speeds[0]);
+                out.push(sp[0]);
                 lower.push(false);
             } else if let Some(f) = sol.critical() {
                 out.push(f.speed);
                 lower.push(false);
             } else {
-                out.push(largest_speed);
+                out.push(sp[sp.len() - 1]);
                 lower.push(true);
             }
         }
