@@ -11,7 +11,7 @@ use crate::analysis::flutter::fin::{
     FinAero, FinFlutterError, FinFlutterSettings, FinModes, chordwise_for, clamped_fin_modes,
     fin_lattice, solve_at,
 };
-use crate::analysis::flutter::pk::{FlutterError, PkSolution};
+use crate::analysis::flutter::pk::PkSolution;
 use crate::analysis::tn4197::{Tn4197Fin, Tn4197Form};
 use crate::check::cli_values;
 use crate::check::ir;
@@ -123,18 +123,13 @@ pub fn critical_thickness(
     ts: Vec<f64>,
     v0: f64,
 ) -> Result<CriticalThickness, FinFlutterError> {
-    let mut evaluations = ts.len();
-    let mut f = |t: f64| -> Result<f64, FinFlutterError> {
-        evaluations += 1;
-        let v = solve(t)?;
-        // Finite stand-in for "no flutter": well above the target.
-        Ok(if v.is_finite() { v - v0 } else { v0 })
-    };
+    let mut evaluations = 0usize;
     let mut prev: Option<(f64, f64)> = None;
     let mut bracket = None;
     let mut first = None;
     let mut last = None;
     for &t in &ts {
+        evaluations += 1;
         let raw = solve(t)?;
         let g = if raw.is_finite() { raw - v0 } else { v0 };
         first.get_or_insert((t, raw));
@@ -158,6 +153,12 @@ pub fn critical_thickness(
             thinnest: first.unwrap_or((f64::NAN, f64::NAN)),
             thickest: last.unwrap_or((f64::NAN, f64::NAN)),
         });
+    };
+    let mut f = |t: f64| -> Result<f64, FinFlutterError> {
+        evaluations += 1;
+        let v = solve(t)?;
+        // Finite stand-in for "no flutter": well above the target.
+        Ok(if v.is_finite() { v - v0 } else { v0 })
     };
     let width = (b - a).abs();
     let mut side = 0i8;
@@ -398,29 +399,14 @@ pub fn solve_clamped(
             chordwise_for(&modes, settings.k_max, settings.chordwise).min(MAX_CHORDWISE);
     }
     let lattice: Lattice = fin_lattice(&modes, &settings)?;
-    // A branch whose p-k iteration does not converge at some speed (typically near zero
-    // frequency, where the unsteady Q^I/k varies fastest) ends the sweep there: the solution
-    // is re-run on the speeds below it and the cut is reported, never hidden.
-    let mut speeds = speeds.to_vec();
-    let mut truncated = None;
-    let solution = loop {
-        match solve_at(
-            &modes,
-            &lattice,
-            condition.mach,
-            condition.density,
-            &speeds,
-            &settings,
-        ) {
-            Err(FinFlutterError::Flutter(FlutterError::NoConvergence { speed, mode, .. }))
-                if speeds.iter().filter(|v| **v < speed).count() >= 2 =>
-            {
-                truncated = Some((speed, mode));
-                speeds.retain(|v| *v < speed);
-            }
-            other => break other?,
-        }
-    };
+    let (solution, truncated) = solve_at(
+        &modes,
+        &lattice,
+        condition.mach,
+        condition.density,
+        speeds,
+        &settings,
+    )?;
     Ok(FinFlutter {
         modes,
         condition,
@@ -815,4 +801,31 @@ pub fn flight_margin(sc: &ir::Scenario, o: &crate::runtime::run::RunOutput) -> F
         "seconds": started.elapsed().as_secs_f64(),
     });
     FlightMargin { json, csv, line }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The root of a linear `V_F(t)` is found, and the reported number of p-k solutions is the
+    /// number of calls made (the scan stops at the first bracket).
+    #[test]
+    fn critical_thickness_counts_the_solutions_it_made() {
+        let calls = std::cell::Cell::new(0usize);
+        let solve = |t: f64| -> Result<f64, FinFlutterError> {
+            calls.set(calls.get() + 1);
+            Ok(1000.0 * t)
+        };
+        let ts: Vec<f64> = (1..=10).map(|i| 0.1 * i as f64).collect();
+        match critical_thickness(&solve, ts, 250.0).unwrap() {
+            CriticalThickness::Found {
+                thickness,
+                evaluations,
+            } => {
+                assert!((thickness - 0.25).abs() < 1e-12, "{thickness}");
+                assert_eq!(evaluations, calls.get());
+            }
+            other => panic!("{other:?}"),
+        }
+    }
 }

@@ -41,7 +41,7 @@
 
 use faer::c64;
 
-use super::pk::{FlutterError, FlutterModel, GafTable, PkSettings, PkSolution, pk_solve};
+use super::pk::{FlutterError, FlutterModel, GafTable, PkSettings, PkSolution, pk_solve_cut};
 use crate::check::ir;
 use crate::runtime::aero::estimator::FinPlanform;
 use crate::runtime::aero::panel::harmonic::{self, HarmonicVlm, WakeSettings};
@@ -308,13 +308,19 @@ fn gaf_matrix(rows: &PointRows, map: &PanelMap, n: usize, nu: f64) -> Vec<c64> {
             }
         }
     }
+    virtual_work(rows, &ka, nf, n)
+}
+
+/// `Q = Z_fᵀ F`: the generalised forces of panel forces `f` (`nf x n`, one column per mode's
+/// motion) by virtual work at the force points.
+fn virtual_work(rows: &PointRows, f: &[c64], nf: usize, n: usize) -> Vec<c64> {
     let mut q = vec![c64::new(0.0, 0.0); n * n];
     for p in 0..nf {
         for i in 0..n {
             let z = rows.zf[p * n + i];
             if z != 0.0 {
                 for j in 0..n {
-                    q[i * n + j] += ka[p * n + j] * z;
+                    q[i * n + j] += f[p * n + j] * z;
                 }
             }
         }
@@ -436,18 +442,7 @@ fn unsteady_values(
                     .map(|e| c64::new(-rows.zx[e], -nu * rows.zc[e]))
                     .collect();
                 let f = vlm.forces(nu, &alpha, n)?;
-                let mut q = vec![c64::new(0.0, 0.0); n * n];
-                for p in 0..nf {
-                    for i in 0..n {
-                        let z = rows.zf[p * n + i];
-                        if z != 0.0 {
-                            for j in 0..n {
-                                q[i * n + j] += f[p * n + j] * z;
-                            }
-                        }
-                    }
-                }
-                out.push(q);
+                out.push(virtual_work(&rows, &f, nf, n));
             }
             Ok(out)
         }
@@ -487,7 +482,8 @@ pub fn flutter_model(modes: &FinModes, density: f64) -> FlutterModel {
     }
 }
 
-/// The p-k solution of the clamped fin at Mach `mach` and density `density` over `speeds`.
+/// The p-k solution of the clamped fin at Mach `mach` and density `density` over `speeds`
+/// ([`pk_solve_cut`]: a branch that does not converge ends the sweep; the cut is returned).
 pub fn solve_at(
     modes: &FinModes,
     lattice: &Lattice,
@@ -495,8 +491,8 @@ pub fn solve_at(
     density: f64,
     speeds: &[f64],
     settings: &FinFlutterSettings,
-) -> Result<PkSolution, FinFlutterError> {
+) -> Result<(PkSolution, Option<(f64, usize)>), FinFlutterError> {
     let gaf = gaf_table(modes, lattice, mach, settings)?;
     let model = flutter_model(modes, density);
-    Ok(pk_solve(&model, &gaf, speeds, PkSettings::default())?)
+    Ok(pk_solve_cut(&model, &gaf, speeds, PkSettings::default())?)
 }

@@ -29,7 +29,7 @@
 use super::fin::{
     FinFlutterError, FinFlutterSettings, FinModes, fin_lattice, flutter_model, gaf_table,
 };
-use super::pk::{FlutterError, PkSettings, pk_solve};
+use super::pk::{PkSettings, pk_solve_cut};
 use crate::runtime::aero::panel::{SUBSONIC_LIMIT, SUPERSONIC_LIMIT};
 use crate::runtime::atmosphere::{Atmosphere, Standard1976};
 
@@ -95,17 +95,8 @@ pub fn boundary(
             // frequency at high speed) ends the sweep there, as in `analyze flutter`: the
             // node is solved on the speeds below it, and without a flutter point there it is a
             // lower bound at the last speed solved.
-            let mut sp = speeds.clone();
-            let sol = loop {
-                match pk_solve(&model, &gaf, &sp, PkSettings::default()) {
-                    Err(FlutterError::NoConvergence { speed, .. })
-                        if sp.iter().filter(|v| **v < speed).count() >= 2 =>
-                    {
-                        sp.retain(|v| *v < speed);
-                    }
-                    other => break other?,
-                }
-            };
+            let (sol, _) = pk_solve_cut(&model, &gaf, &speeds, PkSettings::default())?;
+            let sp = &sol.speeds;
             if !sol.unstable_at_start.is_empty() {
                 out.push(sp[0]);
                 lower.push(false);

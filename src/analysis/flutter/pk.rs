@@ -687,6 +687,32 @@ pub fn pk_solve(
     })
 }
 
+/// [`pk_solve`], but a branch whose p-k iteration does not converge at some speed (typically
+/// near zero frequency at high speed, where an unsteady `Q^I/k` varies fastest) ends the
+/// sweep there: the solution is re-run on the speeds below it, and the speed and branch of
+/// the cut are returned with it (`None` when the whole sweep was solved). Fails as
+/// [`pk_solve`] when fewer than two speeds would remain.
+pub fn pk_solve_cut(
+    model: &FlutterModel,
+    gaf: &dyn Gaf,
+    speeds: &[f64],
+    settings: PkSettings,
+) -> Result<(PkSolution, Option<(f64, usize)>), FlutterError> {
+    let mut sp = speeds.to_vec();
+    let mut cut = None;
+    loop {
+        match pk_solve(model, gaf, &sp, settings) {
+            Err(FlutterError::NoConvergence { speed, mode, .. })
+                if sp.iter().filter(|v| **v < speed).count() >= 2 =>
+            {
+                cut = Some((speed, mode));
+                sp.retain(|v| *v < speed);
+            }
+            other => return other.map(|s| (s, cut)),
+        }
+    }
+}
+
 /// The divergence point from `det(K - q Q^R(k_0)) = 0` at the table's lowest `k_0` (module doc);
 /// `None` when no positive real root exists (or `k_0 > 0`: no steady aerodynamics).
 pub fn divergence(model: &FlutterModel, gaf: &dyn Gaf) -> Result<Option<Divergence>, FlutterError> {
