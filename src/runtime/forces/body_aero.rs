@@ -279,9 +279,21 @@ pub(crate) fn relative_velocity(
     u_dot: &[f64; 3],
     wind: &([f64; 3], [f64; 3]),
 ) -> [f64; 3] {
-    let w_i = mat_vec(&state.c_bi, &wind.1);
+    relative_velocity_rotated(state, p, u_dot, &(wind.0, mat_vec(&state.c_bi, &wind.1)))
+}
+
+/// [`relative_velocity`] with the inertial-frame wind already in body axes (`wind.1 = C_bi
+/// w_i`, computed once per evaluation by a block that needs it at several points): the same
+/// operations in the same order, so the same bits.
+pub(crate) fn relative_velocity_rotated(
+    state: &StateView,
+    p: &[f64; 3],
+    u_dot: &[f64; 3],
+    wind: &([f64; 3], [f64; 3]),
+) -> [f64; 3] {
+    let (w_b, w_i) = wind;
     let rot = cross(&state.angular_velocity, p);
-    [0, 1, 2].map(|k| state.velocity[k] + rot[k] + u_dot[k] - wind.0[k] - w_i[k])
+    [0, 1, 2].map(|k| state.velocity[k] + rot[k] + u_dot[k] - w_b[k] - w_i[k])
 }
 
 /// Clamps `value` into a table axis; records a fault when the table's policy is `stop`.

@@ -89,7 +89,7 @@
 //! construction.
 
 use super::body_aero::{
-    AeroFault, AeroForceError, NodeRows, clamped_query, planform, relative_velocity,
+    AeroFault, AeroForceError, NodeRows, clamped_query, planform, relative_velocity_rotated,
 };
 use super::stress::FinRootStress;
 use std::sync::Arc;
@@ -234,6 +234,68 @@ fn bracket_from(machs: &[f64], mach: f64, hint: &mut usize) -> Option<(usize, f6
     Some((i, (m - machs[i]) / (machs[i + 1] - machs[i])))
 }
 
+/// The strip product of the lifting-surface model (see [`Elastic`]): `y = T_lo u + T_hi u_hi`
+/// (the second term only between two grid Machs), strip by strip, each strip's [`LANES`]
+/// outputs accumulated over the columns in column order.
+struct StripProduct<'a> {
+    y: &'a mut [f64],
+    lo: &'a [f64],
+    hi: Option<&'a [f64]>,
+    u: &'a [f64],
+    u_hi: &'a [f64],
+    cols: usize,
+}
+
+impl pulp::WithSimd for StripProduct<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        let StripProduct {
+            y,
+            lo,
+            hi,
+            u,
+            u_hi,
+            cols,
+        } = self;
+        if let Some(hi) = hi {
+            for ((ys, a), b) in y
+                .chunks_mut(LANES)
+                .zip(lo.chunks_exact(cols * LANES))
+                .zip(hi.chunks_exact(cols * LANES))
+            {
+                let mut acc = [0.0; LANES];
+                for (((xa, xb), ta), tb) in u
+                    .iter()
+                    .zip(u_hi.iter())
+                    .zip(a.chunks_exact(LANES))
+                    .zip(b.chunks_exact(LANES))
+                {
+                    for l in 0..LANES {
+                        acc[l] += ta[l] * xa + tb[l] * xb;
+                    }
+                }
+                for (yr, v) in ys.iter_mut().zip(acc) {
+                    *yr = v;
+                }
+            }
+        } else {
+            for (ys, a) in y.chunks_mut(LANES).zip(lo.chunks_exact(cols * LANES)) {
+                let mut acc = [0.0; LANES];
+                for (xa, ta) in u.iter().zip(a.chunks_exact(LANES)) {
+                    for l in 0..LANES {
+                        acc[l] += ta[l] * xa;
+                    }
+                }
+                for (yr, v) in ys.iter_mut().zip(acc) {
+                    *yr = v;
+                }
+            }
+        }
+    }
+}
+
 /// The fin aerodynamic force block (thesis 5.4, 5.6); see the module doc.
 #[derive(Clone, Debug)]
 pub struct FinAero {
@@ -254,6 +316,8 @@ pub struct FinAero {
     panel_in: Vec<f64>,
     panel_in_hi: Vec<f64>,
     panel_out: Vec<f64>,
+    /// The vector unit the elastic product is compiled for, detected once.
+    arch: pulp::Arch,
 }
 
 impl FinAero {
@@ -525,6 +589,7 @@ impl FinAero {
             panel_in: vec![0.0; 2 * n],
             panel_in_hi: vec![0.0; 2 * n],
             panel_out: vec![0.0; n + 3],
+            arch: pulp::Arch::new(),
         })
     }
 
@@ -708,6 +773,8 @@ impl ForceModel for FinAero {
             return;
         };
         let wind = self.stimuli.wind_at(t, -state.position[2]);
+        // The inertial wind in body axes once for every fin and point.
+        let wind = (wind.0, mat_vec(&state.c_bi, &wind.1));
         let n = self.n;
         let stride = LUMPED_EXTRA + 6 * n;
         for (fin_index, fin) in self.fins.iter_mut().enumerate() {
@@ -720,7 +787,7 @@ impl ForceModel for FinAero {
                 // Lifting surface: the undeformed fin at the centre of pressure of the
                 // weights at the Mach of the planform centroid (module doc).
                 _ if lifting => {
-                    let v0 = relative_velocity(state, &fin.centroid, &[0.0; 3], &wind);
+                    let v0 = relative_velocity_rotated(state, &fin.centroid, &[0.0; 3], &wind);
                     let mach0 = dot3(&v0, &v0).sqrt() / air.speed_of_sound;
                     if !fin.lump_at(mach0, stride, 3 * n + LUMPED_EXTRA) {
                         self.fault.get_or_insert(AeroFault::NonFinite);
@@ -737,7 +804,7 @@ impl ForceModel for FinAero {
                     (p, theta, u_dot)
                 }
                 ir::FinIncidence::LoadWeighted => {
-                    let v0 = relative_velocity(state, &fin.key.position, &[0.0; 3], &wind);
+                    let v0 = relative_velocity_rotated(state, &fin.key.position, &[0.0; 3], &wind);
                     let mach0 = dot3(&v0, &v0).sqrt() / air.speed_of_sound;
                     if !fin.lump_at(mach0, stride, stride) {
                         self.fault.get_or_insert(AeroFault::NonFinite);
@@ -759,7 +826,7 @@ impl ForceModel for FinAero {
                     (p, theta, u_dot)
                 }
             };
-            let v_b = relative_velocity(state, &p, &u_dot, &wind);
+            let v_b = relative_velocity_rotated(state, &p, &u_dot, &wind);
             // C_f V = C_nominal (V - θ × V), (5.4.3)-(5.4.4), (5.4.9).
             let tv = cross(&theta, &v_b);
             let w = [0, 1, 2].map(|k| v_b[k] - tv[k]);
@@ -864,41 +931,18 @@ impl ForceModel for FinAero {
                     let x = e / speed;
                     (*a, *b) = (wl * x, wh * x);
                 }
-                if tg > 0.0 {
-                    let hi = &t[(g + 1) * block..(g + 2) * block];
-                    for ((ys, a), b) in y
-                        .chunks_mut(LANES)
-                        .zip(lo.chunks_exact(cols * LANES))
-                        .zip(hi.chunks_exact(cols * LANES))
-                    {
-                        let mut acc = [0.0; LANES];
-                        for (((xa, xb), ta), tb) in u
-                            .iter()
-                            .zip(u_hi.iter())
-                            .zip(a.chunks_exact(LANES))
-                            .zip(b.chunks_exact(LANES))
-                        {
-                            for l in 0..LANES {
-                                acc[l] += ta[l] * xa + tb[l] * xb;
-                            }
-                        }
-                        for (yr, v) in ys.iter_mut().zip(acc) {
-                            *yr = v;
-                        }
-                    }
-                } else {
-                    for (ys, a) in y.chunks_mut(LANES).zip(lo.chunks_exact(cols * LANES)) {
-                        let mut acc = [0.0; LANES];
-                        for (xa, ta) in u.iter().zip(a.chunks_exact(LANES)) {
-                            for l in 0..LANES {
-                                acc[l] += ta[l] * xa;
-                            }
-                        }
-                        for (yr, v) in ys.iter_mut().zip(acc) {
-                            *yr = v;
-                        }
-                    }
-                }
+                let hi = (tg > 0.0).then(|| &t[(g + 1) * block..(g + 2) * block]);
+                // Compiled for the widest vector unit found at run time (pulp's dispatch):
+                // the strip's lanes are independent and Rust never contracts `a * b + c`
+                // into a fused multiply-add, so every width gives the same bits.
+                self.arch.dispatch(StripProduct {
+                    y,
+                    lo,
+                    hi,
+                    u,
+                    u_hi,
+                    cols,
+                });
                 for (qm, yj) in out[6..6 + n].iter_mut().zip(&y[..n]) {
                     *qm += yj;
                 }
@@ -925,6 +969,87 @@ impl ForceModel for FinAero {
                 root_moment,
                 root_stress: fin.stress.stress(root_moment),
             };
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The lifting-surface product dispatched to the widest vector unit of the machine gives
+    /// the same bits as the baseline (scalar-target) code and as the plain column-by-column
+    /// product `y_r = Σ_c (T_lo[r][c] u_c + T_hi[r][c] u_hi_c)`, with and without the second
+    /// grid Mach: the lanes are independent and no `a * b + c` is fused.
+    #[test]
+    fn the_strip_product_has_the_same_bits_on_every_vector_unit() {
+        let (rows, cols): (usize, usize) = (13, 20);
+        let strips = rows.div_ceil(LANES);
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 3.7
+        };
+        // Row-major T, then the strip layout of `Elastic` (padded rows zero).
+        let dense = |next: &mut dyn FnMut() -> f64| -> (Vec<f64>, Vec<f64>) {
+            let t: Vec<f64> = (0..rows * cols).map(|_| next()).collect();
+            let mut s = vec![0.0; strips * cols * LANES];
+            for r in 0..rows {
+                for c in 0..cols {
+                    s[(r / LANES) * cols * LANES + c * LANES + r % LANES] = t[r * cols + c];
+                }
+            }
+            (t, s)
+        };
+        let (t_lo, s_lo) = dense(&mut next);
+        let (t_hi, s_hi) = dense(&mut next);
+        let u: Vec<f64> = (0..cols).map(|_| next()).collect();
+        let u_hi: Vec<f64> = (0..cols).map(|_| next()).collect();
+        for two in [false, true] {
+            let hi = two.then_some(&s_hi[..]);
+            let mut y_wide = vec![0.0; strips * LANES];
+            pulp::Arch::new().dispatch(StripProduct {
+                y: &mut y_wide,
+                lo: &s_lo,
+                hi,
+                u: &u,
+                u_hi: &u_hi,
+                cols,
+            });
+            let mut y_base = vec![0.0; strips * LANES];
+            pulp::Simd::vectorize(
+                pulp::Scalar,
+                StripProduct {
+                    y: &mut y_base,
+                    lo: &s_lo,
+                    hi,
+                    u: &u,
+                    u_hi: &u_hi,
+                    cols,
+                },
+            );
+            for r in 0..rows {
+                let mut plain = 0.0;
+                for c in 0..cols {
+                    plain += if two {
+                        t_lo[r * cols + c] * u[c] + t_hi[r * cols + c] * u_hi[c]
+                    } else {
+                        t_lo[r * cols + c] * u[c]
+                    };
+                }
+                assert_eq!(
+                    y_wide[r].to_bits(),
+                    plain.to_bits(),
+                    "row {r}, two Machs {two}"
+                );
+                assert_eq!(
+                    y_base[r].to_bits(),
+                    plain.to_bits(),
+                    "row {r}, two Machs {two}"
+                );
+            }
         }
     }
 }
