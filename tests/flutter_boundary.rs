@@ -151,15 +151,39 @@ fn the_fin_and_structure_inputs_change_the_key_and_the_flight_does_not() {
                 }
             }),
         ),
-        (
-            "body material",
-            Box::new(|v| v.material.density.value *= 1.01),
-        ),
     ];
     for (what, edit) in &edits {
         let mut v = sc.vehicle.clone();
         edit(&mut v);
         assert_ne!(boundary_key(&v, &spec).unwrap(), base, "{what}");
+    }
+    // What the clamped fin does not see leaves the key alone (a motor or payload variant
+    // shares the boundary), and indeed leaves the fin's modes unchanged.
+    let unseen: Vec<(&str, Box<dyn Fn(&mut ir::Vehicle)>)> = vec![
+        (
+            "body material",
+            Box::new(|v| v.material.density.value *= 1.5),
+        ),
+        (
+            "body length and masses",
+            Box::new(|v| {
+                if let ir::Structure::Generate(g) = &mut v.structure {
+                    g.body.length.value *= 1.1;
+                    g.point_masses.clear();
+                }
+            }),
+        ),
+        ("motor", Box::new(|v| v.motor = None)),
+    ];
+    let modes = clamped_fin_modes(&sc.vehicle, 3).unwrap();
+    for (what, edit) in &unseen {
+        let mut v = sc.vehicle.clone();
+        edit(&mut v);
+        assert_ne!(v, sc.vehicle, "{what}");
+        assert_eq!(boundary_key(&v, &spec).unwrap(), base, "{what}");
+        let m = clamped_fin_modes(&v, 3).unwrap();
+        assert_eq!(m.omega, modes.omega, "{what}");
+        assert_eq!(m.normal_rows, modes.normal_rows, "{what}");
     }
     // The flight (rail elevation, wind, parachutes) is not an input; the site is.
     let mut sc2 = sc.clone();

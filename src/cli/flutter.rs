@@ -643,20 +643,61 @@ pub const MARGIN_MODES: usize = 4;
 /// The aerodynamics of the flight margin: the unsteady panels, as `analyze flutter`.
 pub const MARGIN_AERO: FinAero = FinAero::Unsteady;
 
-/// The cache key of a vehicle's flutter boundary: the structural key of
-/// [`super::compile::cache_key`] (every input of the structure and the fins, whose clamped
-/// modes the boundary is solved on, and the bytes of the FE files), the whole
-/// [`BoundarySpec`] by its canonical serialisation (grid, sweeps, modes, aerodynamics, lattice,
-/// p-k settings), [`BOUNDARY_REVISION`] and the payload schema.
+/// The cache key of a vehicle's flutter boundary: exactly the inputs the clamped fin's modes
+/// are computed from ([`clamped_fin_modes`]: the `fins` block whole, with its material,
+/// planform, thickness and cant, by its canonical serialisation; the fin mesh density of
+/// `structure { generate { ... } }`; the structural pipeline revision), the whole
+/// [`BoundarySpec`] (grid, sweeps, modes, aerodynamics, lattice, p-k settings),
+/// [`BOUNDARY_REVISION`], the payload schema and (through the builder) the compiler and
+/// format versions. The body, its masses and the motor are left out: the clamped fin does not
+/// see them, so a motor or payload variant shares the boundary. `Generate` is destructured
+/// without `..`, so a field added to it does not compile until it is hashed here or stated not
+/// to shape the clamped fin.
 pub fn boundary_key(v: &ir::Vehicle, spec: &BoundarySpec) -> std::io::Result<CacheKey> {
     use crate::artifact::ArtifactPayload;
-    let structural = super::compile::cache_key(v)?;
+    let canon = |b: &mut CacheKeyBuilder, label: &str, x: &dyn erased::Ser| {
+        x.add_to(b, label).map_err(std::io::Error::other)
+    };
     let mut b = CacheKeyBuilder::new("flutter-boundary");
     b.text("revision", BOUNDARY_REVISION);
     b.text("schema", BoundaryArtifact::SCHEMA);
-    b.bytes("structural key", structural.as_bytes());
-    b.canonical("spec", spec).map_err(std::io::Error::other)?;
+    b.u64(
+        "pipeline revision",
+        u64::from(crate::structure::compile::PIPELINE_REVISION),
+    );
+    canon(&mut b, "fins", &v.fins)?;
+    match &v.structure {
+        ir::Structure::Generate(g) => {
+            let ir::Generate {
+                span: _,
+                fin_span_elements,
+                fin_chord_elements,
+                // The clamped fin's mesh is the fin alone (`generate::cantilever_fin_model`).
+                body: _,
+                point_masses: _,
+                distributed_masses: _,
+            } = g;
+            canon(&mut b, "fin span elements", fin_span_elements)?;
+            canon(&mut b, "fin chord elements", fin_chord_elements)?;
+        }
+        // No clamped fin can be built (the margin says so); hashed whole all the same.
+        other => canon(&mut b, "structure", other)?,
+    }
+    canon(&mut b, "spec", spec)?;
     Ok(b.finish())
+}
+
+mod erased {
+    use crate::artifact::{CacheKeyBuilder, canonical};
+    /// Add anything serde can serialise to a key, without naming its type.
+    pub trait Ser {
+        fn add_to(&self, b: &mut CacheKeyBuilder, label: &str) -> Result<(), canonical::Error>;
+    }
+    impl<T: serde::Serialize> Ser for T {
+        fn add_to(&self, b: &mut CacheKeyBuilder, label: &str) -> Result<(), canonical::Error> {
+            b.canonical(label, self).map(|_| ())
+        }
+    }
 }
 
 /// A vehicle's flutter boundary through the cache.
