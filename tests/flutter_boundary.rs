@@ -99,6 +99,9 @@ fn every_field_of_the_boundary_spec_changes_the_key() {
     }
 }
 
+/// An edit of a vehicle.
+type Edit = Box<dyn Fn(&mut ir::Vehicle)>;
+
 /// The vehicle's structural and fin inputs change the key (each one the clamped modes depend
 /// on); the scenario's flight does not enter it (the boundary is the vehicle's).
 #[test]
@@ -106,7 +109,7 @@ fn the_fin_and_structure_inputs_change_the_key_and_the_flight_does_not() {
     let sc = hpr();
     let spec = small_spec();
     let base = boundary_key(&sc.vehicle, &spec).unwrap();
-    let edits: Vec<(&str, Box<dyn Fn(&mut ir::Vehicle)>)> = vec![
+    let edits: Vec<(&str, Edit)> = vec![
         (
             "fin thickness",
             Box::new(|v| v.fins.as_mut().unwrap().thickness.value *= 1.01),
@@ -159,7 +162,7 @@ fn the_fin_and_structure_inputs_change_the_key_and_the_flight_does_not() {
     }
     // What the clamped fin does not see leaves the key alone (a motor or payload variant
     // shares the boundary), and indeed leaves the fin's modes unchanged.
-    let unseen: Vec<(&str, Box<dyn Fn(&mut ir::Vehicle)>)> = vec![
+    let unseen: Vec<(&str, Edit)> = vec![
         (
             "body material",
             Box::new(|v| v.material.density.value *= 1.5),
