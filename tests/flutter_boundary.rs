@@ -384,3 +384,59 @@ fn a_warm_run_writes_the_cold_runs_margin_bit_for_bit() {
         "the rebuilt margin differs from the cold one"
     );
 }
+
+/// Rows outside the boundary's grid (here the fin table stops at Mach 0.8, so the grid's last
+/// Mach node is 0.9) are flagged `in_grid = 0`, counted, and kept out of the minimum that
+/// decides the criterion, even when their (edge-evaluated) margin is the smallest. Fails if
+/// such a row were silently extrapolated into the minimum.
+#[test]
+fn rows_outside_the_grid_are_flagged_and_kept_out_of_the_minimum() {
+    use flexflight::runtime::run::{RunOutput, RunStop};
+    let sc = hpr();
+    // (t, Mach, altitude): in the grid; in the grid, the fastest; above the last Mach node.
+    let rows: Vec<Vec<f64>> = [(0.0, 0.3, 1000.0), (1.0, 0.85, 1000.0), (2.0, 1.5, 1000.0)]
+        .iter()
+        .map(|&(t, m, h)| vec![t, m, h])
+        .collect();
+    let o = RunOutput {
+        channels: vec!["t".into(), "mach".into(), "altitude".into()],
+        rows,
+        stop: RunStop::Completed,
+        stop_detail: String::new(),
+        t_end: 2.0,
+        stats: Default::default(),
+        wall_seconds: 0.0,
+        events: Default::default(),
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let m =
+        flexflight::cli::flutter::flight_margin(&sc, &o, &[0.0, 0.4, 0.8], &Cache::new(dir.path()));
+    let j = &m.json;
+    assert_eq!(
+        j["boundary"]["machs"],
+        serde_json::json!([0.0, 0.3, 0.6, 0.9])
+    );
+    assert_eq!(j["outside_grid_rows"], 1);
+    assert_eq!(j["minimum"]["t"], 1.0);
+    assert_eq!(j["minimum"]["in_grid"], true);
+    assert_eq!(j["minimum_including_transonic"]["t"], 2.0);
+    assert_eq!(j["minimum_including_transonic"]["in_grid"], false);
+    let lines: Vec<&str> = m.csv.lines().collect();
+    assert!(lines[0].ends_with(",in_grid"), "{}", lines[0]);
+    let flags: Vec<&str> = lines[1..]
+        .iter()
+        .map(|l| l.rsplit(',').next().unwrap())
+        .collect();
+    assert_eq!(flags, ["1", "1", "0"]);
+    // The outside row is evaluated at the grid's edge (Mach 0.9), not extrapolated.
+    let edge: f64 = lines[3].split(',').nth(4).unwrap().parse().unwrap();
+    let spec = margin_spec(&sc, &[0.0, 0.4, 0.8]).unwrap();
+    let b = cached_boundary(&sc.vehicle, &spec, &Cache::new(dir.path())).unwrap();
+    assert!(b.outcome.is_hit());
+    assert_eq!(edge, b.boundary.at(0.9, 1000.0).flutter_speed);
+    assert!(
+        m.line.contains("1 rows outside the boundary's grid"),
+        "{}",
+        m.line
+    );
+}

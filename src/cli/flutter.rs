@@ -850,6 +850,7 @@ pub fn flight_margin(
     let mut min_all: Option<(f64, usize)> = None;
     let mut untrusted = 0usize;
     let mut outside = 0usize;
+    let mut above_lowest = 0usize;
     let mut points = Vec::with_capacity(o.rows.len());
     for (i, r) in o.rows.iter().enumerate() {
         let (m, h, v) = (r[cm], r[ch], airspeed[i]);
@@ -865,6 +866,9 @@ pub fn flight_margin(
         }
         if !p.in_grid {
             outside += 1;
+        }
+        if p.upper_bound {
+            above_lowest += 1;
         }
         if min_all.is_none_or(|(x, _)| margin < x) {
             min_all = Some((margin, i));
@@ -939,6 +943,12 @@ pub fn flight_margin(
             b.altitudes[b.altitudes.len() - 1]
         );
     }
+    if above_lowest > 0 {
+        let _ = write!(
+            warnings,
+            "; warning: {above_lowest} rows use a boundary node already unstable at its lowest speed (the flutter speed there is at most the value written)"
+        );
+    }
     let line = match critical {
         Some((m, i)) => format!(
             "flutter margin (clamped fin): min V_F/V = {:.3}{} at t = {:.3} s (Mach {:.3}, {:.0} m), criterion {CRITERION}: {}{warnings}",
@@ -966,6 +976,7 @@ pub fn flight_margin(
         "minimum_including_transonic": at(min_all),
         "transonic_rows": untrusted,
         "outside_grid_rows": outside,
+        "upper_bound_rows": above_lowest,
         "modes": finv.mode_names,
         "boundary": {
             "machs": b.machs,

@@ -5,18 +5,16 @@
 //! The flutter speed of the clamped fin ([`super::fin`]) depends on the Mach number (through
 //! the panel aerodynamics) and on the air density (through the mass ratio), so it is a
 //! surface `V_F(M, h)`. It is precomputed by p-k solutions on a grid of trusted Mach numbers
-//! (subsonic `0, 0.3, 0.6, 0.9`; supersonic from 1.2 in steps of 0.3 past the flight's maximum,
-//! only when the flight exceeds Mach 0.9) and of altitudes spanning the flight (three levels
-//! from the lowest to the highest altitude flown), each at fixed Mach and density: the
-//! "unmatched" p-k solution of Rodden & Johnson (MSC Nastran Aeroelastic User's Guide §2.6), in
-//! which speed is varied at the node's Mach and density. Between nodes `V_F` is bilinear in
-//! `(M, h)`. In the transonic gap `0.9 < M < 1.2` it is the linear blend of the 0.9 and 1.2
-//! nodes and every such row is flagged untrusted (neither theory holds there; the flight's
-//! panel loads are bridged the same way, `runtime::aero::panel::Regime`).
+//! and of altitudes (laid out from the vehicle and its site, below), each at fixed Mach and
+//! density: the "unmatched" p-k solution of Rodden & Johnson (MSC Nastran Aeroelastic User's
+//! Guide §2.6), in which speed is varied at the node's Mach and density. Between nodes the
+//! boundary is interpolated bilinearly in `(M, h)` (of `V_F sqrt(ρ)`, below). In the transonic
+//! gap `0.9 < M < 1.2` it is the linear blend of the 0.9 and 1.2 nodes and every such row is
+//! flagged untrusted (neither theory holds there; the flight's panel loads are bridged the
+//! same way, `runtime::aero::panel::Regime`).
 //!
 //! A node where no flutter point is found up to the largest speed tried carries that speed
-//! and is flagged as a lower bound (the margin there is at least the value written); a node
-//! already unstable at the lowest speed carries the lowest speed (conservative).
+//! and is flagged as a lower bound (the margin there is at least the value written).
 //!
 //! # The margin
 //!
@@ -25,7 +23,7 @@
 //! 15 % on equivalent airspeed (14 CFR 25.629(b)(1): aeroelastically stable up to `1.15 V_D`;
 //! MIL-A-8870C 3.1.1: a 15 % flutter margin on equivalent airspeed); since `V_EAS = V
 //! sqrt(ρ/ρ_0)` and both speeds are at the same density, the EAS margin equals `V_F / V`.
-
+//!
 //! # The vehicle's boundary (cached)
 //!
 //! In a run the boundary is a property of the vehicle and of the scenario's site, not of the
@@ -159,20 +157,6 @@ pub struct Boundary {
     pub speed_ranges: Vec<[f64; 2]>,
     /// The largest speed tried, m/s.
     pub largest_speed: f64,
-}
-
-/// The Mach nodes for a flight reaching `max_mach` (module doc).
-pub fn mach_nodes(max_mach: f64) -> Vec<f64> {
-    let mut m = vec![0.0, 0.3, 0.6, SUBSONIC_LIMIT];
-    if max_mach > SUBSONIC_LIMIT {
-        let mut x = SUPERSONIC_LIMIT;
-        m.push(x);
-        while x < max_mach {
-            x += 0.3;
-            m.push(x);
-        }
-    }
-    m
 }
 
 /// The Mach nodes of a vehicle whose fin coefficient table has the Mach axis `table_machs`
