@@ -285,9 +285,13 @@ fn the_margin_boundary_is_the_p_k_flutter_speed_at_its_nodes() {
         "{} vs {vf}",
         at.flutter_speed
     );
-    // Midway in altitude it is the mean of the two nodes.
-    let mid = b.at(0.6, 2500.0).flutter_speed;
-    assert!((mid - 0.5 * (b.speeds[2] + b.speeds[3])).abs() < 1e-12 * mid);
+    // Midway in altitude its equivalent airspeed V_F sqrt(rho) is the mean of the two nodes'
+    // (margin.rs module doc).
+    use flexflight::runtime::atmosphere::{Atmosphere, Standard1976};
+    let rho = |h: f64| Standard1976::new().at(h).unwrap().density;
+    let mid = b.at(0.6, 2500.0).flutter_speed * rho(2500.0).sqrt();
+    let mean = 0.5 * (b.speeds[2] * rho(0.0).sqrt() + b.speeds[3] * rho(5000.0).sqrt());
+    assert!((mid - mean).abs() < 1e-12 * mid, "{mid} vs {mean}");
 }
 
 #[test]

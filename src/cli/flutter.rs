@@ -11,8 +11,13 @@ use crate::analysis::flutter::fin::{
     FinAero, FinFlutterError, FinFlutterSettings, FinModes, chordwise_for, clamped_fin_modes,
     fin_lattice, solve_at,
 };
+use crate::analysis::flutter::margin::{
+    BOUNDARY_REVISION, Boundary, BoundaryArtifact, BoundaryFin, BoundarySpec, solve_boundary,
+    vehicle_spec,
+};
 use crate::analysis::flutter::pk::PkSolution;
 use crate::analysis::tn4197::{Tn4197Fin, Tn4197Form};
+use crate::artifact::{Cache, CacheKey, CacheKeyBuilder, CacheOutcome};
 use crate::check::cli_values;
 use crate::check::ir;
 use crate::diagnostics::Diagnostic;
@@ -635,10 +640,167 @@ fn margin_skipped(why: String) -> FlightMargin {
 /// Number of clamped-fin modes of the flight margin.
 pub const MARGIN_MODES: usize = 4;
 
+/// The aerodynamics of the flight margin: the unsteady panels, as `analyze flutter`.
+pub const MARGIN_AERO: FinAero = FinAero::Unsteady;
+
+/// The cache key of a vehicle's flutter boundary: exactly the inputs the clamped fin's modes
+/// are computed from ([`clamped_fin_modes`]: the `fins` block whole, with its material,
+/// planform, thickness and cant, by its canonical serialisation; the fin mesh density of
+/// `structure { generate { ... } }`; the structural pipeline revision), the whole
+/// [`BoundarySpec`] (grid, sweeps, modes, aerodynamics, lattice, p-k settings),
+/// [`BOUNDARY_REVISION`], the payload schema and (through the builder) the compiler and
+/// format versions. The body, its masses and the motor are left out: the clamped fin does not
+/// see them, so a motor or payload variant shares the boundary. `Generate` is destructured
+/// without `..`, so a field added to it does not compile until it is hashed here or stated not
+/// to shape the clamped fin.
+pub fn boundary_key(v: &ir::Vehicle, spec: &BoundarySpec) -> std::io::Result<CacheKey> {
+    use crate::artifact::ArtifactPayload;
+    let canon = |b: &mut CacheKeyBuilder, label: &str, x: &dyn erased::Ser| {
+        x.add_to(b, label).map_err(std::io::Error::other)
+    };
+    let mut b = CacheKeyBuilder::new("flutter-boundary");
+    b.text("revision", BOUNDARY_REVISION);
+    b.text("schema", BoundaryArtifact::SCHEMA);
+    b.u64(
+        "pipeline revision",
+        u64::from(crate::structure::compile::PIPELINE_REVISION),
+    );
+    canon(&mut b, "fins", &v.fins)?;
+    match &v.structure {
+        ir::Structure::Generate(g) => {
+            let ir::Generate {
+                span: _,
+                fin_span_elements,
+                fin_chord_elements,
+                // The clamped fin's mesh is the fin alone (`generate::cantilever_fin_model`).
+                body: _,
+                point_masses: _,
+                distributed_masses: _,
+            } = g;
+            canon(&mut b, "fin span elements", fin_span_elements)?;
+            canon(&mut b, "fin chord elements", fin_chord_elements)?;
+        }
+        // No clamped fin can be built (the margin says so); hashed whole all the same.
+        other => canon(&mut b, "structure", other)?,
+    }
+    canon(&mut b, "spec", spec)?;
+    Ok(b.finish())
+}
+
+mod erased {
+    use crate::artifact::{CacheKeyBuilder, canonical};
+    /// Add anything serde can serialise to a key, without naming its type.
+    pub trait Ser {
+        fn add_to(&self, b: &mut CacheKeyBuilder, label: &str) -> Result<(), canonical::Error>;
+    }
+    impl<T: serde::Serialize> Ser for T {
+        fn add_to(&self, b: &mut CacheKeyBuilder, label: &str) -> Result<(), canonical::Error> {
+            b.canonical(label, self).map(|_| ())
+        }
+    }
+}
+
+/// A vehicle's flutter boundary through the cache.
+pub struct CachedBoundary {
+    pub boundary: Boundary,
+    pub fin: BoundaryFin,
+    /// `None` when no key could be made (the boundary was solved and not stored).
+    pub key: Option<CacheKey>,
+    pub outcome: CacheOutcome,
+    /// Why the boundary could not be stored or looked up, if so (the run goes on).
+    pub warning: Option<String>,
+}
+
+/// The boundary of `spec` for `v`'s clamped fin: read from `cache` when a valid entry exists
+/// (no eigen-solve, no p-k), else solved and stored. A corrupt, truncated, stale or
+/// ill-fitting entry is never used: it is rebuilt and replaced ([`CacheOutcome::Rebuilt`]).
+/// A cache that cannot be written is a warning, not an error.
+pub fn cached_boundary(
+    v: &ir::Vehicle,
+    spec: &BoundarySpec,
+    cache: &Cache,
+) -> Result<CachedBoundary, FinFlutterError> {
+    let key = boundary_key(v, spec);
+    let mut warning = None;
+    let outcome = match &key {
+        Err(e) => {
+            warning = Some(format!("no cache key for the flutter boundary: {e}"));
+            CacheOutcome::Miss
+        }
+        Ok(key) => match cache.lookup::<BoundaryArtifact>(key) {
+            Ok(Some(art)) => {
+                let read = rkyv::deserialize::<BoundaryArtifact, rkyv::rancor::Error>(art.get())
+                    .map_err(|e| e.to_string())
+                    .and_then(|a| a.to_boundary(spec));
+                match read {
+                    Ok((boundary, fin)) => {
+                        return Ok(CachedBoundary {
+                            boundary,
+                            fin,
+                            key: Some(*key),
+                            outcome: CacheOutcome::Hit,
+                            warning: None,
+                        });
+                    }
+                    Err(message) => CacheOutcome::Rebuilt {
+                        reason: crate::artifact::ArtifactError::InvalidPayload {
+                            path: cache.path_for(key),
+                            message,
+                        },
+                    },
+                }
+            }
+            Ok(None) => CacheOutcome::Miss,
+            Err(reason) => CacheOutcome::Rebuilt { reason },
+        },
+    };
+    let modes = clamped_fin_modes(v, spec.modes)?;
+    let boundary = solve_boundary(&modes, spec)?;
+    let fin = BoundaryFin::new(&modes);
+    let key = key.ok();
+    if let Some(k) = &key {
+        let art = BoundaryArtifact::new(&boundary, &fin);
+        if let Err(e) = crate::artifact::write_atomic(cache.dir(), k, &art) {
+            warning = Some(format!(
+                "cannot store the flutter boundary in the cache: {e}"
+            ));
+        }
+    }
+    Ok(CachedBoundary {
+        boundary,
+        fin,
+        key,
+        outcome,
+        warning,
+    })
+}
+
+/// The boundary specification of the flight margin of `sc` (module doc of
+/// [`crate::analysis::flutter::margin`]): the vehicle's fin table Mach axis `table_machs` and
+/// the scenario's site, not the flight.
+pub fn margin_spec(
+    sc: &ir::Scenario,
+    table_machs: &[f64],
+) -> Result<BoundarySpec, FinFlutterError> {
+    vehicle_spec(
+        table_machs,
+        scenario_altitude(sc),
+        sc.launch.is_some(),
+        MARGIN_MODES,
+        MARGIN_AERO,
+    )
+}
+
 /// The flutter margin at every output row of `o` (module doc of
-/// [`crate::analysis::flutter::margin`]).
-pub fn flight_margin(sc: &ir::Scenario, o: &crate::runtime::run::RunOutput) -> FlightMargin {
-    use crate::analysis::flutter::margin::{CRITERION, boundary, mach_nodes};
+/// [`crate::analysis::flutter::margin`]), the boundary through `cache`; `table_machs` is the
+/// Mach axis of the vehicle's fin coefficient table.
+pub fn flight_margin(
+    sc: &ir::Scenario,
+    o: &crate::runtime::run::RunOutput,
+    table_machs: &[f64],
+    cache: &Cache,
+) -> FlightMargin {
+    use crate::analysis::flutter::margin::CRITERION;
     let started = std::time::Instant::now();
     let col = |n: &str| o.channels.iter().position(|c| c == n);
     let (Some(cm), Some(ch)) = (col("mach"), col("altitude")) else {
@@ -647,20 +809,28 @@ pub fn flight_margin(sc: &ir::Scenario, o: &crate::runtime::run::RunOutput) -> F
     if o.rows.is_empty() {
         return margin_skipped("the run wrote no rows".into());
     }
-    let modes = match clamped_fin_modes(&sc.vehicle, MARGIN_MODES) {
-        Ok(m) => m,
+    if sc.vehicle.fins.is_none() {
+        return margin_skipped(FinFlutterError::NoFins.to_string());
+    }
+    if !matches!(sc.vehicle.structure, ir::Structure::Generate(_)) {
+        return margin_skipped(FinFlutterError::NotGenerated.to_string());
+    }
+    let spec = match margin_spec(sc, table_machs) {
+        Ok(s) => s,
         Err(e) => return margin_skipped(e.to_string()),
     };
+    let cached = match cached_boundary(&sc.vehicle, &spec, cache) {
+        Ok(c) => c,
+        Err(e) => return margin_skipped(e.to_string()),
+    };
+    if let Some(w) = &cached.warning {
+        eprintln!("warning: {w}");
+    }
+    if let CacheOutcome::Rebuilt { .. } = &cached.outcome {
+        eprintln!("warning: flutter boundary: {}", cached.outcome);
+    }
+    let (b, finv) = (&cached.boundary, &cached.fin);
     let atm = Standard1976::new();
-    let fold =
-        |c: usize, f: fn(f64, f64) -> f64, init: f64| o.rows.iter().map(|r| r[c]).fold(init, f);
-    let max_mach = fold(cm, f64::max, 0.0);
-    let (h_lo, h_hi) = (
-        fold(ch, f64::min, f64::INFINITY),
-        fold(ch, f64::max, f64::NEG_INFINITY),
-    );
-    let h_hi = if h_hi - h_lo < 1.0 { h_lo + 1.0 } else { h_hi };
-    let altitudes = vec![h_lo, 0.5 * (h_lo + h_hi), h_hi];
     let mut airspeed = Vec::with_capacity(o.rows.len());
     let mut sound = Vec::with_capacity(o.rows.len());
     for r in &o.rows {
@@ -672,26 +842,15 @@ pub fn flight_margin(sc: &ir::Scenario, o: &crate::runtime::run::RunOutput) -> F
             Err(e) => return margin_skipped(format!("atmosphere: {e}")),
         }
     }
-    let v_max = airspeed.iter().copied().fold(0.0, f64::max);
-    let largest = (3.0 * v_max).max(50.0);
-    let machs = mach_nodes(max_mach);
-    let b = match boundary(
-        &modes,
-        &machs,
-        &altitudes,
-        largest,
-        &FinFlutterSettings::default(),
-    ) {
-        Ok(b) => b,
-        Err(e) => return margin_skipped(e.to_string()),
-    };
     let mut csv = String::from(
-        "t,mach,altitude,airspeed,flutter_speed,flutter_mach,speed_margin,q_margin,trusted,lower_bound\n",
+        "t,mach,altitude,airspeed,flutter_speed,flutter_mach,speed_margin,q_margin,trusted,lower_bound,in_grid\n",
     );
-    // (margin, row) minima: over trusted rows and over all rows.
+    // (margin, row) minima: over trusted rows inside the grid and over all rows.
     let mut min_trusted: Option<(f64, usize)> = None;
     let mut min_all: Option<(f64, usize)> = None;
     let mut untrusted = 0usize;
+    let mut outside = 0usize;
+    let mut above_lowest = 0usize;
     let mut points = Vec::with_capacity(o.rows.len());
     for (i, r) in o.rows.iter().enumerate() {
         let (m, h, v) = (r[cm], r[ch], airspeed[i]);
@@ -705,15 +864,21 @@ pub fn flight_margin(sc: &ir::Scenario, o: &crate::runtime::run::RunOutput) -> F
         if !p.trusted {
             untrusted += 1;
         }
+        if !p.in_grid {
+            outside += 1;
+        }
+        if p.upper_bound {
+            above_lowest += 1;
+        }
         if min_all.is_none_or(|(x, _)| margin < x) {
             min_all = Some((margin, i));
         }
-        if p.trusted && min_trusted.is_none_or(|(x, _)| margin < x) {
+        if p.trusted && p.in_grid && min_trusted.is_none_or(|(x, _)| margin < x) {
             min_trusted = Some((margin, i));
         }
         let _ = writeln!(
             csv,
-            "{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{}",
             r[0],
             m,
             h,
@@ -723,15 +888,16 @@ pub fn flight_margin(sc: &ir::Scenario, o: &crate::runtime::run::RunOutput) -> F
             margin,
             margin * margin,
             p.trusted as u8,
-            p.lower_bound as u8
+            p.lower_bound as u8,
+            p.in_grid as u8
         );
     }
     let fin = Tn4197Fin {
-        shear_modulus: modes.shear_modulus,
-        span: modes.planform.span,
-        root_chord: modes.planform.root_chord,
-        tip_chord: modes.planform.tip_chord,
-        thickness: modes.thickness,
+        shear_modulus: finv.shear_modulus,
+        span: finv.span,
+        root_chord: finv.root_chord,
+        tip_chord: finv.tip_chord,
+        thickness: finv.thickness,
     };
     let at = |x: Option<(f64, usize)>| {
         x.map(|(margin, i)| {
@@ -752,15 +918,40 @@ pub fn flight_margin(sc: &ir::Scenario, o: &crate::runtime::run::RunOutput) -> F
                 "airspeed": airspeed[i],
                 "flutter_speed": points[i].flutter_speed,
                 "lower_bound": points[i].lower_bound,
+                "upper_bound": points[i].upper_bound,
                 "trusted": points[i].trusted,
+                "in_grid": points[i].in_grid,
             })
         })
     };
     let critical = min_trusted.or(min_all);
     let meets = critical.map(|(m, _)| m >= CRITERION);
+    let mut warnings = String::new();
+    if untrusted > 0 {
+        let _ = write!(
+            warnings,
+            "; warning: {untrusted} rows in the transonic gap 0.9 < M < 1.2 (blended, untrusted)"
+        );
+    }
+    if outside > 0 {
+        let _ = write!(
+            warnings,
+            "; warning: {outside} rows outside the boundary's grid (Mach {}..{}, altitude {:.0}..{:.0} m; evaluated at its edge, untrusted)",
+            b.machs[0],
+            b.machs[b.machs.len() - 1],
+            b.altitudes[0],
+            b.altitudes[b.altitudes.len() - 1]
+        );
+    }
+    if above_lowest > 0 {
+        let _ = write!(
+            warnings,
+            "; warning: {above_lowest} rows use a boundary node already unstable at its lowest speed (the flutter speed there is at most the value written)"
+        );
+    }
     let line = match critical {
         Some((m, i)) => format!(
-            "flutter margin (clamped fin): min V_F/V = {:.3}{} at t = {:.3} s (Mach {:.3}, {:.0} m), criterion {CRITERION}: {}{}",
+            "flutter margin (clamped fin): min V_F/V = {:.3}{} at t = {:.3} s (Mach {:.3}, {:.0} m), criterion {CRITERION}: {}{warnings}",
             m,
             if points[i].lower_bound {
                 " or more"
@@ -771,33 +962,33 @@ pub fn flight_margin(sc: &ir::Scenario, o: &crate::runtime::run::RunOutput) -> F
             o.rows[i][cm],
             o.rows[i][ch],
             if m >= CRITERION { "met" } else { "NOT MET" },
-            if untrusted > 0 {
-                format!(
-                    "; warning: {untrusted} rows in the transonic gap 0.9 < M < 1.2 (blended, untrusted)"
-                )
-            } else {
-                String::new()
-            }
         ),
         None => "flutter margin: no row with airspeed".into(),
     };
     let json = serde_json::json!({
         "computed": true,
-        "model": "fin clamped at its root, p-k with the quasi-steady fin panels (analysis::flutter::fin)",
+        "model": "fin clamped at its root, p-k with the unsteady fin panels (harmonic vortex lattice with a convected wake, subsonic; unsteady piston theory, supersonic; analysis::flutter::fin), on a cached Mach x altitude boundary of the vehicle (analysis::flutter::margin)",
+        "aero": spec.aero,
         "criterion_speed_margin": CRITERION,
         "criterion_source": "15 % on equivalent airspeed (14 CFR 25.629(b)(1), MIL-A-8870C 3.1.1)",
         "meets_criterion": meets,
         "minimum": at(critical),
         "minimum_including_transonic": at(min_all),
         "transonic_rows": untrusted,
-        "modes": modes.names,
+        "outside_grid_rows": outside,
+        "upper_bound_rows": above_lowest,
+        "modes": finv.mode_names,
         "boundary": {
             "machs": b.machs,
             "altitudes": b.altitudes,
             "flutter_speeds": b.speeds,
             "lower_bound": b.lower_bound,
+            "upper_bound": b.upper_bound,
+            "speed_ranges": b.speed_ranges,
             "largest_speed": b.largest_speed,
         },
+        "boundary_hash": cached.key.map(|k| k.to_hex()),
+        "boundary_cache": match &cached.outcome { CacheOutcome::Hit => "hit", CacheOutcome::Miss => "miss", CacheOutcome::Rebuilt { .. } => "rebuilt" },
         "seconds": started.elapsed().as_secs_f64(),
     });
     FlightMargin { json, csv, line }

@@ -232,7 +232,19 @@ pub fn cmd_run(
     }
     let mut summary = with_aero_cache(summary_json(&p, &compiled, &output), aero_cache.as_ref());
     let margin = if flutter_margin.unwrap_or(sc.launch.is_some()) {
-        let m = margin::flight_margin(&sc, &output);
+        // The boundary's Mach grid reaches the fin table's last Mach (the built-in
+        // estimator's grid without aerodynamics).
+        let table_machs = p.aero.as_ref().map_or_else(
+            || crate::runtime::aero::estimator::ESTIMATOR_MACH.to_vec(),
+            |a| {
+                a.tables
+                    .fin
+                    .axis(crate::runtime::aero::tables::Axis::Mach)
+                    .to_vec()
+            },
+        );
+        let cache = crate::artifact::Cache::resolve(cache_dir);
+        let m = margin::flight_margin(&sc, &output, &table_machs, &cache);
         if let Some(map) = summary.as_object_mut() {
             map.insert("flutter_margin".into(), m.json.clone());
         }

@@ -53,7 +53,7 @@ use crate::structure::compile::generator_spec;
 use crate::structure::{generate, modal};
 
 /// Which panel force map the generalised forces use.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FinAero {
     /// The flight's quasi-steady map (`K` independent of the reduced frequency).

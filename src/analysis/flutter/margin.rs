@@ -5,18 +5,16 @@
 //! The flutter speed of the clamped fin ([`super::fin`]) depends on the Mach number (through
 //! the panel aerodynamics) and on the air density (through the mass ratio), so it is a
 //! surface `V_F(M, h)`. It is precomputed by p-k solutions on a grid of trusted Mach numbers
-//! (subsonic `0, 0.3, 0.6, 0.9`; supersonic from 1.2 in steps of 0.3 past the flight's maximum,
-//! only when the flight exceeds Mach 0.9) and of altitudes spanning the flight (three levels
-//! from the lowest to the highest altitude flown), each at fixed Mach and density: the
-//! "unmatched" p-k solution of Rodden & Johnson (MSC Nastran Aeroelastic User's Guide §2.6), in
-//! which speed is varied at the node's Mach and density. Between nodes `V_F` is bilinear in
-//! `(M, h)`. In the transonic gap `0.9 < M < 1.2` it is the linear blend of the 0.9 and 1.2
-//! nodes and every such row is flagged untrusted (neither theory holds there; the flight's
-//! panel loads are bridged the same way, `runtime::aero::panel::Regime`).
+//! and of altitudes (laid out from the vehicle and its site, below), each at fixed Mach and
+//! density: the "unmatched" p-k solution of Rodden & Johnson (MSC Nastran Aeroelastic User's
+//! Guide §2.6), in which speed is varied at the node's Mach and density. Between nodes the
+//! boundary is interpolated bilinearly in `(M, h)` (of `V_F sqrt(ρ)`, below). In the transonic
+//! gap `0.9 < M < 1.2` it is the linear blend of the 0.9 and 1.2 nodes and every such row is
+//! flagged untrusted (neither theory holds there; the flight's panel loads are bridged the
+//! same way, `runtime::aero::panel::Regime`).
 //!
 //! A node where no flutter point is found up to the largest speed tried carries that speed
-//! and is flagged as a lower bound (the margin there is at least the value written); a node
-//! already unstable at the lowest speed carries the lowest speed (conservative).
+//! and is flagged as a lower bound (the margin there is at least the value written).
 //!
 //! # The margin
 //!
@@ -25,42 +23,237 @@
 //! 15 % on equivalent airspeed (14 CFR 25.629(b)(1): aeroelastically stable up to `1.15 V_D`;
 //! MIL-A-8870C 3.1.1: a 15 % flutter margin on equivalent airspeed); since `V_EAS = V
 //! sqrt(ρ/ρ_0)` and both speeds are at the same density, the EAS margin equals `V_F / V`.
+//!
+//! # The vehicle's boundary (cached)
+//!
+//! In a run the boundary is a property of the vehicle and of the scenario's site, not of the
+//! flight: [`vehicle_spec`] lays its grid out before anything is flown, and the CLI caches the
+//! solved boundary content-addressed next to the structure (`cli::flutter::cached_boundary`;
+//! key `cli::flutter::boundary_key`: the inputs of the clamped fin's modes, the whole
+//! [`BoundarySpec`] and [`BOUNDARY_REVISION`]), so a warm run does no eigen-solve and no p-k
+//! for its margin.
+//!
+//! - Mach nodes ([`vehicle_mach_nodes`]): the subsonic `0, 0.3, 0.6, 0.9`; when the vehicle's
+//!   fin coefficient table reaches past 0.9, `1.2` and every table Mach node above it (the
+//!   built-in estimator's `1.5, 2, 2.5, 3, 4, 5`). A flight cannot be flown past its table's
+//!   last Mach without leaving the table; a row above the last node is outside the grid.
+//! - Altitude nodes ([`altitude_nodes`]): the floor (100 m below a launch site, for the
+//!   landing row; sea level or the initial altitude, whichever is lower, for a flight started
+//!   in mid-air), then the levels [`ALTITUDE_LEVELS`] above it up to the ceiling
+//!   [`CEILING`] = 30 km (the estimator's table top).
+//! - Speeds per Mach node `M`: 40 speeds from `v_lo` to `v_hi = 3 max(M, 1) a_ref`, `a_ref`
+//!   the largest speed of sound over the altitude nodes (a flight at `M` flies at most
+//!   `M a_ref`, so margins up to at least 3 are resolved); `v_lo = 0.1 v_hi`, raised
+//!   for the unsteady lattice to the lowest speed at which the lattice resolves the highest
+//!   mode's reduced frequency with 20 % to spare (box-size rule,
+//!   `panel::harmonic::check_resolution`) on [`MARGIN_CHORDWISE`] chordwise panels.
+//!
+//! A row outside the grid (Mach above the last node, altitude below the floor or above the
+//! ceiling) is evaluated at the nearest grid point, flagged `in_grid = 0`, counted, and kept
+//! out of the minimum that decides the criterion: never silently extrapolated.
+//!
+//! Between altitude nodes the interpolated quantity is `V_F sqrt(ρ)` (proportional to
+//! `sqrt(q_F)`, the equivalent flutter airspeed), not `V_F`. Derivation (the sources give no
+//! rule): in the p-k equation of [`super::pk`], `(p² I + diag(ω²) - q Q(k)) η = 0`, density
+//! enters only through `q = ρ V² / 2` and, with `k = ω b / V`, through the speed at which a
+//! given `q` is reached. Where `Q(k)` varies slowly with `k` (the quasi-steady limit: `Q`
+//! linear in `k` with a small slope) the flutter condition fixes `q_F` alone, so `V_F sqrt(ρ)
+//! = sqrt(2 q_F)` is independent of altitude while `V_F` itself grows like `exp(h / 2H)`
+//! (`H` about 8.5 km). On the K1000T fin's boundary `V_F sqrt(ρ)` changes by 0.3 % from the
+//! site to 5 km where `V_F` changes by 29 %; at mid-interval between two altitude nodes 2.6
+//! km apart the interpolated `V_F` is within 1.3e-4 of a direct p-k solution, against 3.0e-3
+//! for linear interpolation of `V_F` (`tests/flutter_boundary.rs`). At a node the value is
+//! the node's own.
+//!
+//! A node unstable at its lowest speed carries that speed, an upper bound of `V_F`
+//! (`upper_bound`); its margin is then at most `v_lo / V`.
 
 use super::fin::{
-    FinFlutterError, FinFlutterSettings, FinModes, fin_lattice, flutter_model, gaf_table,
+    FinAero, FinFlutterError, FinFlutterSettings, FinModes, fin_lattice, flutter_model, gaf_table,
 };
 use super::pk::{PkSettings, pk_solve_cut};
-use crate::runtime::aero::panel::{SUBSONIC_LIMIT, SUPERSONIC_LIMIT};
-use crate::runtime::atmosphere::{Atmosphere, Standard1976};
+use crate::runtime::aero::panel::piston::Correction;
+use crate::runtime::aero::panel::{self, Regime, SUBSONIC_LIMIT, SUPERSONIC_LIMIT};
+use crate::runtime::atmosphere::{Atmosphere, STANDARD_MIN_ALTITUDE, Standard1976};
 
 /// The required speed margin `V_F / V` (15 % on equivalent airspeed).
 pub const CRITERION: f64 = 1.15;
+
+/// Revision of the boundary's computation, part of its cache key: change it whenever the
+/// solution of a given [`BoundarySpec`] would change.
+pub const BOUNDARY_REVISION: &str = "flight flutter boundary r1: clamped fin (fin::clamped_fin_modes), unmatched p-k per (Mach, altitude) node (pk_solve_cut), node speeds [max(0.1 v_hi, box-rule floor), v_hi], k table to 1.2 omega_max b / v_lo, US Standard Atmosphere 1976";
+
+/// The ceiling of the margin's altitude grid, m (the built-in estimator's table top).
+pub const CEILING: f64 = 30_000.0;
+
+/// The altitude levels of the grid above its floor, m (module doc).
+pub const ALTITUDE_LEVELS: [f64; 8] = [
+    2_500.0, 5_000.0, 7_500.0, 10_000.0, 15_000.0, 20_000.0, 25_000.0, 30_000.0,
+];
+
+/// Speeds per Mach node of the flight margin's sweeps.
+pub const MARGIN_SPEEDS: usize = 40;
+
+/// Chordwise panels of the margin's unsteady lattice (`analyze flutter`'s most).
+pub const MARGIN_CHORDWISE: usize = 32;
+
+/// Everything a boundary depends on besides the clamped fin's modes (which the cache key
+/// covers by the fin's own inputs): the grid, the sweeps, the aerodynamics and the solver
+/// settings. Serialised whole into the cache key.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct BoundarySpec {
+    /// Mach nodes, ascending.
+    pub machs: Vec<f64>,
+    /// Altitude nodes, m, ascending.
+    pub altitudes: Vec<f64>,
+    /// Per Mach node, the nominal lowest and largest speed of its sweep, m/s (the lowest is
+    /// raised to the box-rule floor for the unsteady lattice, module doc).
+    pub speed_ranges: Vec<[f64; 2]>,
+    /// Speeds per sweep.
+    pub speed_count: usize,
+    /// Clamped-fin modes.
+    pub modes: usize,
+    /// The panel aerodynamics.
+    pub aero: FinAero,
+    /// Lattice panels.
+    pub chordwise: usize,
+    pub spanwise: usize,
+    /// Ackeret's correction of piston theory (`piston::Correction::Ackeret`) or none.
+    pub piston_ackeret: bool,
+    /// Reduced frequencies of each GAF table (unsteady; the quasi-steady table is exact with
+    /// two).
+    pub k_count: usize,
+    /// The p-k iteration's tolerance (`PkSettings::k_tolerance`).
+    pub k_tolerance: f64,
+}
+
+impl BoundarySpec {
+    /// The fin flutter settings of the spec (k_max is set per node).
+    pub fn fin_settings(&self) -> FinFlutterSettings {
+        FinFlutterSettings {
+            aero: self.aero,
+            chordwise: self.chordwise,
+            spanwise: self.spanwise,
+            correction: if self.piston_ackeret {
+                Correction::Ackeret
+            } else {
+                Correction::None
+            },
+            k_count: self.k_count,
+            k_max: 2.0,
+        }
+    }
+}
 
 /// A flutter boundary `V_F(M, h)` on a grid.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Boundary {
     pub machs: Vec<f64>,
     pub altitudes: Vec<f64>,
+    /// Air density at each altitude node, kg/m³ (1976 atmosphere).
+    pub densities: Vec<f64>,
     /// `V_F` (m/s), row-major `machs x altitudes`.
     pub speeds: Vec<f64>,
     /// Whether the node's value is a lower bound (no flutter up to the largest speed).
     pub lower_bound: Vec<bool>,
+    /// Whether the node was unstable at its lowest speed (the value is an upper bound).
+    pub upper_bound: Vec<bool>,
+    /// Per Mach node, the lowest and the largest speed of its sweep, m/s.
+    pub speed_ranges: Vec<[f64; 2]>,
     /// The largest speed tried, m/s.
     pub largest_speed: f64,
 }
 
-/// The Mach nodes for a flight reaching `max_mach` (module doc).
-pub fn mach_nodes(max_mach: f64) -> Vec<f64> {
+/// The Mach nodes of a vehicle whose fin coefficient table has the Mach axis `table_machs`
+/// (module doc): `0, 0.3, 0.6, 0.9`, then, if the table reaches past 0.9, `1.2` and every
+/// table node above it.
+pub fn vehicle_mach_nodes(table_machs: &[f64]) -> Vec<f64> {
+    let top = table_machs
+        .iter()
+        .copied()
+        .filter(|m| m.is_finite())
+        .fold(0.0, f64::max);
     let mut m = vec![0.0, 0.3, 0.6, SUBSONIC_LIMIT];
-    if max_mach > SUBSONIC_LIMIT {
-        let mut x = SUPERSONIC_LIMIT;
-        m.push(x);
-        while x < max_mach {
-            x += 0.3;
-            m.push(x);
-        }
+    if top > SUBSONIC_LIMIT {
+        m.push(SUPERSONIC_LIMIT);
+        let mut above: Vec<f64> = table_machs
+            .iter()
+            .copied()
+            .filter(|&x| x.is_finite() && x > SUPERSONIC_LIMIT)
+            .collect();
+        above.sort_by(f64::total_cmp);
+        above.dedup();
+        m.extend(above);
     }
     m
+}
+
+/// The altitude nodes from `floor` (m): the floor, then [`ALTITUDE_LEVELS`] more than 500 m
+/// above it, up to [`CEILING`] (at least 1 km above the floor).
+pub fn altitude_nodes(floor: f64) -> Vec<f64> {
+    let mut h = vec![floor];
+    h.extend(
+        ALTITUDE_LEVELS
+            .iter()
+            .copied()
+            .filter(|&l| l > floor + 500.0 && l <= CEILING),
+    );
+    if h.len() == 1 {
+        h.push(floor + 1_000.0);
+    }
+    h
+}
+
+/// The floor of the altitude grid of a scenario starting at `site` (m): 100 m below a launch
+/// site, else sea level or `site`, whichever is lower; never below the 1976 atmosphere.
+pub fn altitude_floor(site: f64, launch: bool) -> f64 {
+    let f = if launch { site - 100.0 } else { site.min(0.0) };
+    f.max(STANDARD_MIN_ALTITUDE)
+}
+
+/// The margin's boundary specification of a vehicle (fin table Mach axis `table_machs`) flown
+/// from `site` (module doc), with `modes` clamped-fin modes and the aerodynamics `aero`.
+pub fn vehicle_spec(
+    table_machs: &[f64],
+    site: f64,
+    launch: bool,
+    modes: usize,
+    aero: FinAero,
+) -> Result<BoundarySpec, FinFlutterError> {
+    let machs = vehicle_mach_nodes(table_machs);
+    let altitudes = altitude_nodes(altitude_floor(site, launch));
+    let atm = Standard1976::new();
+    let mut a_ref: f64 = 0.0;
+    for &h in &altitudes {
+        let air = atm
+            .at(h)
+            .map_err(|e| FinFlutterError::Generate(format!("atmosphere: {e}")))?;
+        a_ref = a_ref.max(air.speed_of_sound);
+    }
+    let speed_ranges = machs
+        .iter()
+        .map(|&m| {
+            let hi = 3.0 * m.max(1.0) * a_ref;
+            [0.1 * hi, hi]
+        })
+        .collect();
+    let d = FinFlutterSettings::default();
+    Ok(BoundarySpec {
+        machs,
+        altitudes,
+        speed_ranges,
+        speed_count: MARGIN_SPEEDS,
+        modes,
+        aero,
+        chordwise: match aero {
+            FinAero::Unsteady => MARGIN_CHORDWISE,
+            FinAero::QuasiSteady => d.chordwise,
+        },
+        spanwise: d.spanwise,
+        piston_ackeret: d.correction == Correction::Ackeret,
+        k_count: 40,
+        k_tolerance: PkSettings::default().k_tolerance,
+    })
 }
 
 /// The boundary of the clamped fin `modes` over `machs` x `altitudes`, speeds up to
@@ -72,48 +265,122 @@ pub fn boundary(
     largest_speed: f64,
     settings: &FinFlutterSettings,
 ) -> Result<Boundary, FinFlutterError> {
+    let spec = BoundarySpec {
+        machs: machs.to_vec(),
+        altitudes: altitudes.to_vec(),
+        speed_ranges: vec![[0.1 * largest_speed, largest_speed]; machs.len()],
+        speed_count: 30,
+        modes: modes.order(),
+        aero: settings.aero,
+        chordwise: settings.chordwise,
+        spanwise: settings.spanwise,
+        piston_ackeret: settings.correction == Correction::Ackeret,
+        k_count: settings.k_count.max(40),
+        k_tolerance: PkSettings::default().k_tolerance,
+    };
+    solve_boundary(modes, &spec)
+}
+
+/// The lowest speed at which `lattice` resolves the reduced frequency of `omega_max` with 20 %
+/// to spare: the box-size rule `Δx <= BOX_RULE · 2π / ν` on its longest panel chord
+/// (`panel::harmonic::check_resolution`), `ν = 1.2 ω_max / V`.
+fn box_rule_floor(lattice: &panel::Lattice, omega_max: f64) -> f64 {
+    let dx = lattice
+        .panels
+        .iter()
+        .map(|p| (p.corners[3][0] - p.corners[0][0]).max(p.corners[2][0] - p.corners[1][0]))
+        .fold(0.0, f64::max);
+    let nu_max = panel::harmonic::BOX_RULE * 2.0 * std::f64::consts::PI / dx;
+    // A hair above, so that the check at exactly this speed passes despite rounding.
+    1.2 * omega_max / nu_max * (1.0 + 1e-9)
+}
+
+/// The boundary of the clamped fin `modes` on the grid and sweeps of `spec` (module doc).
+pub fn solve_boundary(modes: &FinModes, spec: &BoundarySpec) -> Result<Boundary, FinFlutterError> {
+    if spec.modes != modes.order() {
+        return Err(FinFlutterError::TooFewModes {
+            got: modes.order(),
+            wanted: spec.modes,
+        });
+    }
+    if spec.speed_ranges.len() != spec.machs.len() || spec.speed_count < 2 {
+        return Err(FinFlutterError::Generate(
+            "the boundary needs one speed range of at least two speeds per Mach node".into(),
+        ));
+    }
     let atm = Standard1976::new();
-    let v_lo = 0.1 * largest_speed;
-    let speeds: Vec<f64> = (0..30)
-        .map(|i| v_lo + (largest_speed - v_lo) * i as f64 / 29.0)
-        .collect();
-    let mut s = *settings;
+    let mut s = spec.fin_settings();
     let w_max = modes.omega.iter().copied().fold(0.0, f64::max);
-    s.k_max = (1.2 * w_max * modes.b_ref() / v_lo).max(0.1);
-    s.k_count = s.k_count.max(40);
     let lattice = fin_lattice(modes, &s)?;
-    let mut out = Vec::with_capacity(machs.len() * altitudes.len());
-    let mut lower = Vec::with_capacity(out.capacity());
-    for &m in machs {
+    let floor = match spec.aero {
+        FinAero::Unsteady => box_rule_floor(&lattice, w_max),
+        FinAero::QuasiSteady => 0.0,
+    };
+    let densities = spec
+        .altitudes
+        .iter()
+        .map(|&h| {
+            atm.at(h)
+                .map(|a| a.density)
+                .map_err(|e| FinFlutterError::Generate(format!("atmosphere: {e}")))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let n = spec.machs.len() * spec.altitudes.len();
+    let mut out = Vec::with_capacity(n);
+    let mut lower = Vec::with_capacity(n);
+    let mut upper = Vec::with_capacity(n);
+    let mut ranges = Vec::with_capacity(spec.machs.len());
+    let pk = PkSettings {
+        k_tolerance: spec.k_tolerance,
+    };
+    for (&m, &[lo, hi]) in spec.machs.iter().zip(&spec.speed_ranges) {
+        // The box rule binds the vortex lattice only (piston theory is local).
+        let sub = matches!(panel::regime(m)?, Regime::Subsonic);
+        let v_lo = if sub { lo.max(floor) } else { lo };
+        if !(v_lo.is_finite() && hi > v_lo) {
+            return Err(FinFlutterError::Generate(format!(
+                "at Mach {m} the lowest speed the lattice resolves, {v_lo:.1} m/s, is not below the largest, {hi:.1} m/s"
+            )));
+        }
+        let c = spec.speed_count;
+        let speeds: Vec<f64> = (0..c)
+            .map(|i| v_lo + (hi - v_lo) * i as f64 / (c - 1) as f64)
+            .collect();
+        ranges.push([v_lo, hi]);
+        s.k_max = (1.2 * w_max * modes.b_ref() / v_lo).max(0.1);
         let gaf = gaf_table(modes, &lattice, m, &s)?;
-        for &h in altitudes {
-            let air = atm
-                .at(h)
-                .map_err(|e| FinFlutterError::Generate(format!("atmosphere: {e}")))?;
-            let model = flutter_model(modes, air.density);
+        for &rho in &densities {
+            let model = flutter_model(modes, rho);
             // A branch whose p-k iteration does not converge at some speed (near zero
             // frequency at high speed) ends the sweep there, as in `analyze flutter`: the
             // node is solved on the speeds below it, and without a flutter point there it is a
             // lower bound at the last speed solved.
-            let (sol, _) = pk_solve_cut(&model, &gaf, &speeds, PkSettings::default())?;
+            let (sol, _) = pk_solve_cut(&model, &gaf, &speeds, pk)?;
             let sp = &sol.speeds;
             if !sol.unstable_at_start.is_empty() {
                 out.push(sp[0]);
                 lower.push(false);
+                upper.push(true);
             } else if let Some(f) = sol.critical() {
                 out.push(f.speed);
                 lower.push(false);
+                upper.push(false);
             } else {
                 out.push(sp[sp.len() - 1]);
                 lower.push(true);
+                upper.push(false);
             }
         }
     }
+    let largest_speed = ranges.iter().map(|r| r[1]).fold(0.0, f64::max);
     Ok(Boundary {
-        machs: machs.to_vec(),
-        altitudes: altitudes.to_vec(),
+        machs: spec.machs.clone(),
+        altitudes: spec.altitudes.clone(),
+        densities,
         speeds: out,
         lower_bound: lower,
+        upper_bound: upper,
+        speed_ranges: ranges,
         largest_speed,
     })
 }
@@ -141,23 +408,188 @@ pub struct BoundaryPoint {
     pub trusted: bool,
     /// Some node used is a lower bound.
     pub lower_bound: bool,
+    /// Some node used was unstable at its lowest speed (an upper bound).
+    pub upper_bound: bool,
+    /// The point lies inside the grid (else it was evaluated at the nearest grid point).
+    pub in_grid: bool,
 }
 
 impl Boundary {
-    /// `V_F` at `(mach, altitude)`, bilinear (module doc). Machs beyond the grid are clamped.
+    /// `V_F` at `(mach, altitude)` (module doc): bilinear in `(M, h)` of `V_F sqrt(ρ)`, divided
+    /// by `sqrt(ρ(h))`. A point outside the grid is evaluated at the nearest grid point and
+    /// flagged (`in_grid`).
     pub fn at(&self, mach: f64, altitude: f64) -> BoundaryPoint {
         let na = self.altitudes.len();
+        let (nm, (h0, h1)) = (
+            self.machs.len(),
+            (self.altitudes[0], self.altitudes[na - 1]),
+        );
+        let in_grid =
+            mach >= self.machs[0] && mach <= self.machs[nm - 1] && altitude >= h0 && altitude <= h1;
+        let hc = altitude.clamp(h0, h1);
         let (i, tm) = bracket(&self.machs, mach);
-        let (j, th) = bracket(&self.altitudes, altitude);
-        let i1 = (i + 1).min(self.machs.len() - 1);
+        let (j, th) = bracket(&self.altitudes, hc);
+        let i1 = (i + 1).min(nm - 1);
         let j1 = (j + 1).min(na - 1);
-        let v = |a: usize, b: usize| self.speeds[a * na + b];
-        let lb = |a: usize, b: usize| self.lower_bound[a * na + b];
-        let along = |a: usize| (1.0 - th) * v(a, j) + th * v(a, j1);
+        let rho = Standard1976::new()
+            .at(hc)
+            .map(|a| a.density)
+            .unwrap_or(f64::NAN);
+        let eas = |a: usize, b: usize| self.speeds[a * na + b] * self.densities[b].sqrt();
+        let flag =
+            |f: &[bool]| f[i * na + j] || f[i * na + j1] || f[i1 * na + j] || f[i1 * na + j1];
+        let along = |a: usize| (1.0 - th) * eas(a, j) + th * eas(a, j1);
+        let e = (1.0 - tm) * along(i) + tm * along(i1);
+        // At a node the node's own value, bit for bit.
+        let on = |t: f64| t == 0.0 || t == 1.0;
+        let v = if on(tm) && on(th) {
+            let a = if tm == 1.0 { i1 } else { i };
+            let b = if th == 1.0 { j1 } else { j };
+            self.speeds[a * na + b]
+        } else {
+            e / rho.sqrt()
+        };
         BoundaryPoint {
-            flutter_speed: (1.0 - tm) * along(i) + tm * along(i1),
+            flutter_speed: v,
             trusted: !(mach > SUBSONIC_LIMIT && mach < SUPERSONIC_LIMIT),
-            lower_bound: lb(i, j) || lb(i, j1) || lb(i1, j) || lb(i1, j1),
+            lower_bound: flag(&self.lower_bound),
+            upper_bound: flag(&self.upper_bound),
+            in_grid,
         }
+    }
+}
+
+/// The fin's data the margin reports beside the boundary (so that a warm run needs no
+/// eigen-solve): the clamped modes' names and frequencies and the NACA TN 4197 inputs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BoundaryFin {
+    pub mode_names: Vec<String>,
+    /// rad/s.
+    pub omega: Vec<f64>,
+    pub shear_modulus: f64,
+    pub span: f64,
+    pub root_chord: f64,
+    pub tip_chord: f64,
+    pub thickness: f64,
+}
+
+impl BoundaryFin {
+    pub fn new(m: &FinModes) -> Self {
+        BoundaryFin {
+            mode_names: m.names.clone(),
+            omega: m.omega.clone(),
+            shear_modulus: m.shear_modulus,
+            span: m.planform.span,
+            root_chord: m.planform.root_chord,
+            tip_chord: m.planform.tip_chord,
+            thickness: m.thickness,
+        }
+    }
+}
+
+/// The cached form of a vehicle's boundary and its fin data ([`BOUNDARY_REVISION`]; the
+/// flags as bytes 0/1, row-major as [`Boundary::speeds`]).
+#[derive(Clone, Debug, PartialEq, rkyv::Archive, rkyv::Serialize, rkyv::Deserialize)]
+pub struct BoundaryArtifact {
+    pub machs: Vec<f64>,
+    pub altitudes: Vec<f64>,
+    pub densities: Vec<f64>,
+    pub speeds: Vec<f64>,
+    pub lower_bound: Vec<u8>,
+    pub upper_bound: Vec<u8>,
+    /// `[lowest, largest]` per Mach node, flattened.
+    pub speed_ranges: Vec<f64>,
+    pub mode_names: Vec<String>,
+    pub omega: Vec<f64>,
+    /// Shear modulus, span, root chord, tip chord, thickness.
+    pub fin: Vec<f64>,
+}
+
+impl crate::artifact::ArtifactPayload for BoundaryArtifact {
+    const SCHEMA: &'static str = "BoundaryArtifact v1: machs Vec<f64>, altitudes Vec<f64>, densities Vec<f64> (per altitude), speeds Vec<f64> (machs x altitudes row-major), lower_bound Vec<u8>, upper_bound Vec<u8>, speed_ranges Vec<f64> (2 per Mach), mode_names Vec<String>, omega Vec<f64>, fin Vec<f64> [G, span, root chord, tip chord, thickness]";
+}
+
+impl BoundaryArtifact {
+    pub fn new(b: &Boundary, f: &BoundaryFin) -> Self {
+        BoundaryArtifact {
+            machs: b.machs.clone(),
+            altitudes: b.altitudes.clone(),
+            densities: b.densities.clone(),
+            speeds: b.speeds.clone(),
+            lower_bound: b.lower_bound.iter().map(|&x| u8::from(x)).collect(),
+            upper_bound: b.upper_bound.iter().map(|&x| u8::from(x)).collect(),
+            speed_ranges: b.speed_ranges.iter().flatten().copied().collect(),
+            mode_names: f.mode_names.clone(),
+            omega: f.omega.clone(),
+            fin: vec![
+                f.shear_modulus,
+                f.span,
+                f.root_chord,
+                f.tip_chord,
+                f.thickness,
+            ],
+        }
+    }
+
+    /// Back to the boundary and the fin data, checked against the `spec` it was keyed by: an
+    /// error (the entry is then rebuilt) when a size, a grid value or a flag does not fit, or a
+    /// value is not finite and positive.
+    pub fn to_boundary(&self, spec: &BoundarySpec) -> Result<(Boundary, BoundaryFin), String> {
+        let (nm, na) = (spec.machs.len(), spec.altitudes.len());
+        if self.machs != spec.machs || self.altitudes != spec.altitudes {
+            return Err("the cached boundary's grid is not the requested one".into());
+        }
+        let n = nm * na;
+        if self.densities.len() != na
+            || self.speeds.len() != n
+            || self.lower_bound.len() != n
+            || self.upper_bound.len() != n
+            || self.speed_ranges.len() != 2 * nm
+            || self.omega.len() != spec.modes
+            || self.mode_names.len() != spec.modes
+            || self.fin.len() != 5
+        {
+            return Err("the cached boundary's sizes do not fit its grid".into());
+        }
+        let positive = |v: &[f64]| v.iter().all(|x| x.is_finite() && *x > 0.0);
+        if !positive(&self.densities) || !positive(&self.speeds) || !positive(&self.speed_ranges) {
+            return Err("the cached boundary holds a value that is not finite and positive".into());
+        }
+        let flags = |v: &[u8]| -> Result<Vec<bool>, String> {
+            v.iter()
+                .map(|&x| match x {
+                    0 => Ok(false),
+                    1 => Ok(true),
+                    x => Err(format!("the cached boundary holds the flag {x}")),
+                })
+                .collect()
+        };
+        let speed_ranges: Vec<[f64; 2]> = self
+            .speed_ranges
+            .chunks_exact(2)
+            .map(|c| [c[0], c[1]])
+            .collect();
+        let largest_speed = speed_ranges.iter().map(|r| r[1]).fold(0.0, f64::max);
+        Ok((
+            Boundary {
+                machs: self.machs.clone(),
+                altitudes: self.altitudes.clone(),
+                densities: self.densities.clone(),
+                speeds: self.speeds.clone(),
+                lower_bound: flags(&self.lower_bound)?,
+                upper_bound: flags(&self.upper_bound)?,
+                speed_ranges,
+                largest_speed,
+            },
+            BoundaryFin {
+                mode_names: self.mode_names.clone(),
+                omega: self.omega.clone(),
+                shear_modulus: self.fin[0],
+                span: self.fin[1],
+                root_chord: self.fin[2],
+                tip_chord: self.fin[3],
+                thickness: self.fin[4],
+            },
+        ))
     }
 }
