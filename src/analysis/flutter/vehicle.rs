@@ -94,6 +94,7 @@ use crate::analysis::linear::{Variant, ballistic_plan};
 use crate::analysis::linearise::step_size;
 use crate::runtime::aero::panel::fin_model::fin_structure;
 use crate::runtime::aero::panel::{Lattice, Spacing};
+use crate::runtime::atmosphere::{Atmosphere, Standard1976};
 use crate::runtime::eom::{ForceModel, StateLayout, StateView};
 use crate::runtime::forces::ForceBlock;
 use crate::runtime::forces::body_aero::planform;
@@ -283,13 +284,35 @@ pub struct BodyGaf {
     pub c1: Vec<f64>,
 }
 
+/// Which of the flight's aerodynamic force blocks [`flight_gaf`] differentiates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FlightBlocks {
+    /// The body block (`runtime::forces::body_aero`): the body aerodynamics of the p-k model.
+    Body,
+    /// The fin blocks (`runtime::forces::fin_aero`, the scenario's fin model): the flight's
+    /// quasi-steady fin loads, for comparison with the panel generalised forces.
+    Fins,
+}
+
 /// The body aerodynamics of the scenario's plan differentiated at speed `speed` and
 /// altitude `altitude` (module doc); `None` when the plan has no body aerodynamics block.
 pub fn body_gaf(
     variant: &Variant,
     speed: f64,
     altitude: f64,
-    density: f64,
+    b_ref: f64,
+) -> Result<Option<BodyGaf>, FinFlutterError> {
+    flight_gaf(variant, FlightBlocks::Body, speed, altitude, b_ref)
+}
+
+/// The quasi-steady generalised forces of the flight's own force blocks `which`, by central
+/// differences at the reference (module doc, "Body aerodynamics"); `None` when the plan has
+/// no such block.
+pub fn flight_gaf(
+    variant: &Variant,
+    which: FlightBlocks,
+    speed: f64,
+    altitude: f64,
     b_ref: f64,
 ) -> Result<Option<BodyGaf>, FinFlutterError> {
     let plan = ballistic_plan(&variant.plan);
@@ -297,8 +320,16 @@ pub fn body_gaf(
     let mut body: Vec<ForceBlock> = blocks
         .blocks
         .into_iter()
-        .filter(|b| matches!(b, ForceBlock::BodyAero(_)))
+        .filter(|b| match which {
+            FlightBlocks::Body => matches!(b, ForceBlock::BodyAero(_)),
+            FlightBlocks::Fins => matches!(b, ForceBlock::FinAero(_)),
+        })
         .collect();
+    // The blocks' own air: their loads scale with the 1976 atmosphere's q at `altitude`.
+    let density = Standard1976::new()
+        .at(altitude)
+        .map_err(vehicle_error)?
+        .density;
     if body.is_empty() {
         return Ok(None);
     }
@@ -663,17 +694,24 @@ pub fn solve_coordinates(
     }
     let lattice = vehicle_lattice(&coords, settings)?;
     let body = if with_body {
-        body_gaf(
-            variant,
-            mach * speed_of_sound,
-            altitude,
-            density,
-            coords.b_ref(),
-        )?
+        body_gaf(variant, mach * speed_of_sound, altitude, coords.b_ref())?
     } else {
         None
     };
     let gaf = vehicle_gaf(&coords, &lattice, mach, settings, body.as_ref())?;
+    solve_gaf(coords, gaf, density, speeds, body.is_some(), settings)
+}
+
+/// The p-k solution on given coordinates and generalised forces (start roots, sweep,
+/// divergence and names as [`solve_vehicle`]).
+pub fn solve_gaf(
+    coords: VehicleCoordinates,
+    gaf: GafTable,
+    density: f64,
+    speeds: &[f64],
+    body_aero: bool,
+    settings: &FinFlutterSettings,
+) -> Result<VehicleFlutter, FinFlutterError> {
     let model = flutter_model(&coords, density);
     let v0 = speeds.first().copied().unwrap_or(f64::NAN);
     let starts = start_roots(&model, &gaf, v0)?;
@@ -693,7 +731,7 @@ pub fn solve_coordinates(
         coordinates: coords,
         solution,
         truncated,
-        body_aero: body.is_some(),
+        body_aero,
         lattice: (settings.chordwise, settings.spanwise),
     })
 }
