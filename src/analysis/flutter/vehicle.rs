@@ -71,6 +71,9 @@
 //! quasi-steady map). The body's unsteady lag is neglected (its lift is slender-body and
 //! crossflow theory, itself quasi-steady).
 //!
+//! Branches of identical fins can continue onto the same root (`pk`'s nearest-root
+//! continuation is not exclusive); their flutter points are then one root's, listed once.
+//!
 //! # Start roots and divergence
 //!
 //! The six rigid branches all have the vacuum root 0, so continuation from `i ω_j` would put
@@ -738,6 +741,20 @@ pub fn solve_gaf(
         pk_solve_cut_started(&model, &gaf, speeds, PkSettings::default(), &starts)?;
     solution.divergence = elastic_divergence(&model, &gaf)?;
     solution.names = branch_names(&model, &starts)?;
+    // Branches of identical fins can continue onto one root (the continuation is not
+    // exclusive, module doc of `pk`): one flutter point per root (speed and frequency
+    // equal to 1e-8), the first branch's.
+    let mut unique: Vec<super::pk::FlutterPoint> = Vec::with_capacity(solution.flutter.len());
+    for f in std::mem::take(&mut solution.flutter) {
+        let same = |u: &super::pk::FlutterPoint| {
+            (u.speed - f.speed).abs() <= 1e-8 * f.speed
+                && (u.omega - f.omega).abs() <= 1e-8 * f.omega.abs().max(1.0)
+        };
+        if !unique.iter().any(same) {
+            unique.push(f);
+        }
+    }
+    solution.flutter = unique;
     for f in &mut solution.flutter {
         f.name = solution.names[f.mode].clone();
         if let Some(p) = &mut f.partner {
