@@ -1070,3 +1070,50 @@ pub fn k_method(
     flutter.sort_by(|x, y| x.speed.total_cmp(&y.speed));
     Ok(KSolution { ks, roots, flutter })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two uncoupled modes, `M = I`, `b = 1`, `ρ = 2` (so `q = V²`): mode B at 80 rad/s
+    /// with light damping; mode A at 100 rad/s softened by the air, `ω_A² = 100² - 1.44 V²`
+    /// (it falls through B's frequency at V = 50), with structural damping 31 and
+    /// aerodynamic damping `-V c₁`, `c₁ = 0.5`, so that its damping vanishes exactly at
+    /// V = 62 (`Q_I = c₁ k`, quasi-steady: the p-k roots are those of the constant-coefficient
+    /// system). On a 10 m/s grid, continuation from the previous root alone jumps from A to
+    /// B at V = 60 (B's root is nearer A's root at 50 than A's own root at 60) and the flutter
+    /// is lost (the old `pk_solve` found none); the linear predictor keeps the branch.
+    #[test]
+    fn a_branch_falling_through_another_keeps_its_root_and_flutters() {
+        let model = FlutterModel {
+            names: vec!["B".into(), "A".into()],
+            mass: vec![1.0, 0.0, 0.0, 1.0],
+            stiffness: vec![6400.0, 0.0, 0.0, 10000.0],
+            damping: vec![0.5, 0.0, 0.0, 31.0],
+            structural_g: 0.0,
+            b_ref: 1.0,
+            density: 2.0,
+        };
+        let gaf = GafFn {
+            order: 2,
+            k_max: 10.0,
+            f: |k: f64, out: &mut [c64]| {
+                out.fill(c64::new(0.0, 0.0));
+                out[3] = c64::new(1.44, 0.5 * k);
+            },
+        };
+        let speeds: Vec<f64> = (1..=10).map(|i| 10.0 * i as f64).collect();
+        let sol = pk_solve(&model, &gaf, &speeds, PkSettings::default()).unwrap();
+        let f = sol.critical().expect("mode A flutters at 62 m/s");
+        assert_eq!(f.name, "A");
+        assert!((f.speed - 62.0).abs() < 1e-9, "{}", f.speed);
+        // ω_A at 62 m/s: sqrt(100² - 1.44 · 62²).
+        let w = (10000.0 - 1.44 * 62.0 * 62.0_f64).sqrt();
+        assert!((f.omega - w).abs() < 1e-8 * w, "{} vs {w}", f.omega);
+        // Each branch stays on its own root at every speed (B stays at 80 rad/s).
+        for r in &sol.roots[0] {
+            let want = (6400.0 - 0.0625_f64).sqrt();
+            assert!((r.p.im - want).abs() < 1e-9 * want, "{:?}", r.p);
+        }
+    }
+}
