@@ -1,6 +1,7 @@
 //! `flexflight analyze flutter`: the p-k flutter solution of the fin clamped at its root
-//! ([`crate::analysis::flutter::fin`]) at a scenario's altitude and Mach, with the V-g / V-f
-//! table, the flutter and divergence points, the matched point and NACA TN 4197 alongside.
+//! ([`crate::analysis::flutter::fin`], `--clamped`) or of the free flexible vehicle
+//! ([`crate::analysis::flutter::vehicle`], the default) at a scenario's altitude and Mach,
+//! with the V-g / V-f table, the flutter and divergence points and NACA TN 4197 alongside.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -26,7 +27,11 @@ use crate::runtime::atmosphere::{Atmosphere, Standard1976};
 use crate::units::Dim;
 
 use super::analyze::refused;
-use super::{Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, emit, load_program};
+use super::{
+    CacheArgs, Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, emit, load_program,
+};
+use crate::analysis::flutter::vehicle::{N_RIGID, VehicleFlutter};
+use crate::analysis::linear::Variant;
 
 /// The aerodynamics of the generalised forces.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
@@ -52,8 +57,9 @@ pub struct FlutterArgs {
     pub file: PathBuf,
     #[arg(long)]
     pub scenario: String,
-    /// The fin alone, clamped at its root (the fin designer's case; required: the free
-    /// flexible vehicle is analysed by `analyze linear`).
+    /// The fin alone, clamped at its root (the fin designer's case); without it the free
+    /// flexible vehicle (its modes and rigid-body motions, every fin's panels, the body's
+    /// quasi-steady aerodynamics).
     #[arg(long)]
     pub clamped: bool,
     /// Altitude of the air (default: the scenario's initial altitude).
@@ -65,7 +71,7 @@ pub struct FlutterArgs {
     /// Speed range START:STOP:COUNT with units (default 0.1 a to 3 a, 40 speeds).
     #[arg(long, value_name = "START:STOP:COUNT")]
     pub speeds: Option<String>,
-    /// Number of clamped-fin modes.
+    /// Number of clamped-fin modes (the free vehicle uses its compiled modes).
     #[arg(long, default_value_t = 6)]
     pub modes: usize,
     #[arg(long, value_enum, default_value_t = AeroChoice::Unsteady)]
@@ -82,6 +88,8 @@ pub struct FlutterArgs {
     pub out: Option<PathBuf>,
     #[command(flatten)]
     pub common: Common,
+    #[command(flatten)]
+    pub cache: CacheArgs,
 }
 
 /// The flight condition of the analysis.
@@ -104,6 +112,20 @@ pub struct FinFlutter {
     pub truncated: Option<(f64, usize)>,
     /// The result of `--critical-thickness` and its target speed.
     pub critical_thickness: Option<(CriticalThickness, f64)>,
+    /// The free vehicle's case (`None`: the clamped fin). Then `modes` is fin 0's spline
+    /// container of the vehicle's coordinates (names and vacuum frequencies, rigid at 0).
+    pub free_vehicle: Option<FreeVehicle>,
+}
+
+/// What the free-vehicle case adds to the report.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FreeVehicle {
+    pub n_elastic: usize,
+    pub fins: usize,
+    pub body_aero: bool,
+    pub lattice: (usize, usize),
+    /// The scenario's speed (the rigid roots are reported at the sweep speed nearest it).
+    pub scenario_speed: f64,
 }
 
 /// What the thickness root finding found.
@@ -220,9 +242,9 @@ fn scenario_speed(sc: &ir::Scenario, a: f64) -> f64 {
 
 pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
     let format = a.common.output.format;
-    if !a.clamped {
+    if !a.clamped && a.critical_thickness.is_some() {
         eprintln!(
-            "error: `analyze flutter` solves the fin clamped at its root: pass --clamped (the free flexible vehicle's stability is `analyze linear`)"
+            "error: --critical-thickness is implemented for the clamped fin only: pass --clamped (the free vehicle's boundary over thickness is `analyze linear-map`)"
         );
         return EXIT_USAGE;
     }
@@ -254,7 +276,7 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
     if let Err(e) = c.finish() {
         return refused(e, format, term);
     }
-    let checked = match load_program(std::slice::from_ref(&a.file), &a.common, term) {
+    let mut checked = match load_program(std::slice::from_ref(&a.file), &a.common, term) {
         Ok(c) => c,
         Err(code) => return code,
     };
@@ -288,7 +310,13 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
                 AeroChoice::QuasiSteady => 0.1,
             } * air.speed_of_sound;
             let hi = 3.0 * air.speed_of_sound;
-            (0..40).map(|i| lo + (hi - lo) * i as f64 / 39.0).collect()
+            // The free vehicle's branches cross in frequency (fin twist through body
+            // bending) and come in near-identical sets (one per fin): continuation needs a
+            // finer step than the clamped fin's.
+            let count = if a.clamped { 40 } else { FREE_SPEEDS };
+            (0..count)
+                .map(|i| lo + (hi - lo) * i as f64 / (count - 1) as f64)
+                .collect()
         }
     };
     let condition = Condition {
@@ -298,6 +326,10 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
         speed_of_sound: air.speed_of_sound,
         pressure: air.pressure,
     };
+    if !a.clamped {
+        let v_scn = scenario_speed(&sc, air.speed_of_sound);
+        return cmd_free(a, &mut checked, &sc, condition, &speeds, v_scn, term);
+    }
     let critical = match crit.flatten() {
         None => None,
         Some(range) => {
@@ -350,20 +382,158 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
         }
     };
     r.critical_thickness = critical;
+    finish(a, &r, term)
+}
+
+/// Writes the outputs (only after a successful solution) and prints the summary.
+fn finish(a: &FlutterArgs, r: &FinFlutter, _term: Terminal) -> u8 {
+    let format = a.common.output.format;
     if let Some(out) = &a.out {
-        if let Err(e) = write_outputs(out, &r) {
+        if let Err(e) = write_outputs(out, r) {
             eprintln!("error: cannot write `{}`: {e}", out.display());
             return EXIT_USAGE;
         }
     }
     match format {
-        Format::Human => print!("{}", report_text(&r)),
+        Format::Human => print!("{}", report_text(r)),
         Format::Json => println!(
             "{}",
-            serde_json::to_string_pretty(&summary_json(&r)).unwrap_or_default()
+            serde_json::to_string_pretty(&summary_json(r)).unwrap_or_default()
         ),
     }
     EXIT_OK
+}
+
+/// The free vehicle's case of `cmd_flutter`: compile (through the artifact cache) and plan
+/// the scenario, solve, write and print as the clamped case.
+fn cmd_free(
+    a: &FlutterArgs,
+    checked: &mut crate::check::Checked,
+    sc: &ir::Scenario,
+    condition: Condition,
+    speeds: &[f64],
+    scenario_speed: f64,
+    term: Terminal,
+) -> u8 {
+    let format = a.common.output.format;
+    let refuse = |e: &FinFlutterError, sources| {
+        let d = Diagnostic::error(flutter_code(e), format!("flutter: {e}"))
+            .label(sc.name.span, "in this scenario");
+        emit(&[d], sources, format, term);
+        EXIT_DIAGNOSTICS
+    };
+    // Refusals that need no structure come before the compile.
+    if sc.vehicle.fins.is_none() {
+        return refuse(&FinFlutterError::NoFins, &checked.sources);
+    }
+    if let Ok(crate::runtime::aero::panel::Regime::Transonic { .. }) =
+        crate::runtime::aero::panel::regime(condition.mach)
+    {
+        let e = FinFlutterError::Transonic {
+            mach: condition.mach,
+        };
+        return refuse(&e, &checked.sources);
+    }
+    let cache_dir = a.cache.cache_dir.as_deref();
+    let outcome =
+        match super::compile::compile_cached(checked, &sc.vehicle, cache_dir, format, term) {
+            Ok(o) => o,
+            Err(code) => return code,
+        };
+    let cache = crate::artifact::Cache::resolve(cache_dir);
+    let plan = match super::compile::plan_cached(sc, &outcome.compiled, &outcome.key, &cache) {
+        Ok((p, _)) => p,
+        Err(e) => {
+            eprintln!("error: cannot plan scenario `{}`: {e}", sc.name.value);
+            return EXIT_DIAGNOSTICS;
+        }
+    };
+    let variant = Variant {
+        plan,
+        scenario: sc.clone(),
+        compiled: outcome.compiled,
+    };
+    match solve_free(&variant, condition, speeds, a.aero.model(), scenario_speed) {
+        Ok(r) => finish(a, &r, term),
+        Err(e) => {
+            let mut d = Diagnostic::error(flutter_code(&e), format!("flutter: {e}"))
+                .label(sc.name.span, "in this scenario");
+            if let FinFlutterError::Panel(PanelError::TooCoarse { .. }) = e {
+                d = d.with_help(format!(
+                    "the lattice has at most {MAX_CHORDWISE} chordwise panels: raise the lowest speed of --speeds, or --aero quasi-steady"
+                ));
+            }
+            emit(&[d], &checked.sources, format, term);
+            EXIT_DIAGNOSTICS
+        }
+    }
+}
+
+/// The free vehicle's p-k solution at `condition` over `speeds` (the reduced-frequency
+/// table and the lattice sized as [`solve_clamped`] does, on the highest vehicle mode).
+pub fn solve_free(
+    variant: &Variant,
+    condition: Condition,
+    speeds: &[f64],
+    aero: FinAero,
+    scenario_speed: f64,
+) -> Result<FinFlutter, FinFlutterError> {
+    let coords = crate::analysis::flutter::vehicle::vehicle_coordinates(variant)?;
+    let mut settings = FinFlutterSettings {
+        aero,
+        ..FinFlutterSettings::default()
+    };
+    let v_min = speeds.iter().copied().fold(f64::INFINITY, f64::min);
+    let w_max = coords.omega_elastic.iter().copied().fold(0.0, f64::max);
+    settings.k_max = (1.2 * w_max * coords.b_ref() / v_min).max(0.1);
+    settings.k_count = 40;
+    if aero == FinAero::Unsteady {
+        settings.chordwise =
+            chordwise_for(&coords.fins[0], settings.k_max, settings.chordwise).min(MAX_CHORDWISE);
+    }
+    let VehicleFlutter {
+        coordinates,
+        solution,
+        truncated,
+        body_aero,
+        lattice,
+        vacuum_omega,
+    } = crate::analysis::flutter::vehicle::solve_coordinates(
+        variant,
+        coords,
+        condition.mach,
+        condition.density,
+        condition.altitude,
+        condition.speed_of_sound,
+        speeds,
+        &settings,
+        true,
+    )?;
+    let n_elastic = coordinates.order() - N_RIGID;
+    let fins = coordinates.fins.len();
+    let mut modes = coordinates
+        .fins
+        .into_iter()
+        .next()
+        .ok_or(FinFlutterError::NoFins)?;
+    // The report lists the branches (vacuum modes of the free vehicle), not the coordinates.
+    modes.names = solution.names.clone();
+    modes.omega = vacuum_omega;
+    Ok(FinFlutter {
+        modes,
+        condition,
+        aero,
+        solution,
+        truncated,
+        critical_thickness: None,
+        free_vehicle: Some(FreeVehicle {
+            n_elastic,
+            fins,
+            body_aero,
+            lattice,
+            scenario_speed,
+        }),
+    })
 }
 
 fn flutter_code(e: &FinFlutterError) -> &'static str {
@@ -375,6 +545,9 @@ fn flutter_code(e: &FinFlutterError) -> &'static str {
         _ => "analysis::flutter::failed",
     }
 }
+
+/// Default number of speeds of the free vehicle's sweep (0.3 a or 0.1 a to 3 a).
+pub const FREE_SPEEDS: usize = 120;
 
 /// The most chordwise panels `analyze flutter` lays out for the unsteady lattice.
 pub const MAX_CHORDWISE: usize = 32;
@@ -419,6 +592,7 @@ pub fn solve_clamped(
         solution,
         truncated,
         critical_thickness: None,
+        free_vehicle: None,
     })
 }
 
@@ -440,16 +614,39 @@ pub fn report_text(r: &FinFlutter) -> String {
     let c = &r.condition;
     let s = &r.solution;
     let mut t = String::new();
+    let case = match &r.free_vehicle {
+        None => "clamped fin".to_string(),
+        Some(fv) => format!(
+            "free flexible vehicle ({N_RIGID} rigid + {} elastic coordinates, {} fins' panels {} x {}, body aerodynamics {})",
+            fv.n_elastic,
+            fv.fins,
+            fv.lattice.0,
+            fv.lattice.1,
+            if fv.body_aero {
+                "quasi-steady from the flight's tables"
+            } else {
+                "none (no body block in the plan)"
+            }
+        ),
+    };
     let _ = writeln!(
         t,
-        "clamped fin, {} aerodynamics, Mach {:.4}, altitude {:.0} m (rho {:.4} kg/m3, a {:.2} m/s)",
+        "{case}, {} fin aerodynamics, Mach {:.4}, altitude {:.0} m (rho {:.4} kg/m3, a {:.2} m/s)",
         r.aero.name(),
         c.mach,
         c.altitude,
         c.density,
         c.speed_of_sound
     );
-    let _ = writeln!(t, "modes:");
+    let _ = writeln!(
+        t,
+        "{}",
+        if r.free_vehicle.is_some() {
+            "branches (vacuum modes of the free vehicle):"
+        } else {
+            "modes:"
+        }
+    );
     for (j, name) in r.modes.names.iter().enumerate() {
         let _ = writeln!(t, "  {}  {name}", j + 1);
     }
@@ -489,18 +686,26 @@ pub fn report_text(r: &FinFlutter) -> String {
             s.unstable_at_start
         );
     }
+    if let Some(fv) = &r.free_vehicle {
+        rigid_lines(&mut t, s, fv.scenario_speed);
+    }
+    let div = if r.free_vehicle.is_some() {
+        "divergence (elastic coordinates, frame held)"
+    } else {
+        "divergence"
+    };
     match &s.divergence {
         Some(d) => {
             let _ = writeln!(
                 t,
-                "divergence: V = {:.2} m/s, q = {:.1} kPa ({})",
+                "{div}: V = {:.2} m/s, q = {:.1} kPa ({})",
                 d.speed,
                 d.q / 1e3,
                 d.name
             );
         }
         None => {
-            let _ = writeln!(t, "divergence: none");
+            let _ = writeln!(t, "{div}: none");
         }
     }
     match &r.critical_thickness {
@@ -541,6 +746,27 @@ pub fn report_text(r: &FinFlutter) -> String {
     t
 }
 
+/// The rigid branches' roots at the sweep speed nearest `v` (the short periods, roll).
+fn rigid_lines(t: &mut String, s: &PkSolution, v: f64) {
+    let Some(i) = (0..s.speeds.len())
+        .min_by(|&x, &y| (s.speeds[x] - v).abs().total_cmp(&(s.speeds[y] - v).abs()))
+    else {
+        return;
+    };
+    let _ = writeln!(t, "rigid branches at V = {:.2} m/s:", s.speeds[i]);
+    for j in 0..N_RIGID.min(s.roots.len()) {
+        let p = s.roots[j][i].p;
+        let _ = writeln!(
+            t,
+            "  {}  p = {:.4} {:+.4}i 1/s ({:.3} Hz)",
+            j + 1,
+            p.re,
+            p.im,
+            hz(p.im)
+        );
+    }
+}
+
 pub fn summary_json(r: &FinFlutter) -> serde_json::Value {
     let c = &r.condition;
     let s = &r.solution;
@@ -552,8 +778,19 @@ pub fn summary_json(r: &FinFlutter) -> serde_json::Value {
             "flutter_mach": fin.flutter_mach_in(form, c.pressure),
         })
     };
+    let free = r.free_vehicle.as_ref().map(|fv| {
+        serde_json::json!({
+            "rigid_coordinates": N_RIGID,
+            "elastic_modes": fv.n_elastic,
+            "fins": fv.fins,
+            "panels": [fv.lattice.0, fv.lattice.1],
+            "body_aero_quasi_steady": fv.body_aero,
+            "divergence_of": "elastic coordinates with the floating frame held",
+        })
+    });
     serde_json::json!({
-        "case": "clamped_fin",
+        "case": if r.free_vehicle.is_some() { "free_vehicle" } else { "clamped_fin" },
+        "free_vehicle": free,
         "aero": r.aero,
         "mach": c.mach,
         "altitude_m": c.altitude,

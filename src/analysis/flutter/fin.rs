@@ -92,6 +92,8 @@ pub enum FinFlutterError {
     Spline(#[from] SplineError),
     #[error("flutter solution: {0}")]
     Flutter(#[from] FlutterError),
+    #[error("free vehicle: {0}")]
+    Vehicle(String),
     #[error(
         "Mach {mach} lies in the transonic gap 0.9 < M < 1.2 where neither the vortex lattice nor piston theory is trusted"
     )]

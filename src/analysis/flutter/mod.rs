@@ -8,6 +8,8 @@
 //! - [`typical_section`]: the two-degree-of-freedom section of Hodges & Pierce;
 //! - [`fin`]: the fin clamped at its root with the fin panels' generalised forces (the fin
 //!   designer's case);
+//! - [`vehicle`]: the free flexible vehicle (its reduced model's modes and rigid-body
+//!   motions) with every fin's panel generalised forces and the body's quasi-steady loads;
 //! - [`goland`]: the Goland wing, a uniform cantilever as bending-torsion beam elements with
 //!   Theodorsen strip theory.
 
@@ -19,6 +21,7 @@ pub mod margin;
 pub mod pk;
 pub mod theodorsen;
 pub mod typical_section;
+pub mod vehicle;
 
 pub use pk::{
     Divergence, FlutterError, FlutterModel, FlutterPoint, Gaf, GafFn, GafTable, KSolution, PkRoot,

@@ -27,14 +27,15 @@
 //! `k = Im(p) b / V`, matches the `k` at which `Q` was evaluated (Hassig's consistency
 //! condition; fixed point, with a bracketing fallback, tolerance [`PkSettings::k_tolerance`]). The damping
 //! is reported as `g = 2γ = 2 Re(p)/Im(p)` (Rodden & Johnson's convention), and the roots are
-//! tracked from speed to speed by continuation: each mode starts from its converged root at
-//! the previous speed (at the first speed from `i ω_j` of the vacuum modes).
+//! tracked from speed to speed by continuation: each mode starts from the linear prediction
+//! of its converged roots at the two previous speeds (at the second speed from the root at
+//! the first, at the first from `i ω_j` of the vacuum modes).
 //!
 //! # Flutter and divergence points
 //!
 //! A flutter point is where the damping of a mode crosses zero from below: bracketed between
 //! two speeds of the sweep, it is located by Brent's method on `g(V)` (each evaluation is a
-//! full p-k solution at `V`, started from the root at the bracket's lower speed), not picked
+//! full p-k solution at `V`, started from the linear interpolation of the bracket's roots), not picked
 //! from the grid. The coalescing partner is the other mode whose frequency is nearest at the
 //! flutter speed. The divergence point is the zero-frequency root: `det(K - q Q^R(0)) = 0`,
 //! `q_D = 1/λ_max`, `λ` the largest positive real eigenvalue of `K⁻¹ Q^R(0)`.
@@ -536,7 +537,10 @@ impl<'a> PkProblem<'a> {
             Ok(())
         };
         let tol = self.settings.k_tolerance;
-        let is_real = |p: c64| p.im <= 1e-9 * p.norm();
+        // A root whose reduced frequency is below the floor is non-oscillatory whatever its
+        // phase: the exact zeros of a free vehicle's rigid coordinates come out of the
+        // eigensolver as round-off of either phase (`|p| ~ 1e-12`).
+        let is_real = |p: c64| p.im <= 1e-9 * p.norm() || p.im * b / v < K_FLOOR;
         let mut k = (p0.im.max(0.0) * b / v).max(10.0 * K_FLOOR);
         let mut p = p0;
         let mut last: Option<(f64, f64, c64)> = None;
@@ -607,6 +611,51 @@ pub fn pk_solve(
     speeds: &[f64],
     settings: PkSettings,
 ) -> Result<PkSolution, FlutterError> {
+    sweep(model, gaf, speeds, settings, None)
+}
+
+/// [`pk_solve`] with the branches started at the lowest speed from `starts` (one root per
+/// vacuum mode, in the ascending order of [`FlutterModel::vacuum_modes`]) instead of `i ω_j`,
+/// for a model with rigid-body (zero-frequency) coordinates: their vacuum roots coincide at
+/// 0, so continuation from `i ω_j = 0` would start every rigid branch on the same root.
+/// The divergence is not solved (`None`): with free coordinates the stiffness is singular,
+/// and the caller solves its restrained problem. Otherwise as [`pk_solve`].
+pub fn pk_solve_started(
+    model: &FlutterModel,
+    gaf: &dyn Gaf,
+    speeds: &[f64],
+    settings: PkSettings,
+    starts: &[c64],
+) -> Result<PkSolution, FlutterError> {
+    if starts.len() != model.order() {
+        return Err(FlutterError::BadModel(format!(
+            "{} start roots for {} branches",
+            starts.len(),
+            model.order()
+        )));
+    }
+    sweep(model, gaf, speeds, settings, Some(starts))
+}
+
+/// The roots `p` of the p-k eigenproblem at speed `v` with `Q(k)` (all `2n`, any order): the
+/// first-order system of the module doc, for choosing start roots.
+pub fn pk_roots(
+    model: &FlutterModel,
+    gaf: &dyn Gaf,
+    v: f64,
+    k: f64,
+) -> Result<Vec<c64>, FlutterError> {
+    let mut prob = PkProblem::new(model, gaf, PkSettings::default())?;
+    prob.eigenvalues(v, k)
+}
+
+fn sweep(
+    model: &FlutterModel,
+    gaf: &dyn Gaf,
+    speeds: &[f64],
+    settings: PkSettings,
+    starts: Option<&[c64]>,
+) -> Result<PkSolution, FlutterError> {
     if speeds.is_empty()
         || speeds.iter().any(|v| !(v.is_finite() && *v > 0.0))
         || speeds.windows(2).any(|w| w[1] <= w[0])
@@ -620,10 +669,19 @@ pub fn pk_solve(
     let mut roots: Vec<Vec<PkRoot>> = vec![Vec::with_capacity(speeds.len()); n];
     for (i, &v) in speeds.iter().enumerate() {
         for j in 0..n {
-            let p0 = if i == 0 {
-                c64::new(0.0, vac[j].0)
-            } else {
-                roots[j][i - 1].p
+            let p0 = match i {
+                0 => starts.map_or(c64::new(0.0, vac[j].0), |s| s[j]),
+                1 => roots[j][0].p,
+                // Linear predictor from the two previous speeds: nearest-root continuation
+                // from the previous root alone jumps to a neighbouring root where branches
+                // cross in frequency (a free vehicle's fin twist falling through its body
+                // bending), losing the branch.
+                _ => {
+                    let (a, b) = (roots[j][i - 2], roots[j][i - 1]);
+                    let t = (v - b.speed) / (b.speed - a.speed);
+                    let p = b.p + (b.p - a.p) * t;
+                    c64::new(p.re, p.im.max(0.0))
+                }
             };
             let r = prob.solve_mode(j, v, p0)?;
             roots[j].push(r);
@@ -645,13 +703,16 @@ pub fn pk_solve(
             if !(ga < 0.0 && gb >= 0.0) || gb - ga <= G_NOISE {
                 continue;
             }
-            let start = a.p;
+            // Each evaluation starts from the linear interpolation of the bracket's roots
+            // (starting every one from the lower root can land on a neighbouring branch
+            // near a frequency crossing and make g(V) jump).
+            let start = |v: f64| a.p + (b.p - a.p) * ((v - a.speed) / (b.speed - a.speed));
             let mut f = |v: f64| -> Result<f64, FlutterError> {
-                let r = prob.solve_mode(j, v, start)?;
+                let r = prob.solve_mode(j, v, start(v))?;
                 Ok(r.g().unwrap_or(f64::NAN))
             };
             let vf = brent(&mut f, a.speed, b.speed, ga, gb)?;
-            let r = prob.solve_mode(j, vf, start)?;
+            let r = prob.solve_mode(j, vf, start(vf))?;
             // Partner: the other branch nearest in frequency at the flutter speed.
             let mut partner: Option<(usize, f64)> = None;
             for jj in (0..n).filter(|&jj| jj != j) {
@@ -676,7 +737,10 @@ pub fn pk_solve(
         }
     }
     flutter.sort_by(|x, y| x.speed.total_cmp(&y.speed));
-    let divergence = divergence(model, gaf)?;
+    let divergence = match starts {
+        Some(_) => None,
+        None => divergence(model, gaf)?,
+    };
     Ok(PkSolution {
         speeds: speeds.to_vec(),
         names,
@@ -698,10 +762,38 @@ pub fn pk_solve_cut(
     speeds: &[f64],
     settings: PkSettings,
 ) -> Result<(PkSolution, Option<(f64, usize)>), FlutterError> {
+    cut_sweep(model, gaf, speeds, settings, None)
+}
+
+/// [`pk_solve_cut`] with start roots ([`pk_solve_started`]).
+pub fn pk_solve_cut_started(
+    model: &FlutterModel,
+    gaf: &dyn Gaf,
+    speeds: &[f64],
+    settings: PkSettings,
+    starts: &[c64],
+) -> Result<(PkSolution, Option<(f64, usize)>), FlutterError> {
+    if starts.len() != model.order() {
+        return Err(FlutterError::BadModel(format!(
+            "{} start roots for {} branches",
+            starts.len(),
+            model.order()
+        )));
+    }
+    cut_sweep(model, gaf, speeds, settings, Some(starts))
+}
+
+fn cut_sweep(
+    model: &FlutterModel,
+    gaf: &dyn Gaf,
+    speeds: &[f64],
+    settings: PkSettings,
+    starts: Option<&[c64]>,
+) -> Result<(PkSolution, Option<(f64, usize)>), FlutterError> {
     let mut sp = speeds.to_vec();
     let mut cut = None;
     loop {
-        match pk_solve(model, gaf, &sp, settings) {
+        match sweep(model, gaf, &sp, settings, starts) {
             Err(FlutterError::NoConvergence { speed, mode, .. })
                 if sp.iter().filter(|v| **v < speed).count() >= 2 =>
             {
@@ -977,4 +1069,51 @@ pub fn k_method(
     }
     flutter.sort_by(|x, y| x.speed.total_cmp(&y.speed));
     Ok(KSolution { ks, roots, flutter })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two uncoupled modes, `M = I`, `b = 1`, `ρ = 2` (so `q = V²`): mode B at 80 rad/s
+    /// with light damping; mode A at 100 rad/s softened by the air, `ω_A² = 100² - 1.44 V²`
+    /// (it falls through B's frequency at V = 50), with structural damping 31 and
+    /// aerodynamic damping `-V c₁`, `c₁ = 0.5`, so that its damping vanishes exactly at
+    /// V = 62 (`Q_I = c₁ k`, quasi-steady: the p-k roots are those of the constant-coefficient
+    /// system). On a 10 m/s grid, continuation from the previous root alone jumps from A to
+    /// B at V = 60 (B's root is nearer A's root at 50 than A's own root at 60) and the flutter
+    /// is lost (the old `pk_solve` found none); the linear predictor keeps the branch.
+    #[test]
+    fn a_branch_falling_through_another_keeps_its_root_and_flutters() {
+        let model = FlutterModel {
+            names: vec!["B".into(), "A".into()],
+            mass: vec![1.0, 0.0, 0.0, 1.0],
+            stiffness: vec![6400.0, 0.0, 0.0, 10000.0],
+            damping: vec![0.5, 0.0, 0.0, 31.0],
+            structural_g: 0.0,
+            b_ref: 1.0,
+            density: 2.0,
+        };
+        let gaf = GafFn {
+            order: 2,
+            k_max: 10.0,
+            f: |k: f64, out: &mut [c64]| {
+                out.fill(c64::new(0.0, 0.0));
+                out[3] = c64::new(1.44, 0.5 * k);
+            },
+        };
+        let speeds: Vec<f64> = (1..=10).map(|i| 10.0 * i as f64).collect();
+        let sol = pk_solve(&model, &gaf, &speeds, PkSettings::default()).unwrap();
+        let f = sol.critical().expect("mode A flutters at 62 m/s");
+        assert_eq!(f.name, "A");
+        assert!((f.speed - 62.0).abs() < 1e-9, "{}", f.speed);
+        // ω_A at 62 m/s: sqrt(100² - 1.44 · 62²).
+        let w = (10000.0 - 1.44 * 62.0 * 62.0_f64).sqrt();
+        assert!((f.omega - w).abs() < 1e-8 * w, "{} vs {w}", f.omega);
+        // Each branch stays on its own root at every speed (B stays at 80 rad/s).
+        for r in &sol.roots[0] {
+            let want = (6400.0 - 0.0625_f64).sqrt();
+            assert!((r.p.im - want).abs() < 1e-9 * want, "{:?}", r.p);
+        }
+    }
 }
