@@ -383,6 +383,72 @@ fn a_warm_run_writes_the_cold_runs_margin_bit_for_bit() {
         csv("bad") == csv("cold"),
         "the rebuilt margin differs from the cold one"
     );
+    inspect_shows_the_cached_boundary_and_panel_matrices(&cache, &cold);
+}
+
+/// `inspect` of the run's two vehicle artifacts besides the structure (issue 12, item 4;
+/// issue 13): the flutter boundary prints the speeds the run used, bit for bit, and the
+/// aerodynamics artifact prints every fin's panel matrices, equal bit for bit to the panel
+/// model compiled directly for the same vehicle. Before, `inspect` knew only the compiled
+/// structure and refused both with `artifact::schema`.
+fn inspect_shows_the_cached_boundary_and_panel_matrices(cache: &Path, cold: &serde_json::Value) {
+    use flexflight::runtime::aero::panel::fin_model::{PanelSettings, compile as panels};
+    use flexflight::structure::compile::compile;
+    let inspect = |hash: &str, json: bool| -> String {
+        let mut c = flexflight();
+        c.arg("inspect").arg(cache.join(format!("{hash}.ffa")));
+        if json {
+            c.args(["--format", "json"]);
+        }
+        let o = c.output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8(o.stdout).unwrap()
+    };
+    let fm = &cold["flutter_margin"];
+    let b: serde_json::Value =
+        serde_json::from_str(&inspect(fm["boundary_hash"].as_str().unwrap(), true)).unwrap();
+    assert_eq!(b["artifact"], "flutter boundary");
+    let flat: Vec<f64> = b["flutter_speeds_by_mach"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|r| r.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
+        .collect();
+    let used: Vec<f64> = fm["boundary"]["flutter_speeds"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert_eq!(flat, used);
+    let hash = cold["aero_artifact_hash"].as_str().unwrap();
+    let a: serde_json::Value = serde_json::from_str(&inspect(hash, true)).unwrap();
+    assert_eq!(a["artifact"], "aerodynamics");
+    let p = &a["fin_panels"];
+    let machs: Vec<f64> = p["machs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    let sc = hpr();
+    let (c, _) = compile(&sc.vehicle).unwrap();
+    let model = panels(&c, &sc.vehicle, &machs, PanelSettings::default()).unwrap();
+    let fins = p["fins"].as_array().unwrap();
+    assert_eq!(fins.len(), model.fins.len());
+    for (f, (shown, built)) in fins.iter().zip(&model.fins).enumerate() {
+        for (g, at) in shown.as_array().unwrap().iter().enumerate() {
+            let rows: Vec<f64> = at["transfer"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .flat_map(|r| r.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
+                .collect();
+            assert!(rows == built.at(g), "fin {f}, grid Mach {g}");
+        }
+    }
+    let text = inspect(hash, false);
+    assert!(text.contains("fin_panels:") && text.contains("fin_load_weights:"));
 }
 
 /// Rows outside the boundary's grid (here the fin table stops at Mach 0.8, so the grid's last

@@ -349,11 +349,164 @@ pub fn cmd_inspect(path: &Path, format: Format) -> u8 {
                 EXIT_DIAGNOSTICS
             }
         },
+        // Not a compiled vehicle: the other artifacts of the cache, told apart by their
+        // payload schema (the header's schema hash).
+        Err(e) if e.code() == "artifact::schema" => inspect_other(path, &key, format)
+            .unwrap_or_else(|| {
+                eprintln!("error[{}]: {e}", e.code());
+                EXIT_DIAGNOSTICS
+            }),
         Err(e) => {
             eprintln!("error[{}]: {e}", e.code());
             EXIT_DIAGNOSTICS
         }
     }
+}
+
+/// `inspect` of a vehicle's aerodynamics artifact (estimated tables, fin load weights, fin
+/// panel matrices: [`crate::plan::aero::AeroArtifact`]) or of its flutter boundary
+/// ([`crate::analysis::flutter::margin::BoundaryArtifact`]); None when the file is neither.
+fn inspect_other(path: &Path, key: &CacheKey, format: Format) -> Option<u8> {
+    use crate::analysis::flutter::margin::BoundaryArtifact;
+    use crate::plan::aero::AeroArtifact;
+    let fail = |e: &dyn std::fmt::Display| {
+        eprintln!("error[artifact::invalid_payload]: {e}");
+        EXIT_DIAGNOSTICS
+    };
+    let value = if let Ok(art) = artifact::load::<AeroArtifact>(path, key) {
+        match rkyv::deserialize::<AeroArtifact, rkyv::rancor::Error>(art.get()) {
+            Ok(a) => aero_artifact_json(&a),
+            Err(e) => return Some(fail(&e)),
+        }
+    } else if let Ok(art) = artifact::load::<BoundaryArtifact>(path, key) {
+        match rkyv::deserialize::<BoundaryArtifact, rkyv::rancor::Error>(art.get()) {
+            Ok(b) => boundary_artifact_json(&b),
+            Err(e) => return Some(fail(&e)),
+        }
+    } else {
+        return None;
+    };
+    match format {
+        Format::Json => println!(
+            "{}",
+            serde_json::to_string_pretty(&value).unwrap_or_default()
+        ),
+        Format::Human => print!("{}", human_tree(&value, 0)),
+    }
+    Some(0)
+}
+
+/// Every value of an aerodynamics artifact; the panel matrices per fin and grid Mach as rows
+/// of `T = O K I` (`(n + 3) x (2 n + 3)`: modal forces, normal force, root bending and
+/// chordwise moments; columns `η`, `η̇ / V`, the rigid normalwash `1, ξ, η`).
+fn aero_artifact_json(a: &crate::plan::aero::AeroArtifact) -> serde_json::Value {
+    let panels = a.fin_panels.as_ref().map(|p| {
+        let n = p.n_modes as usize;
+        let (rows, cols) = (n + 3, 2 * n + 3);
+        let fins: Vec<serde_json::Value> = p
+            .transfer
+            .iter()
+            .map(|t| {
+                let per_mach: Vec<serde_json::Value> = p
+                    .machs
+                    .iter()
+                    .enumerate()
+                    .map(|(g, mach)| {
+                        let m: Vec<&[f64]> = t
+                            .get(g * rows * cols..(g + 1) * rows * cols)
+                            .unwrap_or(&[])
+                            .chunks(cols)
+                            .collect();
+                        serde_json::json!({ "mach": mach, "transfer": m })
+                    })
+                    .collect();
+                serde_json::Value::Array(per_mach)
+            })
+            .collect();
+        serde_json::json!({
+            "chordwise": p.chordwise,
+            "spanwise": p.spanwise,
+            "spacing": if p.spacing == 1 { "cosine" } else { "uniform" },
+            "supersonic_correction": if p.correction == 1 { "ackeret" } else { "none" },
+            "machs": p.machs,
+            "modes": n,
+            "rows": "modal forces (n), normal force, root bending moment, chordwise moment about the root leading edge",
+            "columns": "eta (n), eta_dot / V (n), rigid normalwash 1, x, y",
+            "fins": fins,
+        })
+    });
+    let loads: Vec<serde_json::Value> = a
+        .fin_loads
+        .iter()
+        .map(|w| {
+            let n = w.n_nodes as usize;
+            let per: Vec<&[f64]> = w.weights.chunks(n.max(1)).collect();
+            serde_json::json!({ "machs": w.machs, "nodes": n, "weights": per })
+        })
+        .collect();
+    serde_json::json!({
+        "artifact": "aerodynamics",
+        "estimated_body_table_csv": a.body_table_csv,
+        "estimated_fin_table_csv": a.fin_table_csv,
+        "fin_load_weights": loads,
+        "fin_panels": panels,
+    })
+}
+
+/// Every value of a flutter-boundary artifact.
+fn boundary_artifact_json(
+    b: &crate::analysis::flutter::margin::BoundaryArtifact,
+) -> serde_json::Value {
+    let na = b.altitudes.len().max(1);
+    let speeds: Vec<&[f64]> = b.speeds.chunks(na).collect();
+    serde_json::json!({
+        "artifact": "flutter boundary",
+        "machs": b.machs,
+        "altitudes": b.altitudes,
+        "densities": b.densities,
+        "flutter_speeds_by_mach": speeds,
+        "lower_bound": b.lower_bound,
+        "upper_bound": b.upper_bound,
+        "speed_ranges": b.speed_ranges,
+        "modes": b.mode_names,
+        "omega": b.omega,
+        "fin_shear_modulus_span_root_tip_thickness": b.fin,
+    })
+}
+
+/// An indented `key: value` listing of a JSON tree (arrays of numbers on one line, a
+/// multi-line string indented below its key).
+fn human_tree(v: &serde_json::Value, depth: usize) -> String {
+    use serde_json::Value;
+    let inline = |x: &Value| -> Option<String> {
+        match x {
+            Value::String(t) if !t.contains('\n') => Some(t.clone()),
+            Value::Array(a) if a.iter().all(Value::is_number) => Some(x.to_string()),
+            Value::Array(_) | Value::Object(_) | Value::String(_) => None,
+            _ => Some(x.to_string()),
+        }
+    };
+    let pad = "  ".repeat(depth);
+    let mut out = String::new();
+    let mut entry = |label: String, x: &Value| match (inline(x), x) {
+        (Some(l), _) => out += &format!("{pad}{label}: {l}\n"),
+        (None, Value::String(t)) => {
+            out += &format!("{pad}{label}:\n");
+            for l in t.lines() {
+                out += &format!("{pad}  {l}\n");
+            }
+        }
+        (None, _) => out += &format!("{pad}{label}:\n{}", human_tree(x, depth + 1)),
+    };
+    match v {
+        Value::Object(map) => map.iter().for_each(|(k, x)| entry(k.clone(), x)),
+        Value::Array(items) => items
+            .iter()
+            .enumerate()
+            .for_each(|(i, x)| entry(format!("[{i}]"), x)),
+        x => entry(String::new(), x),
+    }
+    out
 }
 
 /// `modes --export DIR`: one CSV per selected mode, node by node.
