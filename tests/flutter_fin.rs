@@ -10,6 +10,7 @@ use flexflight::analysis::flutter::fin::{
 };
 use flexflight::analysis::flutter::pk::{PkSettings, k_method, pk_solve};
 use flexflight::check::{DiskLoader, check_files, ir};
+use flexflight::runtime::atmosphere::{Atmosphere, Standard1976};
 
 fn sphads1(sets: &[&str]) -> ir::Vehicle {
     let file = common::root().join("examples/thesis/section_6_5.vdl");
@@ -141,6 +142,63 @@ fn analyze_flutter_writes_the_vg_table_and_the_summary() {
         .parse()
         .unwrap();
     assert_eq!(last, largest);
+}
+
+/// `--match-point`: the flutter speed of the reported solution is its own Mach's speed at the
+/// altitude, `V_F = M a(h)` to the iteration's tolerance (1e-4 in Mach), and the Mach moved
+/// from the scenario's (0.624: 200 m/s) to the matched one; with `--mach`, or without
+/// `--clamped`, it is refused (exit 2) and nothing is written.
+#[test]
+fn a_matched_point_flutters_at_its_own_mach() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("mp");
+    let o = flexflight()
+        .args(["analyze", "flutter"])
+        .arg(common::root().join("examples/thesis/section_6_5.vdl"))
+        .args(["--scenario", "subsonic_t06", "--clamped", "--modes", "4"])
+        .args(["--set", "fins.thickness=0.875 mm", "--match-point", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(stdout.contains("matched point: Mach"), "{stdout}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("flutter.json")).unwrap()).unwrap();
+    let vf = json["flutter"][0]["speed_m_s"].as_f64().unwrap();
+    let mp = &json["matched_point"];
+    let mach = mp["mach"].as_f64().unwrap();
+    let a = Standard1976::new().at(5000.0).unwrap().speed_of_sound;
+    assert!(
+        (vf / a - mach).abs() <= 1e-4,
+        "V_F/a {} against M {mach}",
+        vf / a
+    );
+    let tried = mp["machs_tried"].as_array().unwrap();
+    assert!(tried.len() >= 2 && tried.len() <= 6, "{tried:?}");
+    assert!((tried[0].as_f64().unwrap() - 200.0 / a).abs() < 1e-9);
+    assert!(
+        (mach - 200.0 / a).abs() > 1e-3,
+        "the Mach did not move: {mach}"
+    );
+    for extra in [&["--clamped", "--mach", "0.6"][..], &[][..]] {
+        let bad = dir.path().join("bad");
+        let o = flexflight()
+            .args(["analyze", "flutter"])
+            .arg(common::root().join("examples/thesis/section_6_5.vdl"))
+            .args(["--scenario", "subsonic_t06", "--match-point"])
+            .args(extra)
+            .arg("--out")
+            .arg(&bad)
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2), "{extra:?}");
+        assert!(!bad.exists());
+    }
 }
 
 #[test]

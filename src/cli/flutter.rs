@@ -83,6 +83,10 @@ pub struct FlutterArgs {
     /// The target speed of --critical-thickness (default: the scenario's initial speed).
     #[arg(long)]
     pub target_speed: Option<String>,
+    /// Matched point (clamped fin): iterate the Mach number of the aerodynamics until the
+    /// flutter speed is that Mach's speed at the altitude (`V_F(M) = M a(h)`).
+    #[arg(long, conflicts_with_all = ["mach", "critical_thickness"])]
+    pub match_point: bool,
     /// Directory for vg.csv and flutter.json (written only when the solution succeeds).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -115,6 +119,81 @@ pub struct FinFlutter {
     /// The free vehicle's case (`None`: the clamped fin). Then `modes` is fin 0's spline
     /// container of the vehicle's coordinates (names and vacuum frequencies, rigid at 0).
     pub free_vehicle: Option<FreeVehicle>,
+    /// The `--match-point` iteration that chose `condition.mach`.
+    pub matched: Option<MatchedPoint>,
+}
+
+/// A matched flutter point: the Mach numbers tried, in order (the last is the solution's),
+/// and the final residual `V_F(M)/a - M`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MatchedPoint {
+    pub machs: Vec<f64>,
+    pub residual: f64,
+}
+
+/// Tolerance of the matched point on `V_F(M)/a - M` (Mach units).
+pub const MATCH_TOL: f64 = 1e-4;
+/// Largest number of p-k solutions of the matched-point iteration.
+pub const MATCH_MAX: usize = 12;
+
+/// Why no matched point was found.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MatchError<E> {
+    /// A p-k solution failed (e.g. a transonic Mach: `FinFlutterError::Transonic`).
+    Solve(E),
+    /// No flutter point in the speed range at this Mach.
+    NoFlutter { mach: f64 },
+    /// Not converged in [`MATCH_MAX`] solutions; the Mach numbers tried.
+    NotConverged { machs: Vec<f64> },
+}
+
+/// The matched point of a flutter speed `v_f(M)` at the speed of sound `a`: the root of
+/// `g(M) = v_f(M)/a - M` by the secant method, started at `m0` and at the fixed-point step
+/// `v_f(m0)/a` (the flutter speed depends weakly on the Mach number through the
+/// compressibility of the aerodynamics, so `g` is close to `c - M` and the secant converges
+/// in a few solutions). `v_f` returns `None` when the sweep holds no flutter point, with the
+/// solution it made (`T`); the last solution is returned with the point.
+pub fn match_point<E, T>(
+    mut v_f: impl FnMut(f64) -> Result<(Option<f64>, T), E>,
+    m0: f64,
+    a: f64,
+) -> Result<(MatchedPoint, T), MatchError<E>> {
+    let mut g = |m: f64| -> Result<(f64, T), MatchError<E>> {
+        match v_f(m).map_err(MatchError::Solve)? {
+            (Some(v), t) => Ok((v / a - m, t)),
+            (None, _) => Err(MatchError::NoFlutter { mach: m }),
+        }
+    };
+    let mut machs = vec![m0];
+    let (mut g0, t) = g(m0)?;
+    if g0.abs() <= MATCH_TOL {
+        return Ok((
+            MatchedPoint {
+                machs,
+                residual: g0,
+            },
+            t,
+        ));
+    }
+    let mut m1 = m0 + g0;
+    loop {
+        machs.push(m1);
+        let (g1, t) = g(m1)?;
+        if g1.abs() <= MATCH_TOL {
+            return Ok((
+                MatchedPoint {
+                    machs,
+                    residual: g1,
+                },
+                t,
+            ));
+        }
+        if machs.len() >= MATCH_MAX || g1 == g0 {
+            return Err(MatchError::NotConverged { machs });
+        }
+        let m2 = m1 - g1 * (m1 - machs[machs.len() - 2]) / (g1 - g0);
+        (g0, m1) = (g1, m2.max(0.0));
+    }
 }
 
 /// What the free-vehicle case adds to the report.
@@ -248,6 +327,10 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
         );
         return EXIT_USAGE;
     }
+    if !a.clamped && a.match_point {
+        eprintln!("error: --match-point is implemented for the clamped fin only: pass --clamped");
+        return EXIT_USAGE;
+    }
     if a.modes == 0 {
         eprintln!("error: --modes must be at least 1");
         return EXIT_USAGE;
@@ -366,7 +449,43 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
             }
         }
     };
-    let result = solve_clamped(&sc.vehicle, condition, &speeds, a.modes, a.aero.model());
+    let result = if a.match_point {
+        // Each Mach of the iteration is one p-k solution; the last one is the answer.
+        let found = match_point(
+            |m| {
+                let c = Condition {
+                    mach: m,
+                    ..condition
+                };
+                let r = solve_clamped(&sc.vehicle, c, &speeds, a.modes, a.aero.model())?;
+                Ok((r.solution.critical().map(|f| f.speed), r))
+            },
+            mach,
+            air.speed_of_sound,
+        );
+        match found {
+            Ok((mp, mut r)) => {
+                r.matched = Some(mp);
+                Ok(r)
+            }
+            Err(MatchError::Solve(e)) => Err(e),
+            Err(MatchError::NoFlutter { mach: m }) => {
+                eprintln!(
+                    "error: no matched point: no flutter point at Mach {m:.4} up to {:.1} m/s (the largest speed tried)",
+                    speeds.iter().copied().fold(0.0, f64::max)
+                );
+                return EXIT_DIAGNOSTICS;
+            }
+            Err(MatchError::NotConverged { machs }) => {
+                eprintln!(
+                    "error: no matched point in {MATCH_MAX} p-k solutions (Machs tried: {machs:.4?})"
+                );
+                return EXIT_DIAGNOSTICS;
+            }
+        }
+    } else {
+        solve_clamped(&sc.vehicle, condition, &speeds, a.modes, a.aero.model())
+    };
     let mut r = match result {
         Ok(r) => r,
         Err(e) => {
@@ -526,6 +645,7 @@ pub fn solve_free(
         solution,
         truncated,
         critical_thickness: None,
+        matched: None,
         free_vehicle: Some(FreeVehicle {
             n_elastic,
             fins,
@@ -593,6 +713,7 @@ pub fn solve_clamped(
         truncated,
         critical_thickness: None,
         free_vehicle: None,
+        matched: None,
     })
 }
 
@@ -708,6 +829,17 @@ pub fn report_text(r: &FinFlutter) -> String {
             let _ = writeln!(t, "{div}: none");
         }
     }
+    if let Some(mp) = &r.matched {
+        let _ = writeln!(
+            t,
+            "matched point: Mach {:.4} at {:.0} m (V_F / a - M = {:.1e}; {} p-k solutions, Machs {:.4?})",
+            r.condition.mach,
+            r.condition.altitude,
+            mp.residual,
+            mp.machs.len(),
+            mp.machs
+        );
+    }
     match &r.critical_thickness {
         Some((
             CriticalThickness::Found {
@@ -819,6 +951,9 @@ pub fn summary_json(r: &FinFlutter) -> serde_json::Value {
                 "thickest": {"thickness_m": thickest.0, "flutter_speed_m_s": if thickest.1.is_finite() { Some(thickest.1) } else { None }},
             }),
         }),
+        "matched_point": r.matched.as_ref().map(|mp| serde_json::json!({
+            "mach": r.condition.mach, "machs_tried": mp.machs, "residual": mp.residual
+        })),
         "unstable_at_lowest_speed": s.unstable_at_start,
         "divergence": s.divergence.as_ref().map(|d| serde_json::json!({
             "speed_m_s": d.speed, "dynamic_pressure_pa": d.q, "mode": d.name
@@ -1234,6 +1369,49 @@ pub fn flight_margin(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The matched point of `V_F(M) = 300 - 50 M` m/s with `a = 300` m/s is `M = 6/7`
+    /// (the secant is exact on a linear `g` after the fixed-point start); the iteration
+    /// reports the Machs it solved at, passes a solver error through, and says when a Mach
+    /// has no flutter point or when it does not converge.
+    #[test]
+    fn the_matched_point_iteration() {
+        let mut calls = 0;
+        let (mp, solved) = match_point::<(), usize>(
+            |m| {
+                calls += 1;
+                Ok((Some(300.0 - 50.0 * m), calls))
+            },
+            0.5,
+            300.0,
+        )
+        .unwrap();
+        assert_eq!(solved, calls);
+        let last = *mp.machs.last().unwrap();
+        assert!((last - 6.0 / 7.0).abs() < 1e-12, "{last}");
+        assert_eq!(mp.machs.len(), calls);
+        assert_eq!(mp.machs.len(), 3);
+        assert!(mp.residual.abs() <= MATCH_TOL);
+        assert_eq!(
+            match_point(|_| Err::<(Option<f64>, ()), _>("transonic"), 0.5, 300.0),
+            Err(MatchError::Solve("transonic"))
+        );
+        assert_eq!(
+            match_point::<(), ()>(|_| Ok((None, ())), 0.5, 300.0),
+            Err(MatchError::NoFlutter { mach: 0.5 })
+        );
+        // A flutter speed that jumps with the Mach (g = ±0.2 alternately): never within tol.
+        let mut flip = 1.0;
+        let r = match_point::<(), ()>(
+            |m| {
+                flip = -flip;
+                Ok((Some(300.0 * (m + 0.2 * flip)), ()))
+            },
+            0.5,
+            300.0,
+        );
+        assert!(matches!(r, Err(MatchError::NotConverged { .. })), "{r:?}");
+    }
 
     /// The root of a linear `V_F(t)` is found, and the reported number of p-k solutions is the
     /// number of calls made (the scan stops at the first bracket).
