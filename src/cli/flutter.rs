@@ -504,6 +504,32 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
     finish(a, &r, term)
 }
 
+/// The p-k settings of a sweep over `speeds`: reduced frequencies up to 1.2 times the
+/// highest structural frequency `w_max` at the lowest speed (reference semichord `b_ref`),
+/// 40 of them; for the unsteady lattice, enough chordwise panels on `layout`'s fin for that
+/// reduced frequency (the box-size rule), up to [`MAX_CHORDWISE`] (beyond it the lattice
+/// check refuses the case).
+fn sweep_settings(
+    aero: FinAero,
+    speeds: &[f64],
+    w_max: f64,
+    b_ref: f64,
+    layout: &FinModes,
+) -> FinFlutterSettings {
+    let mut settings = FinFlutterSettings {
+        aero,
+        ..FinFlutterSettings::default()
+    };
+    let v_min = speeds.iter().copied().fold(f64::INFINITY, f64::min);
+    settings.k_max = (1.2 * w_max * b_ref / v_min).max(0.1);
+    settings.k_count = 40;
+    if aero == FinAero::Unsteady {
+        settings.chordwise =
+            chordwise_for(layout, settings.k_max, settings.chordwise).min(MAX_CHORDWISE);
+    }
+    settings
+}
+
 /// Writes the outputs (only after a successful solution) and prints the summary.
 fn finish(a: &FlutterArgs, r: &FinFlutter, _term: Terminal) -> u8 {
     let format = a.common.output.format;
@@ -598,18 +624,8 @@ pub fn solve_free(
     scenario_speed: f64,
 ) -> Result<FinFlutter, FinFlutterError> {
     let coords = crate::analysis::flutter::vehicle::vehicle_coordinates(variant)?;
-    let mut settings = FinFlutterSettings {
-        aero,
-        ..FinFlutterSettings::default()
-    };
-    let v_min = speeds.iter().copied().fold(f64::INFINITY, f64::min);
     let w_max = coords.omega_elastic.iter().copied().fold(0.0, f64::max);
-    settings.k_max = (1.2 * w_max * coords.b_ref() / v_min).max(0.1);
-    settings.k_count = 40;
-    if aero == FinAero::Unsteady {
-        settings.chordwise =
-            chordwise_for(&coords.fins[0], settings.k_max, settings.chordwise).min(MAX_CHORDWISE);
-    }
+    let settings = sweep_settings(aero, speeds, w_max, coords.b_ref(), &coords.fins[0]);
     let VehicleFlutter {
         coordinates,
         solution,
@@ -682,20 +698,8 @@ pub fn solve_clamped(
     aero: FinAero,
 ) -> Result<FinFlutter, FinFlutterError> {
     let modes = clamped_fin_modes(v, n_modes)?;
-    let mut settings = FinFlutterSettings {
-        aero,
-        ..FinFlutterSettings::default()
-    };
-    let v_min = speeds.iter().copied().fold(f64::INFINITY, f64::min);
     let w_max = modes.omega.iter().copied().fold(0.0, f64::max);
-    settings.k_max = (1.2 * w_max * modes.b_ref() / v_min).max(0.1);
-    settings.k_count = 40;
-    if aero == FinAero::Unsteady {
-        // Enough chordwise panels for the highest reduced frequency (the box-size rule), up
-        // to MAX_CHORDWISE; beyond it the lattice check refuses the case.
-        settings.chordwise =
-            chordwise_for(&modes, settings.k_max, settings.chordwise).min(MAX_CHORDWISE);
-    }
+    let settings = sweep_settings(aero, speeds, w_max, modes.b_ref(), &modes);
     let lattice: Lattice = fin_lattice(&modes, &settings)?;
     let (solution, truncated) = solve_at(
         &modes,
