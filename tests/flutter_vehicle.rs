@@ -329,6 +329,43 @@ fn analyze_flutter_of_the_free_vehicle_writes_its_tables() {
     assert_eq!(csv.lines().count(), 1 + 41 * n);
 }
 
+/// `--match-point` on the free vehicle: the reported flutter speed is its own Mach's speed
+/// at 5 km (`V_F = M a` to the iteration's 1e-4), started from the scenario's Mach.
+#[test]
+fn the_free_vehicle_matched_point_flutters_at_its_own_mach() {
+    use flexflight::runtime::atmosphere::{Atmosphere, Standard1976};
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("fv");
+    let o = flexflight()
+        .args(["analyze", "flutter"])
+        .arg(common::root().join("examples/thesis/section_6_5.vdl"))
+        .args(["--scenario", "subsonic_t06", "--aero", "quasi-steady"])
+        .args(["--speeds", "100m/s:300m/s:41", "--match-point"])
+        .args(["--set", "fins.thickness=0.875 mm", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("flutter.json")).unwrap()).unwrap();
+    assert_eq!(json["case"], "free_vehicle");
+    let vf = json["flutter"][0]["speed_m_s"].as_f64().unwrap();
+    let mach = json["matched_point"]["mach"].as_f64().unwrap();
+    let a = Standard1976::new().at(5000.0).unwrap().speed_of_sound;
+    assert!(
+        (vf / a - mach).abs() <= 1e-4,
+        "V_F/a {} against M {mach}",
+        vf / a
+    );
+    let tried = json["matched_point"]["machs_tried"].as_array().unwrap();
+    assert!((tried[0].as_f64().unwrap() - 200.0 / a).abs() < 1e-9);
+}
+
 #[test]
 fn the_free_vehicle_refuses_a_transonic_mach_and_critical_thickness() {
     let dir = tempfile::tempdir().unwrap();

@@ -83,8 +83,8 @@ pub struct FlutterArgs {
     /// The target speed of --critical-thickness (default: the scenario's initial speed).
     #[arg(long)]
     pub target_speed: Option<String>,
-    /// Matched point (clamped fin): iterate the Mach number of the aerodynamics until the
-    /// flutter speed is that Mach's speed at the altitude (`V_F(M) = M a(h)`).
+    /// Matched point: iterate the Mach number of the aerodynamics until the flutter speed is
+    /// that Mach's speed at the altitude (`V_F(M) = M a(h)`).
     #[arg(long, conflicts_with_all = ["mach", "critical_thickness"])]
     pub match_point: bool,
     /// Directory for vg.csv and flutter.json (written only when the solution succeeds).
@@ -327,10 +327,6 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
         );
         return EXIT_USAGE;
     }
-    if !a.clamped && a.match_point {
-        eprintln!("error: --match-point is implemented for the clamped fin only: pass --clamped");
-        return EXIT_USAGE;
-    }
     if a.modes == 0 {
         eprintln!("error: --modes must be at least 1");
         return EXIT_USAGE;
@@ -450,38 +446,11 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
         }
     };
     let result = if a.match_point {
-        // Each Mach of the iteration is one p-k solution; the last one is the answer.
-        let found = match_point(
-            |m| {
-                let c = Condition {
-                    mach: m,
-                    ..condition
-                };
-                let r = solve_clamped(&sc.vehicle, c, &speeds, a.modes, a.aero.model())?;
-                Ok((r.solution.critical().map(|f| f.speed), r))
-            },
-            mach,
-            air.speed_of_sound,
-        );
-        match found {
-            Ok((mp, mut r)) => {
-                r.matched = Some(mp);
-                Ok(r)
-            }
-            Err(MatchError::Solve(e)) => Err(e),
-            Err(MatchError::NoFlutter { mach: m }) => {
-                eprintln!(
-                    "error: no matched point: no flutter point at Mach {m:.4} up to {:.1} m/s (the largest speed tried)",
-                    speeds.iter().copied().fold(0.0, f64::max)
-                );
-                return EXIT_DIAGNOSTICS;
-            }
-            Err(MatchError::NotConverged { machs }) => {
-                eprintln!(
-                    "error: no matched point in {MATCH_MAX} p-k solutions (Machs tried: {machs:.4?})"
-                );
-                return EXIT_DIAGNOSTICS;
-            }
+        match solve_matched(condition, &speeds, |c| {
+            solve_clamped(&sc.vehicle, c, &speeds, a.modes, a.aero.model())
+        }) {
+            Ok(r) => r,
+            Err(code) => return code,
         }
     } else {
         solve_clamped(&sc.vehicle, condition, &speeds, a.modes, a.aero.model())
@@ -502,6 +471,49 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
     };
     r.critical_thickness = critical;
     finish(a, &r, term)
+}
+
+/// `--match-point`: [`match_point`] from `condition`'s Mach, each Mach one solution by
+/// `solve` (the clamped fin or the free vehicle); the last solution carries the point. A
+/// solver error (a transonic Mach of the iteration) is returned as the unmatched solve's
+/// would be; no flutter point or no convergence is printed and ends the command (the exit
+/// code in `Err`).
+fn solve_matched(
+    condition: Condition,
+    speeds: &[f64],
+    mut solve: impl FnMut(Condition) -> Result<FinFlutter, FinFlutterError>,
+) -> Result<Result<FinFlutter, FinFlutterError>, u8> {
+    let found = match_point(
+        |m| {
+            let r = solve(Condition {
+                mach: m,
+                ..condition
+            })?;
+            Ok((r.solution.critical().map(|f| f.speed), r))
+        },
+        condition.mach,
+        condition.speed_of_sound,
+    );
+    match found {
+        Ok((mp, mut r)) => {
+            r.matched = Some(mp);
+            Ok(Ok(r))
+        }
+        Err(MatchError::Solve(e)) => Ok(Err(e)),
+        Err(MatchError::NoFlutter { mach }) => {
+            eprintln!(
+                "error: no matched point: no flutter point at Mach {mach:.4} up to {:.1} m/s (the largest speed tried)",
+                speeds.iter().copied().fold(0.0, f64::max)
+            );
+            Err(EXIT_DIAGNOSTICS)
+        }
+        Err(MatchError::NotConverged { machs }) => {
+            eprintln!(
+                "error: no matched point in {MATCH_MAX} p-k solutions (Machs tried: {machs:.4?})"
+            );
+            Err(EXIT_DIAGNOSTICS)
+        }
+    }
 }
 
 /// The p-k settings of a sweep over `speeds`: reduced frequencies up to 1.2 times the
@@ -598,7 +610,17 @@ fn cmd_free(
         scenario: sc.clone(),
         compiled: outcome.compiled,
     };
-    match solve_free(&variant, condition, speeds, a.aero.model(), scenario_speed) {
+    let result = if a.match_point {
+        match solve_matched(condition, speeds, |c| {
+            solve_free(&variant, c, speeds, a.aero.model(), scenario_speed)
+        }) {
+            Ok(r) => r,
+            Err(code) => return code,
+        }
+    } else {
+        solve_free(&variant, condition, speeds, a.aero.model(), scenario_speed)
+    };
+    match result {
         Ok(r) => finish(a, &r, term),
         Err(e) => {
             let mut d = Diagnostic::error(flutter_code(&e), format!("flutter: {e}"))
