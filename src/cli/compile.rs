@@ -88,7 +88,7 @@ pub fn cache_key(v: &Vehicle) -> std::io::Result<CacheKey> {
     Ok(b.finish())
 }
 
-mod erased {
+pub(crate) mod erased {
     use crate::artifact::{CacheKeyBuilder, canonical};
     /// Add anything serde can serialise to a key, without naming its type.
     pub trait Ser {

@@ -458,13 +458,7 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
     let mut r = match result {
         Ok(r) => r,
         Err(e) => {
-            let mut d = Diagnostic::error(flutter_code(&e), format!("flutter: {e}"))
-                .label(sc.name.span, "in this scenario");
-            if let FinFlutterError::Panel(PanelError::TooCoarse { .. }) = e {
-                d = d.with_help(format!(
-                    "the lattice has at most {MAX_CHORDWISE} chordwise panels: raise the lowest speed of --speeds, use fewer --modes, or --aero quasi-steady"
-                ));
-            }
+            let d = flutter_diagnostic(&e, &sc, ", use fewer --modes");
             emit(&[d], &checked.sources, format, term);
             return EXIT_DIAGNOSTICS;
         }
@@ -542,6 +536,20 @@ fn sweep_settings(
     settings
 }
 
+/// The diagnostic of a failed flutter solution, labelled at the scenario; a lattice too
+/// coarse for the sweep gets the remedies (`more`: the case's own, e.g. `, use fewer
+/// --modes`).
+fn flutter_diagnostic(e: &FinFlutterError, sc: &ir::Scenario, more: &str) -> Diagnostic {
+    let d = Diagnostic::error(flutter_code(e), format!("flutter: {e}"))
+        .label(sc.name.span, "in this scenario");
+    match e {
+        FinFlutterError::Panel(PanelError::TooCoarse { .. }) => d.with_help(format!(
+            "the lattice has at most {MAX_CHORDWISE} chordwise panels: raise the lowest speed of --speeds{more}, or --aero quasi-steady"
+        )),
+        _ => d,
+    }
+}
+
 /// Writes the outputs (only after a successful solution) and prints the summary.
 fn finish(a: &FlutterArgs, r: &FinFlutter, _term: Terminal) -> u8 {
     let format = a.common.output.format;
@@ -574,9 +582,7 @@ fn cmd_free(
 ) -> u8 {
     let format = a.common.output.format;
     let refuse = |e: &FinFlutterError, sources| {
-        let d = Diagnostic::error(flutter_code(e), format!("flutter: {e}"))
-            .label(sc.name.span, "in this scenario");
-        emit(&[d], sources, format, term);
+        emit(&[flutter_diagnostic(e, sc, "")], sources, format, term);
         EXIT_DIAGNOSTICS
     };
     // Refusals that need no structure come before the compile.
@@ -623,14 +629,12 @@ fn cmd_free(
     match result {
         Ok(r) => finish(a, &r, term),
         Err(e) => {
-            let mut d = Diagnostic::error(flutter_code(&e), format!("flutter: {e}"))
-                .label(sc.name.span, "in this scenario");
-            if let FinFlutterError::Panel(PanelError::TooCoarse { .. }) = e {
-                d = d.with_help(format!(
-                    "the lattice has at most {MAX_CHORDWISE} chordwise panels: raise the lowest speed of --speeds, or --aero quasi-steady"
-                ));
-            }
-            emit(&[d], &checked.sources, format, term);
+            emit(
+                &[flutter_diagnostic(&e, sc, "")],
+                &checked.sources,
+                format,
+                term,
+            );
             EXIT_DIAGNOSTICS
         }
     }
@@ -1053,7 +1057,7 @@ pub const MARGIN_AERO: FinAero = FinAero::Unsteady;
 /// to shape the clamped fin.
 pub fn boundary_key(v: &ir::Vehicle, spec: &BoundarySpec) -> std::io::Result<CacheKey> {
     use crate::artifact::ArtifactPayload;
-    let canon = |b: &mut CacheKeyBuilder, label: &str, x: &dyn erased::Ser| {
+    let canon = |b: &mut CacheKeyBuilder, label: &str, x: &dyn super::compile::erased::Ser| {
         x.add_to(b, label).map_err(std::io::Error::other)
     };
     let mut b = CacheKeyBuilder::new("flutter-boundary");
@@ -1083,19 +1087,6 @@ pub fn boundary_key(v: &ir::Vehicle, spec: &BoundarySpec) -> std::io::Result<Cac
     }
     canon(&mut b, "spec", spec)?;
     Ok(b.finish())
-}
-
-mod erased {
-    use crate::artifact::{CacheKeyBuilder, canonical};
-    /// Add anything serde can serialise to a key, without naming its type.
-    pub trait Ser {
-        fn add_to(&self, b: &mut CacheKeyBuilder, label: &str) -> Result<(), canonical::Error>;
-    }
-    impl<T: serde::Serialize> Ser for T {
-        fn add_to(&self, b: &mut CacheKeyBuilder, label: &str) -> Result<(), canonical::Error> {
-            b.canonical(label, self).map(|_| ())
-        }
-    }
 }
 
 /// A vehicle's flutter boundary through the cache.
