@@ -365,7 +365,8 @@ pub fn cmd_inspect(path: &Path, format: Format) -> u8 {
 
 /// `inspect` of a vehicle's aerodynamics artifact (estimated tables, fin load weights, fin
 /// panel matrices: [`crate::plan::aero::AeroArtifact`]) or of its flutter boundary
-/// ([`crate::analysis::flutter::margin::BoundaryArtifact`]); None when the file is neither.
+/// ([`crate::analysis::flutter::margin::BoundaryArtifact`]) or of a clamped fin's GAF table
+/// ([`super::gaf_cache::GafArtifact`]); None when the file is none of them.
 fn inspect_other(path: &Path, key: &CacheKey, format: Format) -> Option<u8> {
     use crate::analysis::flutter::margin::BoundaryArtifact;
     use crate::plan::aero::AeroArtifact;
@@ -381,6 +382,11 @@ fn inspect_other(path: &Path, key: &CacheKey, format: Format) -> Option<u8> {
     } else if let Ok(art) = artifact::load::<BoundaryArtifact>(path, key) {
         match rkyv::deserialize::<BoundaryArtifact, rkyv::rancor::Error>(art.get()) {
             Ok(b) => boundary_artifact_json(&b),
+            Err(e) => return Some(fail(&e)),
+        }
+    } else if let Ok(art) = artifact::load::<super::gaf_cache::GafArtifact>(path, key) {
+        match rkyv::deserialize::<super::gaf_cache::GafArtifact, rkyv::rancor::Error>(art.get()) {
+            Ok(g) => gaf_artifact_json(&g),
             Err(e) => return Some(fail(&e)),
         }
     } else {
@@ -450,6 +456,40 @@ fn aero_artifact_json(a: &crate::plan::aero::AeroArtifact) -> serde_json::Value 
         "estimated_fin_table_csv": a.fin_table_csv,
         "fin_load_weights": loads,
         "fin_panels": panels,
+    })
+}
+
+/// Every value of a clamped fin's GAF table: per reduced frequency the `n x n` matrix
+/// `Q(k)` as rows of `[re, im]` pairs.
+fn gaf_artifact_json(g: &super::gaf_cache::GafArtifact) -> serde_json::Value {
+    let n = (g.order as usize).max(1);
+    let tables: Vec<serde_json::Value> =
+        g.ks.iter()
+            .enumerate()
+            .map(|(i, k)| {
+                let rows: Vec<Vec<[f64; 2]>> = (0..n)
+                    .map(|r| {
+                        (0..n)
+                            .map(|c| {
+                                let j = i * n * n + r * n + c;
+                                [
+                                    g.re.get(j).copied().unwrap_or(f64::NAN),
+                                    g.im.get(j).copied().unwrap_or(f64::NAN),
+                                ]
+                            })
+                            .collect()
+                    })
+                    .collect();
+                serde_json::json!({ "k": k, "q": rows })
+            })
+            .collect();
+    serde_json::json!({
+        "artifact": "clamped-fin generalised aerodynamic forces",
+        "mach": g.mach,
+        "reference_semichord_m": g.b_ref,
+        "modes": g.mode_names,
+        "omega_rad_s": g.omega,
+        "q_of_k": tables,
     })
 }
 

@@ -10,7 +10,7 @@ use clap::{Args, ValueEnum};
 
 use crate::analysis::flutter::fin::{
     FinAero, FinFlutterError, FinFlutterSettings, FinModes, chordwise_for, clamped_fin_modes,
-    fin_lattice, solve_at,
+    fin_lattice, solve_at, solve_with,
 };
 use crate::analysis::flutter::margin::{
     BOUNDARY_REVISION, Boundary, BoundaryArtifact, BoundaryFin, BoundarySpec, solve_boundary,
@@ -121,6 +121,19 @@ pub struct FinFlutter {
     pub free_vehicle: Option<FreeVehicle>,
     /// The `--match-point` iteration that chose `condition.mach`.
     pub matched: Option<MatchedPoint>,
+    /// The clamped fin's GAF table through the cache (`None`: the free vehicle, or no cache).
+    pub gaf_cache: Option<GafCacheUse>,
+}
+
+/// How a clamped-fin solution got its GAF table ([`super::gaf_cache`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct GafCacheUse {
+    /// The entry's key (hex), `None` when no key could be made.
+    pub hash: Option<String>,
+    /// `hit`, `miss` or `rebuilt`.
+    pub outcome: &'static str,
+    /// Why the table could not be stored or looked up, if so.
+    pub warning: Option<String>,
 }
 
 /// A matched flutter point: the Mach numbers tried, in order (the last is the solution's),
@@ -409,6 +422,8 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
         let v_scn = scenario_speed(&sc, air.speed_of_sound);
         return cmd_free(a, &mut checked, &sc, condition, &speeds, v_scn, term);
     }
+    // The GAF tables of every solution below go through the artifact cache.
+    let cache = Cache::resolve(a.cache.cache_dir.as_deref());
     let critical = match crit.flatten() {
         None => None,
         Some(range) => {
@@ -426,7 +441,14 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
                 if let Some(f) = v.fins.as_mut() {
                     f.thickness.value = t;
                 }
-                let r = solve_clamped(&v, condition, &speeds, a.modes, a.aero.model())?;
+                let r = solve_clamped(
+                    &v,
+                    condition,
+                    &speeds,
+                    a.modes,
+                    a.aero.model(),
+                    Some(&cache),
+                )?;
                 // Unstable at the lowest speed: flutter at or below it (a bound, below the
                 // target whenever the target is in the sweep).
                 if !r.solution.unstable_at_start.is_empty() {
@@ -447,13 +469,27 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
     };
     let result = if a.match_point {
         match solve_matched(condition, &speeds, |c| {
-            solve_clamped(&sc.vehicle, c, &speeds, a.modes, a.aero.model())
+            solve_clamped(
+                &sc.vehicle,
+                c,
+                &speeds,
+                a.modes,
+                a.aero.model(),
+                Some(&cache),
+            )
         }) {
             Ok(r) => r,
             Err(code) => return code,
         }
     } else {
-        solve_clamped(&sc.vehicle, condition, &speeds, a.modes, a.aero.model())
+        solve_clamped(
+            &sc.vehicle,
+            condition,
+            &speeds,
+            a.modes,
+            a.aero.model(),
+            Some(&cache),
+        )
     };
     let mut r = match result {
         Ok(r) => r,
@@ -553,6 +589,9 @@ fn flutter_diagnostic(e: &FinFlutterError, sc: &ir::Scenario, more: &str) -> Dia
 /// Writes the outputs (only after a successful solution) and prints the summary.
 fn finish(a: &FlutterArgs, r: &FinFlutter, _term: Terminal) -> u8 {
     let format = a.common.output.format;
+    if let Some(w) = r.gaf_cache.as_ref().and_then(|g| g.warning.as_ref()) {
+        eprintln!("warning: {w}");
+    }
     if let Some(out) = &a.out {
         if let Err(e) = write_outputs(out, r) {
             eprintln!("error: cannot write `{}`: {e}", out.display());
@@ -688,6 +727,7 @@ pub fn solve_free(
         truncated,
         critical_thickness: None,
         matched: None,
+        gaf_cache: None,
         free_vehicle: Some(FreeVehicle {
             n_elastic,
             fins,
@@ -696,6 +736,15 @@ pub fn solve_free(
             scenario_speed,
         }),
     })
+}
+
+/// `hit`, `miss` or `rebuilt`.
+fn outcome_name(o: &CacheOutcome) -> &'static str {
+    match o {
+        CacheOutcome::Hit => "hit",
+        CacheOutcome::Miss => "miss",
+        CacheOutcome::Rebuilt { .. } => "rebuilt",
+    }
 }
 
 fn flutter_code(e: &FinFlutterError) -> &'static str {
@@ -722,20 +771,44 @@ pub fn solve_clamped(
     speeds: &[f64],
     n_modes: usize,
     aero: FinAero,
+    cache: Option<&Cache>,
 ) -> Result<FinFlutter, FinFlutterError> {
     let modes = clamped_fin_modes(v, n_modes)?;
     let w_max = modes.omega.iter().copied().fold(0.0, f64::max);
     let settings = sweep_settings(aero, speeds, w_max, modes.b_ref(), &modes);
     let lattice: Lattice = fin_lattice(&modes, &settings)?;
-    let (solution, truncated) = solve_at(
-        &modes,
-        &lattice,
-        condition.mach,
-        condition.density,
-        speeds,
-        &settings,
-    )?;
+    let mut gaf_cache = None;
+    let (solution, truncated) = match cache {
+        None => solve_at(
+            &modes,
+            &lattice,
+            condition.mach,
+            condition.density,
+            speeds,
+            &settings,
+        )?,
+        Some(cache) => {
+            let c = super::gaf_cache::cached_gaf_table(
+                v,
+                &modes,
+                &lattice,
+                condition.mach,
+                &settings,
+                cache,
+            )?;
+            gaf_cache = Some(GafCacheUse {
+                hash: c.key.map(|k| k.to_hex()),
+                outcome: outcome_name(&c.outcome),
+                warning: match &c.outcome {
+                    CacheOutcome::Rebuilt { .. } => Some(format!("GAF table: {}", c.outcome)),
+                    _ => c.warning,
+                },
+            });
+            solve_with(&modes, &c.table, condition.density, speeds)?
+        }
+    };
     Ok(FinFlutter {
+        gaf_cache,
         modes,
         condition,
         aero,
@@ -789,6 +862,17 @@ pub fn report_text(r: &FinFlutter) -> String {
         c.density,
         c.speed_of_sound
     );
+    if let Some(g) = &r.gaf_cache {
+        let _ = writeln!(
+            t,
+            "generalised aerodynamic forces Q(k): {}",
+            match g.outcome {
+                "hit" => "read from the cache",
+                "rebuilt" => "built (the cache entry was invalid) and stored",
+                _ => "built and stored in the cache",
+            }
+        );
+    }
     let _ = writeln!(
         t,
         "{}",
@@ -989,6 +1073,9 @@ pub fn summary_json(r: &FinFlutter) -> serde_json::Value {
             "speed_m_s": d.speed, "dynamic_pressure_pa": d.q, "mode": d.name
         })),
         "tn4197": { "martin": tn(Tn4197Form::Martin), "peak_of_flight_291": tn(Tn4197Form::PeakOfFlight291) },
+        "gaf_cache": r.gaf_cache.as_ref().map(|g| serde_json::json!({
+            "outcome": g.outcome, "hash": g.hash, "warning": g.warning
+        })),
     })
 }
 
@@ -1057,17 +1144,31 @@ pub const MARGIN_AERO: FinAero = FinAero::Unsteady;
 /// to shape the clamped fin.
 pub fn boundary_key(v: &ir::Vehicle, spec: &BoundarySpec) -> std::io::Result<CacheKey> {
     use crate::artifact::ArtifactPayload;
-    let canon = |b: &mut CacheKeyBuilder, label: &str, x: &dyn super::compile::erased::Ser| {
-        x.add_to(b, label).map_err(std::io::Error::other)
-    };
     let mut b = CacheKeyBuilder::new("flutter-boundary");
     b.text("revision", BOUNDARY_REVISION);
     b.text("schema", BoundaryArtifact::SCHEMA);
+    hash_clamped_fin(&mut b, v)?;
+    canon(&mut b, "spec", spec)?;
+    Ok(b.finish())
+}
+
+fn canon(
+    b: &mut CacheKeyBuilder,
+    label: &str,
+    x: &dyn super::compile::erased::Ser,
+) -> std::io::Result<()> {
+    x.add_to(b, label).map_err(std::io::Error::other)
+}
+
+/// Adds to `b` exactly the inputs of `v` the clamped fin's modes are computed from
+/// ([`clamped_fin_modes`]): the `fins` block whole, the fin mesh density of `structure {
+/// generate { ... } }` and the structural pipeline revision (the doc of [`boundary_key`]).
+pub fn hash_clamped_fin(b: &mut CacheKeyBuilder, v: &ir::Vehicle) -> std::io::Result<()> {
     b.u64(
         "pipeline revision",
         u64::from(crate::structure::compile::PIPELINE_REVISION),
     );
-    canon(&mut b, "fins", &v.fins)?;
+    canon(b, "fins", &v.fins)?;
     match &v.structure {
         ir::Structure::Generate(g) => {
             let ir::Generate {
@@ -1079,14 +1180,13 @@ pub fn boundary_key(v: &ir::Vehicle, spec: &BoundarySpec) -> std::io::Result<Cac
                 point_masses: _,
                 distributed_masses: _,
             } = g;
-            canon(&mut b, "fin span elements", fin_span_elements)?;
-            canon(&mut b, "fin chord elements", fin_chord_elements)?;
+            canon(b, "fin span elements", fin_span_elements)?;
+            canon(b, "fin chord elements", fin_chord_elements)?;
         }
         // No clamped fin can be built (the margin says so); hashed whole all the same.
-        other => canon(&mut b, "structure", other)?,
+        other => canon(b, "structure", other)?,
     }
-    canon(&mut b, "spec", spec)?;
-    Ok(b.finish())
+    Ok(())
 }
 
 /// A vehicle's flutter boundary through the cache.
@@ -1377,7 +1477,7 @@ pub fn flight_margin(
             "largest_speed": b.largest_speed,
         },
         "boundary_hash": cached.key.map(|k| k.to_hex()),
-        "boundary_cache": match &cached.outcome { CacheOutcome::Hit => "hit", CacheOutcome::Miss => "miss", CacheOutcome::Rebuilt { .. } => "rebuilt" },
+        "boundary_cache": outcome_name(&cached.outcome),
         "seconds": started.elapsed().as_secs_f64(),
     });
     FlightMargin { json, csv, line }

@@ -8,6 +8,7 @@ pub mod analyze;
 pub mod compile;
 pub mod flutter;
 mod fmt;
+pub mod gaf_cache;
 pub mod linear;
 pub mod report;
 pub mod run;

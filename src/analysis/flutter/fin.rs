@@ -368,6 +368,19 @@ pub fn fin_lattice(
     )?)
 }
 
+/// The reduced frequencies of the GAF table of `settings`: `k_count` (at least 2) evenly
+/// spaced from 0 to `k_max`; two for the quasi-steady map, whose `Q(k) = Q(0) + i (k/b) Z_fᵀ K
+/// (-Z_c)` is exactly linear in `k` (the natural spline through two knots is that line).
+pub fn gaf_ks(settings: &FinFlutterSettings) -> Vec<f64> {
+    let count = match settings.aero {
+        FinAero::QuasiSteady => 2,
+        FinAero::Unsteady => settings.k_count.max(2),
+    };
+    (0..count)
+        .map(|i| settings.k_max * i as f64 / (count - 1) as f64)
+        .collect()
+}
+
 /// The tabulated `Q(k)` of the clamped fin at Mach `mach` (module doc).
 pub fn gaf_table(
     modes: &FinModes,
@@ -377,15 +390,7 @@ pub fn gaf_table(
 ) -> Result<GafTable, FinFlutterError> {
     let n = modes.order();
     let b = modes.b_ref();
-    // The quasi-steady `Q(k) = Q(0) + i (k/b) Z_fᵀ K (-Z_c)` is exactly linear in `k`, and
-    // the natural spline through two knots is that line: two knots are exact.
-    let count = match settings.aero {
-        FinAero::QuasiSteady => 2,
-        FinAero::Unsteady => settings.k_count.max(2),
-    };
-    let ks: Vec<f64> = (0..count)
-        .map(|i| settings.k_max * i as f64 / (count - 1) as f64)
-        .collect();
+    let ks = gaf_ks(settings);
     let values = match settings.aero {
         FinAero::QuasiSteady => {
             let map = quasi_steady_map(lattice, mach, settings.correction)?;
@@ -495,6 +500,17 @@ pub fn solve_at(
     settings: &FinFlutterSettings,
 ) -> Result<(PkSolution, Option<(f64, usize)>), FinFlutterError> {
     let gaf = gaf_table(modes, lattice, mach, settings)?;
+    solve_with(modes, &gaf, density, speeds)
+}
+
+/// The p-k solution of the clamped fin on a GAF table built already (by [`gaf_table`], or
+/// read from the cache) at density `density` over `speeds`.
+pub fn solve_with(
+    modes: &FinModes,
+    gaf: &GafTable,
+    density: f64,
+    speeds: &[f64],
+) -> Result<(PkSolution, Option<(f64, usize)>), FinFlutterError> {
     let model = flutter_model(modes, density);
-    Ok(pk_solve_cut(&model, &gaf, speeds, PkSettings::default())?)
+    Ok(pk_solve_cut(&model, gaf, speeds, PkSettings::default())?)
 }
