@@ -301,3 +301,36 @@ fn nastran_example_reproduces_reference_frequencies() {
         assert!(rel(*g, r) < 1e-8, "{g} vs {r}");
     }
 }
+
+/// A reader that goes away (`flexflight inspect X | head`) ends the command quietly with
+/// exit status 141 (128 + SIGPIPE, what a shell reports for a tool killed by the signal),
+/// not with the panic of `println!` on a broken pipe (exit 101 and a backtrace).
+#[test]
+fn a_closed_standard_output_ends_the_command_quietly() {
+    let dir = tempfile::tempdir().unwrap();
+    let bin = env!("CARGO_BIN_EXE_flexflight");
+    let o = std::process::Command::new(bin)
+        .arg("compile")
+        .arg(root("examples/thesis/section_6_5.vdl"))
+        .arg("--cache-dir")
+        .arg(dir.path())
+        .args(["--format", "json"])
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let artifact = json["artifact"].as_str().unwrap();
+    // Its JSON is about 0.7 MB, ten pipe buffers: the writes cannot all land before the read
+    // end is closed.
+    let mut child = std::process::Command::new(bin)
+        .args(["inspect", artifact, "--format", "json"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(o.status.code(), Some(141), "{stderr}");
+}

@@ -243,8 +243,8 @@ fn cmd_planar(a: &PlanarArgs, term: Terminal) -> u8 {
     match analyse_scenario(&l, a.model.kind()) {
         Ok(r) => {
             match format {
-                Format::Human => print!("{}", analysis_text(&l.vehicle, &r)),
-                Format::Json => println!(
+                Format::Human => out!("{}", analysis_text(&l.vehicle, &r)),
+                Format::Json => outln!(
                     "{}",
                     serde_json::to_string_pretty(&serde_json::json!({
                         "vehicle": l.vehicle.name,
@@ -637,8 +637,8 @@ fn cmd_map(a: &MapArgs, term: Terminal) -> u8 {
         a.out.display()
     );
     match format {
-        Format::Human => print!("{s}"),
-        Format::Json => println!(
+        Format::Human => out!("{s}"),
+        Format::Json => outln!(
             "{}",
             serde_json::to_string_pretty(&serde_json::json!({
                 "kind": kind,

@@ -285,10 +285,10 @@ pub fn summary_json(o: &CompileOutcome) -> serde_json::Value {
 pub fn print_outcome(o: &CompileOutcome, format: Format) {
     match format {
         Format::Human => {
-            print!("{}", summary_text(&o.compiled));
-            println!("artifact       {}", o.path.display());
-            println!("hash           {}", o.key);
-            println!(
+            out!("{}", summary_text(&o.compiled));
+            outln!("artifact       {}", o.path.display());
+            outln!("hash           {}", o.key);
+            outln!(
                 "time           {:.3} s ({})",
                 o.seconds,
                 match &o.outcome {
@@ -298,7 +298,7 @@ pub fn print_outcome(o: &CompileOutcome, format: Format) {
                 }
             );
         }
-        Format::Json => println!(
+        Format::Json => outln!(
             "{}",
             serde_json::to_string_pretty(&summary_json(o)).unwrap_or_default()
         ),
@@ -329,15 +329,15 @@ pub fn cmd_inspect(path: &Path, format: Format) -> u8 {
             Ok(c) => {
                 match format {
                     Format::Json => {
-                        println!("{}", serde_json::to_string_pretty(&c).unwrap_or_default())
+                        outln!("{}", serde_json::to_string_pretty(&c).unwrap_or_default())
                     }
                     Format::Human => {
-                        print!("{}", summary_text(&c));
-                        println!("coefficients (3.2.1), row-major:");
+                        out!("{}", summary_text(&c));
+                        outln!("coefficients (3.2.1), row-major:");
                         let r = serde_json::to_value(&c.reduced).unwrap_or_default();
                         if let serde_json::Value::Object(map) = r {
                             for (k, v) in map {
-                                println!("  {k} = {v}");
+                                outln!("  {k} = {v}");
                             }
                         }
                     }
@@ -393,11 +393,11 @@ fn inspect_other(path: &Path, key: &CacheKey, format: Format) -> Option<u8> {
         return None;
     };
     match format {
-        Format::Json => println!(
+        Format::Json => outln!(
             "{}",
             serde_json::to_string_pretty(&value).unwrap_or_default()
         ),
-        Format::Human => print!("{}", human_tree(&value, 0)),
+        Format::Human => out!("{}", human_tree(&value, 0)),
     }
     Some(0)
 }

@@ -599,8 +599,8 @@ fn finish(a: &FlutterArgs, r: &FinFlutter, _term: Terminal) -> u8 {
         }
     }
     match format {
-        Format::Human => print!("{}", report_text(r)),
-        Format::Json => println!(
+        Format::Human => out!("{}", report_text(r)),
+        Format::Json => outln!(
             "{}",
             serde_json::to_string_pretty(&summary_json(r)).unwrap_or_default()
         ),

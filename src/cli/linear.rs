@@ -107,7 +107,7 @@ pub fn cmd_linear(
         }
     };
     match format {
-        Format::Human => print!("{}", report_text(&variant, &result)),
+        Format::Human => out!("{}", report_text(&variant, &result)),
         Format::Json => {
             let json = serde_json::json!({
                 "scenario": scenario,
@@ -116,7 +116,7 @@ pub fn cmd_linear(
                 "options": options,
                 "analysis": result,
             });
-            println!(
+            outln!(
                 "{}",
                 serde_json::to_string_pretty(&json).unwrap_or_default()
             );
@@ -291,7 +291,7 @@ pub fn cmd_linear_map(
             started.elapsed().as_secs_f64(),
             out.join("map.csv").display()
         ),
-        Format::Json => println!(
+        Format::Json => outln!(
             "{}",
             serde_json::to_string_pretty(&result).unwrap_or_default()
         ),

@@ -1,8 +1,21 @@
 //! The command-line front end: argument parsing, file IO, terminal output and exit codes.
 //!
-//! Exit codes: 0 clean, 1 diagnostics (the input is wrong), 2 usage or IO error.
+//! Exit codes: 0 clean, 1 diagnostics (the input is wrong), 2 usage or IO error, 141 standard
+//! output closed by its reader ([`write_stdout`]).
 //! Architecture invariant: this is the only module that touches the terminal and the
 //! process; the stages it calls return data.
+
+/// `print!` to standard output through [`write_stdout`]: a reader that went away ends the
+/// process quietly ([`EXIT_BROKEN_PIPE`]) instead of panicking as `print!` does.
+macro_rules! out {
+    ($($t:tt)*) => { $crate::cli::write_stdout(format_args!($($t)*), false) };
+}
+
+/// `println!` to standard output through [`write_stdout`] (see [`out!`]).
+macro_rules! outln {
+    () => { $crate::cli::write_stdout(format_args!(""), true) };
+    ($($t:tt)*) => { $crate::cli::write_stdout(format_args!($($t)*), true) };
+}
 
 pub mod analyze;
 pub mod compile;
@@ -260,6 +273,27 @@ pub struct Terminal {
 pub const EXIT_OK: u8 = 0;
 pub const EXIT_DIAGNOSTICS: u8 = 1;
 pub const EXIT_USAGE: u8 = 2;
+/// Standard output was closed by its reader (`flexflight inspect X | head`): 128 + SIGPIPE,
+/// the status a shell reports for a tool the signal ended.
+pub const EXIT_BROKEN_PIPE: u8 = 141;
+
+/// Writes `args` (and a newline) to standard output. A reader that went away
+/// (`ErrorKind::BrokenPipe`) ends the process quietly with [`EXIT_BROKEN_PIPE`]; any other
+/// write error ends it with a message and [`EXIT_USAGE`]. Output files are written before the
+/// summary is printed, so nothing the command owes the user is lost.
+pub fn write_stdout(args: std::fmt::Arguments<'_>, newline: bool) {
+    let mut o = std::io::stdout().lock();
+    let r = o
+        .write_fmt(args)
+        .and_then(|()| if newline { o.write_all(b"\n") } else { Ok(()) });
+    if let Err(e) = r {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(i32::from(EXIT_BROKEN_PIPE));
+        }
+        eprintln!("error: cannot write to standard output: {e}");
+        std::process::exit(i32::from(EXIT_USAGE));
+    }
+}
 
 /// Run a parsed command line.
 pub fn run(cli: Cli, term: Terminal) -> ExitCode {
@@ -376,7 +410,7 @@ pub fn emit(diags: &[Diagnostic], sources: &SourceMap, format: Format, term: Ter
         }
         Format::Json => {
             let json = serde_json::json!({ "diagnostics": diagnostics::to_json(diags, sources) });
-            println!(
+            outln!(
                 "{}",
                 serde_json::to_string_pretty(&json).unwrap_or_default()
             );
@@ -429,7 +463,7 @@ fn cmd_check(files: &[PathBuf], common: &Common, term: Terminal) -> u8 {
                         "scenarios": p.scenarios.iter().map(|s| &s.name.value).collect::<Vec<_>>(),
                         "sweeps": p.sweeps.iter().map(|s| &s.name.value).collect::<Vec<_>>(),
                     });
-                    println!(
+                    outln!(
                         "{}",
                         serde_json::to_string_pretty(&json).unwrap_or_default()
                     );
@@ -472,7 +506,7 @@ fn cmd_compile(
         Some(dir) => match compile::export_modes(&outcome.compiled, dir) {
             Ok(files) => {
                 for f in files {
-                    println!("{}", f.display());
+                    outln!("{}", f.display());
                 }
                 EXIT_OK
             }

@@ -98,19 +98,19 @@ pub fn cmd_plan(
         };
     match common.output.format {
         Format::Human => {
-            print!("{}", plan::summary_text(&p));
+            out!("{}", plan::summary_text(&p));
             match p.aero.as_ref().and_then(|a| a.fin.as_ref()) {
                 // The lifting-surface model's matrices, as the run uses them (from the cache).
                 Some(f) if f.panel_model().is_some() => {
                     if let (Some(m), Some(fi)) = (f.panel_model(), sc.vehicle.fins.as_ref()) {
                         let area = 0.5 * (fi.root_chord.value + fi.tip_chord.value) * fi.span.value;
-                        print!("{}", m.summary_text(&compiled.compiled, area));
+                        out!("{}", m.summary_text(&compiled.compiled, area));
                     }
                 }
-                _ => print!("{}", fin_panels_text(&sc, &compiled.compiled)),
+                _ => out!("{}", fin_panels_text(&sc, &compiled.compiled)),
             }
         }
-        Format::Json => println!("{}", serde_json::to_string_pretty(&p).unwrap_or_default()),
+        Format::Json => outln!("{}", serde_json::to_string_pretty(&p).unwrap_or_default()),
     }
     EXIT_OK
 }
@@ -282,7 +282,7 @@ pub fn cmd_run(
             eprintln!("{line}");
         }
     } else {
-        println!(
+        outln!(
             "{}",
             serde_json::to_string_pretty(&summary).unwrap_or_default()
         );

@@ -571,7 +571,7 @@ pub fn cmd_sweep(
             );
             match common.output.format {
                 Format::Human => eprintln!("{line}"),
-                Format::Json => println!(
+                Format::Json => outln!(
                     "{}",
                     serde_json::json!({
                         "sweep": r.manifest.sweep, "shard": r.manifest.shard,
