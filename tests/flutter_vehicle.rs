@@ -366,8 +366,41 @@ fn the_free_vehicle_matched_point_flutters_at_its_own_mach() {
     assert!((tried[0].as_f64().unwrap() - 200.0 / a).abs() < 1e-9);
 }
 
+/// The free vehicle's `--critical-thickness` (each thickness's vehicle recompiled and
+/// planned through the cache): with the quasi-steady panels it finds the thickness whose
+/// flutter speed is 200 m/s at 5 km, and a fresh solution at that thickness flutters at 200
+/// m/s (the root finder's tolerance, 1e-9 of the target or 1e-6 of the bracket); it is the
+/// 0.875 mm of `analyze linear`'s boundary (the same quasi-steady lifting-surface fins and
+/// body loads, linearised in the time domain instead of p-k), achieved 0.876 mm (+0.14 %).
 #[test]
-fn the_free_vehicle_refuses_a_transonic_mach_and_critical_thickness() {
+fn the_free_vehicle_critical_thickness_flutters_at_the_target_speed() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let run = |extra: &[&str]| -> serde_json::Value {
+        let o = flexflight()
+            .args(["analyze", "flutter"])
+            .arg(common::root().join("examples/thesis/section_6_5.vdl"))
+            .args(["--scenario", "subsonic_t06", "--aero", "quasi-steady"])
+            .args(["--format", "json", "--cache-dir"])
+            .arg(&cache)
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let j = run(&["--critical-thickness", "0.85mm:0.9mm:2"]);
+    let ct = &j["critical_thickness"];
+    assert_eq!(ct["target_speed_m_s"], 200.0);
+    let t = ct["thickness_m"].as_f64().unwrap();
+    assert!((t / 0.875e-3 - 1.0).abs() < 5e-3, "{t}");
+    let again = run(&["--set", &format!("fins.thickness={} mm", t * 1e3)]);
+    let vf = again["flutter"][0]["speed_m_s"].as_f64().unwrap();
+    assert!((vf / 200.0 - 1.0).abs() < 1e-6, "{vf}");
+}
+
+#[test]
+fn the_free_vehicle_refuses_a_transonic_mach() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("fv");
     let o = flexflight()
@@ -380,16 +413,5 @@ fn the_free_vehicle_refuses_a_transonic_mach_and_critical_thickness() {
     assert_eq!(o.status.code(), Some(1));
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(stderr.contains("analysis::flutter::transonic"), "{stderr}");
-    assert!(!out.exists());
-    let o = flexflight()
-        .args(["analyze", "flutter"])
-        .arg(common::root().join("examples/thesis/section_6_5.vdl"))
-        .args(["--scenario", "subsonic_t06"])
-        .args(["--critical-thickness", "0.5mm:1.5mm:5", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("--critical-thickness"));
     assert!(!out.exists());
 }

@@ -334,12 +334,6 @@ fn scenario_speed(sc: &ir::Scenario, a: f64) -> f64 {
 
 pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
     let format = a.common.output.format;
-    if !a.clamped && a.critical_thickness.is_some() {
-        eprintln!(
-            "error: --critical-thickness is implemented for the clamped fin only: pass --clamped (the free vehicle's boundary over thickness is `analyze linear-map`)"
-        );
-        return EXIT_USAGE;
-    }
     if a.modes == 0 {
         eprintln!("error: --modes must be at least 1");
         return EXIT_USAGE;
@@ -418,13 +412,8 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
         speed_of_sound: air.speed_of_sound,
         pressure: air.pressure,
     };
-    if !a.clamped {
-        let v_scn = scenario_speed(&sc, air.speed_of_sound);
-        return cmd_free(a, &mut checked, &sc, condition, &speeds, v_scn, term);
-    }
-    // The GAF tables of every solution below go through the artifact cache.
-    let cache = Cache::resolve(a.cache.cache_dir.as_deref());
-    let critical = match crit.flatten() {
+    // `--critical-thickness`: the thicknesses to scan and the target speed.
+    let scan = match crit.flatten() {
         None => None,
         Some(range) => {
             let v0 = target
@@ -436,6 +425,17 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
                 );
                 return EXIT_USAGE;
             }
+            Some((range.values(), v0))
+        }
+    };
+    if !a.clamped {
+        return cmd_free(a, &mut checked, &sc, condition, &speeds, scan, term);
+    }
+    // The GAF tables of every solution below go through the artifact cache.
+    let cache = Cache::resolve(a.cache.cache_dir.as_deref());
+    let critical = match scan {
+        None => None,
+        Some((ts, v0)) => {
             let solve = |t: f64| -> Result<f64, FinFlutterError> {
                 let mut v = sc.vehicle.clone();
                 if let Some(f) = v.fins.as_mut() {
@@ -449,14 +449,9 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
                     a.aero.model(),
                     Some(&cache),
                 )?;
-                // Unstable at the lowest speed: flutter at or below it (a bound, below the
-                // target whenever the target is in the sweep).
-                if !r.solution.unstable_at_start.is_empty() {
-                    return Ok(r.solution.speeds[0]);
-                }
-                Ok(r.solution.critical().map_or(f64::INFINITY, |f| f.speed))
+                Ok(flutter_speed_of(&r))
             };
-            match critical_thickness(&solve, range.values(), v0) {
+            match critical_thickness(&solve, ts, v0) {
                 Ok(c) => Some((c, v0)),
                 Err(e) => {
                     let d = Diagnostic::error(flutter_code(&e), format!("flutter: {e}"))
@@ -501,6 +496,16 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
     };
     r.critical_thickness = critical;
     finish(a, &r, term)
+}
+
+/// The flutter speed `--critical-thickness` roots: the critical flutter point's, infinite
+/// without one; unstable at the lowest speed, that speed (flutter at or below it: a bound,
+/// below the target whenever the target is in the sweep).
+fn flutter_speed_of(r: &FinFlutter) -> f64 {
+    if !r.solution.unstable_at_start.is_empty() {
+        return r.solution.speeds[0];
+    }
+    r.solution.critical().map_or(f64::INFINITY, |f| f.speed)
 }
 
 /// `--match-point`: [`match_point`] from `condition`'s Mach, each Mach one solution by
@@ -616,10 +621,11 @@ fn cmd_free(
     sc: &ir::Scenario,
     condition: Condition,
     speeds: &[f64],
-    scenario_speed: f64,
+    scan: Option<(Vec<f64>, f64)>,
     term: Terminal,
 ) -> u8 {
     let format = a.common.output.format;
+    let scenario_speed = scenario_speed(sc, condition.speed_of_sound);
     let refuse = |e: &FinFlutterError, sources| {
         emit(&[flutter_diagnostic(e, sc, "")], sources, format, term);
         EXIT_DIAGNOSTICS
@@ -655,6 +661,27 @@ fn cmd_free(
         scenario: sc.clone(),
         compiled: outcome.compiled,
     };
+    // `--critical-thickness`: each thickness's vehicle recompiled and planned through the
+    // artifact cache (the free vehicle's modes are the whole structure's).
+    let critical = match scan {
+        None => None,
+        Some((ts, v0)) => {
+            let solve = |t: f64| -> Result<f64, FinFlutterError> {
+                let mut s = sc.clone();
+                if let Some(f) = s.vehicle.fins.as_mut() {
+                    f.thickness.value = t;
+                }
+                let variant = super::linear::variant_for(s, cache_dir)
+                    .map_err(|e| FinFlutterError::Vehicle(format!("thickness {t} m: {e}")))?;
+                let r = solve_free(&variant, condition, speeds, a.aero.model(), scenario_speed)?;
+                Ok(flutter_speed_of(&r))
+            };
+            match critical_thickness(&solve, ts, v0) {
+                Ok(c) => Some((c, v0)),
+                Err(e) => return refuse(&e, &checked.sources),
+            }
+        }
+    };
     let result = if a.match_point {
         match solve_matched(condition, speeds, |c| {
             solve_free(&variant, c, speeds, a.aero.model(), scenario_speed)
@@ -666,7 +693,10 @@ fn cmd_free(
         solve_free(&variant, condition, speeds, a.aero.model(), scenario_speed)
     };
     match result {
-        Ok(r) => finish(a, &r, term),
+        Ok(mut r) => {
+            r.critical_thickness = critical;
+            finish(a, &r, term)
+        }
         Err(e) => {
             emit(
                 &[flutter_diagnostic(&e, sc, "")],

@@ -8,7 +8,7 @@ use crate::analysis::linear::{LinearAnalysis, Variant, analyse, linear_map};
 use crate::analysis::linearise::LineariseOptions;
 use crate::analysis::roots::RootKind;
 use crate::artifact::Cache;
-use crate::check::{DiskLoader, check_files};
+use crate::check::{DiskLoader, check_files, ir};
 use crate::diagnostics::{self, RenderOptions};
 use crate::structure::compile::{CompiledVehicle, compile};
 
@@ -44,6 +44,13 @@ pub fn load_variant(
         .scenario(scenario)
         .cloned()
         .ok_or_else(|| format!("no scenario named `{scenario}`"))?;
+    variant_for(sc, cache_dir)
+}
+
+/// Compiles the checked scenario `sc`'s vehicle through the artifact cache and plans `sc`
+/// (errors as text): [`load_variant`] after the check, and `analyze flutter`'s free-vehicle
+/// `--critical-thickness` once per thickness.
+pub fn variant_for(sc: ir::Scenario, cache_dir: Option<&Path>) -> Result<Variant, String> {
     let key = cache_key(&sc.vehicle).map_err(|e| format!("cannot read an FE file: {e}"))?;
     let cache = Cache::resolve(cache_dir);
     let (art, _) = cache
