@@ -91,7 +91,9 @@ pub fn identify_after_stimuli(
                     let (t, x): (Vec<f64>, Vec<f64>) = output
                         .rows
                         .iter()
-                        .filter(|r| r[tc] >= a && r[tc] <= b)
+                        // Half-open before the next stimulus: the row at its start
+                        // already sees it (a sharp-edged gust steps `alpha` there).
+                        .filter(|r| r[tc] >= a && (r[tc] < b || (b >= output.t_end && r[tc] <= b)))
                         .map(|r| (r[tc], r[col]))
                         .unzip();
                     identify(&t, &x, opts).map_err(|e| e.to_string())
@@ -157,6 +159,53 @@ mod tests {
         // A run that stopped during a gust leaves an empty window.
         let w = response_windows(&s[..1], 5.05);
         assert!(w[0].2 < w[0].1);
+    }
+
+    #[test]
+    fn a_window_stops_before_the_row_where_the_next_stimulus_starts() {
+        // A decaying response after gust `a`, then gust `b` steps the channel at t = 1.5
+        // (as a sharp-edged gust steps `alpha`): the row at 1.5 belongs to `b`'s response.
+        let omega = 2.0 * std::f64::consts::PI * 3.0;
+        let rows: Vec<Vec<f64>> = (0..=400)
+            .map(|k| {
+                let t = 0.005 * k as f64;
+                let free = (-0.5 * (t - 0.5)).exp() * (omega * (t - 0.5)).sin();
+                let x = if t < 0.5 {
+                    0.0
+                } else if t < 1.5 {
+                    free
+                } else {
+                    free + 10.0
+                };
+                vec![t, x]
+            })
+            .collect();
+        let out = RunOutput {
+            channels: vec!["t".into(), "alpha".into()],
+            rows,
+            stop: RunStop::Completed,
+            stop_detail: String::new(),
+            t_end: 2.0,
+            stats: Default::default(),
+            wall_seconds: 0.0,
+            events: Default::default(),
+        };
+        let fits = identify_after_stimuli(
+            &[gust("a", 0.4, 0.1), gust("b", 1.5, 0.1)],
+            &out,
+            &["alpha"],
+            &IdentifyOptions::default(),
+        );
+        let f = fits[0].fit.as_ref().expect("the first window is fitted");
+        assert_eq!(fits[0].window_end, 1.5);
+        assert!(f.t_end < 1.5, "{f:?}");
+        assert!(
+            (f.sigma_d + 0.5).abs() < 1e-6 && (f.omega_d - omega).abs() < 1e-6,
+            "{f:?}"
+        );
+        // The last window ends at the end of the run and keeps its last row.
+        let g = fits[1].fit.as_ref().expect("the second window is fitted");
+        assert!((g.t_end - 2.0).abs() < 1e-12, "{g:?}");
     }
 
     #[test]
