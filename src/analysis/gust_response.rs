@@ -2,6 +2,7 @@
 //! window of a channel from the end of a stimulus to the start of the next one (or the end
 //! of the run) is fitted by [`identify`], eq. (6.30).
 
+use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::check::ir::{Stimulus, StimulusKind};
@@ -81,10 +82,19 @@ pub fn identify_after_stimuli(
     channels: &[&str],
     opts: &IdentifyOptions,
 ) -> Vec<StimulusFit> {
-    let mut out = Vec::new();
     let time_col = output.channels.iter().position(|c| c == "t");
-    for (stimulus, a, b) in response_windows(stimuli, output.t_end) {
-        for &channel in channels {
+    let jobs: Vec<(String, f64, f64, &str)> = response_windows(stimuli, output.t_end)
+        .into_iter()
+        .flat_map(|(stimulus, a, b)| {
+            channels
+                .iter()
+                .map(move |&channel| (stimulus.clone(), a, b, channel))
+        })
+        .collect();
+    // Each fit is independent of the others: fitted in parallel, collected in order (the
+    // same results whatever the number of threads).
+    jobs.into_par_iter()
+        .map(|(stimulus, a, b, channel)| {
             let col = output.channels.iter().position(|c| c == channel);
             let result = match (time_col, col) {
                 (Some(tc), Some(col)) => {
@@ -104,17 +114,16 @@ pub fn identify_after_stimuli(
                 Ok(f) => (Some(f), None),
                 Err(e) => (None, Some(e)),
             };
-            out.push(StimulusFit {
-                stimulus: stimulus.clone(),
+            StimulusFit {
+                stimulus,
                 channel: channel.to_string(),
                 window_start: a,
                 window_end: b,
                 fit,
                 error,
-            });
-        }
-    }
-    out
+            }
+        })
+        .collect()
 }
 
 #[cfg(test)]

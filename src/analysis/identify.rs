@@ -444,12 +444,7 @@ fn oscillatory(omega: f64, dt: f64) -> bool {
 fn combine<C: AsRef<[f64]>>(cols: &[C], beta: &[f64]) -> Vec<f64> {
     let n = cols.first().map_or(0, |c| c.as_ref().len());
     (0..n)
-        .map(|k| {
-            cols.iter()
-                .zip(beta)
-                .map(|(c, b)| c.as_ref()[k] * b)
-                .sum()
-        })
+        .map(|k| cols.iter().zip(beta).map(|(c, b)| c.as_ref()[k] * b).sum())
         .collect()
 }
 
@@ -502,20 +497,86 @@ fn lstsq<C: AsRef<[f64]>>(cols: &[C], y: &[f64]) -> Result<Vec<f64>, IdentifyErr
     Ok(beta)
 }
 
-/// Residual of the model with the pole `(σ, ω)` and the held poles whose basis columns (and
-/// the constant, if any) are `held` (`basis(others, ..)`, built once per refinement: the
-/// columns are those of `basis([p, others..])` in the same order, so the same numbers), with
-/// every amplitude projected out.
-fn projected_cost(y: &[f64], dt: f64, p: (f64, f64), held: &[Vec<f64>]) -> Option<Vec<f64>> {
-    let own = basis(&[p], y.len(), dt, false);
-    let cols: Vec<&[f64]> = own
-        .iter()
-        .chain(held)
-        .map(Vec::as_slice)
-        .collect();
-    let beta = lstsq(&cols, y).ok()?;
-    let fit = combine(&cols, &beta);
-    let r: Vec<f64> = y.iter().zip(&fit).map(|(a, b)| a - b).collect();
+/// An orthonormal basis of the held columns (the other poles and the constant) and the
+/// data with their span removed, built once per refinement: every trial pole then only has
+/// its own one or two columns to project ([`projected_cost`]).
+struct HeldProjection {
+    /// Orthonormal columns spanning the held basis columns.
+    q: Vec<Vec<f64>>,
+    /// `y - Q Qᵀ y`.
+    residual: Vec<f64>,
+}
+
+/// Relative size below which a column adds nothing to the span it is projected against
+/// (the `1e-12` truncation of [`lstsq`]'s singular values, for one column at a time).
+const SPAN_TOLERANCE: f64 = 1e-12;
+
+/// Remove the span of the orthonormal columns of `q` and then `more` from `v` by classical
+/// Gram-Schmidt applied twice ("twice is enough": Giraud, Langou & Rozložník, Comput. Math.
+/// Appl. 50 (2005); the re-orthogonalised CGS2 keeps `Qᵀ v` at round-off), in place.
+fn project_out(q: &[Vec<f64>], more: &[Vec<f64>], v: &mut [f64]) {
+    for _ in 0..2 {
+        for qk in q.iter().chain(more) {
+            let c: f64 = qk.iter().zip(v.iter()).map(|(a, b)| a * b).sum();
+            for (vi, qi) in v.iter_mut().zip(qk) {
+                *vi -= c * qi;
+            }
+        }
+    }
+}
+
+/// The part of `col` outside the span of `q` and `more`, normalised, or `None` below
+/// [`SPAN_TOLERANCE`] of the column (collinear: the span does not grow).
+fn orthogonal_part(q: &[Vec<f64>], more: &[Vec<f64>], col: &[f64]) -> Option<Vec<f64>> {
+    let norm0 = col.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if !(norm0 > 0.0 && norm0.is_finite()) {
+        return None;
+    }
+    let mut v: Vec<f64> = col.iter().map(|c| c / norm0).collect();
+    project_out(q, more, &mut v);
+    let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    (norm > SPAN_TOLERANCE).then(|| {
+        v.iter_mut().for_each(|x| *x /= norm);
+        v
+    })
+}
+
+impl HeldProjection {
+    fn new(y: &[f64], held: &[Vec<f64>]) -> Self {
+        let mut q: Vec<Vec<f64>> = Vec::with_capacity(held.len());
+        for col in held {
+            if let Some(v) = orthogonal_part(&q, &[], col) {
+                q.push(v);
+            }
+        }
+        let mut residual = y.to_vec();
+        project_out(&q, &[], &mut residual);
+        HeldProjection { q, residual }
+    }
+}
+
+/// Residual of the model with the pole `(σ, ω)` and the held poles (and the constant, if
+/// any) of `held`, every amplitude projected out: `r = (I - P) y` with `P` the orthogonal
+/// projector on the span of all the columns. It is the residual of the least-squares fit
+/// [`lstsq`] gives (the same projection, and unique even where columns are collinear), built
+/// as `y` minus its held part (once) minus its part along the pole's own columns after the
+/// held span is removed from them (Gram-Schmidt; variable projection, Golub & Pereyra 1973):
+/// a few passes over the window instead of a `n x p` SVD per trial point.
+fn projected_cost(y: &[f64], dt: f64, p: (f64, f64), held: &HeldProjection) -> Option<Vec<f64>> {
+    let mut own: Vec<Vec<f64>> = Vec::with_capacity(2);
+    for col in basis(&[p], y.len(), dt, false) {
+        if let Some(v) = orthogonal_part(&held.q, &own, &col) {
+            own.push(v);
+        }
+    }
+    // `held.residual` is already orthogonal to the held span, and so is each `own` column.
+    let mut r = held.residual.clone();
+    for qk in &own {
+        let c: f64 = qk.iter().zip(&r).map(|(a, b)| a * b).sum();
+        for (ri, qi) in r.iter_mut().zip(qk) {
+            *ri -= c * qi;
+        }
+    }
     r.iter().all(|v| v.is_finite()).then_some(r)
 }
 
@@ -531,7 +592,7 @@ fn refine(
 ) -> ((f64, f64), bool) {
     let real = start.1 == 0.0;
     let span = dt * (y.len() - 1) as f64;
-    let held = basis(others, y.len(), dt, offset);
+    let held = HeldProjection::new(y, &basis(others, y.len(), dt, offset));
     let cost = |p: (f64, f64)| {
         projected_cost(y, dt, p, &held).map(|r| (r.iter().map(|v| v * v).sum::<f64>(), r))
     };

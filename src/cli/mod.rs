@@ -19,6 +19,7 @@ macro_rules! outln {
 
 pub mod analyze;
 pub mod compile;
+pub mod floatfmt;
 pub mod flutter;
 mod fmt;
 pub mod gaf_cache;
