@@ -102,8 +102,13 @@
 //! - Rigid limit (4 mm fins, 200 m/s): no elastic flutter below 960 m/s; the rigid short
 //!   period is 11.3 % below `analyze linear`'s with the panels' rigid loads (the lattice has
 //!   no fin-body interference: 1/1.276 of the flight tables' fin pitch stiffness) and 5.6 %
-//!   above it with the flight's own fin loads ([`flight_gaf`]); that last difference is not
-//!   explained (gravity and the decelerating reference of `analyze linear` are candidates).
+//!   above it with the flight's own fin loads ([`flight_gaf`]); that last difference is the
+//!   same (+3.7 to +5.5 %) with the lifting-surface fins at every thickness from 4 to 0.6 mm,
+//!   so it lies between the two formulations, not in the aerodynamics, and is not explained
+//!   (gravity and the decelerating reference of `analyze linear` are candidates). The thesis
+//!   scenarios' key-node fin model (`vehicles/sphads1.vdl`) gives thin fins a large
+//!   aeroelastic loss of pitch stiffness that the panels do not (docs/validation.md,
+//!   "Flexible fins"): compare the p-k with `analyze linear` on `model = lifting_surface`.
 
 use faer::c64;
 
