@@ -258,9 +258,8 @@ fn flight_loads_short_period(v: &Variant) -> f64 {
 /// rad/s at 4 mm, 8.68 at 1.0 mm, 4.74 at 0.6 mm) while the panels' stays near 11 rad/s.
 /// With the lifting-surface model in the flight both agree: the p-k with the flight's own
 /// loads is 4.0 % (1.0 mm) and 4.5 % (0.6 mm) above `analyze linear` (the remaining gap, the
-/// same +3.7 to +5.5 % from 4 mm to 0.6 mm, is not explained: `analyze linear` linearises
-/// about a decelerating ballistic reference with gravity, the p-k about straight flight
-/// without it), and the panel p-k (no fin-body interference) -8.8 % (1.0 mm) and +0.5 %
+/// same +3.7 to +5.5 % from 4 mm to 0.6 mm, is not explained; not gravity, which leaves
+/// `analyze linear`'s root unchanged to all digits), and the panel p-k (no fin-body interference) -8.8 % (1.0 mm) and +0.5 %
 /// (0.6 mm) from it.
 #[test]
 fn with_lifting_surface_fins_the_pk_short_period_follows_analyze_linear() {

@@ -105,7 +105,8 @@
 //!   above it with the flight's own fin loads ([`flight_gaf`]); that last difference is the
 //!   same (+3.7 to +5.5 %) with the lifting-surface fins at every thickness from 4 to 0.6 mm,
 //!   so it lies between the two formulations, not in the aerodynamics, and is not explained
-//!   (gravity and the decelerating reference of `analyze linear` are candidates). The thesis
+//!   (not gravity: `analyze linear` without it gives the same root; the decelerating
+//!   reference and the p-k's `iω` for `p` are estimated at 0.2-0.3 %). The thesis
 //!   scenarios' key-node fin model (`vehicles/sphads1.vdl`) gives thin fins a large
 //!   aeroelastic loss of pitch stiffness that the panels do not (docs/validation.md,
 //!   "Flexible fins"): compare the p-k with `analyze linear` on `model = lifting_surface`.
