@@ -73,6 +73,10 @@ pub enum IdentifyError {
     NoConvergence,
     #[error("no pole could be extracted from the window")]
     NoModes,
+    #[error(
+        "a pole of the window grows at sigma = {sigma:.4e} 1/s, beyond what a {span:.4} s window can hold (e^709): the window holds a step or a spike, not a free response"
+    )]
+    Unbounded { sigma: f64, span: f64 },
 }
 
 /// One pole of the pencil model with its least-squares amplitude.
@@ -135,6 +139,9 @@ pub struct Identification {
 /// (10 s at 1 ms) at `O(N L²)` instead of `O(N³)`.
 pub const MAX_PENCIL_COLUMNS: usize = 200;
 
+/// The largest `σ T` a window of length `T` admits (`e^709` is near the largest double).
+const MAX_GROWTH_EXPONENT: f64 = 700.0;
+
 /// The fewest samples [`identify`] accepts.
 pub const MIN_SAMPLES: usize = 8;
 
@@ -180,6 +187,13 @@ pub fn identify(
 
     // Stage 1: poles by the matrix pencil.
     let (poles, model_order) = pencil_poles(&y, dt, opts)?;
+    // A pole whose envelope grows past the range of a double over the window (e^709) cannot
+    // be a column of the fit: the window holds a step or a spike (at its end), not a free
+    // response. Say so instead of letting the basis overflow into a failed factorisation.
+    let span = dt * (y.len() - 1) as f64;
+    if let Some(&(sigma, _)) = poles.iter().find(|p| p.0 * span > MAX_GROWTH_EXPONENT) {
+        return Err(IdentifyError::Unbounded { sigma, span });
+    }
     let cols = basis(&poles, y.len(), dt, opts.offset);
     let beta = lstsq(&cols, &y)?;
     let fitted = combine(&cols, &beta);
@@ -832,6 +846,23 @@ mod tests {
         let id = identify(&t, &x, &IdentifyOptions::default()).unwrap();
         assert_eq!(id.samples, 200);
         assert!((id.sigma_d + 0.5).abs() < 1e-6 && (id.omega_d - 10.0).abs() < 1e-6);
+    }
+
+    /// A step at the window's last sample (a sharp-edged gust starting there, as in
+    /// subsonic_t06's alpha before the windows were made half-open) makes the pencil see a
+    /// pole growing at thousands per second; the fit says so instead of overflowing its basis
+    /// into a failed factorisation ("did not converge").
+    #[test]
+    fn a_step_at_the_window_end_is_reported_as_such() {
+        let dt = 1e-3;
+        let (t, mut x) = signal(-0.7, 8.4, 0.3, 0.0, dt, 3901);
+        *x.last_mut().unwrap() += 50.0 * x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        match identify(&t, &x, &IdentifyOptions::default()) {
+            Err(IdentifyError::Unbounded { sigma, span }) => {
+                assert!(sigma * span > MAX_GROWTH_EXPONENT, "{sigma} {span}");
+            }
+            other => panic!("{other:?}"),
+        }
     }
 
     #[test]
