@@ -254,6 +254,48 @@ fn a_thesis_scenario_flies_with_body_and_fin_aerodynamics() {
     }
 }
 
+/// A run that flies but cannot write one of its files writes none of them: here
+/// `summary.json` is a directory in the output directory, so it cannot be replaced. Before,
+/// `history.csv` and `aero_tables/` were already written when the summary failed.
+#[test]
+fn a_run_that_cannot_write_every_output_writes_none() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("sub06");
+    std::fs::create_dir_all(out.join("summary.json").join("in_the_way")).unwrap();
+    let o = run(
+        &repo("examples/thesis/section_6_5.vdl"),
+        "subsonic_t06",
+        &out,
+        &["run.stop_time=0.02 s"],
+    );
+    assert!(!o.status.success());
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(stderr.contains("cannot write the run outputs"), "{stderr}");
+    let mut left: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+        .collect();
+    left.sort();
+    assert_eq!(left, vec!["summary.json".to_string()], "{left:?}");
+    // With the obstacle gone, the same run writes everything.
+    std::fs::remove_dir_all(out.join("summary.json")).unwrap();
+    let o = run(
+        &repo("examples/thesis/section_6_5.vdl"),
+        "subsonic_t06",
+        &out,
+        &["run.stop_time=0.02 s"],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in [
+        "history.csv",
+        "summary.json",
+        "aero_tables/body.csv",
+        "aero_tables/fins.csv",
+    ] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+}
+
 #[test]
 fn plan_prints_json() {
     let o = bin()

@@ -216,20 +216,6 @@ pub fn cmd_run(
             return EXIT_DIAGNOSTICS;
         }
     };
-    // The coefficient tables the built-in estimator produced, for users to inspect or
-    // replace (`aero { source = tables ... }`).
-    if let Some(a) = p.aero.as_ref().filter(|a| a.estimated) {
-        let dir = out.join("aero_tables");
-        if let Err(e) = std::fs::create_dir_all(&dir)
-            .map_err(|e| e.to_string())
-            .and_then(|_| a.tables.write(&dir).map_err(|e| e.to_string()))
-        {
-            eprintln!(
-                "warning: cannot write the estimated aero tables to `{}`: {e}",
-                dir.display()
-            );
-        }
-    }
     // The post-processing is small dense algebra (the identification's 201 x 201
     // eigen-solves, the margin's p-k solutions): faer's own threads only cost their start-up
     // and spinning here, and sequential kernels give the same bits whatever the machine.
@@ -250,12 +236,32 @@ pub fn cmd_run(
             )
         },
     );
-    if let Err(e) = write_outputs(out, &history, &summary).and_then(|_| match &margin {
-        Some(m) if !m.csv.is_empty() => {
-            super::fmt::write_atomic(&out.join("flutter_margin.csv"), &m.csv)
+    // Every output file at once (`write_all_atomic`): a run that cannot write all of them
+    // writes none and leaves the directory as it was.
+    let summary_text = serde_json::to_string_pretty(&summary).unwrap_or_default() + "\n";
+    let mut files: Vec<(std::path::PathBuf, &str)> = vec![
+        (out.join("history.csv"), history.as_str()),
+        (out.join("summary.json"), summary_text.as_str()),
+    ];
+    if let Some(m) = margin.as_ref().filter(|m| !m.csv.is_empty()) {
+        files.push((out.join("flutter_margin.csv"), m.csv.as_str()));
+    }
+    // The coefficient tables the built-in estimator produced, for users to inspect or
+    // replace (`aero { source = tables ... }`).
+    let tables_dir = out.join("aero_tables");
+    let tables = p
+        .aero
+        .as_ref()
+        .filter(|a| a.estimated)
+        .map(|a| a.tables.files());
+    let mut dirs = vec![out];
+    if let Some(t) = &tables {
+        dirs.push(&tables_dir);
+        for (name, text) in t {
+            files.push((tables_dir.join(name), text.as_str()));
         }
-        _ => Ok(()),
-    }) {
+    }
+    if let Err(e) = super::fmt::write_all_atomic(&dirs, &files) {
         eprintln!(
             "error: cannot write the run outputs to `{}`: {e}",
             out.display()
@@ -625,11 +631,4 @@ pub fn with_aero_cache(
         );
     }
     summary
-}
-
-fn write_outputs(out: &Path, history: &str, summary: &serde_json::Value) -> std::io::Result<()> {
-    std::fs::create_dir_all(out)?;
-    super::fmt::write_atomic(&out.join("history.csv"), history)?;
-    let summary = serde_json::to_string_pretty(summary).unwrap_or_default();
-    super::fmt::write_atomic(&out.join("summary.json"), &(summary + "\n"))
 }

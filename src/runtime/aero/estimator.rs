@@ -447,17 +447,26 @@ impl EstimatedTables {
 
     /// Writes `body.csv` and `fins.csv` into `dir` (with a comment line naming the estimator).
     pub fn write(&self, dir: &Path) -> Result<(), TableError> {
-        for (t, name) in [(&self.body, "body.csv"), (&self.fin, "fins.csv")] {
+        for (name, text) in self.files() {
             let path = dir.join(name);
-            let text = format!(
-                "# written by the flexflight built-in estimator (runtime::aero::estimator)\n{}",
-                t.to_csv()
-            );
             std::fs::write(&path, text).map_err(|e| TableError::Io {
                 path,
                 message: e.to_string(),
             })?;
         }
         Ok(())
+    }
+
+    /// The files [`Self::write`] writes: `body.csv` and `fins.csv` with their text.
+    pub fn files(&self) -> [(&'static str, String); 2] {
+        [(&self.body, "body.csv"), (&self.fin, "fins.csv")].map(|(t, name)| {
+            (
+                name,
+                format!(
+                    "# written by the flexflight built-in estimator (runtime::aero::estimator)\n{}",
+                    t.to_csv()
+                ),
+            )
+        })
     }
 }
