@@ -7,7 +7,7 @@
 //!    `y_k = Σ_m h_m z_m^k` makes the Hankel matrix `Y[i, j] = y_{i+j}` (`(N−L) × (L+1)`,
 //!    pencil parameter `L = N/3`, at most [`MAX_PENCIL_COLUMNS`]) of rank `M`. With the
 //!    SVD `Y = U Σ Vᵀ` (its `Σ` and `V` from the eigen-decomposition of the Gram matrix
-//!    `YᵀY = V Σ² Vᵀ`, [`hankel_right_singular`]), the first `M` right singular vectors `V'`
+//!    `YᵀY = V Σ² Vᵀ`, `hankel_right_singular`), the first `M` right singular vectors `V'`
 //!    span the row space `span{(z_m^j)_j}`; deleting the last row
 //!    (`V₁'`) or the first row (`V₂'`) gives `V₂' = V₁' T⁻¹ Z T` with `Z = diag(z_m)`
 //!    (shifting `z^j` by one index multiplies it by `z`), so the poles are the eigenvalues of
@@ -23,7 +23,7 @@
 //!    of the other poles and `c`, is solved exactly at every trial point (holding the other
 //!    poles keeps a second mode from biasing the dominant one): the residual is the data's
 //!    part outside the span of all the columns, with the held columns' span removed once
-//!    ([`HeldProjection`]). A pole of stage 1 that grows by more than `e^700` over the window
+//!    (`HeldProjection`). A pole of stage 1 that grows by more than `e^700` over the window
 //!    is an error ([`IdentifyError::Unbounded`]: a step or spike, not a free response). Then `A = √(a² + b²)`,
 //!    `φ = atan2(b, a)`, because `A cos(ωt − φ) = A cos φ cos ωt + A sin φ sin ωt`.
 //!
