@@ -170,6 +170,20 @@ mod tests {
         assert!(w[0].2 < w[0].1);
     }
 
+    /// A completed run of the channels `t` and `alpha`.
+    fn alpha_output(rows: Vec<Vec<f64>>, t_end: f64) -> RunOutput {
+        RunOutput {
+            channels: vec!["t".into(), "alpha".into()],
+            rows,
+            stop: RunStop::Completed,
+            stop_detail: String::new(),
+            t_end,
+            stats: Default::default(),
+            wall_seconds: 0.0,
+            events: Default::default(),
+        }
+    }
+
     #[test]
     fn a_window_stops_before_the_row_where_the_next_stimulus_starts() {
         // A decaying response after gust `a`, then gust `b` steps the channel at t = 1.5
@@ -189,16 +203,7 @@ mod tests {
                 vec![t, x]
             })
             .collect();
-        let out = RunOutput {
-            channels: vec!["t".into(), "alpha".into()],
-            rows,
-            stop: RunStop::Completed,
-            stop_detail: String::new(),
-            t_end: 2.0,
-            stats: Default::default(),
-            wall_seconds: 0.0,
-            events: Default::default(),
-        };
+        let out = alpha_output(rows, 2.0);
         let fits = identify_after_stimuli(
             &[gust("a", 0.4, 0.1), gust("b", 1.5, 0.1)],
             &out,
@@ -231,16 +236,7 @@ mod tests {
                 vec![t, x]
             })
             .collect();
-        let out = RunOutput {
-            channels: vec!["t".into(), "alpha".into()],
-            rows,
-            stop: RunStop::Completed,
-            stop_detail: String::new(),
-            t_end: 2.0,
-            stats: Default::default(),
-            wall_seconds: 0.0,
-            events: Default::default(),
-        };
+        let out = alpha_output(rows, 2.0);
         let fits = identify_after_stimuli(
             &[gust("g", 0.4, 0.1)],
             &out,

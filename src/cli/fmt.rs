@@ -81,18 +81,7 @@ pub fn write_all_atomic(dirs: &[&Path], files: &[(PathBuf, &str)]) -> std::io::R
             created.extend(missing);
         }
     }
-    let temp_of = |path: &Path| {
-        let dir = path
-            .parent()
-            .filter(|d| !d.as_os_str().is_empty())
-            .unwrap_or(Path::new("."));
-        let name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().to_string())
-            .unwrap_or_default();
-        dir.join(format!(".{name}.tmp.{}", std::process::id()))
-    };
-    let temps: Vec<PathBuf> = files.iter().map(|(p, _)| temp_of(p)).collect();
+    let temps: Vec<PathBuf> = files.iter().map(|(p, _)| temp_path(p, "tmp")).collect();
     let cleanup = |temps: &[PathBuf]| {
         for t in temps {
             let _ = std::fs::remove_file(t);
@@ -125,8 +114,9 @@ pub fn write_all_atomic(dirs: &[&Path], files: &[(PathBuf, &str)]) -> std::io::R
     Ok(())
 }
 
-/// Write through a temporary file in the same directory, then rename over the original.
-pub fn write_atomic(path: &Path, text: &str) -> std::io::Result<()> {
+/// The temporary file beside `path`: `.NAME.TAG.PID` in the same directory (so that the
+/// rename stays within one file system).
+fn temp_path(path: &Path, tag: &str) -> PathBuf {
     let dir = path
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
@@ -135,7 +125,12 @@ pub fn write_atomic(path: &Path, text: &str) -> std::io::Result<()> {
         .file_name()
         .map(|n| n.to_string_lossy().to_string())
         .unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.fmt.{}", std::process::id()));
+    dir.join(format!(".{name}.{tag}.{}", std::process::id()))
+}
+
+/// Write through a temporary file in the same directory, then rename over the original.
+pub fn write_atomic(path: &Path, text: &str) -> std::io::Result<()> {
+    let tmp = temp_path(path, "fmt");
     std::fs::write(&tmp, text)?;
     if let Ok(meta) = std::fs::metadata(path) {
         let _ = std::fs::set_permissions(&tmp, meta.permissions());
