@@ -46,12 +46,15 @@
 //! `runtime::forces::fin_aero`). The image carries the MIRRORED normalwash: it represents the
 //! wall's no-through-flow condition, not a second fin.
 
+pub mod dlm;
 pub mod fin_model;
 pub mod harmonic;
 pub mod piston;
 pub mod spline;
 pub mod vlm;
 
+#[cfg(test)]
+mod dlm_tests;
 #[cfg(test)]
 mod harmonic_tests;
 #[cfg(test)]
