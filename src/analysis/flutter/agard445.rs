@@ -1228,9 +1228,10 @@ mod tests {
 
     /// The doublet-lattice table (printed): M = 0.499, 0.678, 0.901 with the DLM (the same
     /// lattice, k table and p-k sweep as the vortex-lattice case), then the M = 0.499 density
-    /// at M = 0 and 0.3 (compressibility sensitivity) and the chordwise doubling at M = 0.678.
+    /// at M = 0 and 0.3 (compressibility sensitivity), the chordwise and the spanwise doubling
+    /// at M = 0.678 and 0.901.
     #[test]
-    #[ignore = "slow (six p-k sweeps); run with --ignored to print the table"]
+    #[ignore = "slow (nine p-k sweeps); run with --ignored to print the table"]
     fn dlm_flutter_table() {
         let modes = wing_modes(&ModelSpec::default(), 4).unwrap();
         for t in FLUTTER_TESTS.iter().filter(|t| t.mach < 0.95) {
@@ -1253,8 +1254,12 @@ mod tests {
             print!("DLM at M {mach} with the M = 0.499 density: ");
             print_unsteady(t, &r);
         }
-        let t = &FLUTTER_TESTS[1];
-        for (spanwise, chordwise) in [(12, 26), (24, 0)] {
+        for (t, spanwise, chordwise) in [
+            (&FLUTTER_TESTS[1], 12, 26),
+            (&FLUTTER_TESTS[1], 24, 0),
+            (&FLUTTER_TESTS[2], 12, 26),
+            (&FLUTTER_TESTS[2], 24, 0),
+        ] {
             let r = unsteady_flutter(
                 &modes,
                 t,
