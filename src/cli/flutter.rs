@@ -41,6 +41,9 @@ pub enum AeroChoice {
     Unsteady,
     /// The flight's quasi-steady panel map (no wake lag, no apparent mass).
     QuasiSteady,
+    /// The doublet-lattice method (subsonic, compressible unsteady kernel) and unsteady
+    /// piston theory (supersonic).
+    DoubletLattice,
 }
 
 impl AeroChoice {
@@ -48,6 +51,7 @@ impl AeroChoice {
         match self {
             AeroChoice::QuasiSteady => FinAero::QuasiSteady,
             AeroChoice::Unsteady => FinAero::Unsteady,
+            AeroChoice::DoubletLattice => FinAero::DoubletLattice,
         }
     }
 }
@@ -392,7 +396,7 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
             // The unsteady lattice must resolve the highest mode's reduced frequency at the
             // lowest speed (box-size rule): start higher than the quasi-steady map needs.
             let lo = match a.aero {
-                AeroChoice::Unsteady => 0.3,
+                AeroChoice::Unsteady | AeroChoice::DoubletLattice => 0.3,
                 AeroChoice::QuasiSteady => 0.1,
             } * air.speed_of_sound;
             let hi = 3.0 * air.speed_of_sound;
@@ -570,7 +574,7 @@ fn sweep_settings(
     let v_min = speeds.iter().copied().fold(f64::INFINITY, f64::min);
     settings.k_max = (1.2 * w_max * b_ref / v_min).max(0.1);
     settings.k_count = 40;
-    if aero == FinAero::Unsteady {
+    if aero.is_harmonic() {
         settings.chordwise =
             chordwise_for(layout, settings.k_max, settings.chordwise).min(MAX_CHORDWISE);
     }

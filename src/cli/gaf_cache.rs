@@ -149,6 +149,7 @@ pub fn gaf_key(
         match aero {
             FinAero::QuasiSteady => "quasi-steady",
             FinAero::Unsteady => "unsteady",
+            FinAero::DoubletLattice => "doublet-lattice",
         },
     );
     b.u64("chordwise", chordwise as u64);

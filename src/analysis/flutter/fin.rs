@@ -35,7 +35,10 @@
 //! Two force maps `K` are offered ([`FinAero`]): the quasi-steady one of the flight
 //! (`vlm::force_map` / `piston::force_map`, `K` independent of `ν`: Theodorsen's `C(k) = 1`,
 //! no apparent mass) and the unsteady one (`panel::harmonic`, the vortex lattice with a
-//! harmonic wake; piston theory, being local, has the same map in both). Between Mach 0.9 and
+//! harmonic wake; piston theory, being local, has the same map in both); a third,
+//! [`FinAero::DoubletLattice`], replaces the subsonic harmonic vortex lattice by the
+//! doublet-lattice method of `panel::dlm` (the compressible unsteady kernel instead of
+//! Göthert's stretch; `n` force points at the box quarter chords). Between Mach 0.9 and
 //! 1.2 no model is trusted ([`panel::Regime`]): a flutter solution there is refused
 //! ([`FinFlutterError::Transonic`]), the flight margin blends and says so.
 
@@ -44,6 +47,7 @@ use faer::c64;
 use super::pk::{FlutterError, FlutterModel, GafTable, PkSettings, PkSolution, pk_solve_cut};
 use crate::check::ir;
 use crate::runtime::aero::estimator::FinPlanform;
+use crate::runtime::aero::panel::dlm::Dlm;
 use crate::runtime::aero::panel::harmonic::{self, HarmonicVlm, WakeSettings};
 use crate::runtime::aero::panel::piston::{self, Correction};
 use crate::runtime::aero::panel::spline::{SplineError, surface_spline};
@@ -60,6 +64,9 @@ pub enum FinAero {
     QuasiSteady,
     /// The harmonic vortex lattice (subsonic) and unsteady piston theory (supersonic).
     Unsteady,
+    /// The doublet-lattice method (subsonic, `panel::dlm`: the compressible unsteady kernel)
+    /// and unsteady piston theory (supersonic).
+    DoubletLattice,
 }
 
 impl FinAero {
@@ -67,7 +74,13 @@ impl FinAero {
         match self {
             FinAero::QuasiSteady => "quasi_steady",
             FinAero::Unsteady => "unsteady",
+            FinAero::DoubletLattice => "doublet_lattice",
         }
+    }
+
+    /// Whether the map depends on the reduced frequency (a harmonic model).
+    pub fn is_harmonic(self) -> bool {
+        self != FinAero::QuasiSteady
     }
 }
 
@@ -374,7 +387,7 @@ pub fn fin_lattice(
 pub fn gaf_ks(settings: &FinFlutterSettings) -> Vec<f64> {
     let count = match settings.aero {
         FinAero::QuasiSteady => 2,
-        FinAero::Unsteady => settings.k_count.max(2),
+        FinAero::Unsteady | FinAero::DoubletLattice => settings.k_count.max(2),
     };
     (0..count)
         .map(|i| settings.k_max * i as f64 / (count - 1) as f64)
@@ -399,7 +412,9 @@ pub fn gaf_table(
                 .map(|&k| gaf_matrix(&rows, &map, n, k / b))
                 .collect()
         }
-        FinAero::Unsteady => unsteady_values(modes, lattice, mach, settings, &ks)?,
+        FinAero::Unsteady | FinAero::DoubletLattice => {
+            unsteady_values(modes, lattice, mach, settings, &ks)?
+        }
     };
     Ok(GafTable::new(n, ks, values)?)
 }
@@ -430,6 +445,27 @@ fn unsteady_values(
                 .collect())
         }
         Regime::Transonic { .. } => Err(FinFlutterError::Transonic { mach }),
+        Regime::Subsonic if settings.aero == FinAero::DoubletLattice => {
+            let dlm = Dlm::new(lattice, mach)?;
+            let m0 = dlm.map(0.0)?;
+            let points = PanelMap {
+                eval: m0.eval,
+                force: m0.force,
+                k: Vec::new(),
+            };
+            let rows = point_rows(modes, &points)?;
+            let (ne, nf) = (points.eval.len(), points.force.len());
+            let mut out = Vec::with_capacity(ks.len());
+            for &k in ks {
+                let nu = k / b;
+                let alpha: Vec<c64> = (0..ne * n)
+                    .map(|e| c64::new(-rows.zx[e], -nu * rows.zc[e]))
+                    .collect();
+                let f = dlm.forces(nu, &alpha, n)?;
+                out.push(virtual_work(&rows, &f, nf, n));
+            }
+            Ok(out)
+        }
         Regime::Subsonic => {
             let vlm = HarmonicVlm::new(lattice, mach, &WakeSettings::default())?;
             // The points do not depend on ν: the spline rows once.

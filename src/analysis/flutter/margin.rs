@@ -246,7 +246,7 @@ pub fn vehicle_spec(
         modes,
         aero,
         chordwise: match aero {
-            FinAero::Unsteady => MARGIN_CHORDWISE,
+            FinAero::Unsteady | FinAero::DoubletLattice => MARGIN_CHORDWISE,
             FinAero::QuasiSteady => d.chordwise,
         },
         spanwise: d.spanwise,
@@ -313,7 +313,7 @@ pub fn solve_boundary(modes: &FinModes, spec: &BoundarySpec) -> Result<Boundary,
     let w_max = modes.omega.iter().copied().fold(0.0, f64::max);
     let lattice = fin_lattice(modes, &s)?;
     let floor = match spec.aero {
-        FinAero::Unsteady => box_rule_floor(&lattice, w_max),
+        FinAero::Unsteady | FinAero::DoubletLattice => box_rule_floor(&lattice, w_max),
         FinAero::QuasiSteady => 0.0,
     };
     let densities = spec

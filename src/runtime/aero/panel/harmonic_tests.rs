@@ -90,7 +90,7 @@ fn zero_frequency_is_the_steady_horseshoe_lattice() {
 /// Theodorsen's lift and moment (about x_a = b (1 + a) aft of the leading edge, nose up) per
 /// unit span and per unit q, for plunge h (down) and pitch theta (nose up) amplitudes at
 /// k = nu b (theodorsen.rs module doc, with rho = 1, V = 1, q = 1/2, omega = nu).
-fn theodorsen_loads(b: f64, a: f64, nu: f64, h: f64, theta: f64) -> (c64, c64) {
+pub(super) fn theodorsen_loads(b: f64, a: f64, nu: f64, h: f64, theta: f64) -> (c64, c64) {
     let i = c64::new(0.0, 1.0);
     let c = theodorsen(nu * b);
     let hc = c64::new(h, 0.0);

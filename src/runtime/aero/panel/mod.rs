@@ -2,7 +2,9 @@
 //! future work, 7.1): a planar lattice on the declared trapezoid, a vortex-lattice lifting
 //! surface with Prandtl-Glauert compressibility subsonic ([`vlm`]) and piston theory
 //! supersonic ([`piston`]), both reduced to ONE linear map per Mach: panel forces from the
-//! panels' normalwash angles, `F = q K α_e`.
+//! panels' normalwash angles, `F = q K α_e`; their unsteady (harmonic) forms in [`harmonic`]
+//! (vortex rings with a convected wake, Göthert) and [`dlm`] (the doublet-lattice method, the
+//! compressible unsteady kernel).
 //!
 //! # Coordinates and geometry
 //!
@@ -46,12 +48,15 @@
 //! `runtime::forces::fin_aero`). The image carries the MIRRORED normalwash: it represents the
 //! wall's no-through-flow condition, not a second fin.
 
+pub mod dlm;
 pub mod fin_model;
 pub mod harmonic;
 pub mod piston;
 pub mod spline;
 pub mod vlm;
 
+#[cfg(test)]
+mod dlm_tests;
 #[cfg(test)]
 mod harmonic_tests;
 #[cfg(test)]

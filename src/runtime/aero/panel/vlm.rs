@@ -98,7 +98,7 @@ pub(super) fn leg_w(p: [f64; 2], p1: [f64; 2], cutoff: f64, scale: f64) -> f64 {
 }
 
 /// `z` velocity at `p` of a unit horseshoe with bound segment `a -> b` (legs along `+x`).
-fn horseshoe_w(p: [f64; 2], a: [f64; 2], b: [f64; 2], cutoff: f64) -> f64 {
+pub(super) fn horseshoe_w(p: [f64; 2], a: [f64; 2], b: [f64; 2], cutoff: f64) -> f64 {
     let scale = (b[0] - a[0]).hypot(b[1] - a[1]);
     -leg_w(p, a, cutoff, scale) + segment_w(p, a, b, cutoff) + leg_w(p, b, cutoff, scale)
 }
