@@ -205,20 +205,21 @@ pub enum I1Approx {
 /// `I1(u1, k1)` for `u1 >= 0` by the exponential approximation (module doc).
 fn i1_nonneg(u1: f64, k1: f64, approx: I1Approx) -> c64 {
     let mut j = c64::new(0.0, 0.0);
-    let mut term = |a: f64, p: f64| {
-        j += c64::new(p, -k1) * (a * (-p * u1).exp() / (p * p + k1 * k1));
-    };
     match approx {
         I1Approx::Laschka => {
             for (n, a) in LASCHKA_A.iter().enumerate() {
-                term(*a, (n + 1) as f64 * LASCHKA_C);
+                let p = (n + 1) as f64 * LASCHKA_C;
+                j += c64::new(p, -k1) * (a * (-p * u1).exp() / (p * p + k1 * k1));
             }
         }
         I1Approx::Desmarais => {
-            let mut p = DESMARAIS_B;
+            // e^{-2^n b u1} by repeated squaring of e^{-2 b u1} (one exponential).
+            let mut p = 2.0 * DESMARAIS_B;
+            let mut q = (-p * u1).exp();
             for a in DESMARAIS_A {
+                j += c64::new(p, -k1) * (a * q / (p * p + k1 * k1));
                 p *= 2.0;
-                term(a, p);
+                q *= q;
             }
         }
     }
