@@ -3,12 +3,12 @@
 //!
 //! # Sources
 //!
-//! - [Y87] E. C. Yates Jr., "AGARD standard aeroelastic configurations for dynamic response.
+//! - \[Y87\] E. C. Yates Jr., "AGARD standard aeroelastic configurations for dynamic response.
 //!   Candidate configuration I.-Wing 445.6", NASA TM 100492, August 1987; the same text as
 //!   AGARD Report 765 (1988). The wing was tested in the NASA Langley Transonic Dynamics
 //!   Tunnel; the flutter data of the weakened model 3 in air are those of Yates, Land &
-//!   Foughner, NASA TN D-1616 (1963), reproduced in [Y87].
-//! - The numbers below were read from public transcriptions of [Y87], not from a scan of the
+//!   Foughner, NASA TN D-1616 (1963), reproduced in \[Y87\].
+//! - The numbers below were read from public transcriptions of \[Y87\], not from a scan of the
 //!   report itself (no copy of the report was reachable from this machine):
 //!   - planform, measured frequencies: the report's figure 1 / table as quoted in MBDyn's
 //!     `tests/plates/agard/agard.awk` (P. Masarati, after the Code_Aster model of G.
@@ -36,10 +36,10 @@
 //! chord `c_t = 1.208 ft = 0.3682 m` (taper 0.659), quarter-chord sweep 45°, so the leading
 //! edge is swept by `atan(tan 45° + (c_r - c_t)/(4 s)) = 46.74°`; NACA 65A004 section
 //! (streamwise). Reference semichord `b_s = c_r/2`, reference frequency `ω_α = 239.3 rad/s`
-//! (the value that reproduces [Y87]'s speed-index column; the measured first torsion
+//! (the value that reproduces \[Y87\]'s speed-index column; the measured first torsion
 //! frequency 38.17 Hz is 239.8 rad/s). Flutter speed index `V_f/(b_s ω_α sqrt(μ))`, mass
 //! ratio `μ = m/(ρ V_cone)` with `V_cone = π s (c_r² + c_r c_t + c_t²)/12` the volume of the
-//! conical frustum whose bases are the root and tip chords ([Y87] symbols). Every `μ ρ` of
+//! conical frustum whose bases are the root and tip chords (\[Y87\] symbols). Every `μ ρ` of
 //! the table gives the same panel mass, `m = 1.866 kg` (0.1279 slug) — the mass this module
 //! gives the model.
 //!
@@ -105,9 +105,9 @@ pub const HALF_THICKNESS: [f64; 11] = [
 ];
 
 /// Measured natural frequencies of the weakened model 3, Hz: first bending, first torsion,
-/// second bending, second torsion ([Y87]).
+/// second bending, second torsion (\[Y87\]).
 pub const MEASURED_HZ: [f64; 4] = [9.60, 38.17, 48.35, 91.54];
-/// Reference frequency of the speed index, rad/s ([Y87]; module doc).
+/// Reference frequency of the speed index, rad/s (\[Y87\]; module doc).
 pub const OMEGA_ALPHA: f64 = 239.3;
 
 /// Isotropic Young's modulus of the weakened wing, Pa (0.47072e6 psi, module doc).
@@ -121,7 +121,7 @@ pub const E1: f64 = 3.151e9;
 pub const E2: f64 = 0.4162e9;
 pub const G12: f64 = 0.4392e9;
 
-/// One flutter point of the weakened model 3 in air ([Y87], SI).
+/// One flutter point of the weakened model 3 in air (\[Y87\], SI).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FlutterTest {
     pub mach: f64,
