@@ -462,3 +462,51 @@ fn a_launch_reports_its_flutter_margin_row_by_row() {
         serde_json::from_str(&std::fs::read_to_string(off.join("summary.json")).unwrap()).unwrap();
     assert!(s.get("flutter_margin").is_none());
 }
+
+/// Boxes much wider than long are refused for the doublet lattice (its parabolic kernel
+/// approximation needs aspect ratios below about 3): SPHADS-1's fin on 32 x 2 panels has
+/// boxes up to 11.4 times wider than long and is refused with `WideBoxes`; the default 8 x 12
+/// (aspect at most 0.52) is accepted, and the vortex lattice takes the wide boxes as before.
+#[test]
+fn the_doublet_lattice_refuses_boxes_much_wider_than_long() {
+    use flexflight::analysis::flutter::fin::{FinAero, FinFlutterError};
+    use flexflight::runtime::aero::panel::dlm::{MAX_BOX_ASPECT, max_box_aspect};
+    let v = sphads1(&["fins.thickness=0.875 mm"]);
+    let modes = clamped_fin_modes(&v, 2).unwrap();
+    let wide = FinFlutterSettings {
+        aero: FinAero::DoubletLattice,
+        chordwise: 32,
+        spanwise: 2,
+        k_count: 3,
+        k_max: 0.5,
+        ..FinFlutterSettings::default()
+    };
+    let lattice = fin_lattice(&modes, &wide).unwrap();
+    let ratio = max_box_aspect(&lattice);
+    println!("32 x 2: largest box aspect ratio {ratio:.3}");
+    assert!(ratio > MAX_BOX_ASPECT);
+    match gaf_table(&modes, &lattice, 0.6, &wide) {
+        Err(FinFlutterError::WideBoxes { ratio: r, limit }) => {
+            assert_eq!((r, limit), (ratio, MAX_BOX_ASPECT));
+        }
+        other => panic!("{:?}", other.map(|_| "a table")),
+    }
+    let vortex = FinFlutterSettings {
+        aero: FinAero::Unsteady,
+        ..wide
+    };
+    assert!(gaf_table(&modes, &lattice, 0.6, &vortex).is_ok());
+    let default = FinFlutterSettings {
+        aero: FinAero::DoubletLattice,
+        k_count: 3,
+        k_max: 0.5,
+        ..FinFlutterSettings::default()
+    };
+    let lattice = fin_lattice(&modes, &default).unwrap();
+    println!(
+        "8 x 12: largest box aspect ratio {:.3}",
+        max_box_aspect(&lattice)
+    );
+    assert!(max_box_aspect(&lattice) <= MAX_BOX_ASPECT);
+    assert!(gaf_table(&modes, &lattice, 0.6, &default).is_ok());
+}

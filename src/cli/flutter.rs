@@ -591,6 +591,9 @@ fn flutter_diagnostic(e: &FinFlutterError, sc: &ir::Scenario, more: &str) -> Dia
         FinFlutterError::Panel(PanelError::TooCoarse { .. }) => d.with_help(format!(
             "the lattice has at most {MAX_CHORDWISE} chordwise panels: raise the lowest speed of --speeds{more}, or --aero quasi-steady"
         )),
+        FinFlutterError::WideBoxes { .. } => d.with_help(
+            "the chordwise box count follows the box-size rule at the lowest speed: raise the lowest speed of --speeds (fewer, longer boxes), or use the vortex lattice (--aero unsteady)",
+        ),
         _ => d,
     }
 }
@@ -787,6 +790,7 @@ fn flutter_code(e: &FinFlutterError) -> &'static str {
         FinFlutterError::NotGenerated => "analysis::flutter::not_generated",
         FinFlutterError::NoFins => "analysis::flutter::no_fins",
         FinFlutterError::Panel(PanelError::TooCoarse { .. }) => "analysis::flutter::too_few_panels",
+        FinFlutterError::WideBoxes { .. } => "analysis::flutter::wide_boxes",
         _ => "analysis::flutter::failed",
     }
 }

@@ -111,6 +111,10 @@ pub enum FinFlutterError {
         "Mach {mach} lies in the transonic gap 0.9 < M < 1.2 where neither the vortex lattice nor piston theory is trusted"
     )]
     Transonic { mach: f64 },
+    #[error(
+        "the doublet-lattice boxes reach an aspect ratio (width over chord) of {ratio:.2}, above {limit}, where the parabolic approximation of the kernel across a box is poor (Rodden, Taylor & McIntosh 1998)"
+    )]
+    WideBoxes { ratio: f64, limit: f64 },
 }
 
 /// The clamped fin's modes as the panels see them.
@@ -446,6 +450,11 @@ fn unsteady_values(
         }
         Regime::Transonic { .. } => Err(FinFlutterError::Transonic { mach }),
         Regime::Subsonic if settings.aero == FinAero::DoubletLattice => {
+            let ratio = crate::runtime::aero::panel::dlm::max_box_aspect(lattice);
+            let limit = crate::runtime::aero::panel::dlm::MAX_BOX_ASPECT;
+            if ratio > limit {
+                return Err(FinFlutterError::WideBoxes { ratio, limit });
+            }
             let dlm = Dlm::new(lattice, mach)?;
             let m0 = dlm.map(0.0)?;
             let points = PanelMap {

@@ -153,10 +153,27 @@
 //! scale of the distance to the receiving point and of `1/ν`; the usual guideline is an aspect
 //! ratio below about 3 (MSC Nastran Aeroelastic Analysis User's Guide, as widely quoted; not
 //! read here), and [RTM98]'s quartic approximation was introduced for the wide boxes where the
-//! parabola fails. Neither is enforced or implemented here; measured: the 2-D test converges
+//! parabola fails. The quartic is not implemented; the flutter analyses refuse a lattice
+//! whose boxes exceed [`MAX_BOX_ASPECT`] (`analysis::flutter::fin`; the map itself does not,
+//! so the 2-D test below can use wide far strips); measured: the 2-D test converges
 //! (first order, Richardson 0.04 %) with aspect ratio 2 next to the receiving strip, and stalls
 //! at 2.7 % when the strips are kept 1/8 chord wide while the boxes shrink to 1/64 chord
 //! (aspect ratio 8).
+
+/// The largest box aspect ratio (width over chord) the flutter analyses accept for the
+/// doublet lattice: the guideline of the module doc ("Limits") for the parabolic
+/// approximation of the kernel's numerator across a box.
+pub const MAX_BOX_ASPECT: f64 = 3.0;
+
+/// The largest aspect ratio `width² / area` (strip width over mean box chord) of the
+/// lattice's boxes.
+pub fn max_box_aspect(lattice: &Lattice) -> f64 {
+    lattice
+        .panels
+        .iter()
+        .map(|p| p.width * p.width / p.area)
+        .fold(0.0, f64::max)
+}
 
 use faer::linalg::solvers::DenseSolveCore;
 use faer::{Mat, c64};
