@@ -47,8 +47,8 @@ use faer::c64;
 use super::pk::{FlutterError, FlutterModel, GafTable, PkSettings, PkSolution, pk_solve_cut};
 use crate::check::ir;
 use crate::runtime::aero::estimator::FinPlanform;
-use crate::runtime::aero::panel::dlm::Dlm;
-use crate::runtime::aero::panel::harmonic::{self, HarmonicVlm, WakeSettings};
+use crate::runtime::aero::panel::dlm::{Dlm, MAX_BOX_ASPECT, max_box_aspect};
+use crate::runtime::aero::panel::harmonic::{self, HarmonicMap, HarmonicVlm, WakeSettings};
 use crate::runtime::aero::panel::piston::{self, Correction};
 use crate::runtime::aero::panel::spline::{SplineError, surface_spline};
 use crate::runtime::aero::panel::{self, Lattice, PanelError, Regime, Spacing, vlm};
@@ -450,55 +450,56 @@ fn unsteady_values(
         }
         Regime::Transonic { .. } => Err(FinFlutterError::Transonic { mach }),
         Regime::Subsonic if settings.aero == FinAero::DoubletLattice => {
-            let ratio = crate::runtime::aero::panel::dlm::max_box_aspect(lattice);
-            let limit = crate::runtime::aero::panel::dlm::MAX_BOX_ASPECT;
-            if ratio > limit {
-                return Err(FinFlutterError::WideBoxes { ratio, limit });
+            let ratio = max_box_aspect(lattice);
+            if ratio > MAX_BOX_ASPECT {
+                return Err(FinFlutterError::WideBoxes {
+                    ratio,
+                    limit: MAX_BOX_ASPECT,
+                });
             }
             let dlm = Dlm::new(lattice, mach)?;
-            let m0 = dlm.map(0.0)?;
-            let points = PanelMap {
-                eval: m0.eval,
-                force: m0.force,
-                k: Vec::new(),
-            };
-            let rows = point_rows(modes, &points)?;
-            let (ne, nf) = (points.eval.len(), points.force.len());
-            let mut out = Vec::with_capacity(ks.len());
-            for &k in ks {
-                let nu = k / b;
-                let alpha: Vec<c64> = (0..ne * n)
-                    .map(|e| c64::new(-rows.zx[e], -nu * rows.zc[e]))
-                    .collect();
-                let f = dlm.forces(nu, &alpha, n)?;
-                out.push(virtual_work(&rows, &f, nf, n));
-            }
-            Ok(out)
+            harmonic_gafs(modes, dlm.map(0.0)?, ks, b, n, |nu, alpha| {
+                dlm.forces(nu, alpha, n)
+            })
         }
         Regime::Subsonic => {
             let vlm = HarmonicVlm::new(lattice, mach, &WakeSettings::default())?;
-            // The points do not depend on ν: the spline rows once.
-            let m0 = vlm.map(0.0)?;
-            let points = PanelMap {
-                eval: m0.eval,
-                force: m0.force,
-                k: Vec::new(),
-            };
-            let rows = point_rows(modes, &points)?;
-            let (ne, nf) = (points.eval.len(), points.force.len());
-            let mut out = Vec::with_capacity(ks.len());
-            for &k in ks {
-                let nu = k / b;
-                // α = -Z_x - i ν Z_c (ne x n), forces F = K α (nf x n), Q = Z_fᵀ F.
-                let alpha: Vec<c64> = (0..ne * n)
-                    .map(|e| c64::new(-rows.zx[e], -nu * rows.zc[e]))
-                    .collect();
-                let f = vlm.forces(nu, &alpha, n)?;
-                out.push(virtual_work(&rows, &f, nf, n));
-            }
-            Ok(out)
+            harmonic_gafs(modes, vlm.map(0.0)?, ks, b, n, |nu, alpha| {
+                vlm.forces(nu, alpha, n)
+            })
         }
     }
+}
+
+/// The generalised forces at each reduced frequency of `ks` (semichord `b`) of a harmonic
+/// panel model whose points are those of its map at zero frequency `m0` (they do not depend
+/// on ν: the spline rows once) and whose force amplitudes for the normalwash columns come
+/// from `forces(ν, α)`: `α = -Z_x - i ν Z_c` (ne x n), `F = K α` (nf x n), `Q = Z_fᵀ F`.
+fn harmonic_gafs(
+    modes: &FinModes,
+    m0: HarmonicMap,
+    ks: &[f64],
+    b: f64,
+    n: usize,
+    forces: impl Fn(f64, &[c64]) -> Result<Vec<c64>, PanelError>,
+) -> Result<Vec<Vec<c64>>, FinFlutterError> {
+    let points = PanelMap {
+        eval: m0.eval,
+        force: m0.force,
+        k: Vec::new(),
+    };
+    let rows = point_rows(modes, &points)?;
+    let (ne, nf) = (points.eval.len(), points.force.len());
+    let mut out = Vec::with_capacity(ks.len());
+    for &k in ks {
+        let nu = k / b;
+        let alpha: Vec<c64> = (0..ne * n)
+            .map(|e| c64::new(-rows.zx[e], -nu * rows.zc[e]))
+            .collect();
+        let f = forces(nu, &alpha)?;
+        out.push(virtual_work(&rows, &f, nf, n));
+    }
+    Ok(out)
 }
 
 /// The chordwise panel count the unsteady lattice needs up to reduced frequency `k_max`

@@ -178,7 +178,7 @@ pub fn max_box_aspect(lattice: &Lattice) -> f64 {
 use faer::linalg::solvers::DenseSolveCore;
 use faer::{Mat, c64};
 
-use super::harmonic::{BOX_RULE, HarmonicMap};
+use super::harmonic::{BOX_RULE, HarmonicMap, finite_or_singular, solve_normalwash};
 use super::{Lattice, PanelError, vlm};
 
 /// The highest Mach number the doublet-lattice map accepts (module doc, "limits").
@@ -471,19 +471,9 @@ impl Dlm {
     /// The force amplitudes `F / q` (row-major `n x m`) for `m` normalwash columns `alpha_e`
     /// (row-major `n x m`, at the control points), by one LU solve.
     pub fn forces(&self, nu: f64, alpha_e: &[c64], m: usize) -> Result<Vec<c64>, PanelError> {
-        use faer::linalg::solvers::Solve;
         self.check_resolution(nu)?;
         let n = self.n;
-        if alpha_e.len() != n * m {
-            return Err(PanelError::Shape {
-                expected: n * m,
-                got: alpha_e.len(),
-            });
-        }
-        let mut g = Mat::<c64>::from_fn(n, m, |p, c| -alpha_e[p * m + c]);
-        self.influence(nu)
-            .partial_piv_lu()
-            .solve_in_place(g.as_mut());
+        let g = solve_normalwash(n, alpha_e, m, || self.influence(nu))?;
         let mut f = vec![c64::new(0.0, 0.0); n * m];
         for p in 0..n {
             let w2 = 2.0 * self.widths[p];
@@ -491,10 +481,7 @@ impl Dlm {
                 f[p * m + c] = g[(p, c)] * w2;
             }
         }
-        if f.iter().any(|v| !(v.re.is_finite() && v.im.is_finite())) {
-            return Err(PanelError::Singular(self.mach));
-        }
-        Ok(f)
+        finite_or_singular(f, self.mach)
     }
 }
 

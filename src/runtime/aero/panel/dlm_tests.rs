@@ -6,22 +6,8 @@ use faer::linalg::solvers::DenseSolveCore;
 use super::dlm::{self, Dlm, I1Approx};
 use super::harmonic::{HarmonicVlm, WakeSettings};
 use super::harmonic_tests::theodorsen_loads;
+use super::tests::{sphads1, trapezoid};
 use super::{Lattice, Spacing, vlm};
-use crate::runtime::aero::estimator::FinPlanform;
-
-fn trapezoid(span: f64, cr: f64, ct: f64, x_t: f64) -> FinPlanform {
-    FinPlanform {
-        span,
-        root_chord: cr,
-        tip_chord: ct,
-        tip_le_offset: x_t,
-        body_radius: 0.0,
-    }
-}
-
-fn sphads1() -> FinPlanform {
-    FinPlanform::unswept_trailing_edge(0.12723, 0.32468, 0.12267, 0.0635)
-}
 
 /// `I1(u1, k1) = ∫_{u1}^{∞} e^{-i k1 u} (1 + u²)^{-3/2} du` by quadrature: `u = tan θ` gives
 /// `∫_{atan u1}^{π/2} cos θ e^{-i k1 tan θ} dθ`, composite Simpson on 400 000 intervals

@@ -487,16 +487,7 @@ impl HarmonicVlm {
     pub fn forces(&self, nu: f64, alpha_e: &[c64], m: usize) -> Result<Vec<c64>, PanelError> {
         self.check_resolution(nu)?;
         let n = self.n;
-        if alpha_e.len() != n * m {
-            return Err(PanelError::Shape {
-                expected: n * m,
-                got: alpha_e.len(),
-            });
-        }
-        let mut g = Mat::<c64>::from_fn(n, m, |p, c| -alpha_e[p * m + c]);
-        self.tangency(nu)
-            .partial_piv_lu()
-            .solve_in_place(g.as_mut());
+        let g = solve_normalwash(n, alpha_e, m, || self.tangency(nu))?;
         let nc = self.chordwise;
         let mut f = vec![c64::new(0.0, 0.0); 2 * n * m];
         for p in 0..n {
@@ -512,10 +503,7 @@ impl HarmonicVlm {
                 f[(n + p) * m + c] = t * g[(p, c)];
             }
         }
-        if f.iter().any(|v| !(v.re.is_finite() && v.im.is_finite())) {
-            return Err(PanelError::Singular(self.mach));
-        }
-        Ok(f)
+        finite_or_singular(f, self.mach)
     }
 
     /// The complex force map at reduced frequency `nu = ω / V` (1/m), module doc.
@@ -550,6 +538,35 @@ impl HarmonicVlm {
             k,
         })
     }
+}
+
+/// The singularity strengths `g` (row-major `n x m` as a matrix) of `A g = -α_e` for the `m`
+/// normalwash columns `alpha_e` (row-major `n x m`), `A` the `n x n` influence matrix built by
+/// `influence` (only once the shape is checked), by one LU solve: the common step of the
+/// harmonic vortex lattice's and the doublet lattice's `forces`.
+pub(super) fn solve_normalwash(
+    n: usize,
+    alpha_e: &[c64],
+    m: usize,
+    influence: impl FnOnce() -> Mat<c64>,
+) -> Result<Mat<c64>, PanelError> {
+    if alpha_e.len() != n * m {
+        return Err(PanelError::Shape {
+            expected: n * m,
+            got: alpha_e.len(),
+        });
+    }
+    let mut g = Mat::<c64>::from_fn(n, m, |p, c| -alpha_e[p * m + c]);
+    influence().partial_piv_lu().solve_in_place(g.as_mut());
+    Ok(g)
+}
+
+/// `f`, or [`PanelError::Singular`] when an entry is not finite (a singular influence matrix).
+pub(super) fn finite_or_singular(f: Vec<c64>, mach: f64) -> Result<Vec<c64>, PanelError> {
+    if f.iter().any(|v| !(v.re.is_finite() && v.im.is_finite())) {
+        return Err(PanelError::Singular(mach));
+    }
+    Ok(f)
 }
 
 fn resolution(

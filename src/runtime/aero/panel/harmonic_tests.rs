@@ -6,24 +6,10 @@ use faer::c64;
 
 use super::harmonic::{self, HarmonicVlm, WakeSettings};
 use super::piston::Correction;
+use super::tests::{sphads1, trapezoid};
 use super::vlm;
 use super::{Lattice, PanelError, Spacing};
 use crate::analysis::flutter::theodorsen::theodorsen;
-use crate::runtime::aero::estimator::FinPlanform;
-
-fn sphads1() -> FinPlanform {
-    FinPlanform::unswept_trailing_edge(0.12723, 0.32468, 0.12267, 0.0635)
-}
-
-fn trapezoid(span: f64, cr: f64, ct: f64, x_t: f64) -> FinPlanform {
-    FinPlanform {
-        span,
-        root_chord: cr,
-        tip_chord: ct,
-        tip_le_offset: x_t,
-        body_radius: 0.0,
-    }
-}
 
 fn re(v: &[f64]) -> Vec<c64> {
     v.iter().map(|x| c64::new(*x, 0.0)).collect()

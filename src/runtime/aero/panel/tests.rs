@@ -9,11 +9,13 @@ use super::vlm;
 use super::{Lattice, Spacing};
 use crate::runtime::aero::estimator::FinPlanform;
 
-fn sphads1() -> FinPlanform {
+/// SPHADS-1's fin planform (the panel tests' common fixture).
+pub(super) fn sphads1() -> FinPlanform {
     FinPlanform::unswept_trailing_edge(0.12723, 0.32468, 0.12267, 0.0635)
 }
 
-fn trapezoid(span: f64, cr: f64, ct: f64, x_t: f64) -> FinPlanform {
+/// A trapezoid of span, root and tip chord and tip leading-edge offset, no body.
+pub(super) fn trapezoid(span: f64, cr: f64, ct: f64, x_t: f64) -> FinPlanform {
     FinPlanform {
         span,
         root_chord: cr,
