@@ -174,6 +174,8 @@ pub const UNITS: &[(&str, f64, Dim)] = &[
     ("kg", 1.0, Dim::MASS),
     ("g", 1e-3, Dim::MASS),
     ("lb", 0.453_592_37, Dim::MASS),
+    // 1 slug = 1 lbf s^2 / ft (the lbf and ft above).
+    ("slug", 4.448_221_615_260_5 / 0.3048, Dim::MASS),
     // time
     ("s", 1.0, Dim::TIME),
     ("ms", 1e-3, Dim::TIME),

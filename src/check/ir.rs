@@ -23,6 +23,10 @@ pub struct Program {
     pub vehicles: Vec<Vehicle>,
     pub scenarios: Vec<Scenario>,
     pub sweeps: Vec<Sweep>,
+    /// Wind-tunnel models: a lifting surface clamped at its root.
+    pub fixtures: Vec<Fixture>,
+    /// Scenarios that test a fixture in a wind tunnel (`scenario NAME { fixture = ... }`).
+    pub tunnel_tests: Vec<TunnelTest>,
 }
 
 impl Program {
@@ -34,6 +38,9 @@ impl Program {
     }
     pub fn sweep(&self, name: &str) -> Option<&Sweep> {
         self.sweeps.iter().find(|s| s.name.value == name)
+    }
+    pub fn tunnel_test(&self, name: &str) -> Option<&TunnelTest> {
+        self.tunnel_tests.iter().find(|s| s.name.value == name)
     }
 }
 
@@ -50,6 +57,84 @@ pub struct Material {
     pub yield_stress: Option<Q>,
     /// Ultimate stress, Pa.
     pub ultimate_stress: Option<Q>,
+    /// An orthotropic lamina (`E2`, `G12` written): `E` is then the modulus along the grain
+    /// and `nu` is `nu_12`. Only a fixture's surface takes one; vehicles are isotropic.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub orthotropic: Option<Orthotropic>,
+}
+
+/// The transverse constants of an orthotropic lamina (plane stress).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Orthotropic {
+    /// Young's modulus across the grain, Pa.
+    pub e2: Q,
+    /// In-plane shear modulus, Pa.
+    pub g12: Q,
+}
+
+/// A wind-tunnel model: one lifting surface clamped at its root along the tunnel wall (a
+/// reflection plane), the fin designer's case written next to a rocket.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Fixture {
+    pub name: Spanned<String>,
+    pub span: Span,
+    pub surface: Surface,
+    /// Elastic modes of the clamped surface in the flutter analysis.
+    pub modes: Spanned<usize>,
+    /// The surface's plate mesh: chordwise x spanwise quads.
+    pub chord_elements: Spanned<usize>,
+    pub span_elements: Spanned<usize>,
+    /// Spanwise strips of the panel lattice (the chordwise count follows the box rule).
+    pub spanwise_panels: Spanned<usize>,
+    /// `ω_α` of the flutter speed index `V/(b ω_α sqrt μ)` (Yates 1987), rad/s.
+    pub reference_frequency: Option<Q>,
+}
+
+/// The clamped lifting surface of a [`Fixture`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Surface {
+    pub span_: Span,
+    pub span: Q,
+    pub root_chord: Q,
+    pub tip_chord: Q,
+    /// Leading-edge sweep, rad (derived when another sweep was given).
+    pub leading_edge_sweep: Q,
+    pub thickness: SurfaceThickness,
+    pub material: Material,
+    /// Direction of the grain (orthotropic material only).
+    pub grain: SurfaceGrain,
+    /// The surface's mass: the density is then mass / plate volume, not the material's.
+    pub mass: Option<Q>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum SurfaceThickness {
+    Constant(Q),
+    /// Half-thickness over chord at evenly spaced chord fractions, leading to trailing edge.
+    Section(Spanned<Vec<f64>>),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum SurfaceGrain {
+    /// Along the spanwise grid lines (lines of constant chord fraction).
+    GridLines,
+    /// Along a straight line swept back by this angle, rad.
+    Swept(f64),
+}
+
+/// `scenario NAME { fixture = ...; tunnel { ... } }`: a flutter test of a fixture.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TunnelTest {
+    pub name: Spanned<String>,
+    pub span: Span,
+    /// The fixture with the scenario's `with` and `--set` overrides applied.
+    pub fixture: Fixture,
+    pub overrides: Vec<Override>,
+    pub mach: Q,
+    /// Test-section air density, kg/m^3.
+    pub density: Q,
+    /// Tunnel speeds of the p-k sweep, m/s, increasing.
+    pub speeds: Spanned<Vec<f64>>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -7,6 +7,7 @@
 
 pub mod cli_values;
 pub mod fields;
+mod fixture;
 pub mod ir;
 mod motor;
 pub mod overrides;
@@ -172,9 +173,10 @@ pub(crate) struct Decls<'t> {
     pub vehicles: Vec<&'t Block>,
     pub scenarios: Vec<&'t Block>,
     pub sweeps: Vec<&'t Block>,
+    pub fixtures: Vec<&'t Block>,
 }
 
-pub const TOP_LEVEL_KINDS: &[&str] = &["material", "vehicle", "scenario", "sweep"];
+pub const TOP_LEVEL_KINDS: &[&str] = &["material", "vehicle", "scenario", "sweep", "fixture"];
 
 /// Check the given root files with `--set` overrides (each `PATH=VALUE`).
 pub fn check_files(roots: &[PathBuf], sets: &[String], loader: &dyn Loader) -> Checked {
@@ -488,6 +490,7 @@ fn check_trees(
                         "material" => decls.materials.push(b),
                         "vehicle" => decls.vehicles.push(b),
                         "scenario" => decls.scenarios.push(b),
+                        "fixture" => decls.fixtures.push(b),
                         _ => decls.sweeps.push(b),
                     }
                 }
@@ -512,8 +515,17 @@ fn check_trees(
             program.vehicles.push(v);
         }
     }
+    for b in decls.fixtures.iter().filter(|_| only_scenario.is_none()) {
+        if let Some(x) = fixture::check_fixture(cx, b, &program.materials) {
+            program.fixtures.push(x);
+        }
+    }
     for b in decls.scenarios.iter().filter(|b| wanted(b)) {
-        if let Some(s) = scenario::check_scenario(cx, b, &decls, &program.materials, sets) {
+        if fixture::is_tunnel_scenario(b) {
+            if let Some(t) = fixture::check_tunnel_test(cx, b, &decls, &program.materials, sets) {
+                program.tunnel_tests.push(t);
+            }
+        } else if let Some(s) = scenario::check_scenario(cx, b, &decls, &program.materials, sets) {
             program.scenarios.push(s);
         }
     }
@@ -532,7 +544,7 @@ fn unknown_top(b: &Block) -> Diagnostic {
     )
     .label(
         b.kind.span,
-        "expected `material`, `vehicle`, `scenario` or `sweep`",
+        "expected `material`, `vehicle`, `scenario`, `sweep` or `fixture`",
     );
     if let Some(s) = did_you_mean(&b.kind.name, TOP_LEVEL_KINDS.iter().copied()) {
         d = d.with_help(format!("did you mean `{s}`?"));

@@ -10,7 +10,7 @@ use crate::syntax::ast::{
 };
 
 /// First path segments that address the scenario rather than its vehicle.
-pub const SCENARIO_ROOTS: &[&str] = &["initial", "run", "stimuli", "launch", "wind"];
+pub const SCENARIO_ROOTS: &[&str] = &["initial", "run", "stimuli", "launch", "wind", "tunnel"];
 
 /// Does this path address a scenario field (rather than the vehicle)?
 pub fn is_scenario_path(path: &[Ident]) -> bool {

@@ -19,6 +19,20 @@ pub(crate) fn check_scenario(
     sets: &[SetOverride],
 ) -> Option<Scenario> {
     let name = b.name.as_ref()?;
+    if super::fixture::is_tunnel_scenario(b) {
+        cx.push(
+            Diagnostic::error(
+                "vdl::fixture::not_flown",
+                format!(
+                    "scenario `{}` tests a fixture in a wind tunnel: it is not flown",
+                    name.name
+                ),
+            )
+            .label(name.span, "a wind-tunnel scenario")
+            .with_help("`flexflight analyze flutter FILE --scenario NAME` takes it"),
+        );
+        return None;
+    }
     // Scenario-rooted `--set` paths patch the scenario itself.
     let scenario_sets: Vec<&SetOverride> =
         sets.iter().filter(|s| is_scenario_path(&s.path)).collect();

@@ -262,7 +262,7 @@ fn si_scalar(cx: &mut Cx, v: &Value) -> Option<f64> {
 }
 
 /// Expand an axis: a list, or `range(start, stop, count = N)` / `range(start, stop, step = S)`.
-fn axis_values(cx: &mut Cx, v: &Value) -> Option<Vec<Value>> {
+pub(crate) fn axis_values(cx: &mut Cx, v: &Value) -> Option<Vec<Value>> {
     match &v.kind {
         ValueKind::List(items) if !items.is_empty() => Some(items.clone()),
         ValueKind::List(_) => {

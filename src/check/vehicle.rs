@@ -32,7 +32,46 @@ pub(crate) fn check_material(cx: &mut Cx, b: &Block) -> Option<Material> {
         .value("ultimate")
         .and_then(|v| f::quantity(cx, v, Dim::PRESSURE));
     let u = f::positive(u, cx);
+    let e2 = fl
+        .value("E2")
+        .and_then(|v| f::quantity(cx, v, Dim::PRESSURE));
+    let e2 = f::positive(e2, cx);
+    let g12 = fl
+        .value("G12")
+        .and_then(|v| f::quantity(cx, v, Dim::PRESSURE));
+    let g12 = f::positive(g12, cx);
+    let orthotropic = match (
+        fl.value("E2").map(|v| v.span),
+        fl.value("G12").map(|v| v.span),
+    ) {
+        (None, None) => None,
+        (Some(_), Some(_)) => Some(Orthotropic { e2: e2?, g12: g12? }),
+        (Some(s), None) | (None, Some(s)) => {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::material::orthotropic",
+                    "an orthotropic lamina needs both `E2` and `G12`",
+                )
+                .label(s, "only one of the two")
+                .with_help("`E` is the modulus along the grain, `E2` across it, `G12` the in-plane shear modulus, `nu` is nu_12"),
+            );
+            return None;
+        }
+    };
     fl.finish(cx);
+    // A positive definite plane-stress lamina: nu_12 nu_21 = nu_12^2 E2 / E1 < 1.
+    if let (Some(o), Some(e), Some(nu)) = (&orthotropic, e, nu) {
+        if nu.value * nu.value * o.e2.value / e.value >= 1.0 {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::value::range",
+                    "the lamina is not positive definite: nu^2 E2 / E >= 1",
+                )
+                .label(nu.span, "nu_12")
+                .label(o.e2.span, "E2"),
+            );
+        }
+    }
     if let (Some(y), Some(u)) = (y, u) {
         if u.value < y.value {
             cx.push(
@@ -49,11 +88,31 @@ pub(crate) fn check_material(cx: &mut Cx, b: &Block) -> Option<Material> {
         density: rho?,
         yield_stress: y,
         ultimate_stress: u,
+        orthotropic,
     })
 }
 
+/// Vehicles are built of isotropic beams and shells: an orthotropic material is refused
+/// where a vehicle or its fins would use it.
+fn isotropic_only(cx: &mut Cx, m: &Material, at: Span) {
+    if m.orthotropic.is_some() {
+        cx.push(
+            Diagnostic::error(
+                "vdl::material::orthotropic",
+                format!(
+                    "material `{}` is orthotropic: a vehicle's generated body and fins are isotropic",
+                    m.name.value
+                ),
+            )
+            .label(at, "used here")
+            .label(m.name.span, "declared orthotropic here (`E2`, `G12`)")
+            .with_help("orthotropic laminae are taken by a `fixture`'s surface only"),
+        );
+    }
+}
+
 /// Resolve `material = NAME`.
-fn material_ref(cx: &mut Cx, v: &Value, materials: &[Material]) -> Option<Material> {
+pub(crate) fn material_ref(cx: &mut Cx, v: &Value, materials: &[Material]) -> Option<Material> {
     let ValueKind::Name(id) = &v.kind else {
         cx.push(
             Diagnostic::error(
@@ -112,7 +171,7 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
     let mut fl = Fields::new(cx, what.clone(), b.header, &b.body);
     let material = fl
         .required(cx, "material", "aluminium_6061_t6")
-        .and_then(|v| material_ref(cx, v, materials));
+        .and_then(|v| material_ref(cx, v, materials).inspect(|m| isotropic_only(cx, m, v.span)));
     let origin = fl
         .required(cx, "origin", "node(1)")
         .and_then(|v| node_ref(cx, v));
@@ -743,7 +802,7 @@ fn check_fins(
         .value("root_trailing_edge")
         .map(|v| f::quantity(cx, v, Dim::LENGTH));
     let material = match fl.value("material") {
-        Some(v) => material_ref(cx, v, materials),
+        Some(v) => material_ref(cx, v, materials).inspect(|m| isotropic_only(cx, m, v.span)),
         None => vehicle_material.cloned(),
     };
     fl.finish(cx);

@@ -138,12 +138,7 @@ fn load(
     let format = common.output.format;
     let mut checked = load_program(&[file.to_path_buf()], common, term)?;
     let Some(sc) = checked.program.scenario(scenario).cloned() else {
-        let declared = checked.program.scenarios.iter();
-        return Err(super::unknown_name(
-            "scenario",
-            scenario,
-            declared.map(|s| s.name.value.as_str()),
-        ));
+        return Err(super::unknown_scenario(&checked.program, scenario));
     };
     if sc.vehicle.fins.is_none() {
         let d = Diagnostic::error(

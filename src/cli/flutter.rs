@@ -75,9 +75,10 @@ pub struct FlutterArgs {
     /// Speed range START:STOP:COUNT with units (default 0.1 a to 3 a, 40 speeds).
     #[arg(long, value_name = "START:STOP:COUNT")]
     pub speeds: Option<String>,
-    /// Number of clamped-fin modes (the free vehicle uses its compiled modes).
-    #[arg(long, default_value_t = 6)]
-    pub modes: usize,
+    /// Number of clamped-fin modes (default 6; a fixture: its `modes`; the free vehicle uses
+    /// its compiled modes).
+    #[arg(long)]
+    pub modes: Option<usize>,
     #[arg(long, value_enum, default_value_t = AeroChoice::Unsteady)]
     pub aero: AeroChoice,
     /// Find the fin thickness whose flutter speed is the target speed, by root finding:
@@ -338,7 +339,7 @@ fn scenario_speed(sc: &ir::Scenario, a: f64) -> f64 {
 
 pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
     let format = a.common.output.format;
-    if a.modes == 0 {
+    if a.modes == Some(0) {
         eprintln!("error: --modes must be at least 1");
         return EXIT_USAGE;
     }
@@ -370,14 +371,14 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
         Ok(c) => c,
         Err(code) => return code,
     };
+    if let Some(t) = checked.program.tunnel_test(&a.scenario) {
+        let speeds = v.flatten().map(|r| r.values());
+        return super::tunnel::cmd_tunnel(a, t, m.flatten(), speeds, &checked.sources, term);
+    }
     let Some(sc) = checked.program.scenario(&a.scenario).cloned() else {
-        let declared = checked.program.scenarios.iter();
-        return super::unknown_name(
-            "scenario",
-            &a.scenario,
-            declared.map(|s| s.name.value.as_str()),
-        );
+        return super::unknown_scenario(&checked.program, &a.scenario);
     };
+    let n_modes = a.modes.unwrap_or(CLAMPED_MODES);
     let altitude = h.flatten().unwrap_or_else(|| scenario_altitude(&sc));
     let air = match Standard1976::new().at(altitude) {
         Ok(s) => s,
@@ -449,7 +450,7 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
                     &v,
                     condition,
                     &speeds,
-                    a.modes,
+                    n_modes,
                     a.aero.model(),
                     Some(&cache),
                 )?;
@@ -472,7 +473,7 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
                 &sc.vehicle,
                 c,
                 &speeds,
-                a.modes,
+                n_modes,
                 a.aero.model(),
                 Some(&cache),
             )
@@ -485,7 +486,7 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
             &sc.vehicle,
             condition,
             &speeds,
-            a.modes,
+            n_modes,
             a.aero.model(),
             Some(&cache),
         )
@@ -797,6 +798,9 @@ fn flutter_code(e: &FinFlutterError) -> &'static str {
 
 /// Default number of speeds of the free vehicle's sweep (0.3 a or 0.1 a to 3 a).
 pub const FREE_SPEEDS: usize = 120;
+
+/// Clamped-fin modes of `analyze flutter --clamped` without `--modes`.
+pub const CLAMPED_MODES: usize = 6;
 
 /// The most chordwise panels `analyze flutter` lays out for the unsteady lattice.
 pub const MAX_CHORDWISE: usize = 32;
@@ -1119,7 +1123,11 @@ pub fn summary_json(r: &FinFlutter) -> serde_json::Value {
 
 /// `vg.csv`: one row per speed and branch.
 pub fn vg_csv(r: &FinFlutter) -> String {
-    let s = &r.solution;
+    vg_table(&r.solution)
+}
+
+/// The V-g / V-f table of a p-k solution: one row per speed and branch.
+pub fn vg_table(s: &PkSolution) -> String {
     let mut t = String::from("speed_m_s,branch,name,g,frequency_hz,k,p_re,p_im\n");
     for (j, branch) in s.roots.iter().enumerate() {
         for root in branch {
@@ -1141,10 +1149,12 @@ pub fn vg_csv(r: &FinFlutter) -> String {
 }
 
 fn write_outputs(out: &Path, r: &FinFlutter) -> std::io::Result<()> {
-    std::fs::create_dir_all(out)?;
-    super::fmt::write_atomic(&out.join("vg.csv"), &vg_csv(r))?;
     let json = serde_json::to_string_pretty(&summary_json(r)).unwrap_or_default();
-    super::fmt::write_atomic(&out.join("flutter.json"), &json)
+    let vg = vg_csv(r);
+    super::fmt::write_all_atomic(
+        &[out],
+        &[(out.join("vg.csv"), &vg), (out.join("flutter.json"), &json)],
+    )
 }
 
 /// The flutter margin of a flown scenario ([`crate::analysis::flutter::margin`]):

@@ -27,6 +27,7 @@ pub mod linear;
 pub mod report;
 pub mod run;
 pub mod sweep;
+pub mod tunnel;
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -449,13 +450,24 @@ fn cmd_check(files: &[PathBuf], common: &Common, term: Terminal) -> u8 {
         Ok(checked) => {
             let p = &checked.program;
             match common.output.format {
-                Format::Human => eprintln!(
-                    "ok: {} material(s), {} vehicle(s), {} scenario(s), {} sweep(s)",
-                    p.materials.len(),
-                    p.vehicles.len(),
-                    p.scenarios.len(),
-                    p.sweeps.len()
-                ),
+                Format::Human => {
+                    let fixtures = if p.fixtures.is_empty() && p.tunnel_tests.is_empty() {
+                        String::new()
+                    } else {
+                        format!(
+                            ", {} fixture(s), {} wind-tunnel scenario(s)",
+                            p.fixtures.len(),
+                            p.tunnel_tests.len()
+                        )
+                    };
+                    eprintln!(
+                        "ok: {} material(s), {} vehicle(s), {} scenario(s), {} sweep(s){fixtures}",
+                        p.materials.len(),
+                        p.vehicles.len(),
+                        p.scenarios.len(),
+                        p.sweeps.len()
+                    )
+                }
                 Format::Json => {
                     let json = serde_json::json!({
                         "diagnostics": [],
@@ -463,6 +475,8 @@ fn cmd_check(files: &[PathBuf], common: &Common, term: Terminal) -> u8 {
                         "vehicles": p.vehicles.iter().map(|v| &v.name.value).collect::<Vec<_>>(),
                         "scenarios": p.scenarios.iter().map(|s| &s.name.value).collect::<Vec<_>>(),
                         "sweeps": p.sweeps.iter().map(|s| &s.name.value).collect::<Vec<_>>(),
+                        "fixtures": p.fixtures.iter().map(|x| &x.name.value).collect::<Vec<_>>(),
+                        "tunnel_scenarios": p.tunnel_tests.iter().map(|t| &t.name.value).collect::<Vec<_>>(),
                     });
                     outln!(
                         "{}",
@@ -564,6 +578,22 @@ pub fn cmd_analyze_linear(cmd: &Analyze, term: Terminal) -> u8 {
 
 /// Reports a name that the program does not declare (`kind` "scenario" or "sweep") with the
 /// names it does declare; returns the usage exit code.
+/// A scenario name that names no flown scenario: a wind-tunnel scenario is named as such
+/// (only `analyze flutter` takes it), anything else as unknown with the declared names.
+pub(crate) fn unknown_scenario(program: &crate::check::ir::Program, name: &str) -> u8 {
+    if program.tunnel_test(name).is_some() {
+        eprintln!(
+            "error: scenario `{name}` tests a fixture in a wind tunnel: it is not flown; `flexflight analyze flutter FILE --scenario {name}` takes it"
+        );
+        return EXIT_USAGE;
+    }
+    unknown_name(
+        "scenario",
+        name,
+        program.scenarios.iter().map(|s| s.name.value.as_str()),
+    )
+}
+
 pub(crate) fn unknown_name<'a>(
     kind: &str,
     name: &str,

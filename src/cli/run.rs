@@ -56,12 +56,7 @@ fn prepare_with_scenario(
 ) -> Result<Prepared, u8> {
     let mut checked: Checked = load_program(&[file.to_path_buf()], common, term)?;
     let Some(sc) = checked.program.scenario(scenario).cloned() else {
-        let declared = checked.program.scenarios.iter();
-        return Err(super::unknown_name(
-            "scenario",
-            scenario,
-            declared.map(|s| s.name.value.as_str()),
-        ));
+        return Err(super::unknown_scenario(&checked.program, scenario));
     };
     let format = common.output.format;
     let outcome = compile_cached(&mut checked, &sc.vehicle, cache_dir, format, term)?;

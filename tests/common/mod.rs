@@ -108,6 +108,8 @@ pub fn program_json(p: &flexflight::Program) -> Value {
         "vehicles": p.vehicles,
         "scenarios": p.scenarios,
         "sweeps": p.sweeps,
+        "fixtures": p.fixtures,
+        "tunnel_tests": p.tunnel_tests,
     })
 }
 

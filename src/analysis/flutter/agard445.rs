@@ -70,21 +70,17 @@
 //! `z = x × y` (the lattice frame of [`crate::runtime::aero::panel`]), per unit modal
 //! coordinate of the mass-normalised mode (`φᵀ M φ = 1`, so `w` is in m/sqrt(kg)).
 
-use faer::{Mat, c64};
-
 use super::goland::{FT, SLUG};
-use super::pk::{FlutterError, FlutterModel, GafFn, GafTable};
-use crate::runtime::aero::FinPlanform;
-use crate::runtime::aero::panel::dlm::Dlm;
-use crate::runtime::aero::panel::harmonic::{self, HarmonicVlm, WakeSettings};
-use crate::runtime::aero::panel::spline::{SplineError, surface_spline};
-use crate::runtime::aero::panel::{Lattice, PanelError, Spacing, vlm};
-use crate::structure::fe_model::FeModel;
-use crate::structure::generate::{
-    FinSpec, GenerateError, MaterialProps, cantilever_fin_model, cantilever_plate_model,
-    orthotropic_plane_stress, shell_element_lamina,
+pub use super::wing::{
+    Grain, QuasiSteadyProblem, UnsteadyAero, UnsteadyProblem, UnsteadySettings,
+    WingError as AgardError, WingModes, k_max_for, quasi_steady_problem, sign_changes,
+    unsteady_problem,
 };
-use crate::structure::modal::{self, ModalError};
+use super::wing::{
+    WingDensity, WingMaterial, WingSpec, WingThickness, section_thickness_over_chord,
+};
+use crate::runtime::aero::FinPlanform;
+use crate::structure::fe_model::FeModel;
 
 /// Pounds per square inch in pascals (1 lbf / (0.0254 m)²).
 pub const PSI: f64 = 4.448_221_615_260_5 / (0.0254 * 0.0254);
@@ -203,30 +199,18 @@ pub fn wing_mass() -> f64 {
 
 /// Section thickness over chord `τ(x/c) = 2 z/c` (linear between the tabulated ordinates).
 pub fn thickness_over_chord(xc: f64) -> f64 {
-    let u = (xc.clamp(0.0, 1.0)) * 10.0;
-    let k = (u.floor() as usize).min(9);
-    let f = u - k as f64;
-    2.0 * (HALF_THICKNESS[k] * (1.0 - f) + HALF_THICKNESS[k + 1] * f)
-}
-
-/// Direction of the grain of the orthotropic lamina.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Grain {
-    /// Along the element's spanwise grid line (a line of constant chord fraction).
-    GridLines,
-    /// Along the 45° quarter-chord line, the same in every element.
-    QuarterChord,
+    section_thickness_over_chord(&HALF_THICKNESS, xc)
 }
 
 /// Plate material of the model (module doc).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Material {
     Orthotropic(Grain),
     Isotropic,
 }
 
 /// Mesh and material of a model.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ModelSpec {
     pub chord_elements: usize,
     pub span_elements: usize,
@@ -243,554 +227,73 @@ impl Default for ModelSpec {
     }
 }
 
-/// Errors of [`wing_modes`].
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum AgardError {
-    #[error(transparent)]
-    Generate(#[from] GenerateError),
-    #[error(transparent)]
-    Modal(#[from] ModalError),
-    #[error("{0} modes requested, the model has {1}")]
-    TooFewModes(usize, usize),
-    #[error(transparent)]
-    Panel(#[from] PanelError),
-    #[error(transparent)]
-    Spline(#[from] SplineError),
-    #[error(transparent)]
-    Flutter(#[from] FlutterError),
-}
-
-/// The FE model, its modes and the normal displacement of each mode at the nodes.
-pub struct WingModes {
-    pub model: FeModel,
-    /// Natural frequencies, Hz, ascending.
-    pub frequencies_hz: Vec<f64>,
-    /// Mass-normalised shapes over all DOFs, one column per mode.
-    pub shapes: Mat<f64>,
-    /// Node positions: `x` chordwise aft of the root leading edge, m.
-    pub x: Vec<f64>,
-    /// Node positions: `y` spanwise from the root, m.
-    pub y: Vec<f64>,
-    /// `w[mode][node]`: displacement along `z = x × y` (module doc), m/sqrt(kg).
-    pub w: Vec<Vec<f64>>,
-    /// Nodes per spanwise row (chordwise fastest, from the trailing edge; rows from the
-    /// first row off the root to the tip).
-    pub row_len: usize,
-    /// Total mass of the model, kg.
-    pub mass: f64,
-}
-
-/// The planform as a fin of the generator: root trailing edge at `x_body = -c_r`, so the root
-/// leading edge is at `x_body = 0` and the chordwise coordinate aft of it is `-x_body`.
-fn fin_spec(spec: &ModelSpec, thickness: f64, material: MaterialProps) -> FinSpec {
-    FinSpec {
-        count: 1,
+/// The surface of `spec` (module doc): the orthotropic plate with the section's thickness and
+/// the wing's mass, or the isotropic plate of the section's mean thickness (the plate's volume
+/// is the section's) with the density of the section's volume.
+pub fn wing_spec(spec: &ModelSpec) -> WingSpec {
+    let section = WingSpec {
         span: SEMISPAN,
         root_chord: ROOT_CHORD,
         tip_chord: TIP_CHORD,
-        sweep: leading_edge_sweep(),
-        thickness,
-        cant: 0.0,
-        angles: vec![],
-        root_trailing_edge_x: -ROOT_CHORD,
-        span_elements: spec.span_elements,
+        leading_edge_sweep: leading_edge_sweep(),
+        thickness: WingThickness::Section(HALF_THICKNESS.to_vec()),
+        material: WingMaterial::Orthotropic {
+            e1: E1,
+            e2: E2,
+            nu12: POISSON,
+            g12: G12,
+            grain: Grain::GridLines,
+        },
+        density: WingDensity::Mass(wing_mass()),
         chord_elements: spec.chord_elements,
-        material,
-    }
-}
-
-/// Mean of `τ` over the chord fraction `[u0, u1]` (4-point Gauss-Legendre on each tenth of
-/// the chord it overlaps; `τ` is linear there, so this is exact).
-fn mean_thickness_over_chord(u0: f64, u1: f64) -> f64 {
-    let (lo, hi) = (u0.min(u1), u0.max(u1));
-    let mut sum = 0.0;
-    let mut a = lo;
-    while a < hi {
-        let b = (((a * 10.0).floor() + 1.0) / 10.0).min(hi);
-        // Two-point Gauss is exact for a linear integrand on [a, b].
-        let (m, h) = (0.5 * (a + b), 0.5 * (b - a) / 3f64.sqrt());
-        sum += 0.5 * (b - a) * (thickness_over_chord(m - h) + thickness_over_chord(m + h));
-        a = b;
-    }
-    sum / (hi - lo)
-}
-
-/// Thickness of quad (i, j) of the fin grid: local chord at the quad's mid-span times the
-/// mean `τ` over its chordwise extent (i counts from the trailing edge).
-fn element_thickness(f: &FinSpec, i: usize, j: usize) -> f64 {
-    let eta = (j as f64 + 0.5) / f.span_elements as f64;
-    let chord = f.root_chord + (f.tip_chord - f.root_chord) * eta;
-    let n = f.chord_elements as f64;
-    // Chord fraction from the leading edge of the quad's two chordwise stations.
-    let (u0, u1) = (1.0 - i as f64 / n, 1.0 - (i as f64 + 1.0) / n);
-    chord * mean_thickness_over_chord(u1, u0)
-}
-
-/// Area of a quad from its corners (shoelace).
-fn quad_area(ab: &[[f64; 2]; 4]) -> f64 {
-    let mut s = 0.0;
-    for i in 0..4 {
-        let (p, q) = (ab[i], ab[(i + 1) % 4]);
-        s += p[0] * q[1] - q[0] * p[1];
-    }
-    0.5 * s
-}
-
-/// Volume of the plate of varying thickness on the fin grid of `f`, m³.
-fn plate_volume(f: &FinSpec) -> f64 {
-    let mut v = 0.0;
-    for j in 0..f.span_elements {
-        for i in 0..f.chord_elements {
-            let p = |ci: usize, cj: usize| {
-                let (x, eta) = f.planform_point(ci, cj);
-                [x, eta]
-            };
-            let ab = [p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1)];
-            v += element_thickness(f, i, j) * quad_area(&ab);
+        span_elements: spec.span_elements,
+    };
+    match spec.material {
+        Material::Orthotropic(grain) => WingSpec {
+            material: WingMaterial::Orthotropic {
+                e1: E1,
+                e2: E2,
+                nu12: POISSON,
+                g12: G12,
+                grain,
+            },
+            ..section
+        },
+        Material::Isotropic => {
+            let volume = section.plate_volume();
+            let area = 0.5 * (ROOT_CHORD + TIP_CHORD) * SEMISPAN;
+            WingSpec {
+                thickness: WingThickness::Constant(volume / area),
+                material: WingMaterial::Isotropic {
+                    youngs_modulus: E_ISOTROPIC,
+                    poisson: POISSON,
+                },
+                density: WingDensity::Density(wing_mass() / volume),
+                ..section
+            }
         }
     }
-    v
 }
 
 /// Builds the clamped FE model of `spec` (module doc).
 pub fn wing_model(spec: &ModelSpec) -> Result<FeModel, AgardError> {
-    let mass = wing_mass();
-    let iso = |rho: f64| MaterialProps {
-        youngs_modulus: E_ISOTROPIC,
-        poisson: POISSON,
-        density: rho,
-    };
-    match spec.material {
-        Material::Isotropic => {
-            // Constant thickness: the section's mean thickness over the planform (the
-            // plate's volume is the wing's), so rho = m / V.
-            let probe = fin_spec(spec, 1.0, iso(1.0));
-            let volume = plate_volume(&probe);
-            let area = 0.5 * (ROOT_CHORD + TIP_CHORD) * SEMISPAN;
-            let t = volume / area;
-            Ok(cantilever_fin_model(&fin_spec(
-                spec,
-                t,
-                iso(mass / volume),
-            ))?)
-        }
-        Material::Orthotropic(grain) => {
-            let probe = fin_spec(spec, 1.0, iso(1.0));
-            let rho = mass / plate_volume(&probe);
-            let f = probe.clone();
-            let quarter = {
-                // Local a points forward (toward the leading edge), b outboard: a line
-                // swept back by 45° runs along (-sin 45°, cos 45°).
-                let d = (-QUARTER_CHORD_SWEEP.sin(), QUARTER_CHORD_SWEEP.cos());
-                d.1.atan2(d.0)
-            };
-            let model = cantilever_plate_model(&probe, |i, j, ab| {
-                let theta = match grain {
-                    Grain::QuarterChord => quarter,
-                    Grain::GridLines => {
-                        let da = ab[3][0] + ab[2][0] - ab[0][0] - ab[1][0];
-                        let db = ab[3][1] + ab[2][1] - ab[0][1] - ab[1][1];
-                        db.atan2(da)
-                    }
-                };
-                let q = orthotropic_plane_stress(E1, E2, POISSON, G12, theta);
-                shell_element_lamina(ab, element_thickness(&f, i, j), &q, G12, rho)
-            })?;
-            Ok(model)
-        }
-    }
+    wing_spec(spec).model()
 }
 
 /// The lowest `count` modes of the model of `spec` (module doc).
 pub fn wing_modes(spec: &ModelSpec, count: usize) -> Result<WingModes, AgardError> {
-    let model = wing_model(spec)?;
-    let modes = modal::solve(&model, count)?;
-    let n_el = modes.omega2.len() - modes.n_rigid;
-    if n_el < count {
-        return Err(AgardError::TooFewModes(count, n_el));
-    }
-    let freqs = modes.elastic_frequencies_hz();
-    let nn = model.nodes.len();
-    let shapes = Mat::from_fn(model.n_dof(), count, |r, c| {
-        modes.shapes[(r, modes.n_rigid + c)]
-    });
-    let x = model.nodes.iter().map(|n| -n.position[0]).collect();
-    let y = model.nodes.iter().map(|n| n.position[1]).collect();
-    // z = x_aft × y = -(e_a × e_b) = -n: the FE normal displacement with its sign flipped.
-    let w = (0..count)
-        .map(|c| (0..nn).map(|i| -shapes[(6 * i + 2, c)]).collect())
-        .collect();
-    // Total mass: a unit translation along z.
-    let mut unit = Mat::<f64>::zeros(model.n_dof(), 1);
-    for i in 0..nn {
-        unit[(6 * i + 2, 0)] = 1.0;
-    }
-    let mu = &model.mass * &unit;
-    let mass = (0..nn).map(|i| mu[(6 * i + 2, 0)]).sum();
-    Ok(WingModes {
-        model,
-        frequencies_hz: freqs[..count].to_vec(),
-        shapes,
-        x,
-        y,
-        w,
-        row_len: spec.chord_elements + 1,
-        mass,
-    })
+    wing_spec(spec).modes(count)
 }
 
-/// Sign changes along a line of values, ignoring values below `1e-3` of the largest.
-pub fn sign_changes(values: &[f64]) -> usize {
-    let big = values.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
-    let mut last = 0.0_f64;
-    let mut n = 0;
-    for &v in values {
-        if v.abs() < 1e-3 * big {
-            continue;
-        }
-        if last != 0.0 && v.signum() != last.signum() {
-            n += 1;
-        }
-        last = v;
-    }
-    n
-}
-
-impl WingModes {
-    /// `w` of `mode` along the leading edge (root to tip, without the clamped root).
-    pub fn leading_edge(&self, mode: usize) -> Vec<f64> {
-        self.w[mode]
-            .chunks(self.row_len)
-            .map(|row| row[self.row_len - 1])
-            .collect()
-    }
-
-    /// `w` of `mode` along the trailing edge.
-    pub fn trailing_edge(&self, mode: usize) -> Vec<f64> {
-        self.w[mode]
-            .chunks(self.row_len)
-            .map(|row| row[0])
-            .collect()
-    }
-
-    /// `w` of `mode` along the tip chord, trailing edge to leading edge.
-    pub fn tip_chord(&self, mode: usize) -> Vec<f64> {
-        let n = self.w[mode].len();
-        self.w[mode][n - self.row_len..].to_vec()
-    }
-
-    /// The mode's kind read from its [`WingModes::nodal_signature`] (the four signatures of
-    /// the test `mode_shapes_identified_by_nodal_lines`), `None` for any other.
-    pub fn kind(&self, mode: usize) -> Option<&'static str> {
-        match self.nodal_signature(mode) {
-            (0, 0, 0) => Some("1st bending"),
-            (0, 0, 1) => Some("1st torsion"),
-            (0, 1, 0) => Some("2nd bending"),
-            (1, 1, 1) => Some("2nd torsion"),
-            _ => None,
-        }
-    }
-
-    /// Nodal-line signature of `mode`: sign changes along (leading edge, trailing edge, tip
-    /// chord).
-    pub fn nodal_signature(&self, mode: usize) -> (usize, usize, usize) {
-        (
-            sign_changes(&self.leading_edge(mode)),
-            sign_changes(&self.trailing_edge(mode)),
-            sign_changes(&self.tip_chord(mode)),
-        )
-    }
-}
-
-/// A flutter problem of [`quasi_steady_problem`]: the modal model and its GAF.
-pub type QuasiSteadyProblem<F> = (FlutterModel, GafFn<F>);
-
-/// The planform as the panel model's fin (root at the reflection plane).
+/// The planform as the panel model's surface (root at the reflection plane).
 pub fn planform() -> FinPlanform {
-    FinPlanform {
-        span: SEMISPAN,
-        root_chord: ROOT_CHORD,
-        tip_chord: TIP_CHORD,
-        tip_le_offset: SEMISPAN * leading_edge_sweep().tan(),
-        body_radius: 0.0,
-    }
-}
-
-/// The flutter problem of the wing's modes with the QUASI-STEADY vortex-lattice GAF (not the
-/// unsteady one the validation calls for; labelled so wherever it is reported).
-///
-/// Modal mass `I`, stiffness `diag(ω²)`. Aerodynamics: the vortex-lattice force map `K` of
-/// [`vlm::force_map`] (`F = q K α_e`, Prandtl-Glauert) with the harmonic normalwash of mode
-/// `j`, `α_e = -∂z_j/∂x - i (k/b) z_j` at the control points (the linearised tangency
-/// condition of [`crate::runtime::aero::panel`], `∂/∂t = iω`, `ω/V = k/b`), and the work of
-/// the panel forces on mode `i` at the force points:
-///
-/// `Q_ij(k) = Σ_p z_i(f_p) Σ_r K_pr (-∂z_j/∂x - i (k/b) z_j)(c_r) = A_ij + i (k/b) B_ij`.
-///
-/// The mode shapes reach the lattice by [`surface_spline`] through the FE nodes and the
-/// clamped root nodes (`z = 0`). This is Theodorsen's `C(k) = 1` with no apparent mass
-/// (module doc of [`vlm`]).
-pub fn quasi_steady_problem(
-    modes: &WingModes,
-    mach: f64,
-    density: f64,
-    chordwise: usize,
-    spanwise: usize,
-) -> Result<QuasiSteadyProblem<impl Fn(f64, &mut [c64]) + use<>>, AgardError> {
-    let lattice = Lattice::new(&planform(), chordwise, spanwise, Spacing::Uniform)?;
-    let kmap = vlm::force_map(&lattice, mach)?;
-    let n = lattice.len();
-    let count = modes.w.len();
-    let controls: Vec<[f64; 2]> = lattice.panels.iter().map(|p| p.control).collect();
-    let forces: Vec<[f64; 2]> = lattice.panels.iter().map(|p| p.bound_mid()).collect();
-    let rows = mode_rows(modes, &controls, &forces)?;
-    let (z_c, zx_c, z_f) = (&rows.z_c, &rows.zx_c, &rows.z_f);
-    let work = |i: usize, alpha: &[f64]| -> f64 {
-        (0..n)
-            .map(|p| z_f[i][p] * (0..n).map(|r| kmap[p * n + r] * alpha[r]).sum::<f64>())
-            .sum()
-    };
-    let mut a = vec![0.0; count * count];
-    let mut b = vec![0.0; count * count];
-    for j in 0..count {
-        let slope: Vec<f64> = zx_c[j].iter().map(|v| -v).collect();
-        let disp: Vec<f64> = z_c[j].iter().map(|v| -v).collect();
-        for i in 0..count {
-            a[i * count + j] = work(i, &slope);
-            b[i * count + j] = work(i, &disp);
-        }
-    }
-    let bs = semichord();
-    let gaf = GafFn {
-        order: count,
-        k_max: 1e3,
-        f: move |k: f64, out: &mut [c64]| {
-            for e in 0..a.len() {
-                out[e] = c64::new(a[e], k / bs * b[e]);
-            }
-        },
-    };
-    Ok((modal_model(modes, density), gaf))
-}
-
-/// The modes' spline rows at a panel map's points, one vector per mode: value `z_c` and
-/// chordwise slope `zx_c` at the normalwash points, value `z_f` at the force points.
-struct ModeRows {
-    z_c: Vec<Vec<f64>>,
-    zx_c: Vec<Vec<f64>>,
-    z_f: Vec<Vec<f64>>,
-}
-
-/// [`ModeRows`] by [`surface_spline`] through the FE nodes and the clamped root nodes (`z =
-/// 0` at the chordwise stations of the root row).
-fn mode_rows(
-    modes: &WingModes,
-    eval: &[[f64; 2]],
-    force: &[[f64; 2]],
-) -> Result<ModeRows, AgardError> {
-    let root = modes.row_len;
-    let mut nodes: Vec<[f64; 2]> = (0..root)
-        .map(|i| [ROOT_CHORD * (1.0 - i as f64 / (root - 1) as f64), 0.0])
-        .collect();
-    nodes.extend(modes.x.iter().zip(&modes.y).map(|(&x, &y)| [x, y]));
-    let (g, gx) = surface_spline(&nodes, eval, ROOT_CHORD)?;
-    let (gf, _) = surface_spline(&nodes, force, ROOT_CHORD)?;
-    let nn = nodes.len();
-    let apply = |m: &[f64], w: &[f64], np: usize| -> Vec<f64> {
-        (0..np)
-            .map(|p| (0..nn).map(|k| m[p * nn + k] * w[k]).sum())
-            .collect()
-    };
-    let full: Vec<Vec<f64>> = modes
-        .w
-        .iter()
-        .map(|w| {
-            let mut v = vec![0.0; root];
-            v.extend_from_slice(w);
-            v
-        })
-        .collect();
-    Ok(ModeRows {
-        z_c: full.iter().map(|w| apply(&g, w, eval.len())).collect(),
-        zx_c: full.iter().map(|w| apply(&gx, w, eval.len())).collect(),
-        z_f: full.iter().map(|w| apply(&gf, w, force.len())).collect(),
-    })
-}
-
-/// The modal flutter model: mass `I`, stiffness `diag(ω²)`, no damping, `b_s`, `density`.
-fn modal_model(modes: &WingModes, density: f64) -> FlutterModel {
-    let count = modes.w.len();
-    let mut stiffness = vec![0.0; count * count];
-    let mut mass = vec![0.0; count * count];
-    for i in 0..count {
-        mass[i * count + i] = 1.0;
-        let w = 2.0 * std::f64::consts::PI * modes.frequencies_hz[i];
-        stiffness[i * count + i] = w * w;
-    }
-    let names = (0..count)
-        .map(|i| match modes.kind(i) {
-            Some(kind) => format!("mode {} ({kind})", i + 1),
-            None => format!("mode {}", i + 1),
-        })
-        .collect();
-    FlutterModel {
-        names,
-        mass,
-        stiffness,
-        damping: vec![0.0; count * count],
-        structural_g: 0.0,
-        b_ref: semichord(),
-        density,
-    }
-}
-
-/// The subsonic unsteady aerodynamics of [`unsteady_problem`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum UnsteadyAero {
-    /// The harmonic vortex lattice of [`harmonic`] (convected ringed wake, Göthert
-    /// compressibility), `2n` force points.
-    VortexLattice,
-    /// The doublet-lattice method of [`crate::runtime::aero::panel::dlm`] (the compressible unsteady kernel), `n` force
-    /// points at the box quarter-chord mid-points.
-    DoubletLattice,
-}
-
-/// The lattice and reduced-frequency table of [`unsteady_problem`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct UnsteadySettings {
-    pub aero: UnsteadyAero,
-    /// Highest reduced frequency `k = ω b_s / V` of the table.
-    pub k_max: f64,
-    /// Number of tabulated reduced frequencies, `k_i = k_max (i/(count-1))²`.
-    pub k_count: usize,
-    /// Spanwise strips of the lattice; the chordwise count follows from `k_max`
-    /// ([`chordwise_for`]), at least `min_chordwise` (for a convergence study).
-    pub spanwise: usize,
-    pub min_chordwise: usize,
-}
-
-/// The fewest uniform chordwise panels whose root-chord panel meets the box-size rule of
-/// [`harmonic::check_resolution`] at `k_max`: `Δx = c_r / n <= 0.08 · 2π b_s / k_max`.
-pub fn chordwise_for(k_max: f64) -> usize {
-    let dx = harmonic::BOX_RULE * 2.0 * std::f64::consts::PI * semichord() / k_max;
-    ((ROOT_CHORD / dx).ceil() as usize).max(1)
-}
-
-/// The reduced frequency a sweep starting at `v_min` needs: `1.2 ω_max b_s / v_min`, the
-/// highest mode's `k` at the lowest speed with 20 % to spare (the rule of `analyze flutter`).
-pub fn k_max_for(modes: &WingModes, v_min: f64) -> f64 {
-    let w =
-        2.0 * std::f64::consts::PI * modes.frequencies_hz.iter().fold(0.0_f64, |a, &f| a.max(f));
-    1.2 * w * semichord() / v_min
-}
-
-/// The UNSTEADY flutter problem of [`unsteady_problem`].
-pub struct UnsteadyProblem {
-    pub model: FlutterModel,
-    pub gaf: GafTable,
-    /// The lattice used: chordwise x spanwise panels (uniform), and its wake rings.
-    pub chordwise: usize,
-    pub spanwise: usize,
-    pub wake_rings: usize,
-}
-
-/// The flutter problem of the wing's modes with the UNSTEADY vortex-lattice GAF (the
-/// harmonic vortex lattice with a convected wake of [`harmonic`], Göthert compressibility),
-/// tabulated over `k` for the p-k solver.
-///
-/// The same structure as [`quasi_steady_problem`] (modal mass `I`, stiffness `diag(ω²)`,
-/// modes splined with the clamped root, virtual work at the force points), with the complex
-/// map of [`HarmonicVlm::forces`] in place of the quasi-steady one:
-///
-/// `Q(k) = Z_fᵀ F`, `F = K(k/b_s, M) (-Z_x - i (k/b_s) Z_c)`
-///
-/// (as `analysis::flutter::fin`'s `unsteady_values`; `F` has `2n` rows: the Kutta-Joukowski
-/// forces at the bound mid-points, then the `ρ ∂Δφ/∂t` forces at the ring-area centroids, so
-/// `Z_f` is splined at both). The lattice is uniform (as the quasi-steady case), `spanwise`
-/// strips and [`chordwise_for`]`(k_max)` chordwise panels (or `min_chordwise`, if more), so the box-size rule holds at
-/// every tabulated `k`; the wake is [`WakeSettings::default`]. `M > 0.9` is refused by the
-/// vortex lattice ([`PanelError::Untrusted`]). With [`UnsteadyAero::DoubletLattice`] the map is
-/// [`Dlm::forces`] instead (`n` force points, no wake: the kernel carries it), accepted up to
-/// [`crate::runtime::aero::panel::dlm::MACH_LIMIT`].
-pub fn unsteady_problem(
-    modes: &WingModes,
-    mach: f64,
-    density: f64,
-    settings: &UnsteadySettings,
-) -> Result<UnsteadyProblem, AgardError> {
-    let chordwise = chordwise_for(settings.k_max).max(settings.min_chordwise);
-    let lattice = Lattice::new(&planform(), chordwise, settings.spanwise, Spacing::Uniform)?;
-    enum Map {
-        Vlm(HarmonicVlm),
-        Dlm(Dlm),
-    }
-    let map = match settings.aero {
-        UnsteadyAero::VortexLattice => {
-            let vlm = HarmonicVlm::new(&lattice, mach, &WakeSettings::default())?;
-            vlm.check_resolution(settings.k_max / semichord())?;
-            Map::Vlm(vlm)
-        }
-        UnsteadyAero::DoubletLattice => {
-            let d = Dlm::new(&lattice, mach)?;
-            d.check_resolution(settings.k_max / semichord())?;
-            Map::Dlm(d)
-        }
-    };
-    let m0 = match &map {
-        Map::Vlm(v) => v.map(0.0)?,
-        Map::Dlm(d) => d.map(0.0)?,
-    };
-    let rows = mode_rows(modes, &m0.eval, &m0.force)?;
-    let count = modes.w.len();
-    let (ne, nf) = (m0.eval.len(), m0.force.len());
-    let bs = semichord();
-    let nk = settings.k_count.max(2);
-    let ks: Vec<f64> = (0..nk)
-        .map(|i| {
-            let s = i as f64 / (nk - 1) as f64;
-            settings.k_max * s * s
-        })
-        .collect();
-    let mut values = Vec::with_capacity(nk);
-    for &k in &ks {
-        let nu = k / bs;
-        // α (ne x count, row-major): column j is mode j's -Z_x - i ν Z_c.
-        let mut alpha = vec![c64::new(0.0, 0.0); ne * count];
-        for p in 0..ne {
-            for j in 0..count {
-                alpha[p * count + j] = c64::new(-rows.zx_c[j][p], -nu * rows.z_c[j][p]);
-            }
-        }
-        let f = match &map {
-            Map::Vlm(v) => v.forces(nu, &alpha, count)?,
-            Map::Dlm(d) => d.forces(nu, &alpha, count)?,
-        };
-        let mut q = vec![c64::new(0.0, 0.0); count * count];
-        for p in 0..nf {
-            for i in 0..count {
-                let z = rows.z_f[i][p];
-                for j in 0..count {
-                    q[i * count + j] += f[p * count + j] * z;
-                }
-            }
-        }
-        values.push(q);
-    }
-    Ok(UnsteadyProblem {
-        model: modal_model(modes, density),
-        gaf: GafTable::new(count, ks, values)?,
-        chordwise,
-        spanwise: settings.spanwise,
-        wake_rings: match &map {
-            Map::Vlm(v) => v.wake_rings(),
-            Map::Dlm(_) => 0,
-        },
-    })
+    wing_spec(&ModelSpec::default()).planform()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use faer::Mat;
 
     /// The published columns agree with each other: the speed index recomputed from speed,
     /// mass ratio, `b_s` and `ω_α` matches the published one within the sum of the
@@ -869,16 +372,9 @@ mod tests {
         let m = report(&spec);
         let e = errors(&m);
         // The density is the published mass over the plate's volume.
-        let probe = fin_spec(
-            &spec,
-            1.0,
-            MaterialProps {
-                youngs_modulus: 1.0,
-                poisson: 0.3,
-                density: 1.0,
-            },
-        );
-        assert!(plate_volume(&probe) > 0.0);
+        let w = wing_spec(&spec);
+        assert!(w.plate_volume() > 0.0);
+        assert_eq!(w.density_kg_m3(), wing_mass() / w.plate_volume());
         // The clamped row takes about half a strip of the mass off the free nodes.
         assert!(m.mass < wing_mass() && m.mass > wing_mass() * (1.0 - 1.0 / 16.0));
         println!("errors: grid-line grain {e:?}");
@@ -895,7 +391,7 @@ mod tests {
     fn material_sensitivity() {
         let spec = ModelSpec::default();
         let quarter = report(&ModelSpec {
-            material: Material::Orthotropic(Grain::QuarterChord),
+            material: Material::Orthotropic(Grain::Swept(QUARTER_CHORD_SWEEP)),
             ..spec
         });
         let iso = report(&ModelSpec {
@@ -1162,7 +658,7 @@ mod tests {
         }
         let quarter = wing_modes(
             &ModelSpec {
-                material: Material::Orthotropic(Grain::QuarterChord),
+                material: Material::Orthotropic(Grain::Swept(QUARTER_CHORD_SWEEP)),
                 ..ModelSpec::default()
             },
             4,

@@ -47,8 +47,10 @@ use super::pk::{FlutterError, FlutterModel, GafFn};
 use super::theodorsen::section_gaf;
 
 pub const FT: f64 = 0.3048;
-pub const SLUG: f64 = 14.593_902_937;
 pub const LBF: f64 = 4.448_221_615_260_5;
+/// 1 slug = 1 lbf s²/ft (exact in the definitions of the pound-force and the foot; the
+/// language's `slug` unit is the same quotient).
+pub const SLUG: f64 = LBF / FT;
 
 /// A flutter problem of [`UniformWing::flutter_problem`]: the modal model, its strip-theory
 /// GAF and the modes.

@@ -10,6 +10,8 @@
 //!   designer's case);
 //! - [`vehicle`]: the free flexible vehicle (its reduced model's modes and rigid-body
 //!   motions) with every fin's panel generalised forces and the body's quasi-steady loads;
+//! - [`wing`]: a lifting surface clamped at its root (the language's `fixture`), its plate
+//!   model and flutter problems; [`agard445`] is one;
 //! - [`goland`]: the Goland wing, a uniform cantilever as bending-torsion beam elements with
 //!   Theodorsen strip theory.
 
@@ -22,6 +24,7 @@ pub mod pk;
 pub mod theodorsen;
 pub mod typical_section;
 pub mod vehicle;
+pub mod wing;
 
 pub use pk::{
     Divergence, FlutterError, FlutterModel, FlutterPoint, Gaf, GafFn, GafTable, KSolution, PkRoot,
