@@ -486,3 +486,18 @@ fn the_free_vehicle_refuses_a_transonic_mach() {
     assert!(stderr.contains("analysis::flutter::transonic"), "{stderr}");
     assert!(!out.exists());
 }
+
+/// `--modes` chooses the clamped fin's modes; the free vehicle flies its compiled ones, so
+/// the flag would do nothing there: refused before the compile (it used to be ignored).
+#[test]
+fn the_free_vehicle_refuses_modes() {
+    let o = flexflight()
+        .args(["analyze", "flutter"])
+        .arg(common::root().join("examples/thesis/section_6_5.vdl"))
+        .args(["--scenario", "subsonic_t06", "--modes", "4"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("--modes"), "{stderr}");
+}

@@ -434,6 +434,12 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
         }
     };
     if !a.clamped {
+        if a.modes.is_some() {
+            eprintln!(
+                "error: --modes chooses the modes of the clamped fin (--clamped) or of a fixture; the free vehicle uses its compiled modes (the vehicle's `modes` block)"
+            );
+            return EXIT_USAGE;
+        }
         return cmd_free(a, &mut checked, &sc, condition, &speeds, scan, term);
     }
     // The GAF tables of every solution below go through the artifact cache.

@@ -13,6 +13,9 @@ use crate::analysis::flutter::wing::{
 };
 use crate::check::ir;
 use crate::diagnostics::Diagnostic;
+use crate::runtime::aero::panel::dlm::Dlm;
+use crate::runtime::aero::panel::harmonic::{HarmonicVlm, WakeSettings};
+use crate::runtime::aero::panel::{Lattice, Spacing, vlm};
 
 use super::flutter::{AeroChoice, FlutterArgs, MAX_CHORDWISE, vg_table};
 use super::{EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, emit};
@@ -83,6 +86,20 @@ pub fn solve_tunnel(
     aero: AeroChoice,
 ) -> Result<TunnelFlutter, WingError> {
     let spec = wing_spec(&t.fixture);
+    // The aerodynamic model's Mach range first, on a one-panel lattice: a Mach it refuses
+    // is said before the plate's eigen-solve.
+    let probe = Lattice::new(&spec.planform(), 1, 1, Spacing::Uniform)?;
+    match aero {
+        AeroChoice::Unsteady => {
+            HarmonicVlm::new(&probe, mach, &WakeSettings::default())?;
+        }
+        AeroChoice::DoubletLattice => {
+            Dlm::new(&probe, mach)?;
+        }
+        AeroChoice::QuasiSteady => {
+            vlm::force_map(&probe, mach)?;
+        }
+    }
     let modes = spec.modes(n_modes)?;
     let density = t.density.value;
     let spanwise = t.fixture.spanwise_panels.value;
@@ -168,8 +185,13 @@ pub fn cmd_tunnel(
     let r = match solve_tunnel(t, mach, &speeds, n_modes, a.aero) {
         Ok(r) => r,
         Err(e) => {
-            let d = Diagnostic::error(tunnel_code(&e), format!("flutter: {e}"))
+            let mut d = Diagnostic::error(tunnel_code(&e), format!("flutter: {e}"))
                 .label(t.name.span, "in this scenario");
+            if matches!(e, WingError::Panel(_)) {
+                d = d.with_help(
+                    "a fixture's surface has subsonic panels only: the vortex lattice to Mach 0.9, the doublet lattice (--aero doublet-lattice) to Mach 0.95; piston theory is not wired for fixtures",
+                );
+            }
             emit(&[d], sources, format, term);
             return EXIT_DIAGNOSTICS;
         }
