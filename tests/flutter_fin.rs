@@ -510,3 +510,42 @@ fn the_doublet_lattice_refuses_boxes_much_wider_than_long() {
     assert!(max_box_aspect(&lattice) <= MAX_BOX_ASPECT);
     assert!(gaf_table(&modes, &lattice, 0.6, &default).is_ok());
 }
+
+/// The unsteady tables are built over the reduced frequencies in parallel: one thread and
+/// two give the same bits (vortex lattice and doublet lattice), so a flutter speed does not
+/// depend on the machine's thread count.
+#[test]
+fn unsteady_gaf_tables_have_the_same_bits_on_one_and_two_threads() {
+    use flexflight::analysis::flutter::fin::FinAero;
+    let v = sphads1(&["fins.thickness=0.875mm"]);
+    let modes = clamped_fin_modes(&v, 4).unwrap();
+    for aero in [FinAero::Unsteady, FinAero::DoubletLattice] {
+        let s = FinFlutterSettings {
+            aero,
+            chordwise: 10,
+            k_count: 8,
+            k_max: 1.0,
+            ..FinFlutterSettings::default()
+        };
+        let lattice = fin_lattice(&modes, &s).unwrap();
+        let table = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| gaf_table(&modes, &lattice, 0.6, &s).unwrap())
+        };
+        let (one, two) = (table(1), table(2));
+        assert_eq!(one.ks(), two.ks());
+        for i in 0..one.ks().len() {
+            let (a, b) = (one.at(i), two.at(i));
+            assert!(
+                a.iter()
+                    .zip(b)
+                    .all(|(x, y)| x.re.to_bits() == y.re.to_bits()
+                        && x.im.to_bits() == y.im.to_bits()),
+                "{aero:?} k #{i}"
+            );
+        }
+    }
+}

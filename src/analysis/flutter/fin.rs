@@ -43,6 +43,7 @@
 //! ([`FinFlutterError::Transonic`]), the flight margin blends and says so.
 
 use faer::c64;
+use rayon::prelude::*;
 
 use super::pk::{FlutterError, FlutterModel, GafTable, PkSettings, PkSolution, pk_solve_cut};
 use crate::check::ir;
@@ -481,7 +482,7 @@ fn harmonic_gafs(
     ks: &[f64],
     b: f64,
     n: usize,
-    forces: impl Fn(f64, &[c64]) -> Result<Vec<c64>, PanelError>,
+    forces: impl Fn(f64, &[c64]) -> Result<Vec<c64>, PanelError> + Sync,
 ) -> Result<Vec<Vec<c64>>, FinFlutterError> {
     let points = PanelMap {
         eval: m0.eval,
@@ -490,16 +491,19 @@ fn harmonic_gafs(
     };
     let rows = point_rows(modes, &points)?;
     let (ne, nf) = (points.eval.len(), points.force.len());
-    let mut out = Vec::with_capacity(ks.len());
-    for &k in ks {
-        let nu = k / b;
-        let alpha: Vec<c64> = (0..ne * n)
-            .map(|e| c64::new(-rows.zx[e], -nu * rows.zc[e]))
-            .collect();
-        let f = forces(nu, &alpha)?;
-        out.push(virtual_work(&rows, &f, nf, n));
-    }
-    Ok(out)
+    // The reduced frequencies are independent (each its own influence matrix and solve, the
+    // same operations on any thread): in parallel, collected in order, so the table has the
+    // same bits whatever the thread count.
+    ks.par_iter()
+        .map(|&k| -> Result<Vec<c64>, FinFlutterError> {
+            let nu = k / b;
+            let alpha: Vec<c64> = (0..ne * n)
+                .map(|e| c64::new(-rows.zx[e], -nu * rows.zc[e]))
+                .collect();
+            let f = forces(nu, &alpha)?;
+            Ok(virtual_work(&rows, &f, nf, n))
+        })
+        .collect()
 }
 
 /// The chordwise panel count the unsteady lattice needs up to reduced frequency `k_max`

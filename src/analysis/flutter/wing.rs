@@ -36,6 +36,7 @@
 //! is `V_f/(b ω_α sqrt(μ))` for a reference frequency `ω_α` (Yates' symbols).
 
 use faer::{Mat, c64};
+use rayon::prelude::*;
 
 use super::pk::{FlutterError, FlutterModel, GafFn, GafTable};
 use crate::runtime::aero::FinPlanform;
@@ -719,31 +720,35 @@ pub fn unsteady_problem(
             settings.k_max * s * s
         })
         .collect();
-    let mut values = Vec::with_capacity(nk);
-    for &k in &ks {
-        let nu = k / bs;
-        // α (ne x count, row-major): column j is mode j's -Z_x - i ν Z_c.
-        let mut alpha = vec![c64::new(0.0, 0.0); ne * count];
-        for p in 0..ne {
-            for j in 0..count {
-                alpha[p * count + j] = c64::new(-rows.zx_c[j][p], -nu * rows.z_c[j][p]);
-            }
-        }
-        let f = match &map {
-            Map::Vlm(v) => v.forces(nu, &alpha, count)?,
-            Map::Dlm(d) => d.forces(nu, &alpha, count)?,
-        };
-        let mut q = vec![c64::new(0.0, 0.0); count * count];
-        for p in 0..nf {
-            for i in 0..count {
-                let z = rows.z_f[i][p];
+    // Each reduced frequency is independent (its own influence matrix and solve): in
+    // parallel, collected in order, the same bits whatever the thread count.
+    let values = ks
+        .par_iter()
+        .map(|&k| -> Result<Vec<c64>, WingError> {
+            let nu = k / bs;
+            // α (ne x count, row-major): column j is mode j's -Z_x - i ν Z_c.
+            let mut alpha = vec![c64::new(0.0, 0.0); ne * count];
+            for p in 0..ne {
                 for j in 0..count {
-                    q[i * count + j] += f[p * count + j] * z;
+                    alpha[p * count + j] = c64::new(-rows.zx_c[j][p], -nu * rows.z_c[j][p]);
                 }
             }
-        }
-        values.push(q);
-    }
+            let f = match &map {
+                Map::Vlm(v) => v.forces(nu, &alpha, count)?,
+                Map::Dlm(d) => d.forces(nu, &alpha, count)?,
+            };
+            let mut q = vec![c64::new(0.0, 0.0); count * count];
+            for p in 0..nf {
+                for i in 0..count {
+                    let z = rows.z_f[i][p];
+                    for j in 0..count {
+                        q[i * count + j] += f[p * count + j] * z;
+                    }
+                }
+            }
+            Ok(q)
+        })
+        .collect::<Result<Vec<_>, WingError>>()?;
     Ok(UnsteadyProblem {
         model: modal_model(modes, density),
         gaf: GafTable::new(count, ks, values)?,
