@@ -1384,6 +1384,17 @@ impl<F: ForceModel> OdeSystem for Eom<'_, F> {
         })
     }
 
+    /// The modal coordinates and their rates, `η, η̇` (the stiff, nearly linear part of the
+    /// equations: the fin modes), for the exponential integrator; none without modes.
+    fn linear_block(&self) -> Option<std::ops::Range<usize>> {
+        let n = self.layout.n;
+        let start = std::env::var("FLEXFLIGHT_EXPINT_BLOCK_START")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(StateLayout::ETA);
+        (n > 0).then_some(start..self.layout.len())
+    }
+
     /// Renormalises the Euler parameters (constraint 4.4.8) and scales their stored rate by
     /// the same factor (`q̇` is linear in `q`; nothing else depends on `|q|`).
     fn project(&mut self, x: &mut [f64], dx: &mut [f64]) {
