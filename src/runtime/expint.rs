@@ -97,7 +97,7 @@ pub fn phi<const K: usize>(z: C64) -> [C64; K] {
     if K == 0 {
         return out;
     }
-    if z.norm() < 2.0 {
+    if z.norm_sqr() < 4.0 {
         // φ_{K-1} by Horner on its series, then φ_{k-1} = z φ_k + 1/(k-1)! downwards (stable
         // for |z| < 2: an error is multiplied by |z| per step, against φ_k ~ 1/k!).
         let top = K - 1;
@@ -287,6 +287,11 @@ struct Linear {
     lu: Vec<C64>,
     /// Whether `v`, `vinv`, `lambda` hold a decomposition (else the block is explicit).
     valid: bool,
+    /// The number of eigenvalues kept: the real ones and one of each complex-conjugate pair
+    /// (for a real `x_B` the coordinates of `λ̄` are the conjugates of those of `λ`, so
+    /// `V w = Σ_real v w + Σ_pairs 2 Re(v w)`); `v` is `m x mr` with the pairs' columns
+    /// doubled, `vinv` `mr x m`.
+    mr: usize,
 }
 
 /// The largest `‖V‖₁ ‖V⁻¹‖₁` accepted; a worse-conditioned eigenbasis (a nearly defective
@@ -320,6 +325,7 @@ impl Linear {
             mem: MemBuffer::new(req),
             lu: vec![C64::new(0.0, 0.0); m * m],
             valid: false,
+            mr: 0,
         }
     }
 
@@ -389,6 +395,28 @@ impl Linear {
             && cond < MAX_CONDITION
             && lambda.iter().all(|l| l.re.is_finite() && l.im.is_finite());
         if good {
+            // Keep one of each conjugate pair (in place: destinations never pass sources).
+            let (lambda, v, vinv) = (&mut self.lambda_new, &mut self.v_new, &mut self.vinv_new);
+            let mut mr = 0;
+            let mut j = 0;
+            while j < m {
+                let pair = self.s_im[j] != 0.0 && j + 1 < m;
+                // Row j of V⁻¹ and λ_j to slot mr; column j of V (doubled for a pair) below.
+                lambda[mr] = lambda[j];
+                for c in 0..m {
+                    vinv[mr * m + c] = vinv[j * m + c];
+                }
+                self.lu[mr] = C64::new(j as f64, if pair { 2.0 } else { 1.0 });
+                mr += 1;
+                j += if pair { 2 } else { 1 };
+            }
+            for i in 0..m {
+                for r in 0..mr {
+                    let (jj, wgt) = (self.lu[r].re as usize, self.lu[r].im);
+                    v[i * mr + r] = v[i * m + jj] * wgt;
+                }
+            }
+            self.mr = mr;
             std::mem::swap(&mut self.a, &mut self.a_new);
             std::mem::swap(&mut self.lambda, &mut self.lambda_new);
             std::mem::swap(&mut self.v, &mut self.v_new);
@@ -398,10 +426,10 @@ impl Linear {
         good
     }
 
-    /// `out = V⁻¹ x_B` (`x_B` real).
+    /// `out = V⁻¹ x_B` (`x_B` real; the `mr` kept coordinates).
     fn to_eigen(&self, x: &[f64], out: &mut [C64]) {
         let m = self.m();
-        for i in 0..m {
+        for i in 0..self.mr {
             let row = &self.vinv[i * m..(i + 1) * m];
             let mut acc = C64::new(0.0, 0.0);
             for j in 0..m {
@@ -411,13 +439,13 @@ impl Linear {
         }
     }
 
-    /// `out = Re(V w)`.
+    /// `out = Re(V w)` (pairs doubled in `v`).
     fn from_eigen(&self, w: &[C64], out: &mut [f64]) {
-        let m = self.m();
+        let (m, mr) = (self.m(), self.mr);
         for i in 0..m {
-            let row = &self.v[i * m..(i + 1) * m];
+            let row = &self.v[i * mr..(i + 1) * mr];
             let mut acc = 0.0;
-            for j in 0..m {
+            for j in 0..mr {
                 acc += row[j].re * w[j].re - row[j].im * w[j].im;
             }
             out[i] = acc;
@@ -709,7 +737,7 @@ impl Exponential {
             self.dense_corr[i] = self.y_new[i] - u1;
         }
         if let Some(lin) = self.lin.as_ref().filter(|l| l.valid) {
-            for k in 0..lin.m() {
+            for k in 0..lin.mr {
                 let p1 = phi::<6>(lin.lambda[k] * h);
                 let mut u1 = p1[0] * self.w0[k];
                 let mut q = [C64::new(0.0, 0.0); 5];
@@ -778,7 +806,7 @@ impl DenseOutput for ExpDense<'_> {
         };
         let mut d = it.dense_w.borrow_mut();
         let (w, xb) = &mut *d;
-        for k in 0..lin.m() {
+        for k in 0..lin.mr {
             let pt = phi::<6>(lin.lambda[k] * (h * theta));
             let q = &it.dense_qc[k];
             let mut u = pt[0] * it.w0[k];
@@ -926,7 +954,7 @@ impl Integrator for Exponential {
                 if valid {
                     let lin = self.lin.as_ref().expect("valid");
                     let target = if into_new { &mut self.w1 } else { &mut self.w };
-                    for k in 0..lin.m() {
+                    for k in 0..lin.mr {
                         let nv: [C64; 7] = std::array::from_fn(|j| {
                             if j < s - 1 {
                                 self.nt[j][k]
@@ -961,7 +989,7 @@ impl Integrator for Exponential {
                     // The error estimate, the block's in original coordinates.
                     if valid {
                         let lin = self.lin.as_ref().expect("valid");
-                        for k in 0..lin.m() {
+                        for k in 0..lin.mr {
                             let nv: [C64; 7] = std::array::from_fn(|j| {
                                 if j < 6 {
                                     self.nt[j][k]
@@ -1127,6 +1155,9 @@ mod tests {
         omega: f64,
         zeta: f64,
         coupling: f64,
+        /// Whether the fast pair is declared the linear block (else `A = 0`: the method is
+        /// its underlying explicit Runge-Kutta method).
+        block: bool,
     }
     impl OdeSystem for Stiff {
         fn dim(&self) -> usize {
@@ -1141,7 +1172,7 @@ mod tests {
             Ok(())
         }
         fn linear_block(&self) -> Option<Range<usize>> {
-            Some(2..4)
+            self.block.then_some(2..4)
         }
         fn linear_jacobian(&mut self, _t: f64, _x: &[f64], a: &mut [f64]) -> bool {
             let w = self.omega;
@@ -1193,32 +1224,79 @@ mod tests {
         r.stats
     }
 
-    /// Order 5 on a fixed step sequence with `ωh` from 6 to 50 (the fast mode never
-    /// resolved): halving the step divides the error by about 2^5 (a wrong coefficient of the
-    /// tableau drops it to 4 or less; observed orders are printed).
-    #[test]
-    fn etd35_converges_at_order_five_on_a_stiff_oscillator_with_slow_forcing() {
+    /// Errors of fixed-step runs of [`Stiff`] at `hs`, relative to each pair's scale (slow:
+    /// 1; fast: its forced amplitude `c/(2ω²)`), and the observed orders
+    /// `log2(e(h)/e(h/2))`.
+    fn fixed_step_orders(
+        omega: f64,
+        block: bool,
+        hs: &[f64],
+        t_end: f64,
+    ) -> (Vec<f64>, Vec<f64>) {
         let mut sys = Stiff {
-            omega: 2000.0,
+            omega,
             zeta: 0.01,
             coupling: 3000.0,
+            block,
         };
-        let t_end = 4.0;
         let exact = stiff_exact(&sys, t_end);
-        let e = |h: f64, sys: &mut Stiff| {
-            let mut x = [1.0, 0.0, 0.0, 0.0];
-            fixed_step(h, sys, t_end, &mut x);
-            // Errors relative to each pair's scale (slow: 1; fast: its forced amplitude).
-            let fast = 3000.0 / (2.0 * 2000.0f64.powi(2));
-            ((x[0] - exact[0]).abs() + (x[1] - exact[1]).abs())
-                .max(((x[2] - exact[2]).abs() + (x[3] - exact[3]).abs() / 2000.0) / fast)
-        };
-        let hs = [0.025, 0.0125, 0.00625, 0.003125];
-        let errs: Vec<f64> = hs.iter().map(|&h| e(h, &mut sys)).collect();
-        let orders: Vec<f64> = errs.windows(2).map(|w| (w[0] / w[1]).log2()).collect();
+        let fast = 3000.0 / (2.0 * omega * omega);
+        let errs: Vec<f64> = hs
+            .iter()
+            .map(|&h| {
+                let mut x = [1.0, 0.0, 0.0, 0.0];
+                fixed_step(h, &mut sys, t_end, &mut x);
+                ((x[0] - exact[0]).abs() + (x[1] - exact[1]).abs())
+                    .max(((x[2] - exact[2]).abs() + (x[3] - exact[3]).abs() / omega) / fast)
+            })
+            .collect();
+        let orders = errs.windows(2).map(|w| (w[0] / w[1]).log2()).collect();
+        (errs, orders)
+    }
+
+    /// With `A = 0` (no linear block) the method is its underlying explicit Runge-Kutta
+    /// method, of order 5: halving the step divides the error by 2^5 (a wrong coefficient of
+    /// the tableau drops the order to 4 or less).
+    #[test]
+    fn etd35_is_a_fifth_order_runge_kutta_method_without_a_linear_part() {
+        let (errs, orders) = fixed_step_orders(8.0, false, &[0.05, 0.025, 0.0125, 0.00625], 4.0);
         eprintln!("errors {errs:?}, orders {orders:?}");
         for o in &orders {
-            assert!((o - 5.0).abs() < 0.35, "orders {orders:?} errors {errs:?}");
+            assert!((o - 5.0).abs() < 0.3, "orders {orders:?} errors {errs:?}");
+        }
+    }
+
+    /// With the linear block, in the non-stiff limit (`ωh` from 0.8 to 0.1), the classical
+    /// order is 4, not 5: the weights hold `ψ_1..ψ_3` only, so the quadrature conditions
+    /// `Σ_i b_i(z) c_i^{k-1}/(k-1)! = φ_k(z)` (Hochbruck & Ostermann 2005, Table 1) hold as
+    /// functions of `z` for `k <= 3` and for `k = 4, 5` only at `z = 0`, leaving a local
+    /// error `O(h^4 · hA · g''')` for a forcing `g(t)` of the linear part. Observed 4.5, 4.3,
+    /// 4.2 (tending to 4).
+    #[test]
+    fn etd35_has_classical_order_four_with_a_linear_part() {
+        let (errs, orders) = fixed_step_orders(8.0, true, &[0.1, 0.05, 0.025, 0.0125], 4.0);
+        eprintln!("errors {errs:?}, orders {orders:?}");
+        for o in &orders {
+            assert!(*o > 3.9 && *o < 4.7, "orders {orders:?} errors {errs:?}");
+        }
+        assert!(orders[2] < orders[0], "{orders:?}");
+    }
+
+    /// Where the fast mode is never resolved (`ωh` from 50 to 6) the method shows the order
+    /// reduction Hochbruck & Ostermann (2005, 2010 sec. 2.3) predict for an exponential
+    /// method that satisfies the classical but not all the stiff order conditions: the
+    /// stage errors of the slow, explicitly integrated part no longer cancel in the weights
+    /// `b_i(z)` of large `z`. Observed orders 2.1-2.6 here (the error of the fast response
+    /// still small: 5e-6 of its amplitude at 12 periods per step); the test pins that the
+    /// order stays above 2 and the error below 1e-5 (the embedded estimate sees this error:
+    /// `adaptive_error_tracks_the_tolerance`).
+    #[test]
+    fn etd35_order_in_the_stiff_regime_is_reduced_but_above_two() {
+        let (errs, orders) = fixed_step_orders(2000.0, true, &[0.025, 0.0125, 0.00625, 0.003125], 4.0);
+        eprintln!("errors {errs:?}, orders {orders:?}");
+        assert!(errs[0] < 1e-5, "{errs:?}");
+        for o in &orders {
+            assert!(*o > 2.0, "orders {orders:?} errors {errs:?}");
         }
     }
 
@@ -1230,6 +1308,7 @@ mod tests {
             omega: 2.0 * std::f64::consts::PI * 300.0,
             zeta: 0.02,
             coupling: 0.0,
+            block: true,
         };
         let mut x = [0.0, 0.0, 1e-3, 0.5];
         let t_end = 40.0 / 300.0;
@@ -1255,6 +1334,7 @@ mod tests {
             omega: 2000.0,
             zeta: 0.01,
             coupling: 3000.0,
+            block: true,
         };
         let mut it = Exponential::new(AdaptiveOptions {
             rtol: 1e-8,
@@ -1266,12 +1346,22 @@ mod tests {
         let mut worst = 0.0f64;
         let mut worst_hermite = 0.0f64;
         let mut longest = 0.0f64;
+        let mut ends = 0.0f64;
         let mut prev: Option<(f64, [f64; 4], [f64; 4])> = None;
         let fast = 3000.0 / (2.0 * 2000.0f64.powi(2));
         let r = it.integrate_dense(&mut sys, 0.0, &mut x, 2.0, &mut |t, x, dx, dense| {
             if let (Some(d), Some((tp, xp, dp))) = (dense, prev) {
                 longest = longest.max(t - d.t_start());
                 let mut out = [0.0; 4];
+                // Continuous at both step ends (to round-off).
+                d.eval(t, &mut out);
+                for k in 0..4 {
+                    ends = ends.max((out[k] - x[k]).abs() / x[k].abs().max(1e-6));
+                }
+                d.eval(tp, &mut out);
+                for k in 0..4 {
+                    ends = ends.max((out[k] - xp[k]).abs() / xp[k].abs().max(1e-6));
+                }
                 for k in 1..8 {
                     let tau = tp + (t - tp) * k as f64 / 8.0;
                     d.eval(tau, &mut out);
@@ -1314,6 +1404,7 @@ mod tests {
                 omega: 2000.0,
                 zeta: 0.01,
                 coupling: 3000.0,
+                block: true,
             };
             let mut it = Exponential::new(AdaptiveOptions {
                 rtol,
