@@ -1390,7 +1390,10 @@ impl<F: ForceModel> OdeSystem for Eom<'_, F> {
     /// are fixed at the origin, not mean axes, so the fast eigenvectors of the Jacobian have
     /// components in `V_B, ω_B`; measured on subsonic_t06 with 1.0 mm fins over 3 s: 4,613
     /// steps with `η, η̇` alone, 3,589 with `ω_B` added, 1,000 with `V_B, ω_B`, 1,153 with the
-    /// attitude too). None without modes.
+    /// attitude too; over 10 s with the attitude, or the position too, 44,564: the
+    /// decomposition of the Jacobian with the Euler parameters' rows fails or is refused and
+    /// the block falls back to explicit; with the three work quadratures appended to the
+    /// block 2,900 instead of 2,827). None without modes.
     fn linear_block(&self) -> Option<std::ops::Range<usize>> {
         (self.layout.n > 0).then_some(StateLayout::VELOCITY..self.layout.len())
     }

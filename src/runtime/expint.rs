@@ -83,11 +83,6 @@ use super::integrate::{
 
 type C64 = Complex<f64>;
 
-thread_local! {
-    /// TEMPORARY diagnostics: per-component sum of squared scaled errors.
-    pub static DEBUG_DOM: RefCell<Vec<f64>> = const { RefCell::new(Vec::new()) };
-}
-
 /// `φ_k(z)` for `k = 0..=K-1` (`φ_0 = e^z`, `φ_{k}(z) = Σ_{j≥0} z^j / (j + k)!`, so
 /// `φ_{k+1}(z) = (φ_k(z) - 1/k!)/z`; Hochbruck & Ostermann 2010, (2.10)). For `|z| < 2` the
 /// Taylor series (30 terms: the remainder is below `2^30/30! < 1e-23` of the leading term),
@@ -851,9 +846,6 @@ impl Integrator for Exponential {
             return stop(t, stats, reason);
         }
         self.resize(n, sys.linear_block());
-        if std::env::var("FLEXFLIGHT_EXPINT_DEBUG").is_ok() {
-            DEBUG_DOM.with(|d| *d.borrow_mut() = vec![0.0; n]);
-        }
         let span = t_end - t0;
         if span <= 0.0 {
             return stop(t, stats, StopReason::Completed);
@@ -1013,9 +1005,6 @@ impl Integrator for Exponential {
                         };
                         let sc = o.atol + o.rtol * x[i].abs().max(self.y_new[i].abs());
                         s += (e / sc) * (e / sc);
-                        if DEBUG_DOM.with(|d| d.borrow().len() > 0) {
-                            DEBUG_DOM.with(|d| d.borrow_mut()[i] += (e / sc) * (e / sc));
-                        }
                     }
                     (s / ne.max(1) as f64).sqrt()
                 }
@@ -1073,16 +1062,6 @@ impl Integrator for Exponential {
                     return stop(t, stats, StopReason::ObserverStopped { t });
                 }
                 if lands {
-                    DEBUG_DOM.with(|d| {
-                        let d = d.borrow();
-                        if !d.is_empty() {
-                            let tot: f64 = d.iter().sum();
-                            let v: Vec<String> =
-                                d.iter().map(|x| format!("{:.3}", x / tot)).collect();
-                            eprintln!("error share per component: {}", v.join(" "));
-                            eprintln!("{:?}", self.block_stats);
-                        }
-                    });
                     return stop(t, stats, StopReason::Completed);
                 }
                 h = if last_rejected {
