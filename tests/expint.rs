@@ -54,7 +54,9 @@ const GROUPS: &[Group] = &[
         c.starts_with("eta_") && !c.starts_with("eta_dot_")
     }),
     ("modal rates", |c| c.starts_with("eta_dot_")),
-    ("fin incidence", |c| c.starts_with("fin") && c.ends_with("_alpha")),
+    ("fin incidence", |c| {
+        c.starts_with("fin") && c.ends_with("_alpha")
+    }),
     ("fin root stress", |c| c.ends_with("_root_stress")),
     ("energy", |c| {
         matches!(c, "energy_kinetic" | "energy_strain" | "energy_total")
@@ -82,7 +84,11 @@ fn group_errors(out: &RunOutput, reference: &RunOutput) -> Vec<(&'static str, f6
         assert!((a - b).abs() < 1e-9, "row {k}: {a} vs {b}");
     }
     let kept: Vec<usize> = (0..rows)
-        .filter(|&k| JUMPS.iter().all(|t| (reference.rows[k][0] - t).abs() > 1e-9))
+        .filter(|&k| {
+            JUMPS
+                .iter()
+                .all(|t| (reference.rows[k][0] - t).abs() > 1e-9)
+        })
         .collect();
     GROUPS
         .iter()
@@ -150,7 +156,10 @@ fn exponential_matches_the_tight_reference_at_least_as_well_as_dopri5() {
         eprintln!("{g:>16}: dopri5 {a:.2e}  exponential {b:.2e}");
     }
     for ((g, a), (_, b)) in e5.iter().zip(&ee) {
-        assert!(*b <= (1.05 * a).max(1e-7), "{g}: dopri5 {a:e}, exponential {b:e}");
+        assert!(
+            *b <= (1.05 * a).max(1e-7),
+            "{g}: dopri5 {a:e}, exponential {b:e}"
+        );
         if g.starts_with("modal") || g.starts_with("fin") || *g == "max deformation" {
             assert!(*b <= 1.05 * a, "{g}: dopri5 {a:e}, exponential {b:e}");
         }
@@ -173,11 +182,19 @@ fn exponential_matches_the_tight_reference_at_least_as_well_as_dopri5() {
             "{} / {}: sigma_d {} vs {}, f {} vs {} Hz",
             a.channel, a.stimulus, fb.sigma_d, fa.sigma_d, fb.frequency_hz, fa.frequency_hz
         );
-        assert!(rel(fb.sigma_d, fa.sigma_d) < 2e-7, "{} {}", fb.sigma_d, fa.sigma_d);
+        assert!(
+            rel(fb.sigma_d, fa.sigma_d) < 2e-7,
+            "{} {}",
+            fb.sigma_d,
+            fa.sigma_d
+        );
         assert!(rel(fb.frequency_hz, fa.frequency_hz) < 2e-7);
         assert_eq!(fa.modes.len(), fb.modes.len());
         for (ma, mb) in fa.modes.iter().zip(&fb.modes) {
-            eprintln!("   root ({}, {}) vs ({}, {})", mb.sigma, mb.omega, ma.sigma, ma.omega);
+            eprintln!(
+                "   root ({}, {}) vs ({}, {})",
+                mb.sigma, mb.omega, ma.sigma, ma.omega
+            );
             assert!(rel(mb.omega, ma.omega) < 2e-5, "{ma:?} {mb:?}");
             assert!(rel(mb.sigma, ma.sigma) < 1e-2, "{ma:?} {mb:?}");
         }

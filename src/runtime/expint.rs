@@ -76,9 +76,9 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::evd::{ComputeEigenvectors, evd_real, evd_scratch};
 
 use super::integrate::{
-    AdaptiveOptions, DOPRI5_CONTROL, DenseObserver, DenseOutput, ERR_OLD_MIN, Integrator,
-    IntegrationReport, Observer, OdeSystem, RhsError, StepStats, StopReason, check_state,
-    initial_step, step_factor,
+    AdaptiveOptions, DOPRI5_CONTROL, DenseObserver, DenseOutput, ERR_OLD_MIN, IntegrationReport,
+    Integrator, Observer, OdeSystem, RhsError, StepStats, StopReason, check_state, initial_step,
+    step_factor,
 };
 
 type C64 = Complex<f64>;
@@ -231,10 +231,7 @@ fn stage<T: Scalar>(s: usize, c: &Coef<T>, u: T, n: &[T; 7], h: f64) -> T {
             c.e[3] * u
                 + (c.a61 * n[0] + c.a62 * (n[1] - n[3] * 1.5) + c.a63 * n[2] + c.a65 * n[4]) * h
         }
-        _ => {
-            c.e[3] * u
-                + (c.b1 * n[0] + c.b3 * n[2] + c.b4 * n[3] + c.b5 * n[4] + c.b6 * n[5]) * h
-        }
+        _ => c.e[3] * u + (c.b1 * n[0] + c.b3 * n[2] + c.b4 * n[3] + c.b5 * n[4] + c.b6 * n[5]) * h,
     }
 }
 
@@ -937,9 +934,8 @@ impl Integrator for Exponential {
                         if block.contains(&i) {
                             continue;
                         }
-                        let nv: [f64; 7] = std::array::from_fn(|j| {
-                            if j < s - 1 { self.f[j][i] } else { 0.0 }
-                        });
+                        let nv: [f64; 7] =
+                            std::array::from_fn(|j| if j < s - 1 { self.f[j][i] } else { 0.0 });
                         ys[i] = stage(s, &c0, x[i], &nv, h_step);
                     }
                 }
@@ -998,9 +994,8 @@ impl Integrator for Exponential {
                         let e = if block.contains(&i) {
                             self.tmp[i - block.start]
                         } else {
-                            let nv: [f64; 7] = std::array::from_fn(|j| {
-                                if j < 6 { self.f[j][i] } else { 0.0 }
-                            });
+                            let nv: [f64; 7] =
+                                std::array::from_fn(|j| if j < 6 { self.f[j][i] } else { 0.0 });
                             error(&c0, &nv, h_step)
                         };
                         let sc = o.atol + o.rtol * x[i].abs().max(self.y_new[i].abs());
@@ -1115,7 +1110,10 @@ mod tests {
         let s = phi::<6>(z);
         for k in 0..6 {
             let expect = c(INV_FACT[k], 0.0) + z * INV_FACT[k + 1];
-            assert!((s[k] - expect).norm() < 1e-16 * INV_FACT[k] + 1e-24, "k {k}");
+            assert!(
+                (s[k] - expect).norm() < 1e-16 * INV_FACT[k] + 1e-24,
+                "k {k}"
+            );
         }
         // A large oscillatory argument (a fin mode over a long step): the recurrence,
         // checked against closed forms φ1 = (e^z - 1)/z, φ2 = (e^z - 1 - z)/z^2.
@@ -1206,12 +1204,7 @@ mod tests {
     /// Errors of fixed-step runs of [`Stiff`] at `hs`, relative to each pair's scale (slow:
     /// 1; fast: its forced amplitude `c/(2ω²)`), and the observed orders
     /// `log2(e(h)/e(h/2))`.
-    fn fixed_step_orders(
-        omega: f64,
-        block: bool,
-        hs: &[f64],
-        t_end: f64,
-    ) -> (Vec<f64>, Vec<f64>) {
+    fn fixed_step_orders(omega: f64, block: bool, hs: &[f64], t_end: f64) -> (Vec<f64>, Vec<f64>) {
         let mut sys = Stiff {
             omega,
             zeta: 0.01,
@@ -1271,7 +1264,8 @@ mod tests {
     /// `adaptive_error_tracks_the_tolerance`).
     #[test]
     fn etd35_order_in_the_stiff_regime_is_reduced_but_above_two() {
-        let (errs, orders) = fixed_step_orders(2000.0, true, &[0.025, 0.0125, 0.00625, 0.003125], 4.0);
+        let (errs, orders) =
+            fixed_step_orders(2000.0, true, &[0.025, 0.0125, 0.00625, 0.003125], 4.0);
         eprintln!("errors {errs:?}, orders {orders:?}");
         assert!(errs[0] < 1e-5, "{errs:?}");
         for o in &orders {
@@ -1367,7 +1361,10 @@ mod tests {
             longest * 2000.0 / (2.0 * std::f64::consts::PI),
             r.stats
         );
-        assert!(longest * 2000.0 > 2.0 * std::f64::consts::PI * 5.0, "{longest}");
+        assert!(
+            longest * 2000.0 > 2.0 * std::f64::consts::PI * 5.0,
+            "{longest}"
+        );
         assert!(worst < 1e-5, "{worst}");
         assert!(worst_hermite > 0.1, "{worst_hermite}");
     }

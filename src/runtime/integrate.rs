@@ -77,8 +77,7 @@ pub trait DenseOutput {
 
 /// Called as [`Observer`], with the step's continuous extension where the integrator has
 /// one (`None` at the initial state and for integrators without one).
-pub type DenseObserver<'o> =
-    dyn FnMut(f64, &[f64], &[f64], Option<&dyn DenseOutput>) -> bool + 'o;
+pub type DenseObserver<'o> = dyn FnMut(f64, &[f64], &[f64], Option<&dyn DenseOutput>) -> bool + 'o;
 
 /// Work counters of one integration.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]

@@ -21,11 +21,11 @@ use std::time::Instant;
 use super::atmosphere::{Atmosphere, Standard1976};
 use super::deformation::NodeDeformation;
 use super::eom::{EnergyLayout, Eom, EomError, FreeFlight, Propulsion, StateView};
+use super::expint::Exponential;
 use super::flight::{Flight, Phase};
 use super::forces::{
     AeroFault, BodyAero, FinAero, ForceBlock, ForceBlocks, GravityBlock, ThrustBlock,
 };
-use super::expint::Exponential;
 use super::integrate::{
     AdaptiveOptions, DenseOutput, Dop853, DormandPrince54, Integrator, OdeSystem, Rk4, StepStats,
     StopReason,
@@ -795,13 +795,7 @@ impl Driver<'_, '_> {
 
     /// The observer: stops, segment ends and events located in the accepted step
     /// `(t_prev, t]`, then the output rows up to the first of them.
-    fn observe(
-        &mut self,
-        t: f64,
-        xs: &[f64],
-        dx: &[f64],
-        dense: Option<&dyn DenseOutput>,
-    ) -> bool {
+    fn observe(&mut self, t: f64, xs: &[f64], dx: &[f64], dense: Option<&dyn DenseOutput>) -> bool {
         let step: Step = (t, xs, dx, dense);
         let mut hit = self.monitor.stop_condition(t, xs);
         // A stop inside this step: locate the first state that meets a condition by
