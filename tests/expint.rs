@@ -119,11 +119,11 @@ fn group_errors(out: &RunOutput, reference: &RunOutput) -> Vec<(&'static str, f6
 }
 
 /// Observed (release, 2 December 2026), error per group relative to its range, DOPRI5 /
-/// exponential: position 7.6e-12 / 5.7e-9, velocity 3.0e-7 / 2.7e-8, angular rate 2.4e-5 /
-/// 1.0e-6, attitude 2.4e-8 / 5.9e-8, alpha and beta 6.4e-7 / 2.6e-8, eta 1.7e-5 / 5.7e-6,
+/// exponential: position 7.6e-12 / 2.0e-9, velocity 3.0e-7 / 1.2e-8, angular rate 2.4e-5 /
+/// 1.0e-6, attitude 2.4e-8 / 6.3e-8, alpha and beta 6.4e-7 / 2.6e-8, eta 1.7e-5 / 5.7e-6,
 /// eta rates 3.8e-5 / 1.3e-5, fin incidence 2.2e-6 / 2.1e-6, fin root stress 3.9e-6 / 3.8e-6,
-/// energies 4.1e-11 / 1.1e-8, largest deformation 1.08e-5 / 1.11e-5; steps 14,122 / 2,827,
-/// evaluations 95,089 / 20,278. So the exponential integrator is as accurate or better on
+/// energies 4.1e-11 / 4.0e-9, largest deformation 1.08e-5 / 1.11e-5; steps 14,122 / 2,298,
+/// evaluations 95,089 / 16,831. So the exponential integrator is as accurate or better on
 /// the fin response and the rigid rates, and less accurate (but far inside the scenario's
 /// tolerance, rtol 1e-6) on the position, attitude and energies, which it integrates
 /// explicitly through a velocity that carries the fin modes' oscillation. The test pins:

@@ -1393,7 +1393,7 @@ impl<F: ForceModel> OdeSystem for Eom<'_, F> {
     /// attitude too; over 10 s with the attitude, or the position too, 44,564: the
     /// decomposition of the Jacobian with the Euler parameters' rows fails or is refused and
     /// the block falls back to explicit; with the three work quadratures appended to the
-    /// block 2,900 instead of 2,827). None without modes.
+    /// block 2,900 instead of 2,827; these with refreshes every 200 steps). None without modes.
     fn linear_block(&self) -> Option<std::ops::Range<usize>> {
         (self.layout.n > 0).then_some(StateLayout::VELOCITY..self.layout.len())
     }

@@ -517,7 +517,11 @@ pub struct Exponential {
     /// Settings (tolerances, first and largest step, budget, PI `β`), as DOPRI5's.
     pub options: AdaptiveOptions,
     /// Accepted steps between refreshes of the linear block's Jacobian (0: never after the
-    /// first).
+    /// first). 50 measured best of 0, 10, 25, 50, 200, 1000 on the two flights of
+    /// `docs/performance.md` (evaluations, subsonic_t06 1.0 mm 10 s / hpr_k1000 to landing:
+    /// never 26,268 / 23,299; 1000: 25,244 / 23,299; 200: 20,278 / 21,029; 50: 16,831 /
+    /// 19,649; 25: 16,752 / 19,356 but the attitude error twice 50's; 10: 18,747 / 21,198);
+    /// with neither periodic nor rejection refreshes 42,596 / 104,547.
     pub refresh_steps: usize,
     /// Consecutive rejections after which the Jacobian is refreshed before the next trial.
     pub refresh_after_rejections: usize,
@@ -574,7 +578,7 @@ impl Exponential {
     pub fn new(options: AdaptiveOptions) -> Self {
         Exponential {
             options,
-            refresh_steps: 200,
+            refresh_steps: 50,
             refresh_after_rejections: 3,
             block_stats: BlockStats::default(),
             lin: None,
