@@ -2,10 +2,14 @@
 //! motion (3.2.1), checks the stop conditions after every accepted step and samples the
 //! output channels at the output interval.
 //!
-//! Output sampling: the integrator's observer sees `(t, x, ẋ)` after every accepted step;
-//! rows at the output times inside the step are interpolated by the cubic Hermite polynomial
-//! through the two step ends and their derivatives (third-order accurate, no extra
-//! right-hand side evaluations; the Euler parameters of a row are renormalised). When an
+//! Output sampling: the integrator's observer sees `(t, x, ẋ)` after every accepted step,
+//! and the step's continuous extension where the method has one
+//! ([`Integrator::integrate_dense`]; the exponential integrator's, which stays accurate over
+//! steps spanning many periods of a fin mode); rows at the output times inside the step are
+//! interpolated by it, else by the cubic Hermite polynomial through the two step ends and
+//! their derivatives (third-order accurate, no extra right-hand side evaluations; DOPRI5,
+//! DOP853 and RK4 keep it, bit for bit as before). The Euler parameters of a row are
+//! renormalised. When an
 //! accepted step meets a stop condition (ground, alpha, deformation, atmosphere range), the
 //! first state meeting it is located by bisection on that interpolant and the history ends
 //! with a row there; when the integrator gives up (step underflow, non-finite state) it ends
@@ -799,7 +803,7 @@ impl Driver<'_, '_> {
         let step: Step = (t, xs, dx, dense);
         let mut hit = self.monitor.stop_condition(t, xs);
         // A stop inside this step: locate the first state that meets a condition by
-        // bisection on the step's Hermite interpolant (the step start met none).
+        // bisection on the step's interpolant (the step start met none).
         let mut t_stop = t;
         if let (Some(_), Some((tp, xp, dp))) = (hit, &self.prev) {
             let (mut lo, mut hi) = (*tp, t);
