@@ -17,6 +17,7 @@ use std::time::Instant;
 
 use flexflight::check::{DiskLoader, check_files};
 use flexflight::runtime::eom::Eom;
+use flexflight::runtime::expint::Exponential;
 use flexflight::runtime::integrate::{
     AdaptiveOptions, Dop853, DormandPrince54, Integrator, PI_BETA, StepStats,
 };
@@ -27,6 +28,7 @@ use flexflight::structure::compile::compile;
 enum Method {
     Dopri5,
     Dop853,
+    Exponential,
 }
 
 fn main() {
@@ -61,6 +63,7 @@ fn main() {
             let mut integ: Box<dyn Integrator> = match method {
                 Method::Dopri5 => Box::new(DormandPrince54::new(opts)),
                 Method::Dop853 => Box::new(Dop853::new(opts)),
+                Method::Exponential => Box::new(Exponential::new(opts)),
             };
             let t0 = Instant::now();
             let r = integ.integrate(&mut eom, 0.0, &mut x, t_end, &mut |_, _, _| true);
@@ -115,6 +118,9 @@ fn main() {
         (Method::Dopri5, "PI 0.04", 1e-7, 1e-10, PI_BETA),
         (Method::Dopri5, "PI 0.04", 1e-8, 1e-11, PI_BETA),
         (Method::Dop853, "PI 0.04", 1e-8, 1e-11, PI_BETA),
+        (Method::Exponential, "PI 0.04", 1e-6, 1e-9, PI_BETA),
+        (Method::Exponential, "PI 0.04", 1e-7, 1e-10, PI_BETA),
+        (Method::Exponential, "PI 0.04", 1e-8, 1e-11, PI_BETA),
     ];
     for &(m, ctl, rtol, atol, beta) in cases {
         let (x, st, wall) = fly(m, rtol, atol, beta);
@@ -122,6 +128,7 @@ fn main() {
         let name = match m {
             Method::Dopri5 => "DOPRI5",
             Method::Dop853 => "DOP853",
+            Method::Exponential => "ETD3(5)",
         };
         println!(
             "{name} | {ctl} | {rtol:e} | {atol:e} | {} | {} | {} | {wall:.3} | {e:.2e} | {eta:.2e}",

@@ -660,6 +660,9 @@ pub enum Integrator {
     Dop853,
     /// Classical fixed-step Runge-Kutta 4.
     Rk4,
+    /// Adaptive exponential Runge-Kutta ETD3(5) with the modal block integrated through its
+    /// linearisation (`runtime::expint`).
+    Exponential,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -797,6 +797,7 @@ fn check_run(cx: &mut Cx, b: &Block) -> Option<RunSettings> {
                 ("dopri5", Integrator::Dopri5),
                 ("dop853", Integrator::Dop853),
                 ("rk4", Integrator::Rk4),
+                ("exponential", Integrator::Exponential),
             ],
         )
         .map(|i| Spanned::new(i, v.span)),

@@ -192,4 +192,13 @@ impl OdeSystem for Flight<'_> {
     fn project(&mut self, x: &mut [f64], dx: &mut [f64]) {
         self.eom.project(x, dx)
     }
+
+    /// The modal block in free flight; on the rail and under a canopy the modes are frozen
+    /// (their derivatives are zero), so there is nothing stiff.
+    fn linear_block(&self) -> Option<std::ops::Range<usize>> {
+        match self.phase {
+            Phase::Free => self.eom.linear_block(),
+            Phase::Rail | Phase::Descent => None,
+        }
+    }
 }

@@ -48,7 +48,36 @@ pub trait OdeSystem {
     /// state onto a constraint manifold (e.g. unit Euler parameters) provided it updates `dx`
     /// to the derivative at the projected state. Default: nothing.
     fn project(&mut self, _x: &mut [f64], _dx: &mut [f64]) {}
+    /// The index range of the state whose dynamics are stiff and nearly linear (for the
+    /// equations of motion: the modal coordinates and their rates), which an exponential
+    /// integrator ([`crate::runtime::expint::Exponential`]) linearises and integrates
+    /// exactly; `None` (the default) treats the whole state explicitly.
+    fn linear_block(&self) -> Option<std::ops::Range<usize>> {
+        None
+    }
+    /// Writes the Jacobian `∂f_B/∂x_B` of the [`Self::linear_block`] at `(t, x)` into `a`
+    /// (row-major, `m x m`) and returns `true`, if the system has it in closed form; the
+    /// default returns `false` and the integrator uses forward differences.
+    fn linear_jacobian(&mut self, _t: f64, _x: &[f64], _a: &mut [f64]) -> bool {
+        false
+    }
 }
+
+/// The continuous extension of the last accepted step `[t_start, t_end]` of an integrator that
+/// has one consistent with its method (the exponential integrator's, which stays accurate
+/// where a step spans many periods of a fast mode and a cubic Hermite between the step ends
+/// does not).
+pub trait DenseOutput {
+    /// Start of the step.
+    fn t_start(&self) -> f64;
+    /// Writes the interpolated state at `t` (in `[t_start, t_end]`) into `out` (the state's
+    /// length). Must not allocate.
+    fn eval(&self, t: f64, out: &mut [f64]);
+}
+
+/// Called as [`Observer`], with the step's continuous extension where the integrator has
+/// one (`None` at the initial state and for integrators without one).
+pub type DenseObserver<'o> = dyn FnMut(f64, &[f64], &[f64], Option<&dyn DenseOutput>) -> bool + 'o;
 
 /// Work counters of one integration.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -113,6 +142,19 @@ pub trait Integrator {
         t_end: f64,
         observer: &mut Observer<'_>,
     ) -> IntegrationReport;
+
+    /// As [`Self::integrate`], the observer also given the step's continuous extension where
+    /// the method has one. Default: [`Self::integrate`] with `None` (the same steps and bits).
+    fn integrate_dense(
+        &mut self,
+        sys: &mut dyn OdeSystem,
+        t0: f64,
+        x: &mut [f64],
+        t_end: f64,
+        observer: &mut DenseObserver<'_>,
+    ) -> IntegrationReport {
+        self.integrate(sys, t0, x, t_end, &mut |t, x, dx| observer(t, x, dx, None))
+    }
 }
 
 /// Settings of [`DormandPrince54`].
@@ -165,7 +207,7 @@ pub const PI_BETA: f64 = 0.04;
 /// DOPRI5, 8 for DOP853) and `κ` the factor of dopri5.f / dop853.f (0.75 and 0.2). `β = 0`
 /// is the standard controller `h_new = h · 0.9 err^(-1/q)` (HNW (4.13)). After a rejection
 /// the error history does not enter (`err_old = 1`) and the caller forbids growth.
-fn step_factor(err: f64, err_old: f64, c: &Controller, beta: f64) -> f64 {
+pub(crate) fn step_factor(err: f64, err_old: f64, c: &Controller, beta: f64) -> f64 {
     if err == 0.0 {
         return c.fac_max;
     }
@@ -175,16 +217,16 @@ fn step_factor(err: f64, err_old: f64, c: &Controller, beta: f64) -> f64 {
 
 /// The constants of a method's step-size controller.
 #[derive(Debug, Clone, Copy)]
-struct Controller {
-    expo: f64,
-    kappa: f64,
-    safety: f64,
-    fac_min: f64,
-    fac_max: f64,
+pub(crate) struct Controller {
+    pub(crate) expo: f64,
+    pub(crate) kappa: f64,
+    pub(crate) safety: f64,
+    pub(crate) fac_min: f64,
+    pub(crate) fac_max: f64,
 }
 
 /// DOPRI5's controller (dopri5.f: safety 0.9, factor in [0.2, 10]).
-const DOPRI5_CONTROL: Controller = Controller {
+pub(crate) const DOPRI5_CONTROL: Controller = Controller {
     expo: 0.2,
     kappa: 0.75,
     safety: 0.9,
@@ -202,7 +244,7 @@ const DOP853_CONTROL: Controller = Controller {
 };
 
 /// The smallest `err_old` the PI controller remembers (dopri5.f `FACOLD = MAX(ERR, 1.0D-4)`).
-const ERR_OLD_MIN: f64 = 1e-4;
+pub(crate) const ERR_OLD_MIN: f64 = 1e-4;
 
 /// Adaptive explicit Runge-Kutta 5(4) of Dormand & Prince (1980), local extrapolation,
 /// first-same-as-last, PI step control ([`step_factor`]: safety 0.9, factor in [0.2, 10],
@@ -308,7 +350,7 @@ fn scaled_norm(o: &AdaptiveOptions, y: &[f64], v: &[f64], ne: usize) -> f64 {
 /// Starting step size of a method of order `order`, HNW I, II.4 ("Starting Step Size",
 /// steps a-f); `k0 = f(t0, x)` on entry, `k1` and `y_stage` are scratch.
 #[allow(clippy::too_many_arguments)]
-fn initial_step(
+pub(crate) fn initial_step(
     o: &AdaptiveOptions,
     order: i32,
     sys: &mut dyn OdeSystem,
@@ -352,7 +394,7 @@ fn initial_step(
 }
 
 /// The state both methods accept: `n` entries, all finite.
-fn check_state(n: usize, t: f64, x: &[f64]) -> Result<(), StopReason> {
+pub(crate) fn check_state(n: usize, t: f64, x: &[f64]) -> Result<(), StopReason> {
     if x.len() != n {
         return Err(StopReason::StateLength {
             expected: n,
@@ -366,7 +408,7 @@ fn check_state(n: usize, t: f64, x: &[f64]) -> Result<(), StopReason> {
 }
 
 /// `k0 = f(t0, x0)` and the observer at the initial state, as both methods start.
-fn first_evaluation(
+pub(crate) fn first_evaluation(
     sys: &mut dyn OdeSystem,
     t: f64,
     x: &[f64],

@@ -21,6 +21,7 @@ pub mod aero;
 pub mod atmosphere;
 pub mod deformation;
 pub mod eom;
+pub mod expint;
 pub mod flight;
 pub mod forces;
 pub mod integrate;

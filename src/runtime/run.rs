@@ -2,10 +2,14 @@
 //! motion (3.2.1), checks the stop conditions after every accepted step and samples the
 //! output channels at the output interval.
 //!
-//! Output sampling: the integrator's observer sees `(t, x, ẋ)` after every accepted step;
-//! rows at the output times inside the step are interpolated by the cubic Hermite polynomial
-//! through the two step ends and their derivatives (third-order accurate, no extra
-//! right-hand side evaluations; the Euler parameters of a row are renormalised). When an
+//! Output sampling: the integrator's observer sees `(t, x, ẋ)` after every accepted step,
+//! and the step's continuous extension where the method has one
+//! ([`Integrator::integrate_dense`]; the exponential integrator's, which stays accurate over
+//! steps spanning many periods of a fin mode); rows at the output times inside the step are
+//! interpolated by it, else by the cubic Hermite polynomial through the two step ends and
+//! their derivatives (third-order accurate, no extra right-hand side evaluations; DOPRI5,
+//! DOP853 and RK4 keep it, bit for bit as before). The Euler parameters of a row are
+//! renormalised. When an
 //! accepted step meets a stop condition (ground, alpha, deformation, atmosphere range), the
 //! first state meeting it is located by bisection on that interpolant and the history ends
 //! with a row there; when the integrator gives up (step underflow, non-finite state) it ends
@@ -21,12 +25,14 @@ use std::time::Instant;
 use super::atmosphere::{Atmosphere, Standard1976};
 use super::deformation::NodeDeformation;
 use super::eom::{EnergyLayout, Eom, EomError, FreeFlight, Propulsion, StateView};
+use super::expint::Exponential;
 use super::flight::{Flight, Phase};
 use super::forces::{
     AeroFault, BodyAero, FinAero, ForceBlock, ForceBlocks, GravityBlock, ThrustBlock,
 };
 use super::integrate::{
-    AdaptiveOptions, Dop853, DormandPrince54, Integrator, OdeSystem, Rk4, StepStats, StopReason,
+    AdaptiveOptions, DenseOutput, Dop853, DormandPrince54, Integrator, OdeSystem, Rk4, StepStats,
+    StopReason,
 };
 use super::kinematics::{cross, euler_angles, mat_t_vec, mat_vec, normalize_euler_parameters};
 use super::motor::BurnSchedule;
@@ -662,6 +668,11 @@ impl Monitor<'_> {
 /// One end of an accepted step: time, state, derivative.
 type StepEnd<'a> = (f64, &'a [f64], &'a [f64]);
 
+/// The accepted step the observer is looking at: its end `(t, x, ẋ)` and the integrator's
+/// continuous extension over it, if the method has one (else the cubic Hermite of the step
+/// ends from the driver's previous state).
+type Step<'a, 'd> = (f64, &'a [f64], &'a [f64], Option<&'d dyn DenseOutput>);
+
 fn hermite((t0, x0, d0): StepEnd, (t1, x1, d1): StepEnd, t: f64, out: &mut [f64]) {
     let h = t1 - t0;
     let s = if h > 0.0 { (t - t0) / h } else { 1.0 };
@@ -736,9 +747,11 @@ struct Driver<'a, 'p> {
 }
 
 impl Driver<'_, '_> {
-    fn interp(&mut self, t: f64, xs: &[f64], dx: &[f64], tau: f64) {
-        match &self.prev {
-            Some((tp, xp, dp)) if tau < t => {
+    fn interp(&mut self, step: Step, tau: f64) {
+        let (t, xs, dx, dense) = step;
+        match (&self.prev, dense) {
+            (_, Some(d)) if tau < t && tau >= d.t_start() => d.eval(tau, &mut self.scratch),
+            (Some((tp, xp, dp)), None) if tau < t => {
                 hermite((*tp, xp, dp), (t, xs, dx), tau, &mut self.scratch)
             }
             _ => self.scratch.copy_from_slice(xs),
@@ -749,18 +762,20 @@ impl Driver<'_, '_> {
     /// holds at `t`.
     fn locate(
         &mut self,
-        t: f64,
-        xs: &[f64],
-        dx: &[f64],
+        step: Step,
         mut pred: impl FnMut(&Self, f64, &[f64]) -> bool,
     ) -> Option<f64> {
+        let (t, xs, dx, dense) = step;
         if self.prev.is_none() || !pred(self, t, xs) {
             return None;
         }
         let (tp, xp, dp) = self.prev.take()?;
         let mut buf = std::mem::take(&mut self.scratch);
         let hit = bisect(tp, t, |tau| {
-            hermite((tp, &xp, &dp), (t, xs, dx), tau, &mut buf);
+            match dense {
+                Some(d) => d.eval(tau, &mut buf),
+                None => hermite((tp, &xp, &dp), (t, xs, dx), tau, &mut buf),
+            }
             pred(self, tau, &buf)
         });
         self.scratch = buf;
@@ -777,17 +792,18 @@ impl Driver<'_, '_> {
         }
     }
 
-    fn event_point(&mut self, t: f64, xs: &[f64], dx: &[f64], tau: f64) -> EventPoint {
-        self.interp(t, xs, dx, tau);
+    fn event_point(&mut self, step: Step, tau: f64) -> EventPoint {
+        self.interp(step, tau);
         EventPoint::of(self.layout, tau, &self.scratch)
     }
 
     /// The observer: stops, segment ends and events located in the accepted step
     /// `(t_prev, t]`, then the output rows up to the first of them.
-    fn observe(&mut self, t: f64, xs: &[f64], dx: &[f64]) -> bool {
+    fn observe(&mut self, t: f64, xs: &[f64], dx: &[f64], dense: Option<&dyn DenseOutput>) -> bool {
+        let step: Step = (t, xs, dx, dense);
         let mut hit = self.monitor.stop_condition(t, xs);
         // A stop inside this step: locate the first state that meets a condition by
-        // bisection on the step's Hermite interpolant (the step start met none).
+        // bisection on the step's interpolant (the step start met none).
         let mut t_stop = t;
         if let (Some(_), Some((tp, xp, dp))) = (hit, &self.prev) {
             let (mut lo, mut hi) = (*tp, t);
@@ -796,7 +812,10 @@ impl Driver<'_, '_> {
                 if mid <= lo || mid >= hi {
                     break;
                 }
-                hermite((*tp, xp, dp), (t, xs, dx), mid, &mut self.scratch);
+                match dense {
+                    Some(d) => d.eval(mid, &mut self.scratch),
+                    None => hermite((*tp, xp, dp), (t, xs, dx), mid, &mut self.scratch),
+                }
                 match self.monitor.stop_condition(mid, &self.scratch) {
                     Some(reason) => {
                         hi = mid;
@@ -812,7 +831,7 @@ impl Driver<'_, '_> {
         // Rail exit.
         if self.monitor.phase == Phase::Rail {
             let length = self.plan.launch.as_ref().map_or(0.0, |l| l.rail_length);
-            if let Some(te) = self.locate(t, xs, dx, |d, _, x| d.rail_distance(x) >= length) {
+            if let Some(te) = self.locate(step, |d, _, x| d.rail_distance(x) >= length) {
                 if te < t_lim || (hit.is_none() && te <= t_lim) {
                     t_lim = te;
                     segment = Some((SegmentEnd::RailExit, te));
@@ -828,7 +847,7 @@ impl Driver<'_, '_> {
         if let Some(tp) = tp {
             if let Some(tb) = self.burn_time {
                 if self.events.burnout.is_none() && tb > tp && tb <= t_lim {
-                    burnout = Some(self.event_point(t, xs, dx, tb));
+                    burnout = Some(self.event_point(step, tb));
                 }
             }
             if self.apogee_armed
@@ -836,9 +855,9 @@ impl Driver<'_, '_> {
                 && self.monitor.phase != Phase::Rail
             {
                 let layout = self.layout;
-                if let Some(ta) = self.locate(t, xs, dx, |_, _, x| climb_rate(layout, x) <= 0.0) {
+                if let Some(ta) = self.locate(step, |_, _, x| climb_rate(layout, x) <= 0.0) {
                     if ta <= t_lim {
-                        apogee = Some(self.event_point(t, xs, dx, ta));
+                        apogee = Some(self.event_point(step, ta));
                     }
                 }
             }
@@ -855,13 +874,13 @@ impl Driver<'_, '_> {
                     crate::check::ir::Trigger::Altitude(h) => match t_apogee {
                         Some(ta) => {
                             let g = self.plan.stop.ground_altitude;
-                            self.locate(t, xs, dx, |_, tau, x| tau >= ta && -x[2] - g <= h)
+                            self.locate(step, |_, tau, x| tau >= ta && -x[2] - g <= h)
                         }
                         None => None,
                     },
                 };
                 if let Some(at) = at.filter(|&a| a <= t_lim) {
-                    let p = self.event_point(t, xs, dx, at);
+                    let p = self.event_point(step, at);
                     triggers.push((i, p, at + lag));
                 }
             }
@@ -921,7 +940,7 @@ impl Driver<'_, '_> {
                 continue;
             }
             let tk = if (tk - t).abs() <= self.eps { t } else { tk };
-            self.interp(t, xs, dx, tk);
+            self.interp(step, tk);
             let mut row_state = std::mem::take(&mut self.scratch);
             let r = self.monitor.row(tk, &mut row_state);
             self.scratch = row_state;
@@ -942,7 +961,7 @@ impl Driver<'_, '_> {
             self.next_k += 1;
         }
         if cut {
-            self.interp(t, xs, dx, t_lim);
+            self.interp(step, t_lim);
             let mut row_state = std::mem::take(&mut self.scratch);
             if let Ok(r) = self.monitor.row(t_lim, &mut row_state) {
                 if r.iter().all(|v| v.is_finite()) && t_lim > self.last_row_t + self.eps {
@@ -1077,6 +1096,7 @@ pub fn run(
             ir::Integrator::Dopri5 => Box::new(DormandPrince54::new(adaptive)),
             ir::Integrator::Dop853 => Box::new(Dop853::new(adaptive)),
             ir::Integrator::Rk4 => Box::new(Rk4::new(plan.integrator.step)),
+            ir::Integrator::Exponential => Box::new(Exponential::new(adaptive)),
         }
     };
 
@@ -1121,9 +1141,10 @@ pub fn run(
     let report = loop {
         let mut integrator = make_integrator();
         let report = {
-            let mut observer =
-                |t: f64, xs: &[f64], dx: &[f64]| -> bool { driver.observe(t, xs, dx) };
-            integrator.integrate(&mut flight, t0, &mut x, t_end, &mut observer)
+            let mut observer = |t: f64, xs: &[f64], dx: &[f64], dense: Option<&dyn DenseOutput>| {
+                driver.observe(t, xs, dx, dense)
+            };
+            integrator.integrate_dense(&mut flight, t0, &mut x, t_end, &mut observer)
         };
         stats.accepted += report.stats.accepted;
         stats.rejected += report.stats.rejected;

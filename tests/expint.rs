@@ -1,0 +1,202 @@
+//! The exponential integrator (`run { integrator = exponential }`, `runtime::expint`) on the
+//! real vehicle: the 10 s subsonic_t06 flight of `examples/thesis/section_6_5.vdl` with
+//! 1.0 mm fins (the issue 11 benchmark), against a tight DOP853 reference (rtol 1e-10,
+//! atol 1e-13), compared with DOPRI5 at the scenario's tolerances (rtol 1e-6, atol 1e-9).
+//!
+//! Error measure: for each output channel, the largest difference over the 1 ms rows from the
+//! reference, divided by the channel's range over the reference flight (max - min); per
+//! channel group, the largest of its channels. The rows are the integrators' interpolants
+//! (DOPRI5: cubic Hermite between step ends; exponential: its own continuous extension), so
+//! this checks the output between steps as well as the steps.
+
+use std::path::PathBuf;
+
+use flexflight::analysis::gust_response::{DEFAULT_CHANNELS, StimulusFit, identify_after_stimuli};
+use flexflight::analysis::identify::IdentifyOptions;
+use flexflight::check::{DiskLoader, check_files};
+use flexflight::runtime::run::{RunOutput, RunStop, run};
+use flexflight::structure::compile::compile;
+
+fn fly(sets: &[&str]) -> (RunOutput, Vec<StimulusFit>) {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/thesis/section_6_5.vdl");
+    let mut all = vec!["fins.thickness=1.0 mm".to_string()];
+    all.extend(sets.iter().map(|s| s.to_string()));
+    let checked = check_files(&[root], &all, &DiskLoader);
+    assert!(!checked.has_errors(), "{:?}", checked.diagnostics);
+    let sc = checked
+        .program
+        .scenario("subsonic_t06")
+        .expect("scenario")
+        .clone();
+    let (compiled, _) = compile(&sc.vehicle).expect("compiles");
+    let plan = flexflight::plan::build(&sc, &compiled).expect("plan");
+    let out = run(&plan, &compiled.reduced, &mut |_, _| {}).expect("runs");
+    assert_eq!(out.stop, RunStop::Completed, "{}", out.stop_detail);
+    let fits = identify_after_stimuli(
+        &plan.stimuli,
+        &out,
+        DEFAULT_CHANNELS,
+        &IdentifyOptions::default(),
+    );
+    (out, fits)
+}
+
+/// Channel groups of the comparison: name and a predicate on the channel name.
+type Group = (&'static str, fn(&str) -> bool);
+
+const GROUPS: &[Group] = &[
+    ("position", |c| c.starts_with("p_inertial_")),
+    ("velocity", |c| c.starts_with("v_body_")),
+    ("angular rate", |c| c.starts_with("omega_body_")),
+    ("attitude", |c| matches!(c, "roll" | "pitch" | "yaw")),
+    ("alpha, beta", |c| matches!(c, "alpha" | "beta")),
+    ("modal eta", |c| {
+        c.starts_with("eta_") && !c.starts_with("eta_dot_")
+    }),
+    ("modal rates", |c| c.starts_with("eta_dot_")),
+    ("fin incidence", |c| {
+        c.starts_with("fin") && c.ends_with("_alpha")
+    }),
+    ("fin root stress", |c| c.ends_with("_root_stress")),
+    ("energy", |c| {
+        matches!(c, "energy_kinetic" | "energy_strain" | "energy_total")
+    }),
+    ("max deformation", |c| c == "max_deformation"),
+];
+
+/// The times at which the scenario's sharp-edged gusts switch on or off: a row there takes
+/// the forcing from one side of the jump or the other depending on where the integrator's
+/// steps end, so it is left out of the comparison.
+const JUMPS: [f64; 4] = [1.0, 1.1, 5.0, 5.1];
+
+/// Per group, the largest over its channels and rows of `|x - x_ref|`, divided by the
+/// largest range (max - min over the reference flight) among the group's channels (the
+/// lateral channels of this symmetric flight have ranges at round-off level and would
+/// otherwise dominate with meaningless ratios).
+fn group_errors(out: &RunOutput, reference: &RunOutput) -> Vec<(&'static str, f64)> {
+    assert_eq!(out.channels, reference.channels);
+    let rows = out.rows.len().min(reference.rows.len());
+    assert!(rows > 9_000, "{rows}");
+    // Row times agree (to the driver's snapping of an output time onto a step end 1e-12
+    // away, which happens at the gust jumps).
+    for k in 0..rows {
+        let (a, b) = (out.rows[k][0], reference.rows[k][0]);
+        assert!((a - b).abs() < 1e-9, "row {k}: {a} vs {b}");
+    }
+    let kept: Vec<usize> = (0..rows)
+        .filter(|&k| {
+            JUMPS
+                .iter()
+                .all(|t| (reference.rows[k][0] - t).abs() > 1e-9)
+        })
+        .collect();
+    GROUPS
+        .iter()
+        .map(|(name, pick)| {
+            let cols: Vec<usize> = (0..out.channels.len())
+                .filter(|&j| pick(&out.channels[j]))
+                .collect();
+            assert!(!cols.is_empty(), "{name}");
+            let range = cols
+                .iter()
+                .map(|&j| {
+                    let (lo, hi) = reference.rows[..rows]
+                        .iter()
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
+                            (lo.min(r[j]), hi.max(r[j]))
+                        });
+                    hi - lo
+                })
+                .fold(0.0f64, f64::max);
+            let worst = cols
+                .iter()
+                .flat_map(|&j| kept.iter().map(move |&k| (j, k)))
+                .map(|(j, k)| (out.rows[k][j] - reference.rows[k][j]).abs())
+                .fold(0.0f64, f64::max);
+            (*name, worst / range)
+        })
+        .collect()
+}
+
+/// Observed (release, 2 December 2026), error per group relative to its range, DOPRI5 /
+/// exponential: position 7.6e-12 / 2.0e-9, velocity 3.0e-7 / 1.2e-8, angular rate 2.4e-5 /
+/// 1.0e-6, attitude 2.4e-8 / 6.3e-8, alpha and beta 6.4e-7 / 2.6e-8, eta 1.7e-5 / 5.7e-6,
+/// eta rates 3.8e-5 / 1.3e-5, fin incidence 2.2e-6 / 2.1e-6, fin root stress 3.9e-6 / 3.8e-6,
+/// energies 4.1e-11 / 4.0e-9, largest deformation 1.08e-5 / 1.11e-5; steps 14,122 / 2,298,
+/// evaluations 95,089 / 16,831. So the exponential integrator is as accurate or better on
+/// the fin response and the rigid rates, and less accurate (but far inside the scenario's
+/// tolerance, rtol 1e-6) on the position, attitude and energies, which it integrates
+/// explicitly through a velocity that carries the fin modes' oscillation. The test pins:
+/// each group no worse than DOPRI5's error (5 % margin) or below 1e-7 of its range; the
+/// fin-response groups no worse than DOPRI5's (5 % margin); fewer than a quarter of
+/// DOPRI5's evaluations; the gust-response identification of `summary.json` (the same call
+/// as `flexflight run`): the least-damped root's damping and frequency within 2e-7 of
+/// DOPRI5's (observed 6e-8, 1e-9), every fitted root's frequency within 2e-5 (observed
+/// 7e-6) and growth rate within 1 % (observed 0.8 %, the lightly damped 90 Hz root seen in
+/// `alpha`: -0.1842 against -0.1856 1/s; the reference's own fit, -0.1756, differs from
+/// both by 5-6 %, its first row, at the end of the gust, being taken on the other side of
+/// the jump).
+#[test]
+fn exponential_matches_the_tight_reference_at_least_as_well_as_dopri5() {
+    let (reference, _) = fly(&[
+        "run.integrator=dop853",
+        "run.rtol=1e-10",
+        "run.atol=1e-13",
+        "run.min_step=1e-15 s",
+    ]);
+    let (dopri5, fits5) = fly(&["run.integrator=dopri5"]);
+    let (expo, fitse) = fly(&["run.integrator=exponential"]);
+    let e5 = group_errors(&dopri5, &reference);
+    let ee = group_errors(&expo, &reference);
+    eprintln!(
+        "reference {:?}\ndopri5 {:?}\nexponential {:?}",
+        reference.stats, dopri5.stats, expo.stats
+    );
+    for ((g, a), (_, b)) in e5.iter().zip(&ee) {
+        eprintln!("{g:>16}: dopri5 {a:.2e}  exponential {b:.2e}");
+    }
+    for ((g, a), (_, b)) in e5.iter().zip(&ee) {
+        assert!(
+            *b <= (1.05 * a).max(1e-7),
+            "{g}: dopri5 {a:e}, exponential {b:e}"
+        );
+        if g.starts_with("modal") || g.starts_with("fin") || *g == "max deformation" {
+            assert!(*b <= 1.05 * a, "{g}: dopri5 {a:e}, exponential {b:e}");
+        }
+    }
+    assert!(
+        4 * expo.stats.rhs_evaluations < dopri5.stats.rhs_evaluations,
+        "{:?} {:?}",
+        expo.stats,
+        dopri5.stats
+    );
+    // The gust-response identification of summary.json: the same roots.
+    assert_eq!(fits5.len(), fitse.len());
+    for (a, b) in fits5.iter().zip(&fitse) {
+        assert_eq!((&a.channel, &a.stimulus), (&b.channel, &b.stimulus));
+        let (Some(fa), Some(fb)) = (&a.fit, &b.fit) else {
+            panic!("{} {}: a fit failed", a.channel, a.stimulus);
+        };
+        let rel = |x: f64, y: f64| (x - y).abs() / y.abs();
+        eprintln!(
+            "{} / {}: sigma_d {} vs {}, f {} vs {} Hz",
+            a.channel, a.stimulus, fb.sigma_d, fa.sigma_d, fb.frequency_hz, fa.frequency_hz
+        );
+        assert!(
+            rel(fb.sigma_d, fa.sigma_d) < 2e-7,
+            "{} {}",
+            fb.sigma_d,
+            fa.sigma_d
+        );
+        assert!(rel(fb.frequency_hz, fa.frequency_hz) < 2e-7);
+        assert_eq!(fa.modes.len(), fb.modes.len());
+        for (ma, mb) in fa.modes.iter().zip(&fb.modes) {
+            eprintln!(
+                "   root ({}, {}) vs ({}, {})",
+                mb.sigma, mb.omega, ma.sigma, ma.omega
+            );
+            assert!(rel(mb.omega, ma.omega) < 2e-5, "{ma:?} {mb:?}");
+            assert!(rel(mb.sigma, ma.sigma) < 1e-2, "{ma:?} {mb:?}");
+        }
+    }
+}
