@@ -322,6 +322,30 @@ sweep p { scenario = a; analysis = planar_pinned; grid { run.stop_time = [1 s] }
 sweep r { scenario = a; analysis = run; grid { run.stop_time = [1 s] } }
 "#;
 
+/// A third fixture: wind-tunnel fixtures with the surface variants the AGARD 445.6 example
+/// does not show (a flat plate, leading- and trailing-edge sweeps, a swept grain, no mass)
+/// and a tunnel scenario with overrides and listed speeds.
+const FIXTURE_3: &str = r#"
+material o { E = 10 GPa; E2 = 1 GPa; G12 = 0.5 GPa; nu = 0.3; rho = 500 kg/m^3 }
+fixture f {
+  material = o
+  surface { span = 0.5 m; root_chord = 0.3 m; tip_chord = 0.2 m; leading_edge_sweep = 10 deg; thickness = 2 mm; grain = swept(10 deg) }
+}
+fixture g {
+  material = o
+  surface { span = 0.5 m; root_chord = 0.3 m; tip_chord = 0.2 m; trailing_edge_sweep = 0 deg; thickness = 2 mm }
+  mesh { chord_elements = 4; span_elements = 4 }
+  modes = 2
+  spanwise_panels = 4
+  reference_frequency = 100 rad/s
+}
+scenario t {
+  fixture = g
+  with { surface.thickness = 3 mm }
+  tunnel { mach = 0.3; density = 1.2 kg/m^3; speeds = [50 m/s, 60 m/s] }
+}
+"#;
+
 fn checker_fields() -> (BTreeMap<String, Read>, BTreeSet<String>) {
     let mut read: BTreeMap<String, Read> = BTreeMap::new();
     let mut keywords = BTreeSet::new();
@@ -343,11 +367,12 @@ fn checker_fields() -> (BTreeMap<String, Read>, BTreeSet<String>) {
         "examples/thesis/section_6_5.vdl",
         "examples/free_tumble.vdl",
         "examples/tube_from_nastran.vdl",
+        "examples/agard445/agard445.vdl",
     ] {
         let (checked, rec) = record_schema(|| check_files(&[repo(f)], &[], &DiskLoader));
         add(&checked, rec);
     }
-    for (k, text) in [FIXTURE, FIXTURE_2].iter().enumerate() {
+    for (k, text) in [FIXTURE, FIXTURE_2, FIXTURE_3].iter().enumerate() {
         let path = PathBuf::from(format!("/fixture{k}.vdl"));
         let loader = MemoryLoader {
             files: [(path.clone(), text.to_string())].into_iter().collect(),
