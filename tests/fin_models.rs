@@ -50,10 +50,17 @@ fn history(v: &Variant) -> Vec<Vec<f64>> {
 
 /// blake3 of the rows' bits.
 fn digest(rows: &[Vec<f64>]) -> String {
+    digest_without(rows, None)
+}
+
+/// blake3 of the rows' bits, column `skip` left out.
+fn digest_without(rows: &[Vec<f64>], skip: Option<usize>) -> String {
     let mut h = blake3::Hasher::new();
     for r in rows {
-        for x in r {
-            h.update(&x.to_bits().to_le_bytes());
+        for (j, x) in r.iter().enumerate() {
+            if Some(j) != skip {
+                h.update(&x.to_bits().to_le_bytes());
+            }
         }
     }
     h.finalize().to_hex().to_string()
@@ -69,15 +76,33 @@ fn digest(rows: &[Vec<f64>]) -> String {
 /// the new DOPRI5 default, and the restructured RHS rounds differently): those change the
 /// bits of every adaptive history; how far this history moved is not measured. The digest
 /// pins the key-node path against later fin-model work.
+///
+/// Re-recorded on 3 December 2026 for one column only: the output rows now take the aero
+/// channels from the row's own right-hand side with its force blocks summed block by block
+/// (`ForceBlocks::keep_each`), which rounds the `acceleration` channel differently (at most
+/// 1.9e-14 relative on the 10 s flight). The digest of every other column is the one the
+/// previous code gives (f4c257b5..., computed from that code's `history.csv`, whose shortest
+/// round-trip digits read back to the same bits; the same method gives 99d37276... for all
+/// the columns, the digest this test held before), so the state, the loads and every other
+/// channel are bit for bit unchanged.
 #[test]
 fn key_node_history_is_unchanged() {
     let v = variant("subsonic_t06", &["run.stop_time=1.2s"]);
     let rows = history(&v);
     let d = digest(&rows);
-    eprintln!("rows {} digest {d}", rows.len());
+    let acc = v.plan.channels.iter().position(|c| c == "acceleration");
+    let others = digest_without(&rows, acc);
+    eprintln!(
+        "rows {} digest {d}, without acceleration {others}",
+        rows.len()
+    );
+    assert_eq!(
+        others,
+        "f4c257b59e926ed5272183bd2a44b7e38f2713f8fe7f2fc2b0573beba14b534c"
+    );
     assert_eq!(
         d,
-        "99d37276e8af9692e4f84988e6a995ed104001223377be464d113bdadd3ef737"
+        "81278b5ea0fd8554eb58b485ea3cf3985182640cdb69ae50f88e69bb1a2c4996"
     );
 }
 

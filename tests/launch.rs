@@ -455,6 +455,84 @@ fn parachutes_deploy_after_their_trigger_and_descend_at_terminal_speed() {
     );
 }
 
+/// Under a canopy the vehicle's own aerodynamics are off: the aerodynamic load channels and
+/// the fin root stresses are zero from the deployment on, and the fin angles of attack follow
+/// the air-relative velocity. Before the fix the fin channels kept, for the whole descent,
+/// the values of the last evaluation before the deployment (hpr_k1000: a root stress of
+/// 0.42 MPa and -114 deg frozen for 150 s under the parachutes).
+#[test]
+fn under_a_canopy_the_fin_channels_show_no_load_and_the_current_angle_of_attack() {
+    let dir = tempfile::tempdir().unwrap();
+    let chute = "  parachute drogue {\n    cd_area = 2 m^2\n    trigger = time(3 s)\n  }\n";
+    let file = rail_scenario(dir.path(), 1000.0, 2.0, true, chute);
+    let out = dir.path().join("out");
+    let o = run(
+        &file,
+        "pad",
+        &out,
+        &["run.stop_time=6 s", "run.rtol=1e-7", "run.atol=1e-9"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let h = History::read(&out);
+    let t = h.col("t");
+    let td = 3.0;
+    let fins: Vec<String> = h
+        .columns
+        .iter()
+        .filter(|c| c.starts_with("fin") && c.ends_with("_root_stress"))
+        .cloned()
+        .collect();
+    assert!(!fins.is_empty(), "{:?}", h.columns);
+    let loads: Vec<String> = h
+        .columns
+        .iter()
+        .filter(|c| c.contains("_aero_force_") || c.contains("_aero_moment_"))
+        .cloned()
+        .collect();
+    assert_eq!(loads.len(), 12, "{:?}", h.columns);
+    for c in fins.iter().chain(&loads) {
+        let v = h.col(c);
+        // Loaded before the deployment...
+        assert!(
+            t.iter().zip(&v).any(|(t, v)| *t < td && *v != 0.0),
+            "{c} zero in flight"
+        );
+        // ...and not under the canopy.
+        let under: Vec<f64> = t
+            .iter()
+            .zip(&v)
+            .filter(|(t, _)| **t > td)
+            .map(|(_, v)| *v)
+            .collect();
+        assert!(under.len() > 200, "{}", under.len());
+        assert!(
+            under.iter().all(|v| *v == 0.0),
+            "{c} under the canopy: {:?}",
+            &under[..5]
+        );
+    }
+    // The air-relative velocity turns from along the body axis towards the vertical while
+    // the frozen vehicle keeps its attitude: the fin angles of attack change with it.
+    for i in 1..=fins.len() {
+        let a = h.col(&format!("fin{i}_alpha"));
+        let under: Vec<f64> = t
+            .iter()
+            .zip(&a)
+            .filter(|(t, _)| **t > td)
+            .map(|(_, a)| *a)
+            .collect();
+        let (lo, hi) = under
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), a| {
+                (l.min(*a), h.max(*a))
+            });
+        assert!(
+            hi - lo > 1.0,
+            "fin{i}_alpha under the canopy {lo}..{hi} deg"
+        );
+    }
+}
+
 #[test]
 fn a_steady_wind_carries_the_descent_downwind_at_the_wind_speed() {
     let dir = tempfile::tempdir().unwrap();

@@ -322,7 +322,7 @@ pub fn build_force_blocks(plan: &Plan, model: &ReducedModel) -> Result<ForceBloc
             },
         }
     }
-    Ok(ForceBlocks { blocks })
+    Ok(ForceBlocks::new(blocks))
 }
 
 /// The gravity block of `plan`: with a motor, on the burning vehicle's mass properties.
@@ -476,17 +476,47 @@ impl AeroProbe {
         hit
     }
 
-    /// The aero channels of the last evaluation (column order of [`crate::plan::channel_names`]).
-    fn channels(&self, r: &mut Vec<f64>) {
+    /// Takes the body and fin loads of an output row from the row's own right-hand side
+    /// (its force blocks kept apart, [`ForceBlocks::keep_each`]) instead of evaluating the
+    /// blocks again: the same blocks (copies of the plan's) at the same `(t, x)`, each
+    /// computed from zero as [`Self::evaluate`] does, so the loads have the same bits.
+    /// Returns the fin block whose samples the channels read (`Some(None)` without fins),
+    /// or `None` when the flight's blocks lack one of the probe's (a plan whose `forces`
+    /// leave an aerodynamic block out: then [`Self::evaluate`] is the way).
+    fn loads_from<'b>(&mut self, blocks: &'b ForceBlocks) -> Option<Option<&'b FinAero>> {
+        let (mut body, mut fin) = (None, None);
+        for (i, b) in blocks.blocks.iter().enumerate() {
+            match b {
+                ForceBlock::BodyAero(_) => body = body.or(blocks.kept(i)),
+                ForceBlock::FinAero(f) => fin = fin.or(blocks.kept(i).map(|q| (q, &**f))),
+                _ => {}
+            }
+        }
+        if self.body.is_some() != body.is_some() || self.fin.is_some() != fin.is_some() {
+            return None;
+        }
+        if let Some(q) = body {
+            self.body_load = Self::load_about_cm(&self.cm, q);
+        }
+        if let Some((q, _)) = fin {
+            self.fin_load = Self::load_about_cm(&self.cm, q);
+        }
+        Some(fin.map(|(_, f)| f))
+    }
+
+    /// The aero channels of the last evaluation (column order of [`crate::plan::channel_names`]),
+    /// the fin samples from `fin` if given, else from the probe's own fin block; the root
+    /// stresses zero when the loads are off (`loaded` false: under a canopy).
+    fn channels(&self, r: &mut Vec<f64>, fin: Option<&FinAero>, loaded: bool) {
         if self.body.is_some() {
             r.extend_from_slice(&self.body_load);
         }
-        if let Some(f) = &self.fin {
+        if let Some(f) = fin.or(self.fin.as_ref()) {
             r.extend_from_slice(&self.fin_load);
             for i in 0..f.n_fins() {
                 let sample = f.last(i).unwrap_or_default();
                 r.push(sample.alpha.to_degrees());
-                r.push(sample.root_stress);
+                r.push(if loaded { sample.root_stress } else { 0.0 });
             }
         }
     }
@@ -631,19 +661,31 @@ impl Monitor<'_> {
         r.push(w_prop);
         r.push(diss);
         r.push(inv.total_energy() - self.energy0 - w_loads - w_prop + diss);
+        // The row's right-hand side (for the acceleration below); its force blocks are kept
+        // apart, so the aero channels read their loads from it.
+        let rhs = self.accel.rhs(t, x, &mut self.accel_buf);
         // The aero channels at this state (a stop raised here is the step check's business).
         if self.phase == Phase::Descent {
+            // Under a canopy the vehicle's aerodynamics are off: no loads, no root stress;
+            // the fin angles of attack are those of the current air-relative velocity.
+            let _ = self.aero.evaluate(t, &s);
             self.aero.body_load = [0.0; 6];
             self.aero.fin_load = [0.0; 6];
+            self.aero.channels(&mut r, None, false);
         } else {
-            let _ = self.aero.evaluate(t, &s);
+            match self.aero.loads_from(&self.accel.eom.forces) {
+                Some(fin) => self.aero.channels(&mut r, fin, true),
+                None => {
+                    let _ = self.aero.evaluate(t, &s);
+                    self.aero.channels(&mut r, None, true);
+                }
+            }
         }
-        self.aero.channels(&mut r);
         // Flight channels: inertial speed and acceleration of the origin,
         // d/dt (C_IB V_B) = C_IB (V̇_B + ω_B × V_B), from the run's own right-hand side.
         let v_i = mat_t_vec(&s.c_bi, &s.velocity);
         r.push(v_i.iter().map(|c| c * c).sum::<f64>().sqrt());
-        let acc = match self.accel.rhs(t, x, &mut self.accel_buf) {
+        let acc = match rhs {
             Ok(()) => {
                 let vd = [self.accel_buf[7], self.accel_buf[8], self.accel_buf[9]];
                 let wv = cross(&s.angular_velocity, &s.velocity);
@@ -1068,7 +1110,12 @@ pub fn run(
     let monitor = Monitor {
         plan,
         phase: first_phase,
-        accel: flight.clone(),
+        accel: {
+            let mut a = flight.clone();
+            let d = 6 + a.eom.layout().n;
+            a.eom.forces.keep_each(d);
+            a
+        },
         accel_buf: vec![0.0; dim],
         static_margin,
         eval,

@@ -53,12 +53,50 @@ impl ForceModel for ForceBlock {
 pub struct ForceBlocks {
     /// In plan order.
     pub blocks: Vec<ForceBlock>,
+    /// Empty, or one buffer per block (see [`Self::keep_each`]).
+    each: Vec<Vec<f64>>,
+}
+
+impl ForceBlocks {
+    pub fn new(blocks: Vec<ForceBlock>) -> Self {
+        ForceBlocks {
+            blocks,
+            each: Vec::new(),
+        }
+    }
+
+    /// From here on every block's generalised forces (`d` values) are computed into a
+    /// buffer of their own, from zero, and then added to the total, so that an output row
+    /// can read a block's loads from the same evaluation as the accelerations
+    /// ([`Self::kept`]). A block's buffer then has the bits of a separate evaluation of
+    /// that block; the total is summed block by block, which can differ from the plain
+    /// accumulation in the last bits. Used by the output rows' copy of the right-hand
+    /// side only, never by the integrated one.
+    pub fn keep_each(&mut self, d: usize) {
+        self.each = vec![vec![0.0; d]; self.blocks.len()];
+    }
+
+    /// The generalised forces of block `i` at the last evaluation, if [`Self::keep_each`]
+    /// is on.
+    pub fn kept(&self, i: usize) -> Option<&[f64]> {
+        self.each.get(i).map(Vec::as_slice)
+    }
 }
 
 impl ForceModel for ForceBlocks {
     fn generalized_forces(&mut self, t: f64, state: &StateView, out: &mut [f64]) {
-        for b in &mut self.blocks {
-            b.generalized_forces(t, state, out);
+        if self.each.is_empty() {
+            for b in &mut self.blocks {
+                b.generalized_forces(t, state, out);
+            }
+            return;
+        }
+        for (b, buf) in self.blocks.iter_mut().zip(&mut self.each) {
+            buf.fill(0.0);
+            b.generalized_forces(t, state, buf);
+            for (o, v) in out.iter_mut().zip(buf.iter()) {
+                *o += v;
+            }
         }
     }
 }
