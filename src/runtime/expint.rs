@@ -90,33 +90,73 @@ type C64 = Complex<f64>;
 
 /// `φ_k(z)` for `k = 0..=K-1` (`φ_0 = e^z`, `φ_{k}(z) = Σ_{j≥0} z^j / (j + k)!`, so
 /// `φ_{k+1}(z) = (φ_k(z) - 1/k!)/z`; Hochbruck & Ostermann 2010, (2.10)). For `|z| < 2` the
-/// Taylor series (30 terms: the remainder is below `2^30/30! < 1e-23` of the leading term),
-/// else the recurrence from `e^z`, which loses no digits when `|z| >= 1`.
+/// Taylor series (as many terms as [`series_terms`] gives for `|z|`), else the recurrence
+/// from `e^z`, which loses no digits when `|z| >= 1`.
 pub fn phi<const K: usize>(z: C64) -> [C64; K] {
+    if z.norm_sqr() < 4.0 {
+        phi_series(z)
+    } else {
+        phi_from_exp(z, z.exp())
+    }
+}
+
+/// [`phi`] on the series branch (`|z| < 2`).
+fn phi_series<const K: usize>(z: C64) -> [C64; K] {
     let mut out = [C64::new(0.0, 0.0); K];
     if K == 0 {
         return out;
     }
-    if z.norm_sqr() < 4.0 {
-        // φ_{K-1} by Horner on its series, then φ_{k-1} = z φ_k + 1/(k-1)! downwards (stable
-        // for |z| < 2: an error is multiplied by |z| per step, against φ_k ~ 1/k!).
-        let top = K - 1;
-        let mut acc = C64::new(0.0, 0.0);
-        for j in (0..30).rev() {
-            acc = acc * z + C64::new(INV_FACT[j + top], 0.0);
-        }
-        out[top] = acc;
-        for k in (0..top).rev() {
-            out[k] = out[k + 1] * z + C64::new(INV_FACT[k], 0.0);
-        }
-    } else {
-        out[0] = z.exp();
-        for k in 1..K {
-            out[k] = (out[k - 1] - C64::new(INV_FACT[k - 1], 0.0)) / z;
-        }
+    // φ_{K-1} by Horner on its series, then φ_{k-1} = z φ_k + 1/(k-1)! downwards (stable
+    // for |z| < 2: an error is multiplied by |z| per step, against φ_k ~ 1/k!).
+    let top = K - 1;
+    let mut acc = C64::new(0.0, 0.0);
+    for j in (0..series_terms(z.norm_sqr())).rev() {
+        acc = acc * z + C64::new(INV_FACT[j + top], 0.0);
+    }
+    out[top] = acc;
+    for k in (0..top).rev() {
+        out[k] = out[k + 1] * z + C64::new(INV_FACT[k], 0.0);
     }
     out
 }
+
+/// [`phi`] by the recurrence from `ez = e^z` (for `|z| >= 1`; `e^z` given so that a caller
+/// with the exponentials of several multiples of one argument computes them once).
+fn phi_from_exp<const K: usize>(z: C64, ez: C64) -> [C64; K] {
+    let mut out = [C64::new(0.0, 0.0); K];
+    if K == 0 {
+        return out;
+    }
+    out[0] = ez;
+    for k in 1..K {
+        out[k] = (out[k - 1] - C64::new(INV_FACT[k - 1], 0.0)) / z;
+    }
+    out
+}
+
+/// The number `N` of series terms for `|z|² < r2`: the remainder of `φ_k`'s series after
+/// `N` terms, relative to its leading term `1/k!`, is at most
+/// `k! |z|^N / (N + k)! · (1 + |z|/(N + k + 1) + ...) <= 1.1 |z|^N / N!`, and `N` is the
+/// least with `1.1 r^N / N! <= 2^-54` at the bin's largest `r` (computed once and checked
+/// by a test): 9 terms for `|z| <= 1/16` up to 24 for `|z| < 2` (30 before: the same
+/// value to round-off, six more complex multiply-adds per call at the largest `|z|`, 21 at
+/// the smallest).
+fn series_terms(r2: f64) -> usize {
+    SERIES_TERMS
+        .iter()
+        .find(|(bound, _)| r2 <= *bound)
+        .map_or(24, |(_, n)| *n)
+}
+
+/// `(r², N)`: [`series_terms`]' bins.
+const SERIES_TERMS: [(f64, usize); 6] = [
+    (1.0 / 256.0, 9),
+    (1.0 / 64.0, 11),
+    (1.0 / 16.0, 13),
+    (1.0 / 4.0, 15),
+    (1.0, 19),
+    (4.0, 24),
+];
 
 /// `1/n!` for `n = 0..40`.
 const INV_FACT: [f64; 40] = {
@@ -157,10 +197,28 @@ struct Coef<T> {
 
 impl Coef<C64> {
     fn new(z: C64) -> Self {
-        let [e4, p14_1, p14_2] = phi::<3>(0.25 * z);
-        let [e2, p12_1, p12_2] = phi::<3>(0.5 * z);
-        let [e34, p34_1, p34_2] = phi::<3>(0.75 * z);
-        let [e1, p1, p2, p3] = phi::<4>(z);
+        // The exponentials of the nodes from `e^{z/4}` by products where their φ come from
+        // the recurrence (`|c z| >= 2`): one complex `exp` (an `exp`, a `sin` and a `cos`)
+        // instead of up to four, each product adding about an ulp to the relative error.
+        let z4 = 0.25 * z;
+        let e4 = (z.norm_sqr() >= 4.0).then(|| z4.exp());
+        let e2 = e4.map(|e| e * e);
+        let e34 = e4.zip(e2).map(|(a, b)| a * b);
+        let e1 = e2.map(|e| e * e);
+        let at = |c: f64, e: Option<C64>| -> [C64; 3] {
+            let zc = c * z;
+            match e {
+                Some(e) if zc.norm_sqr() >= 4.0 => phi_from_exp(zc, e),
+                _ => phi_series(zc),
+            }
+        };
+        let [e4, p14_1, p14_2] = at(0.25, e4);
+        let [e2, p12_1, p12_2] = at(0.5, e2);
+        let [e34, p34_1, p34_2] = at(0.75, e34);
+        let [e1, p1, p2, p3] = match e1 {
+            Some(e) => phi_from_exp::<4>(z, e),
+            None => phi_series::<4>(z),
+        };
         // ψ_k = k! φ_k.
         let (s14_1, s14_2) = (p14_1, 2.0 * p14_2);
         let (s12_1, s12_2) = (p12_1, 2.0 * p12_2);
@@ -1121,6 +1179,57 @@ mod tests {
                 (s[k] - expect).norm() < 1e-16 * INV_FACT[k] + 1e-24,
                 "k {k}"
             );
+        }
+        // The series length of each bin against 40 terms, at the bin's largest |z| on both
+        // axes and the diagonal (the truncation is below 2^-54 of φ_k there; a few ulps of
+        // round-off remain, from the different start of the Horner chains).
+        for &(r2, n) in &SERIES_TERMS {
+            assert_eq!(series_terms(r2), n);
+            let r = r2.sqrt() * (1.0 - 1e-12);
+            for z in [
+                c(r, 0.0),
+                c(-r, 0.0),
+                c(0.0, r),
+                c(r, r) * std::f64::consts::FRAC_1_SQRT_2,
+            ] {
+                let s = phi_series::<6>(z);
+                let mut acc = c(0.0, 0.0);
+                for j in (0..34).rev() {
+                    acc = acc * z + c(INV_FACT[j + 5], 0.0);
+                }
+                let mut full = [c(0.0, 0.0); 6];
+                full[5] = acc;
+                for k in (0..5).rev() {
+                    full[k] = full[k + 1] * z + c(INV_FACT[k], 0.0);
+                }
+                for k in 0..6 {
+                    let rel = (s[k] - full[k]).norm() / full[k].norm();
+                    assert!(
+                        rel < 4.0 * f64::EPSILON,
+                        "z {z} ({n} terms), k {k}: {rel:e}"
+                    );
+                }
+            }
+        }
+        // The coefficients with the node exponentials by products equal those with each
+        // exponential evaluated on its own, to round-off.
+        for z in [
+            c(-0.3, 9.0),
+            c(-2.0, 30.0),
+            c(-0.05, 3.0),
+            c(1.0, -7.5),
+            c(-40.0, 0.0),
+        ] {
+            let a = Coef::new(z);
+            let b = [0.25, 0.5, 0.75, 1.0].map(|f| (f * z).exp());
+            for (x, y) in a.e.iter().zip(&b) {
+                assert!(
+                    (x - y).norm() <= 8.0 * f64::EPSILON * y.norm(),
+                    "z {z}: {x} {y}"
+                );
+            }
+            let p = phi::<4>(z);
+            assert!((a.a61 - (-77.0 * p[1] + 59.0 * 2.0 * p[2]) / 42.0).norm() < 1e-14);
         }
         // A large oscillatory argument (a fin mode over a long step): the recurrence,
         // checked against closed forms φ1 = (e^z - 1)/z, φ2 = (e^z - 1 - z)/z^2.
