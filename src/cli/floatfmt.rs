@@ -34,7 +34,8 @@ pub fn push_shortest(out: &mut String, v: f64, buf: &mut zmij::Buffer) {
         out.push_str(text.strip_suffix(".0").unwrap_or(text));
         return;
     }
-    if let Some(i) = text.find('e') {
+    // The exponent sits in the last five bytes ("e-324" at most): search from the end.
+    if let Some(i) = text.bytes().rposition(|b| b == b'e') {
         // Exponent form: "1.5e-7" as `{:e}`; "1e+20" is `{:e}`'s "1e20".
         let (mantissa, exponent) = text.split_at(i + 1);
         out.push_str(mantissa);

@@ -595,8 +595,25 @@ impl CoefficientTable {
         (value < a[0] || value > a[a.len() - 1]) && !self.held_below(axis as usize, value)
     }
 
-    /// Bracketing index and fraction on one axis, after the out-of-range policy.
+    /// Bracketing index and fraction on one axis, after the out-of-range policy. A value
+    /// inside the axis takes the inlined path; a non-finite or outside one goes to
+    /// [`Self::locate_outside`].
+    #[inline]
     fn locate(&self, a: usize, value: f64) -> Result<(usize, f64), TableError> {
+        let axis = &self.axes[a];
+        let (min, max) = (axis[0], axis[axis.len() - 1]);
+        if !(value >= min && value <= max) {
+            return self.locate_outside(a, value);
+        }
+        Ok(Self::bracket(axis, value))
+    }
+
+    /// [`Self::locate`] for a value not inside `[min, max]` of its axis: an error when it is
+    /// not finite, or outside under [`OutOfRange::Stop`] (but for the held low-Mach band);
+    /// else clamped to the edge.
+    #[cold]
+    #[inline(never)]
+    fn locate_outside(&self, a: usize, value: f64) -> Result<(usize, f64), TableError> {
         let axis = &self.axes[a];
         if !value.is_finite() {
             return Err(TableError::NonFiniteQuery {
@@ -606,10 +623,7 @@ impl CoefficientTable {
             });
         }
         let (min, max) = (axis[0], axis[axis.len() - 1]);
-        if (value < min || value > max)
-            && self.policy == OutOfRange::Stop
-            && !self.held_below(a, value)
-        {
+        if self.policy == OutOfRange::Stop && !self.held_below(a, value) {
             return Err(TableError::OutOfRange {
                 path: self.source.clone(),
                 axis: AXES[a],
@@ -618,14 +632,19 @@ impl CoefficientTable {
                 max,
             });
         }
-        let v = value.clamp(min, max);
+        Ok(Self::bracket(axis, value.clamp(min, max)))
+    }
+
+    /// Index `i` and fraction `t` of `v` (inside the axis) between nodes `i` and `i + 1`.
+    #[inline]
+    fn bracket(axis: &[f64], v: f64) -> (usize, f64) {
         if axis.len() == 1 {
-            return Ok((0, 0.0));
+            return (0, 0.0);
         }
         // First index whose value exceeds v, kept within 1..len-1 so i = that - 1 brackets.
         let upper = axis.partition_point(|&x| x <= v).clamp(1, axis.len() - 1);
         let i = upper - 1;
-        Ok((i, (v - axis[i]) / (axis[i + 1] - axis[i])))
+        (i, (v - axis[i]) / (axis[i + 1] - axis[i]))
     }
 
     /// Trilinear interpolation of the three coefficient columns at (Mach, alpha deg,
@@ -641,7 +660,52 @@ impl CoefficientTable {
     }
 
     /// Trilinear interpolation of every value column (the unused tail stays zero).
+    ///
+    /// The eight corners in the order of their index (axis 0 the lowest bit), each weight
+    /// the product `w_0 w_1 w_2` of the axes' `1 - t` or `t` from the left, a corner of zero
+    /// weight skipped (`t = 0` on an axis it takes the upper node of, which may lie past the
+    /// end of a one-node axis): the arithmetic of [`Self::interpolate_by_corner`], written out
+    /// per axis instead of per corner and axis, so the same bits (tested).
     fn interpolate(
+        &self,
+        mach: f64,
+        alpha_deg: f64,
+        altitude_m: f64,
+    ) -> Result<[f64; MAX_VALUES], TableError> {
+        let (i0, t0) = self.locate(0, mach)?;
+        let (i1, t1) = self.locate(1, alpha_deg)?;
+        let (i2, t2) = self.locate(2, altitude_m)?;
+        let [s0, s1, s2] = self.strides;
+        // Per axis: (weight, offset) of the lower and the upper node; the upper one is
+        // absent when its weight t is exactly zero.
+        let axis = |i: usize, t: f64, s: usize| [(1.0 - t, i * s), (t, (i + 1) * s)];
+        let (a0, a1, a2) = (axis(i0, t0, s0), axis(i1, t1, s1), axis(i2, t2, s2));
+        let (n0, n1, n2) = (
+            1 + usize::from(t0 != 0.0),
+            1 + usize::from(t1 != 0.0),
+            1 + usize::from(t2 != 0.0),
+        );
+        let w_n = self.width;
+        let mut out = [0.0; MAX_VALUES];
+        for &(w2, o2) in &a2[..n2] {
+            for &(w1, o1) in &a1[..n1] {
+                for &(w0, o0) in &a0[..n0] {
+                    let w = w0 * w1 * w2;
+                    if w != 0.0 {
+                        let o = o0 + o1 + o2;
+                        for (x, v) in out.iter_mut().zip(&self.values[o..o + w_n]) {
+                            *x += w * v;
+                        }
+                    }
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// The reference form of [`Self::interpolate`]: corner by corner, axis by axis.
+    #[cfg(test)]
+    fn interpolate_by_corner(
         &self,
         mach: f64,
         alpha_deg: f64,
@@ -754,6 +818,76 @@ mod tests {
             }
         }
         s
+    }
+
+    /// The per-axis interpolation has the bits of the corner-by-corner reference on every
+    /// query: random points inside and outside the grid, exactly on nodes (t = 0) and at
+    /// the last node of an axis, on one-node axes, with and without rate columns.
+    #[test]
+    fn interpolation_by_axis_has_the_bits_of_the_corner_by_corner_form() {
+        // xorshift64*: a fixed, dependency-free sequence.
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            state ^= state >> 12;
+            state ^= state << 25;
+            state ^= state >> 27;
+            (state.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let shapes: [[Vec<f64>; 3]; 4] = [
+            [
+                vec![0.5, 1.0, 2.0],
+                vec![0.0, 5.0, 10.0, 20.0],
+                vec![0.0, 5000.0],
+            ],
+            [vec![0.3], vec![-10.0, 0.0, 4.0, 10.0], vec![0.0]],
+            [
+                vec![0.1, 0.6, 0.9, 1.2, 3.0],
+                vec![0.0],
+                vec![0.0, 1e3, 3e3, 1e4],
+            ],
+            [vec![0.0, 2.0], vec![0.0, 90.0], vec![0.0, 20e3]],
+        ];
+        let mut compared = 0;
+        for (s, axes) in shapes.iter().enumerate() {
+            let n: usize = axes.iter().map(Vec::len).product();
+            let points: Vec<[f64; 3]> = (0..n)
+                .map(|_| [next() - 0.5, 0.1 * next(), 3.0 * next() - 1.0])
+                .collect();
+            let rates: Vec<[f64; 2]> = (0..n).map(|_| [next(), -next()]).collect();
+            let plain = CoefficientTable::from_grid(
+                TableKind::Body,
+                "t",
+                axes.clone(),
+                &points,
+                OutOfRange::Clamp,
+            )
+            .unwrap();
+            let with_rates = plain.clone().with_rates(&rates).unwrap();
+            for t in [&plain, &with_rates] {
+                for k in 0..4000 {
+                    let q: [f64; 3] = std::array::from_fn(|a| {
+                        let ax = &axes[a];
+                        let (lo, hi) = (ax[0], ax[ax.len() - 1]);
+                        match k % 4 {
+                            // On a node: t = 0 on that axis (or the last node).
+                            0 => ax[(next() * ax.len() as f64) as usize % ax.len()],
+                            // Outside, clamped to an end.
+                            1 => lo - 1.0 + (hi - lo + 2.0) * next(),
+                            _ => lo + (hi - lo) * next(),
+                        }
+                    });
+                    let got = t.interpolate(q[0], q[1], q[2]).unwrap();
+                    let want = t.interpolate_by_corner(q[0], q[1], q[2]).unwrap();
+                    assert_eq!(
+                        got.map(f64::to_bits),
+                        want.map(f64::to_bits),
+                        "shape {s}, query {q:?}: {got:?} vs {want:?}"
+                    );
+                    compared += 1;
+                }
+            }
+        }
+        assert_eq!(compared, 4 * 2 * 4000);
     }
 
     #[test]
