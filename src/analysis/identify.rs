@@ -428,30 +428,49 @@ fn hankel_right_singular(
 fn basis(poles: &[(f64, f64)], n: usize, dt: f64, offset: bool) -> Vec<Vec<f64>> {
     let mut cols = Vec::new();
     for &(sigma, omega) in poles {
-        let env = |k: usize| (sigma * dt * k as f64).exp();
+        let (c, s) = damped_phasor(sigma, omega, dt, n);
+        cols.push(c);
         if oscillatory(omega, dt) {
-            cols.push(
-                (0..n)
-                    .map(|k| env(k) * (omega * dt * k as f64).cos())
-                    .collect(),
-            );
-            cols.push(
-                (0..n)
-                    .map(|k| env(k) * (omega * dt * k as f64).sin())
-                    .collect(),
-            );
-        } else {
-            cols.push(
-                (0..n)
-                    .map(|k| env(k) * (omega * dt * k as f64).cos())
-                    .collect(),
-            );
+            cols.push(s);
         }
     }
     if offset {
         cols.push(vec![1.0; n]);
     }
     cols
+}
+
+/// Samples between two direct evaluations in [`damped_phasor`].
+const PHASOR_RESTART: usize = 32;
+
+/// `e^{σ t_k} cos ω t_k` and `e^{σ t_k} sin ω t_k` at `t_k = k Δt`, `k = 0..n`: the powers
+/// `z^k` of `z = e^{(σ + iω) Δt}` by complex products, restarted every [`PHASOR_RESTART`]
+/// samples from the direct `e^{σ t_k} (cos ω t_k, sin ω t_k)`. Each product adds a relative
+/// error of at most `√5 ε` to `|z^k|` (Higham, *Accuracy and Stability of Numerical
+/// Algorithms*, 2nd ed., Lemma 3.5), so the samples between restarts are within about
+/// `31 √5 ε ≈ 1.5e-14` of `e^{σ t_k}` relative to the restart value; the direct form itself
+/// carries a phase error of up to `ε ω t_k / 2` from rounding its argument (1.7e-12 rad
+/// at the Nyquist frequency of 1 ms samples after 10 s), so the products cost no accuracy
+/// the direct form had, and replace an `exp`, a `sin` and a `cos` per sample by four
+/// multiplications (tested against both).
+fn damped_phasor(sigma: f64, omega: f64, dt: f64, n: usize) -> (Vec<f64>, Vec<f64>) {
+    let (mut c, mut s) = (Vec::with_capacity(n), Vec::with_capacity(n));
+    let env = (sigma * dt).exp();
+    let (sin1, cos1) = (omega * dt).sin_cos();
+    let (zr, zi) = (env * cos1, env * sin1);
+    let (mut wr, mut wi) = (1.0, 0.0);
+    for k in 0..n {
+        if k % PHASOR_RESTART == 0 {
+            let e = (sigma * dt * k as f64).exp();
+            let (sk, ck) = (omega * dt * k as f64).sin_cos();
+            (wr, wi) = (e * ck, e * sk);
+        } else {
+            (wr, wi) = (wr * zr - wi * zi, wr * zi + wi * zr);
+        }
+        c.push(wr);
+        s.push(wi);
+    }
+    (c, s)
 }
 
 /// Does a pole of angular frequency `omega` take a cosine and a sine column? Not at zero
@@ -733,6 +752,54 @@ mod tests {
             })
             .collect();
         (t, x)
+    }
+
+    /// The phasor products equal the direct `e^{σt}(cos ωt, sin ωt)` at every restart and
+    /// stay, relative to the envelope, within `31 √5 ε` of the restart value times the
+    /// directly evaluated `z^j` (`j` samples after it: a small argument, accurate to a few
+    /// `ε`) over long windows of decaying, growing, slow, fast and Nyquist poles; and
+    /// within that plus the argument rounding `ε ω t` of the direct form at every sample.
+    #[test]
+    fn damped_phasors_by_products_match_the_direct_form() {
+        let dt = 1e-3;
+        let n = 10_001;
+        let (mut worst, mut worst_direct) = (0.0f64, 0.0f64);
+        let bound = 31.0 * 5f64.sqrt() * f64::EPSILON;
+        for (sigma, omega) in [
+            (-0.8, 2.0 * std::f64::consts::PI * 2.2),
+            (0.4, 2.0 * std::f64::consts::PI * 130.0),
+            (-25.0, 600.0),
+            (0.0, 0.0),
+            (-3.0, std::f64::consts::PI / dt),
+            (1.0, 1e-3),
+        ] {
+            let (c, s) = damped_phasor(sigma, omega, dt, n);
+            for k in 0..n {
+                let e = (sigma * dt * k as f64).exp();
+                let (sk, ck) = (omega * dt * k as f64).sin_cos();
+                let direct = ((c[k] - e * ck).abs()).max((s[k] - e * sk).abs()) / e;
+                let r = k - k % PHASOR_RESTART;
+                let j = (k - r) as f64;
+                let (ej, (sj, cj)) = ((sigma * dt * j).exp(), (omega * dt * j).sin_cos());
+                let (zr, zi) = (ej * cj, ej * sj);
+                let (ref_c, ref_s) = (c[r] * zr - s[r] * zi, c[r] * zi + s[r] * zr);
+                let err = ((c[k] - ref_c).abs()).max((s[k] - ref_s).abs()) / e;
+                if k == r {
+                    assert_eq!(direct, 0.0, "restart {k}, pole ({sigma}, {omega})");
+                }
+                assert!(
+                    direct <= bound + 2.0 * f64::EPSILON * omega * dt * k as f64,
+                    "sample {k}, pole ({sigma}, {omega}): {direct:e} from the direct form"
+                );
+                worst = worst.max(err);
+                worst_direct = worst_direct.max(direct);
+            }
+        }
+        eprintln!(
+            "phasor error {worst:e} (bound {bound:e}), against the direct form {worst_direct:e}"
+        );
+        assert!(worst < bound, "worst {worst:e} against {bound:e}");
+        assert!(worst > 0.0);
     }
 
     #[test]
