@@ -207,6 +207,8 @@ pub(crate) struct NodeRows {
     pub position: [f64; 3],
     /// Row-major 6 x n.
     rows: Vec<f64>,
+    /// The same six rows mode by mode (`cols[6 m + d] = rows[d n + m]`), for [`Self::apply`].
+    cols: Vec<f64>,
     n: usize,
 }
 
@@ -233,12 +235,24 @@ impl NodeRows {
                 n_nodes,
             });
         }
-        Ok(NodeRows {
-            index: node,
-            position: c.node_positions[node],
-            rows: c.shapes[6 * node * n..6 * (node + 1) * n].to_vec(),
+        Ok(NodeRows::from_rows(
+            node,
+            c.node_positions[node],
+            c.shapes[6 * node * n..6 * (node + 1) * n].to_vec(),
             n,
-        })
+        ))
+    }
+
+    /// From the row-major `6 x n` rows of a node.
+    fn from_rows(index: usize, position: [f64; 3], rows: Vec<f64>, n: usize) -> Self {
+        let cols = (0..6 * n).map(|k| rows[(k % 6) * n + k / 6]).collect();
+        NodeRows {
+            index,
+            position,
+            rows,
+            cols,
+            n,
+        }
     }
 
     /// The six rows (u, v, w, θx, θy, θz), row-major 6 x n.
@@ -246,8 +260,25 @@ impl NodeRows {
         &self.rows
     }
 
-    /// `(S_u q, S_θ q)` for modal coordinates (or rates) `q`.
+    /// `(S_u q, S_θ q)` for modal coordinates (or rates) `q`: the six sums side by side over
+    /// the modes (six independent chains instead of one after another), each in the order
+    /// of the modes from the start value of `f64`'s `Sum`, so the bits of the row-by-row
+    /// `iter().sum()` (tested).
     pub(crate) fn apply(&self, q: &[f64]) -> ([f64; 3], [f64; 3]) {
+        // As the zip of each row with `q`: the shorter of the two (`zip` below).
+        let start: f64 = std::iter::empty::<f64>().sum();
+        let mut out = [start; 6];
+        for (col, &x) in self.cols.chunks_exact(6).zip(q) {
+            for d in 0..6 {
+                out[d] += col[d] * x;
+            }
+        }
+        ([out[0], out[1], out[2]], [out[3], out[4], out[5]])
+    }
+
+    /// The row-by-row form of [`Self::apply`], the reference of its bits.
+    #[cfg(test)]
+    fn apply_by_row(&self, q: &[f64]) -> ([f64; 3], [f64; 3]) {
         let mut out = [0.0; 6];
         for (d, o) in out.iter_mut().enumerate() {
             let row = &self.rows[d * self.n..(d + 1) * self.n];
@@ -557,5 +588,43 @@ impl ForceModel for BodyAero {
             force: f_b,
             moment_key_node: m_key,
         };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The six sums side by side have the bits of the row-by-row sums, for 0 to 12 modes,
+    /// with zeros of both signs among the shapes and coordinates.
+    #[test]
+    fn node_rows_side_by_side_have_the_bits_of_the_row_sums() {
+        let mut state = 0x0123_4567_89ab_cdefu64;
+        let mut next = move || {
+            state ^= state >> 12;
+            state ^= state << 25;
+            state ^= state >> 27;
+            let u = (state.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64;
+            match (state >> 3) % 8 {
+                0 => 0.0,
+                1 => -0.0,
+                _ => (u - 0.5) * 10f64.powi(((state >> 7) % 9) as i32 - 4),
+            }
+        };
+        let bits = |a: ([f64; 3], [f64; 3])| {
+            [a.0, a.1]
+                .concat()
+                .iter()
+                .map(|v| v.to_bits())
+                .collect::<Vec<_>>()
+        };
+        for n in 0..=12 {
+            for _ in 0..200 {
+                let rows =
+                    NodeRows::from_rows(0, [0.0; 3], (0..6 * n).map(|_| next()).collect(), n);
+                let q: Vec<f64> = (0..n).map(|_| next()).collect();
+                assert_eq!(bits(rows.apply(&q)), bits(rows.apply_by_row(&q)), "n {n}");
+            }
+        }
     }
 }
