@@ -33,6 +33,8 @@ pub mod report;
 pub mod runtime;
 pub mod structure;
 pub mod syntax;
+#[cfg(test)]
+mod testutil;
 pub mod units;
 
 pub use check::ir::Program;

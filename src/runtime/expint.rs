@@ -349,10 +349,39 @@ struct Linear {
     mr: usize,
 }
 
-/// Rows of a transform summed together (four independent sums in flight instead of one
-/// chain of dependent additions); each row's sum still runs over `j` in order from 0.0, so
-/// the bits of the one-row-at-a-time loop (tested).
+/// Rows of a transform summed together by [`row_sums`].
 const ROWS: usize = 4;
+
+/// `out[i] = Σ_j term(mat[i w + j], x[j])` from `zero` for the row-major matrix `mat` of
+/// width `w = x.len()`, [`ROWS`] rows side by side (four independent sums in flight instead
+/// of one chain of dependent additions); each row's sum still runs over `j` in order, so
+/// the bits of the one-row-at-a-time loop (tested).
+#[inline(always)]
+fn row_sums<M, X, S>(mat: &[M], x: &[X], zero: S, out: &mut [S], term: impl Fn(&M, &X) -> S)
+where
+    S: Copy + std::ops::AddAssign,
+{
+    let w = x.len();
+    let done = out.len() / ROWS * ROWS;
+    let mut blocks = out.chunks_exact_mut(ROWS);
+    for (b, o) in (&mut blocks).enumerate() {
+        let rows: [&[M]; ROWS] = std::array::from_fn(|r| &mat[(b * ROWS + r) * w..][..w]);
+        let mut acc = [zero; ROWS];
+        for (j, xj) in x.iter().enumerate() {
+            for r in 0..ROWS {
+                acc[r] += term(&rows[r][j], xj);
+            }
+        }
+        o.copy_from_slice(&acc);
+    }
+    for (k, o) in blocks.into_remainder().iter_mut().enumerate() {
+        let mut acc = zero;
+        for (v, xj) in mat[(done + k) * w..][..w].iter().zip(x) {
+            acc += term(v, xj);
+        }
+        *o = acc;
+    }
+}
 
 /// The largest `‖V‖₁ ‖V⁻¹‖₁` accepted; a worse-conditioned eigenbasis (a nearly defective
 /// `A`) would amplify round-off in the transforms, and the previous `A` is kept instead.
@@ -489,83 +518,27 @@ impl Linear {
     /// `out = V⁻¹ x_B` (`x_B` real; the `mr` kept coordinates): `out_i = Σ_j V⁻¹[i, j] x_j`.
     fn to_eigen(&self, x: &[f64], out: &mut [C64]) {
         let m = self.m();
-        let x = &x[..m];
-        let mut blocks = out[..self.mr].chunks_exact_mut(ROWS);
-        for (b, o) in (&mut blocks).enumerate() {
-            let rows: [&[C64]; ROWS] =
-                std::array::from_fn(|r| &self.vinv[(b * ROWS + r) * m..][..m]);
-            let mut acc = [C64::new(0.0, 0.0); ROWS];
-            for (j, &xj) in x.iter().enumerate() {
-                for r in 0..ROWS {
-                    acc[r] += rows[r][j] * xj;
-                }
-            }
-            o.copy_from_slice(&acc);
-        }
-        let done = self.mr - blocks.into_remainder().len();
-        for i in done..self.mr {
-            let row = &self.vinv[i * m..(i + 1) * m];
-            let mut acc = C64::new(0.0, 0.0);
-            for (v, &xj) in row.iter().zip(x) {
-                acc += v * xj;
-            }
-            out[i] = acc;
-        }
+        let zero = C64::new(0.0, 0.0);
+        row_sums(&self.vinv, &x[..m], zero, &mut out[..self.mr], |v, &xj| {
+            v * xj
+        });
     }
 
     /// `out = Re(V w)` (pairs doubled in `v`): `out_i = Σ_j (Re V_ij Re w_j - Im V_ij Im w_j)`.
     fn back_to_real(&self, w: &[C64], out: &mut [f64]) {
         let (m, mr) = (self.m(), self.mr);
-        let w = &w[..mr];
-        let term = |v: &C64, w: &C64| v.re * w.re - v.im * w.im;
-        let mut blocks = out[..m].chunks_exact_mut(ROWS);
-        for (b, o) in (&mut blocks).enumerate() {
-            let rows: [&[C64]; ROWS] =
-                std::array::from_fn(|r| &self.v[(b * ROWS + r) * mr..][..mr]);
-            let mut acc = [0.0; ROWS];
-            for (j, wj) in w.iter().enumerate() {
-                for r in 0..ROWS {
-                    acc[r] += term(&rows[r][j], wj);
-                }
-            }
-            o.copy_from_slice(&acc);
-        }
-        let done = m - blocks.into_remainder().len();
-        for i in done..m {
-            let row = &self.v[i * mr..(i + 1) * mr];
-            let mut acc = 0.0;
-            for (v, wj) in row.iter().zip(w) {
-                acc += term(v, wj);
-            }
-            out[i] = acc;
-        }
+        row_sums(&self.v, &w[..mr], 0.0, &mut out[..m], |v, w| {
+            v.re * w.re - v.im * w.im
+        });
     }
 
     /// `out = N_B = f_B - A x_B` in eigen coordinates, `tmp` scratch of length `m`.
     fn nonlinear(&self, f: &[f64], x: &[f64], tmp: &mut [f64], out: &mut [C64]) {
         let m = self.m();
         let (fb, xb) = (&f[self.range.clone()], &x[self.range.clone()]);
-        let mut blocks = tmp[..m].chunks_exact_mut(ROWS);
-        for (b, o) in (&mut blocks).enumerate() {
-            let rows: [&[f64]; ROWS] = std::array::from_fn(|r| &self.a[(b * ROWS + r) * m..][..m]);
-            let mut acc = [0.0; ROWS];
-            for (j, &xj) in xb.iter().enumerate() {
-                for r in 0..ROWS {
-                    acc[r] += rows[r][j] * xj;
-                }
-            }
-            for r in 0..ROWS {
-                o[r] = fb[b * ROWS + r] - acc[r];
-            }
-        }
-        let done = m - blocks.into_remainder().len();
-        for i in done..m {
-            let row = &self.a[i * m..(i + 1) * m];
-            let mut ax = 0.0;
-            for (a, &xj) in row.iter().zip(xb) {
-                ax += a * xj;
-            }
-            tmp[i] = fb[i] - ax;
+        row_sums(&self.a, xb, 0.0, &mut tmp[..m], |a, &xj| a * xj);
+        for (t, &fi) in tmp[..m].iter_mut().zip(fb) {
+            *t = fi - *t;
         }
         self.to_eigen(tmp, out);
     }
@@ -1239,17 +1212,12 @@ mod tests {
         C64::new(re, im)
     }
 
-    /// The column-by-column transforms have the bits of the row-by-row sums, on blocks of
-    /// 1 to 26 states with real eigenvalues and complex pairs (so `mr < m`).
+    /// The transforms summed four rows at a time have the bits of the row-by-row sums, on
+    /// blocks of 1 to 26 states with real eigenvalues and complex pairs (so `mr < m`).
     #[test]
-    fn column_transforms_have_the_bits_of_the_row_sums() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            state ^= state >> 12;
-            state ^= state << 25;
-            state ^= state >> 27;
-            (state.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+    fn transforms_four_rows_at_a_time_have_the_bits_of_the_row_sums() {
+        let mut rng = crate::testutil::XorShift64Star::new(0x2545_f491_4f6c_dd1d);
+        let mut next = move || rng.unit() - 0.5;
         let mut checked = 0;
         for m in [1usize, 2, 3, 5, 8, 16, 26] {
             let mut lin = Linear::new(0..m);

@@ -825,14 +825,8 @@ mod tests {
     /// the last node of an axis, on one-node axes, with and without rate columns.
     #[test]
     fn interpolation_by_axis_has_the_bits_of_the_corner_by_corner_form() {
-        // xorshift64*: a fixed, dependency-free sequence.
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            state ^= state >> 12;
-            state ^= state << 25;
-            state ^= state >> 27;
-            (state.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::testutil::XorShift64Star::new(0x9e37_79b9_7f4a_7c15);
+        let mut next = move || rng.unit();
         let shapes: [[Vec<f64>; 3]; 4] = [
             [
                 vec![0.5, 1.0, 2.0],

@@ -599,16 +599,15 @@ mod tests {
     /// with zeros of both signs among the shapes and coordinates.
     #[test]
     fn node_rows_side_by_side_have_the_bits_of_the_row_sums() {
-        let mut state = 0x0123_4567_89ab_cdefu64;
+        let mut rng = crate::testutil::XorShift64Star::new(0x0123_4567_89ab_cdef);
         let mut next = move || {
-            state ^= state >> 12;
-            state ^= state << 25;
-            state ^= state >> 27;
-            let u = (state.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64;
-            match (state >> 3) % 8 {
+            // The low bits pick a signed zero or a decade, the high 53 the value.
+            let bits = rng.next_u64();
+            let u = (bits >> 11) as f64 / (1u64 << 53) as f64;
+            match bits % 8 {
                 0 => 0.0,
                 1 => -0.0,
-                _ => (u - 0.5) * 10f64.powi(((state >> 7) % 9) as i32 - 4),
+                _ => (u - 0.5) * 10f64.powi(((bits >> 3) % 9) as i32 - 4),
             }
         };
         let bits = |a: ([f64; 3], [f64; 3])| {
