@@ -506,3 +506,62 @@ fn rows_outside_the_grid_are_flagged_and_kept_out_of_the_minimum() {
         m.line
     );
 }
+
+fn calisto() -> ir::Scenario {
+    let file = common::root().join("examples/calisto/calisto.vdl");
+    let checked = check_files(&[file], &[], &DiskLoader);
+    assert!(!checked.has_errors());
+    checked.program.scenario("calisto").unwrap().clone()
+}
+
+/// The margin's Mach grid follows the two theories' ranges, not the fin table's resolution:
+/// a table tabulated every 0.01 in Mach (RocketPy's curves, examples/calisto) gets the
+/// built-in estimator's supersonic ladder, cut at the table's last node. Fails on a grid that
+/// takes every table node above 1.2 (Calisto: 81 supersonic nodes, 729 p-k sweeps, 30 s of
+/// every run with an empty cache).
+#[test]
+fn the_mach_grid_does_not_grow_with_the_tables_resolution() {
+    use flexflight::analysis::flutter::margin::vehicle_mach_nodes;
+    let sub = [0.0, 0.3, 0.6, 0.9];
+    let with = |above: &[f64]| [&sub[..], above].concat();
+    // The estimator's own axis: the grid it always had.
+    assert_eq!(
+        vehicle_mach_nodes(&ESTIMATOR_MACH),
+        with(&[1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0])
+    );
+    let dense = |top: usize| (0..=top).map(|i| i as f64 / 100.0).collect::<Vec<_>>();
+    assert_eq!(vehicle_mach_nodes(&dense(200)), with(&[1.2, 1.5, 2.0]));
+    assert_eq!(vehicle_mach_nodes(&dense(173)), with(&[1.2, 1.5, 1.73]));
+    assert_eq!(vehicle_mach_nodes(&dense(130)), with(&[1.2, 1.3]));
+    assert_eq!(vehicle_mach_nodes(&dense(110)), with(&[1.2]));
+    assert_eq!(vehicle_mach_nodes(&dense(86)), sub);
+    assert_eq!(
+        vehicle_mach_nodes(&[0.0, 1.0, 7.0]),
+        with(&[1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 7.0])
+    );
+}
+
+/// A node whose p-k iteration does not converge at the lowest speed of its sweep (Calisto's
+/// fin at Mach 1.73 and 15 km: the fourth mode at 174 m/s, k = 4.26, piston theory) is solved
+/// from the lowest speed that converges, and says so: the node's sweep range starts there.
+/// Before, the whole boundary failed and the run wrote "flutter margin: not computed".
+#[test]
+fn a_node_whose_lowest_speed_does_not_converge_starts_at_the_next_speed() {
+    let sc = calisto();
+    let mut spec = margin_spec(&sc, &[0.0, 2.0]).unwrap();
+    // a_ref from the Mach 0 node's range (3 max(M, 1) a_ref).
+    let a_ref = spec.speed_ranges[0][1] / 3.0;
+    let hi = 3.0 * 1.73 * a_ref;
+    spec.machs = vec![1.73];
+    spec.speed_ranges = vec![[0.1 * hi, hi]];
+    spec.altitudes = vec![15_000.0];
+    let modes = clamped_fin_modes(&sc.vehicle, spec.modes).unwrap();
+    let b = solve_boundary(&modes, &spec).unwrap();
+    let step = 0.9 * hi / (spec.speed_count - 1) as f64;
+    assert_eq!(b.node_lowest_speeds.len(), 1);
+    let lo = b.node_lowest_speeds[0];
+    assert!(lo > 0.1 * hi + 0.5 * step, "{lo} from {}", 0.1 * hi);
+    assert!(lo < 0.1 * hi + 4.5 * step, "{lo} from {}", 0.1 * hi);
+    assert!(b.raised_start(0, 0));
+    assert!(b.speeds[0].is_finite() && b.speeds[0] >= lo);
+}

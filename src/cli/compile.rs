@@ -508,6 +508,7 @@ fn boundary_artifact_json(
         "lower_bound": b.lower_bound,
         "upper_bound": b.upper_bound,
         "speed_ranges": b.speed_ranges,
+        "node_lowest_speeds": b.node_lowest_speeds,
         "modes": b.mode_names,
         "omega": b.omega,
         "fin_shear_modulus_span_root_tip_thickness": b.fin,

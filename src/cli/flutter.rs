@@ -1394,6 +1394,7 @@ pub fn flight_margin(
     let mut untrusted = 0usize;
     let mut outside = 0usize;
     let mut above_lowest = 0usize;
+    let mut raised = 0usize;
     let mut points = Vec::with_capacity(o.rows.len());
     for (i, r) in o.rows.iter().enumerate() {
         let (m, h, v) = (r[cm], r[ch], airspeed[i]);
@@ -1412,6 +1413,9 @@ pub fn flight_margin(
         }
         if p.upper_bound {
             above_lowest += 1;
+        }
+        if p.raised_start {
+            raised += 1;
         }
         if min_all.is_none_or(|(x, _)| margin < x) {
             min_all = Some((margin, i));
@@ -1463,6 +1467,7 @@ pub fn flight_margin(
                 "lower_bound": points[i].lower_bound,
                 "upper_bound": points[i].upper_bound,
                 "trusted": points[i].trusted,
+                "raised_start": points[i].raised_start,
                 "in_grid": points[i].in_grid,
             })
         })
@@ -1490,6 +1495,12 @@ pub fn flight_margin(
         let _ = write!(
             warnings,
             "; warning: {above_lowest} rows use a boundary node already unstable at its lowest speed (the flutter speed there is at most the value written)"
+        );
+    }
+    if raised > 0 {
+        let _ = write!(
+            warnings,
+            "; warning: {raised} rows use a boundary node whose p-k sweep did not converge at its lowest speed and starts higher (a flutter crossing below that start would not be seen)"
         );
     }
     let line = match critical {
@@ -1520,6 +1531,7 @@ pub fn flight_margin(
         "transonic_rows": untrusted,
         "outside_grid_rows": outside,
         "upper_bound_rows": above_lowest,
+        "raised_start_rows": raised,
         "modes": finv.mode_names,
         "boundary": {
             "machs": b.machs,
@@ -1528,6 +1540,7 @@ pub fn flight_margin(
             "lower_bound": b.lower_bound,
             "upper_bound": b.upper_bound,
             "speed_ranges": b.speed_ranges,
+            "node_lowest_speeds": b.node_lowest_speeds,
             "largest_speed": b.largest_speed,
         },
         "boundary_hash": cached.key.map(|k| k.to_hex()),

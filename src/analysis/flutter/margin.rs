@@ -34,9 +34,12 @@
 //! for its margin.
 //!
 //! - Mach nodes ([`vehicle_mach_nodes`]): the subsonic `0, 0.3, 0.6, 0.9`; when the vehicle's
-//!   fin coefficient table reaches past 0.9, `1.2` and every table Mach node above it (the
-//!   built-in estimator's `1.5, 2, 2.5, 3, 4, 5`). A flight cannot be flown past its table's
-//!   last Mach without leaving the table; a row above the last node is outside the grid.
+//!   fin coefficient table reaches past 0.9, `1.2`, the built-in estimator's supersonic nodes
+//!   `1.5, 2, 2.5, 3, 4, 5` below the table's last Mach, and that last Mach (the same nodes
+//!   as the estimator's table for a table of its own; never one node per table node: a
+//!   table tabulated every 0.01 would cost a sweep per node). A flight cannot be flown past
+//!   its table's last Mach without leaving the table; a row above the last node is outside
+//!   the grid.
 //! - Altitude nodes ([`altitude_nodes`]): the floor (100 m below a launch site, for the
 //!   landing row; sea level or the initial altitude, whichever is lower, for a flight started
 //!   in mid-air), then the levels [`ALTITUDE_LEVELS`] above it up to the ceiling
@@ -67,11 +70,20 @@
 //!
 //! A node unstable at its lowest speed carries that speed, an upper bound of `V_F`
 //! (`upper_bound`); its margin is then at most `v_lo / V`.
+//!
+//! A node whose p-k iteration does not converge at the lowest speed of its sweep (so that
+//! no speed below the failure is left to cut the sweep at, `pk::pk_solve_cut`; seen at
+//! Mach 1.73 and 15 km on Calisto's fin: the fourth mode at 174 m/s, k = 4.3, with piston
+//! theory) is solved from the next speed up, and so on while at least two speeds remain; the
+//! speed its sweep started at is kept per node ([`Boundary::node_lowest_speeds`]) and every
+//! row that uses such a node is flagged (`raised_start`): a flutter crossing that opens and
+//! closes again below the raised start would not be seen there. Unstable at the raised start,
+//! the node is an upper bound as above.
 
 use super::fin::{
     FinAero, FinFlutterError, FinFlutterSettings, FinModes, fin_lattice, flutter_model, gaf_table,
 };
-use super::pk::{PkSettings, pk_solve_cut};
+use super::pk::{FlutterError, PkSettings, pk_solve_cut};
 use crate::runtime::aero::panel::piston::Correction;
 use crate::runtime::aero::panel::{self, Regime, SUBSONIC_LIMIT, SUPERSONIC_LIMIT};
 use crate::runtime::atmosphere::{Atmosphere, STANDARD_MIN_ALTITUDE, Standard1976};
@@ -81,7 +93,7 @@ pub const CRITERION: f64 = 1.15;
 
 /// Revision of the boundary's computation, part of its cache key: change it whenever the
 /// solution of a given [`BoundarySpec`] would change.
-pub const BOUNDARY_REVISION: &str = "flight flutter boundary r1: clamped fin (fin::clamped_fin_modes), unmatched p-k per (Mach, altitude) node (pk_solve_cut), node speeds [max(0.1 v_hi, box-rule floor), v_hi], k table to 1.2 omega_max b / v_lo, US Standard Atmosphere 1976";
+pub const BOUNDARY_REVISION: &str = "flight flutter boundary r2: clamped fin (fin::clamped_fin_modes), unmatched p-k per (Mach, altitude) node (pk_solve_cut), node speeds [max(0.1 v_hi, box-rule floor), v_hi], a node not converging at its lowest speed started at the next, k table to 1.2 omega_max b / v_lo, US Standard Atmosphere 1976";
 
 /// The ceiling of the margin's altitude grid, m (the built-in estimator's table top).
 pub const CEILING: f64 = 30_000.0;
@@ -160,13 +172,24 @@ pub struct Boundary {
     pub upper_bound: Vec<bool>,
     /// Per Mach node, the lowest and the largest speed of its sweep, m/s.
     pub speed_ranges: Vec<[f64; 2]>,
+    /// Per node (row-major as `speeds`), the speed its p-k sweep was solved from, m/s: the
+    /// Mach node's lowest speed, or a higher one where the iteration did not converge there
+    /// (module doc).
+    pub node_lowest_speeds: Vec<f64>,
     /// The largest speed tried, m/s.
     pub largest_speed: f64,
 }
 
+/// The supersonic Mach nodes of the margin above [`SUPERSONIC_LIMIT`] (the built-in
+/// estimator's, `runtime::aero::estimator::ESTIMATOR_MACH`).
+pub const SUPERSONIC_NODES: [f64; 6] = [1.5, 2.0, 2.5, 3.0, 4.0, 5.0];
+
 /// The Mach nodes of a vehicle whose fin coefficient table has the Mach axis `table_machs`
-/// (module doc): `0, 0.3, 0.6, 0.9`, then, if the table reaches past 0.9, `1.2` and every
-/// table node above it.
+/// (module doc): `0, 0.3, 0.6, 0.9`, then, if the table reaches past 0.9, `1.2`, the
+/// [`SUPERSONIC_NODES`] below the table's last Mach node, and that last node. The grid does
+/// not follow the table's own resolution: a table tabulated every 0.01 in Mach would
+/// otherwise give one p-k sweep per node and altitude (examples/calisto: 81 supersonic
+/// nodes, 729 sweeps, 30 s).
 pub fn vehicle_mach_nodes(table_machs: &[f64]) -> Vec<f64> {
     let top = table_machs
         .iter()
@@ -176,14 +199,10 @@ pub fn vehicle_mach_nodes(table_machs: &[f64]) -> Vec<f64> {
     let mut m = vec![0.0, 0.3, 0.6, SUBSONIC_LIMIT];
     if top > SUBSONIC_LIMIT {
         m.push(SUPERSONIC_LIMIT);
-        let mut above: Vec<f64> = table_machs
-            .iter()
-            .copied()
-            .filter(|&x| x.is_finite() && x > SUPERSONIC_LIMIT)
-            .collect();
-        above.sort_by(f64::total_cmp);
-        above.dedup();
-        m.extend(above);
+        m.extend(SUPERSONIC_NODES.iter().copied().filter(|&x| x < top));
+        if top > SUPERSONIC_LIMIT {
+            m.push(top);
+        }
     }
     m
 }
@@ -330,6 +349,7 @@ pub fn solve_boundary(modes: &FinModes, spec: &BoundarySpec) -> Result<Boundary,
     let mut lower = Vec::with_capacity(n);
     let mut upper = Vec::with_capacity(n);
     let mut ranges = Vec::with_capacity(spec.machs.len());
+    let mut node_lowest = Vec::with_capacity(n);
     let pk = PkSettings {
         k_tolerance: spec.k_tolerance,
     };
@@ -354,8 +374,20 @@ pub fn solve_boundary(modes: &FinModes, spec: &BoundarySpec) -> Result<Boundary,
             // A branch whose p-k iteration does not converge at some speed (near zero
             // frequency at high speed) ends the sweep there, as in `analyze flutter`: the
             // node is solved on the speeds below it, and without a flutter point there it is a
-            // lower bound at the last speed solved.
-            let (sol, _) = pk_solve_cut(&model, &gaf, &speeds, pk)?;
+            // lower bound at the last speed solved. One that does not converge below the
+            // second speed (nothing left to cut at) starts one speed higher (module doc).
+            let mut start = 0;
+            let sol = loop {
+                match pk_solve_cut(&model, &gaf, &speeds[start..], pk) {
+                    Err(FlutterError::NoConvergence { speed, .. })
+                        if speed < speeds[start + 1] && speeds.len() - start > 2 =>
+                    {
+                        start += 1;
+                    }
+                    other => break other?.0,
+                }
+            };
+            node_lowest.push(speeds[start]);
             let sp = &sol.speeds;
             if !sol.unstable_at_start.is_empty() {
                 out.push(sp[0]);
@@ -381,6 +413,7 @@ pub fn solve_boundary(modes: &FinModes, spec: &BoundarySpec) -> Result<Boundary,
         lower_bound: lower,
         upper_bound: upper,
         speed_ranges: ranges,
+        node_lowest_speeds: node_lowest,
         largest_speed,
     })
 }
@@ -412,9 +445,17 @@ pub struct BoundaryPoint {
     pub upper_bound: bool,
     /// The point lies inside the grid (else it was evaluated at the nearest grid point).
     pub in_grid: bool,
+    /// Some node used had its sweep started above the Mach node's lowest speed (module doc).
+    pub raised_start: bool,
 }
 
 impl Boundary {
+    /// Whether node `(mach index i, altitude index j)` was solved from above its Mach node's
+    /// lowest speed (module doc).
+    pub fn raised_start(&self, i: usize, j: usize) -> bool {
+        self.node_lowest_speeds[i * self.altitudes.len() + j] > self.speed_ranges[i][0]
+    }
+
     /// `V_F` at `(mach, altitude)` (module doc): bilinear in `(M, h)` of `V_F sqrt(ρ)`, divided
     /// by `sqrt(ρ(h))`. A point outside the grid is evaluated at the nearest grid point and
     /// flagged (`in_grid`).
@@ -455,6 +496,10 @@ impl Boundary {
             lower_bound: flag(&self.lower_bound),
             upper_bound: flag(&self.upper_bound),
             in_grid,
+            raised_start: self.raised_start(i, j)
+                || self.raised_start(i, j1)
+                || self.raised_start(i1, j)
+                || self.raised_start(i1, j1),
         }
     }
 }
@@ -499,6 +544,8 @@ pub struct BoundaryArtifact {
     pub upper_bound: Vec<u8>,
     /// `[lowest, largest]` per Mach node, flattened.
     pub speed_ranges: Vec<f64>,
+    /// Per node, the speed its sweep started at.
+    pub node_lowest_speeds: Vec<f64>,
     pub mode_names: Vec<String>,
     pub omega: Vec<f64>,
     /// Shear modulus, span, root chord, tip chord, thickness.
@@ -506,7 +553,7 @@ pub struct BoundaryArtifact {
 }
 
 impl crate::artifact::ArtifactPayload for BoundaryArtifact {
-    const SCHEMA: &'static str = "BoundaryArtifact v1: machs Vec<f64>, altitudes Vec<f64>, densities Vec<f64> (per altitude), speeds Vec<f64> (machs x altitudes row-major), lower_bound Vec<u8>, upper_bound Vec<u8>, speed_ranges Vec<f64> (2 per Mach), mode_names Vec<String>, omega Vec<f64>, fin Vec<f64> [G, span, root chord, tip chord, thickness]";
+    const SCHEMA: &'static str = "BoundaryArtifact v2: machs Vec<f64>, altitudes Vec<f64>, densities Vec<f64> (per altitude), speeds Vec<f64> (machs x altitudes row-major), lower_bound Vec<u8>, upper_bound Vec<u8>, speed_ranges Vec<f64> (2 per Mach), node_lowest_speeds Vec<f64> (per node), mode_names Vec<String>, omega Vec<f64>, fin Vec<f64> [G, span, root chord, tip chord, thickness]";
 }
 
 impl BoundaryArtifact {
@@ -519,6 +566,7 @@ impl BoundaryArtifact {
             lower_bound: b.lower_bound.iter().map(|&x| u8::from(x)).collect(),
             upper_bound: b.upper_bound.iter().map(|&x| u8::from(x)).collect(),
             speed_ranges: b.speed_ranges.iter().flatten().copied().collect(),
+            node_lowest_speeds: b.node_lowest_speeds.clone(),
             mode_names: f.mode_names.clone(),
             omega: f.omega.clone(),
             fin: vec![
@@ -545,6 +593,7 @@ impl BoundaryArtifact {
             || self.lower_bound.len() != n
             || self.upper_bound.len() != n
             || self.speed_ranges.len() != 2 * nm
+            || self.node_lowest_speeds.len() != n
             || self.omega.len() != spec.modes
             || self.mode_names.len() != spec.modes
             || self.fin.len() != 5
@@ -552,7 +601,11 @@ impl BoundaryArtifact {
             return Err("the cached boundary's sizes do not fit its grid".into());
         }
         let positive = |v: &[f64]| v.iter().all(|x| x.is_finite() && *x > 0.0);
-        if !positive(&self.densities) || !positive(&self.speeds) || !positive(&self.speed_ranges) {
+        if !positive(&self.densities)
+            || !positive(&self.speeds)
+            || !positive(&self.speed_ranges)
+            || !positive(&self.node_lowest_speeds)
+        {
             return Err("the cached boundary holds a value that is not finite and positive".into());
         }
         let flags = |v: &[u8]| -> Result<Vec<bool>, String> {
@@ -579,6 +632,7 @@ impl BoundaryArtifact {
                 lower_bound: flags(&self.lower_bound)?,
                 upper_bound: flags(&self.upper_bound)?,
                 speed_ranges,
+                node_lowest_speeds: self.node_lowest_speeds.clone(),
                 largest_speed,
             },
             BoundaryFin {

@@ -222,10 +222,10 @@ pub enum FlutterError {
     SingularMass,
     #[error("the generalised stiffness matrix is singular (a free or mechanism mode): {0}")]
     SingularStiffness(&'static str),
-    #[error("the eigenvalue solver failed at V = {speed}")]
+    #[error("the eigenvalue solver failed at V = {speed:.3} m/s")]
     Eigen { speed: f64 },
     #[error(
-        "mode {mode} at V = {speed} needs reduced frequency k = {k:.4}, outside the tabulated range {lo}..{hi}"
+        "mode {mode} at V = {speed:.3} m/s needs reduced frequency k = {k:.4}, outside the tabulated range {lo}..{hi}"
     )]
     KOutOfRange {
         mode: usize,
@@ -234,7 +234,9 @@ pub enum FlutterError {
         lo: f64,
         hi: f64,
     },
-    #[error("the p-k iteration of mode {mode} did not converge at V = {speed} (last k = {k})")]
+    #[error(
+        "the p-k iteration of mode {mode} did not converge at V = {speed:.3} m/s (last k = {k:.4})"
+    )]
     NoConvergence { mode: usize, speed: f64, k: f64 },
     #[error("speeds must be finite, positive and strictly increasing")]
     BadSpeeds,
