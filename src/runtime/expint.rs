@@ -48,6 +48,23 @@
 //! The first stage of the next step is `f(t + h, u1)` (first same as last), so an accepted
 //! step costs 6 evaluations, as DOPRI5's.
 //!
+//! Increment form (derived here; the paper writes the stages as above). The stages, the
+//! solution and the continuous extension are computed as increments from the step's start,
+//! `x_B + Re(V δw)` with `δw = U - u`, and `e^{cz} u - u = cz ψ_1(cz) u = h c ψ_1(cz) (λ u)`,
+//! so a step needs `λ u = V⁻¹ (A x_B)` and the `N_i` in eigen coordinates, never `u = V⁻¹ x_B`
+//! itself: the same numbers in exact arithmetic. In floating point the eigenbasis of the
+//! flight's block is ill-conditioned (`‖V‖₁‖V⁻¹‖₁` 6e5 to 1.5e7 on the M1670 launch: the
+//! `ω × V` coupling at hundreds of m/s makes `A` far from normal), and `Re(V V⁻¹ x_B)` carries
+//! `ε cond(V) |x_B|` of round-off into every component, `|x_B|` being dominated by the forward
+//! speed: measured 1.5e-6 rad/s of spurious roll rate against a true one of 3e-8 rad/s,
+//! appearing at single refreshes, unseen by the error estimate and unchanged from rtol 1e-7
+//! to 1e-9. In the increment form the round-off scales with `|δx_B|`, the change over a step
+//! (a few m/s, not 470 m/s), and the first-order term is `h V V⁻¹ f_B`, consistent whatever
+//! the round-off of `V Λ V⁻¹` against `A` (tests
+//! `an_ill_conditioned_eigenbasis_does_not_put_the_states_round_off_into_a_zero_component`,
+//! and, on the flight, `tests/launch.rs`
+//! `the_exponential_integrators_body_rates_on_a_boost_are_as_close_to_the_reference_as_dopri5s`).
+//!
 //! Error control: the scaled RMS norm of DOPRI5 (HNW I (4.11), `max(|y0|, |y1|)`), over
 //! [`OdeSystem::error_dim`] entries, in the original coordinates (the block's estimate is
 //! transformed back by `V`), and DOPRI5's PI controller ([`step_factor`], `1/q = 1/5`,
@@ -176,6 +193,10 @@ const INV_FACT: [f64; 40] = {
 struct Coef<T> {
     /// `e^{z/4}, e^{z/2}, e^{3z/4}, e^z`.
     e: [T; 4],
+    /// `c ψ_1(c z)` at `c = ¼, ½, ¾, 1`: `e^{cz} - 1 = cz ψ_1(cz)`, so the exponential's
+    /// share of a stage's increment is `(e^{cz} - 1) u = h c ψ_1(cz) (λ u)` (the increment
+    /// form of [`increment`]).
+    ce: [T; 4],
     a21: T,
     a31: T,
     a32: T,
@@ -226,6 +247,7 @@ impl Coef<C64> {
         let (s1, s2, s3) = (p1, 2.0 * p2, 6.0 * p3);
         Coef {
             e: [e4, e2, e34, e1],
+            ce: [0.25 * p14_1, 0.5 * p12_1, 0.75 * p34_1, p1],
             a21: s14_1 / 4.0,
             a31: (s14_1 - s14_2 / 2.0) / 4.0,
             a32: s14_2 / 8.0,
@@ -252,6 +274,7 @@ impl Coef<C64> {
         let r = |v: C64| v.re;
         Coef {
             e: c.e.map(r),
+            ce: c.ce.map(r),
             a21: r(c.a21),
             a31: r(c.a31),
             a32: r(c.a32),
@@ -295,6 +318,29 @@ fn stage<T: Scalar>(s: usize, c: &Coef<T>, u: T, n: &[T; 7], h: f64) -> T {
                 + (c.a61 * n[0] + c.a62 * (n[1] - n[3] * 1.5) + c.a63 * n[2] + c.a65 * n[4]) * h
         }
         _ => c.e[3] * u + (c.b1 * n[0] + c.b3 * n[2] + c.b4 * n[3] + c.b5 * n[4] + c.b6 * n[5]) * h,
+    }
+}
+
+/// The increment `U_s - u` of stage `s` (2..=6) or of the solution (`s = 7`) of one
+/// eigen-coordinate, from `g = λ u` instead of `u`: the same number as
+/// `stage(s, c, u, n, h) - u` in exact arithmetic (`e^{cz} u - u = h c ψ_1(cz) λ u`), but
+/// without `u` itself, whose round-off (`V⁻¹ x` of an ill-conditioned `V`: `ε cond(V) |x|`)
+/// the back-transform would put into every component of the state (module doc, "Increment
+/// form").
+#[inline]
+fn increment<T: Scalar>(s: usize, c: &Coef<T>, g: T, n: &[T; 7], h: f64) -> T {
+    match s {
+        2 => (c.ce[0] * g + c.a21 * n[0]) * h,
+        3 => (c.ce[0] * g + c.a31 * n[0] + c.a32 * n[1]) * h,
+        4 => (c.ce[1] * g + c.a41 * n[0] + c.a43 * n[2]) * h,
+        5 => (c.ce[2] * g + c.a51 * n[0] + c.a52 * (n[1] - n[2]) + c.a54 * n[3]) * h,
+        6 => {
+            (c.ce[3] * g + c.a61 * n[0] + c.a62 * (n[1] - n[3] * 1.5) + c.a63 * n[2] + c.a65 * n[4])
+                * h
+        }
+        _ => {
+            (c.ce[3] * g + c.b1 * n[0] + c.b3 * n[2] + c.b4 * n[3] + c.b5 * n[4] + c.b6 * n[5]) * h
+        }
     }
 }
 
@@ -543,6 +589,20 @@ impl Linear {
         self.to_eigen(tmp, out);
     }
 
+    /// `g = V⁻¹ (A x_B)` (that is `Λ V⁻¹ x_B`, the eigen-coordinates' `λ u`) and
+    /// `n = V⁻¹ (f_B - A x_B)` ([`Self::nonlinear`], the same bits), `tmp` scratch of length
+    /// `m`: what a step needs of its start, without transforming `x_B` itself.
+    fn split(&self, f: &[f64], x: &[f64], tmp: &mut [f64], g: &mut [C64], n: &mut [C64]) {
+        let m = self.m();
+        let (fb, xb) = (&f[self.range.clone()], &x[self.range.clone()]);
+        row_sums(&self.a, xb, 0.0, &mut tmp[..m], |a, &xj| a * xj);
+        self.to_eigen(tmp, g);
+        for (t, &fi) in tmp[..m].iter_mut().zip(fb) {
+            *t = fi - *t;
+        }
+        self.to_eigen(tmp, n);
+    }
+
     /// The row-by-row forms of [`Self::to_eigen`], [`Self::back_to_real`],
     /// [`Self::nonlinear`]: the reference of their bits.
     #[cfg(test)]
@@ -658,7 +718,9 @@ pub struct Exponential {
     tmp: Vec<f64>,
     /// `N` of the stages and of the new point in eigen coordinates.
     nt: [Vec<C64>; 7],
-    w0: Vec<C64>,
+    /// `λ u` of the step's start in eigen coordinates (`V⁻¹ A x_B`), and the increments
+    /// `U_s - u` of the current stage and of the solution ([`increment`]).
+    g0: Vec<C64>,
     w: Vec<C64>,
     w1: Vec<C64>,
     werr: Vec<C64>,
@@ -710,7 +772,7 @@ impl Exponential {
             x0: Vec::new(),
             tmp: Vec::new(),
             nt: Default::default(),
-            w0: Vec::new(),
+            g0: Vec::new(),
             w: Vec::new(),
             w1: Vec::new(),
             werr: Vec::new(),
@@ -743,7 +805,7 @@ impl Exponential {
         for v in &mut self.nt {
             v.resize(m, C64::new(0.0, 0.0));
         }
-        for v in [&mut self.w0, &mut self.w, &mut self.w1, &mut self.werr] {
+        for v in [&mut self.g0, &mut self.w, &mut self.w1, &mut self.werr] {
             v.resize(m, C64::new(0.0, 0.0));
         }
         self.coef.resize(m, Coef::new(C64::new(0.0, 0.0)));
@@ -863,8 +925,10 @@ impl Exponential {
         }
         if let Some(lin) = self.lin.as_ref().filter(|l| l.valid) {
             for k in 0..lin.mr {
+                // Increments from the start (module doc, "Increment form"):
+                // `(e^z - 1) u = h φ_1(z) λ u`.
                 let p1 = phi::<6>(lin.lambda[k] * h);
-                let mut u1 = p1[0] * self.w0[k];
+                let mut u1 = p1[1] * self.g0[k] * h;
                 let mut q = [C64::new(0.0, 0.0); 5];
                 for j in 0..5 {
                     let mut acc = C64::new(0.0, 0.0);
@@ -934,7 +998,8 @@ impl DenseOutput for ExpDense<'_> {
         for k in 0..lin.mr {
             let pt = phi::<6>(lin.lambda[k] * (h * theta));
             let q = &it.dense_qc[k];
-            let mut u = pt[0] * it.w0[k];
+            // The increment from the step's start: `(e^{θz} - 1) u = θh φ_1(θz) λ u`.
+            let mut u = pt[1] * it.g0[k] * (h * theta);
             let mut th = h * theta;
             for j in 0..5 {
                 u += pt[j + 1] * q[j] * th;
@@ -943,7 +1008,13 @@ impl DenseOutput for ExpDense<'_> {
             w[k] = u + it.dense_corrc[k] * theta;
         }
         lin.back_to_real(w, xb);
-        out[block].copy_from_slice(xb);
+        for ((o, x0), d) in out[block.clone()]
+            .iter_mut()
+            .zip(&it.x0[block])
+            .zip(xb.iter())
+        {
+            *o = x0 + d;
+        }
     }
 }
 
@@ -1046,8 +1117,7 @@ impl Integrator for Exponential {
                 .filter(|l| l.valid)
                 .map_or(0..0, |l| l.range.clone());
             if let Some(lin) = self.lin.as_ref().filter(|l| l.valid && !n1_current) {
-                lin.to_eigen(&x[block.clone()], &mut self.w0);
-                lin.nonlinear(&self.f[0], x, &mut self.tmp, &mut self.nt[0]);
+                lin.split(&self.f[0], x, &mut self.tmp, &mut self.g0, &mut self.nt[0]);
                 n1_current = true;
             }
             self.coefficients(h_step);
@@ -1080,14 +1150,23 @@ impl Integrator for Exponential {
                                 C64::new(0.0, 0.0)
                             }
                         });
-                        target[k] = stage(s, &self.coef[k], self.w0[k], &nv, h_step);
+                        target[k] = increment(s, &self.coef[k], self.g0[k], &nv, h_step);
                     }
                     let ys = if into_new {
                         &mut self.y_new
                     } else {
                         &mut self.y_stage
                     };
-                    lin.back_to_real(target, &mut ys[block.clone()]);
+                    // `x_B + Re(V δw)`: the transform's round-off scales with the
+                    // increment, not with the state.
+                    lin.back_to_real(target, &mut self.tmp);
+                    for ((y, xi), d) in ys[block.clone()]
+                        .iter_mut()
+                        .zip(&x[block.clone()])
+                        .zip(&self.tmp)
+                    {
+                        *y = xi + d;
+                    }
                 }
                 if into_new {
                     break;
@@ -1176,7 +1255,7 @@ impl Integrator for Exponential {
                     head[0].copy_from_slice(&tail[0]);
                 }
                 sys.project(x, &mut self.f[0]);
-                // The next step's N1 and w0 from the (projected) state.
+                // The next step's N1 and g0 from the (projected) state.
                 n1_current = false;
                 let dense = ExpDense {
                     it: self,
@@ -1600,6 +1679,120 @@ mod tests {
         );
         assert!(worst < 1e-5, "{worst}");
         assert!(worst_hermite > 0.1, "{worst_hermite}");
+    }
+
+    /// A linear block with a non-normal `A` (`[[λ1, b], [0, λ2]]`, `b` large against
+    /// `λ1 - λ2`: nearly parallel eigenvectors, `cond(V)` about 1e6, as the flight's block
+    /// gets from the `ω × V` coupling at hundreds of m/s) and a large, slowly decaying first
+    /// component (the forward speed): from `(500, 0)` the second component is zero for all
+    /// time, exactly. Transforming the state itself (`V⁻¹ x`, back by `V`) puts
+    /// `ε cond(V) |x|` into it at every step (1.5e-6 rad/s of spurious roll rate on the M1670
+    /// launch); the increment form only `ε cond(V) |h ẋ|`.
+    struct NonNormal {
+        /// `Q [[l1, b], [0, l2]] Qᵀ` with `Q` the rotation by 30 degrees (so that no entry of
+        /// `V` or `V⁻¹` is zero by structure), row-major.
+        a: [f64; 4],
+    }
+    /// The rotation by 30 degrees, row-major.
+    const Q30: [f64; 4] = [0.866_025_403_784_438_6, -0.5, 0.5, 0.866_025_403_784_438_6];
+    impl NonNormal {
+        fn new(l1: f64, l2: f64, b: f64) -> Self {
+            let t = [l1, b, 0.0, l2];
+            let q = Q30;
+            // Q T Qᵀ.
+            let mut a = [0.0; 4];
+            for i in 0..2 {
+                for j in 0..2 {
+                    a[i * 2 + j] = (0..2)
+                        .map(|k| {
+                            (0..2)
+                                .map(|l| q[i * 2 + k] * t[k * 2 + l] * q[j * 2 + l])
+                                .sum::<f64>()
+                        })
+                        .sum();
+                }
+            }
+            NonNormal { a }
+        }
+        /// `Qᵀ x`: the triangular system's coordinates.
+        fn unrotated(x: &[f64]) -> [f64; 2] {
+            let q = Q30;
+            [q[0] * x[0] + q[2] * x[1], q[1] * x[0] + q[3] * x[1]]
+        }
+    }
+    impl OdeSystem for NonNormal {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&mut self, _t: f64, x: &[f64], dx: &mut [f64]) -> Result<(), RhsError> {
+            let a = self.a;
+            dx[0] = a[0] * x[0] + a[1] * x[1];
+            dx[1] = a[2] * x[0] + a[3] * x[1];
+            Ok(())
+        }
+        fn linear_block(&self) -> Option<Range<usize>> {
+            Some(0..2)
+        }
+        fn linear_jacobian(&mut self, _t: f64, _x: &[f64], a: &mut [f64]) -> bool {
+            a.copy_from_slice(&self.a);
+            true
+        }
+    }
+
+    #[test]
+    fn an_ill_conditioned_eigenbasis_does_not_put_the_states_round_off_into_a_zero_component() {
+        let mut sys = NonNormal::new(-0.01, -0.011, 1.0);
+        // Steps of 0.5 s (`|hλ|` 5e-3, the flight's slow dynamics), 400 of them, rows at
+        // every quarter step from the continuous extension.
+        let h = 0.5;
+        let mut it = Exponential::new(AdaptiveOptions {
+            rtol: 0.9,
+            atol: 1e9,
+            h_initial: Some(h),
+            h_max: h,
+            ..Default::default()
+        });
+        // `Q (500, 0)`.
+        let mut x = [500.0 * Q30[0], 500.0 * Q30[2]];
+        let (mut worst_row, mut rows) = (0.0f64, 0usize);
+        let mut out = [0.0; 2];
+        let r = it.integrate_dense(&mut sys, 0.0, &mut x, 200.0, &mut |t, _, _, d| {
+            if let Some(d) = d {
+                for q in 1..4 {
+                    let tq = d.t_start() + 0.25 * q as f64 * (t - d.t_start());
+                    d.eval(tq, &mut out);
+                    worst_row = worst_row.max(NonNormal::unrotated(&out)[1].abs());
+                    rows += 1;
+                }
+            }
+            true
+        });
+        assert!(r.completed() && r.stats.rejected == 0, "{r:?}");
+        let lin = it.lin.as_ref().unwrap();
+        let m = 2;
+        let norm1 = |a: &[C64], rows: usize, cols: usize| {
+            (0..cols)
+                .map(|j| (0..rows).map(|i| a[i * cols + j].norm()).sum::<f64>())
+                .fold(0.0f64, f64::max)
+        };
+        let cond = norm1(&lin.v, m, lin.mr) * norm1(&lin.vinv, lin.mr, m);
+        let exact = 500.0 * (-0.01f64 * 200.0).exp();
+        eprintln!(
+            "cond {cond:.2e}: x = {x:?} (first exact {exact}), worst row |x2| {worst_row:.2e} \
+             over {rows} rows"
+        );
+        assert!(cond > 1e5, "{cond}");
+        // The increment form: |x2| measured 2.7e-12 at the end, 3.6e-12 over the rows; the
+        // state transformed whole gives 2e-8 (eps cond |x| is 1e-7).
+        let y = NonNormal::unrotated(&x);
+        eprintln!(
+            "end: |y2| {:.2e}, y1 - exact {:.2e}",
+            y[1].abs(),
+            y[0] - exact
+        );
+        assert!(y[1].abs() < 2e-11, "{}", y[1]);
+        assert!(worst_row < 2e-11, "{worst_row}");
+        assert!((y[0] - exact).abs() < 1e-9 * exact, "{} vs {exact}", y[0]);
     }
 
     /// Honest error control: adaptive runs track the tolerance on the stiff problem (the
