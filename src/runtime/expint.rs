@@ -63,7 +63,7 @@
 //! the round-off of `V Λ V⁻¹` against `A` (tests
 //! `an_ill_conditioned_eigenbasis_does_not_put_the_states_round_off_into_a_zero_component`,
 //! and, on the flight, `tests/launch.rs`
-//! `the_exponential_integrators_body_rates_on_a_boost_are_as_close_to_the_reference_as_dopri5s`).
+//! `the_exponential_integrators_body_rates_on_a_boost_stay_near_the_reference`).
 //!
 //! Error control: the scaled RMS norm of DOPRI5 (HNW I (4.11), `max(|y0|, |y1|)`), over
 //! [`OdeSystem::error_dim`] entries, in the original coordinates (the block's estimate is

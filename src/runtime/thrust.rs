@@ -288,6 +288,12 @@ impl ThrustCurve {
             .sum()
     }
 
+    /// The curve's points in time, s: where the thrust is only continuous (a kink of the
+    /// piecewise-linear curve) or jumps (the first and last points).
+    pub fn times(&self) -> &[f64] {
+        &self.times
+    }
+
     /// Burn time: the time of the last point, s (thrust is zero afterwards).
     pub fn burn_time(&self) -> f64 {
         self.times.last().copied().unwrap_or(0.0)
