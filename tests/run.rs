@@ -514,3 +514,30 @@ fn the_same_run_twice_writes_the_same_history() {
     let read = |d: &Path| std::fs::read(d.join("history.csv")).unwrap();
     assert_eq!(read(&a), read(&b));
 }
+
+/// A tight tolerance through a gust's onset: the thesis' subsonic_t06 (1.0 mm fins) with
+/// DOP853 at rtol 1e-10, atol 1e-13 and the default `min_step` (1e-12 s) to 1.2 s, past the
+/// first rectangular gust's onset at 1 s. Before the run cut its segments at the gusts'
+/// switch times, the steps shrank onto the wind's jump until they underflowed there
+/// (`step_underflow at t = 0.9999999999995045 s`); now the run restarts at the switch, the
+/// segment before ending on the wind's left-hand limit.
+#[test]
+fn a_tight_tolerance_flies_through_a_gusts_onset() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("tight");
+    let o = run(
+        &repo("examples/thesis/section_6_5.vdl"),
+        "subsonic_t06",
+        &out,
+        &[
+            "fins.thickness=1 mm",
+            "run.stop_time=1.2 s",
+            "run.integrator=dop853",
+            "run.rtol=1e-10",
+            "run.atol=1e-13",
+        ],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s = summary(&out);
+    assert_eq!(s["stop_reason"], "completed", "{}", s["stop_detail"]);
+}

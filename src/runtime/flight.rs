@@ -98,6 +98,20 @@ impl<'m> Flight<'m> {
         }
     }
 
+    /// [`Stimuli::set_left_of`] on every copy of the stimuli the right-hand side reads (the
+    /// descent's and the aerodynamic blocks').
+    pub fn set_wind_left_of(&mut self, t: Option<f64>) {
+        use crate::runtime::forces::ForceBlock;
+        self.stimuli.set_left_of(t);
+        for b in &mut self.eom.forces.blocks {
+            match b {
+                ForceBlock::BodyAero(a) => a.set_wind_left_of(t),
+                ForceBlock::FinAero(a) => a.set_wind_left_of(t),
+                ForceBlock::Gravity(_) | ForceBlock::Thrust(_) => {}
+            }
+        }
+    }
+
     /// Writes the works of the energy balance (module doc) into `dx`, if the state has them.
     fn works(&self, dx: &mut [f64], power_loads: f64, power_propulsive: f64) {
         let e = self.eom.layout().len();

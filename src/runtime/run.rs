@@ -1189,7 +1189,18 @@ pub fn run(
     // Runge-Kutta pairs can miss (measured: DOPRI5 at atol 1e-11 was 3e-4 m/s off the
     // reference after the M1670's points at 0.15 and 0.2 s, thirty times its error at
     // 1e-9), so each segment is also cut at every point and the integrator restarted
-    // there, as at the events.
+    // there, as at the events. The same for the gusts' switch times (a rectangular pulse
+    // jumps at both ends: DOP853 at rtol 1e-10 underflowed its step at the first onset).
+    let gust_switches: Vec<f64> = {
+        let mut g: Vec<f64> = plan
+            .planned_stimuli
+            .switch_times()
+            .filter(|&t| t > 0.0 && t < t_end)
+            .collect();
+        g.sort_by(f64::total_cmp);
+        g.dedup();
+        g
+    };
     let breakpoints: Vec<f64> = {
         let mut b: Vec<f64> = plan
             .motor
@@ -1202,6 +1213,7 @@ pub fn run(
             }))
             .flat_map(|c| c.times().iter().copied())
             .filter(|&t| t > 0.0 && t < t_end)
+            .chain(gust_switches.iter().copied())
             .collect();
         b.sort_by(f64::total_cmp);
         b.dedup();
@@ -1216,6 +1228,13 @@ pub fn run(
             .copied()
             .find(|&b| b > t0)
             .unwrap_or(t_end);
+        // At a gust's switch time the segment's end takes the wind's left-hand limit.
+        flight.set_wind_left_of(
+            gust_switches
+                .binary_search_by(|g| g.total_cmp(&t_seg))
+                .is_ok()
+                .then_some(t_seg),
+        );
         let report = {
             let mut observer = |t: f64, xs: &[f64], dx: &[f64], dense: Option<&dyn DenseOutput>| {
                 driver.observe(t, xs, dx, dense)
@@ -1227,12 +1246,13 @@ pub fn run(
         stats.rhs_evaluations += report.stats.rhs_evaluations;
         let Some((kind, te, xe)) = driver.segment.take() else {
             if t_seg < t_end && matches!(report.stop, StopReason::Completed) {
-                // At a thrust-curve point (`x` is the state there): the same equations
-                // from here, a fresh integrator. The next segment starts one ulp later, so
-                // that its first evaluation takes the thrust's right-hand limit where the
-                // curve jumps (a curve ending at a non-zero thrust: `thrust_at` of the last
-                // point is the left value, which the segment before ends on); the shift
-                // moves the state by `ulp(t) |ẋ|`, below its own round-off.
+                // At a thrust-curve point or a gust's switch time (`x` is the state
+                // there): the same equations from here, a fresh integrator. The next
+                // segment starts one ulp later, so that its first evaluation takes the
+                // right-hand limit where the forcing jumps (a curve ending at a non-zero
+                // thrust: `thrust_at` of the last point is the left value, which the
+                // segment before ends on; a sine pulse's end); the shift moves the state by
+                // `ulp(t) |ẋ|`, below its own round-off.
                 driver.prev = None;
                 t0 = f64::from_bits(t_seg.to_bits() + 1);
                 continue;

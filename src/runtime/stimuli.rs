@@ -247,6 +247,12 @@ pub struct Stimuli {
     turbulence: Vec<TurbulenceSeries>,
     /// The scenario's steady wind (inertial frame, a function of altitude).
     steady: Option<SteadyWind>,
+    /// The end of the run's current integration segment when it is one of the pulses'
+    /// switch times ([`Self::switch_times`]; `None` otherwise): the wind there is then the
+    /// left-hand limit, evaluated one ulp before, so that the segment's last step sees the
+    /// forcing of the side it integrates (a rectangular pulse is right-continuous, a sine's
+    /// end left-continuous).
+    left_of: Option<f64>,
 }
 
 impl Stimuli {
@@ -380,9 +386,27 @@ impl Stimuli {
         Ok(planned)
     }
 
+    /// The pulses' switch times, s (each pulse's start and end: where its wind jumps or
+    /// has a kink), in no particular order.
+    pub fn switch_times(&self) -> impl Iterator<Item = f64> + '_ {
+        self.pulses
+            .iter()
+            .flat_map(|p| [p.start, p.start + p.duration])
+    }
+
+    /// Sets (or clears) the segment end at which the wind is the left-hand limit
+    /// (see the field `left_of`).
+    pub fn set_left_of(&mut self, t: Option<f64>) {
+        self.left_of = t;
+    }
+
     /// Wind velocity at time `t`, m/s: (body-frame part, inertial-frame part). Never
     /// allocates.
     pub fn wind(&self, t: f64) -> ([f64; 3], [f64; 3]) {
+        let t = match self.left_of {
+            Some(c) if t >= c && c > 0.0 => f64::from_bits(c.to_bits() - 1),
+            _ => t,
+        };
         let mut body = [0.0; 3];
         let mut inertial = [0.0; 3];
         for pulse in &self.pulses {

@@ -736,6 +736,11 @@ impl FinAero {
         self.stimuli = stimuli;
     }
 
+    /// [`Stimuli::set_left_of`] on the block's stimuli.
+    pub fn set_wind_left_of(&mut self, t: Option<f64>) {
+        self.stimuli.set_left_of(t);
+    }
+
     /// The first fault met since construction.
     pub fn fault(&self) -> Option<AeroFault> {
         self.fault
