@@ -405,6 +405,11 @@ struct Precomputed {
     w_p: Vec<f64>,
     /// `m 1 - W_Pᵀ W_P`.
     s_vv: Mat3,
+    /// The modal stiffness and damping transposed, `K̄_mp` and `C̄_mp` at `p n + m`: the
+    /// rows `r_m -= Σ_p (K̄_mp η_p + C̄_mp η̇_p)` as column sweeps over `m` (every `r_m`
+    /// keeps its order of operations, so the bits of the row-by-row sums).
+    k_t: Vec<f64>,
+    c_t: Vec<f64>,
     /// The modal mass is not positive definite: every evaluation fails with this.
     modal_error: Option<RhsError>,
     /// Scratch of [`Self::rebuild`] (n x n).
@@ -422,6 +427,8 @@ impl Precomputed {
             linv: vec![0.0; n * n],
             w_p: vec![0.0; 3 * n],
             s_vv: [[0.0; 3]; 3],
+            k_t: vec![0.0; n * n],
+            c_t: vec![0.0; n * n],
             modal_error: None,
             chol: vec![0.0; n * n],
         };
@@ -450,6 +457,10 @@ impl Precomputed {
                 for p in 0..n {
                     self.h_prime_t[(i * n + p) * n + m] = md.h_prime[(m * 3 + i) * n + p];
                 }
+            }
+            for p in 0..n {
+                self.k_t[p * n + m] = md.modal_stiffness[m * n + p];
+                self.c_t[p * n + m] = md.modal_damping[m * n + p];
             }
         }
         // M̄ = L Lᵀ, then L⁻¹ column by column (forward substitution on unit vectors).
@@ -1317,15 +1328,25 @@ impl<F: ForceModel> Eom<'_, F> {
             r[i] = f[i] - wxc[i] - wxpv[i];
             r[3 + i] = f[3 + i] - cdxv[i] - jdot_w[i] - hdot_etadot[i] - vxpv[i] - wxpw[i];
         }
-        let mut dissipation = 0.0;
-        for m in 0..n {
-            let mut s = f[6 + m] + ws.dt_deta[m];
-            for p in 0..n {
-                s -= md.modal_stiffness[m * n + p] * eta[p]
-                    + md.modal_damping[m * n + p] * eta_dot[p];
+        // r_m = Q_m + ∂T/∂η_m - Σ_p (K̄_mp η_p + C̄_mp η̇_p), column by column ([`Precomputed`]).
+        let rm = &mut r[6..6 + n];
+        for ((o, fm), dm) in rm.iter_mut().zip(&f[6..6 + n]).zip(&ws.dt_deta) {
+            *o = fm + dm;
+        }
+        for (p, (kc, cc)) in pre
+            .k_t
+            .chunks_exact(n)
+            .zip(pre.c_t.chunks_exact(n))
+            .enumerate()
+        {
+            let (e, ed) = (eta[p], eta_dot[p]);
+            for ((o, k), c) in rm.iter_mut().zip(kc).zip(cc) {
+                *o -= k * e + c * ed;
             }
-            r[6 + m] = s;
-            if self.track_energy {
+        }
+        let mut dissipation = 0.0;
+        if self.track_energy {
+            for m in 0..n {
                 for p in 0..n {
                     dissipation += eta_dot[m] * md.modal_damping[m * n + p] * eta_dot[p];
                 }

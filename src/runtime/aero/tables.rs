@@ -264,6 +264,12 @@ pub struct BodyRateCoefficients {
     pub cm_q: f64,
 }
 
+/// The bracketing interval of a caller's previous query on each axis of a
+/// [`CoefficientTable`] (Mach, alpha, altitude), tried first by the next query: a hint
+/// only, it changes how fast an interval is found, never which (`CoefficientTable::bracket`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TableHint([usize; 3]);
+
 /// A full-grid coefficient table over (Mach, alpha in degrees, altitude in m).
 #[derive(Clone, Debug, PartialEq)]
 pub struct CoefficientTable {
@@ -597,15 +603,16 @@ impl CoefficientTable {
 
     /// Bracketing index and fraction on one axis, after the out-of-range policy. A value
     /// inside the axis takes the inlined path; a non-finite or outside one goes to
-    /// [`Self::locate_outside`].
+    /// [`Self::locate_outside`]. `hint` is the interval of the caller's previous query on
+    /// this axis, tried first ([`Self::bracket`]) and updated.
     #[inline]
-    fn locate(&self, a: usize, value: f64) -> Result<(usize, f64), TableError> {
+    fn locate(&self, a: usize, value: f64, hint: &mut usize) -> Result<(usize, f64), TableError> {
         let axis = &self.axes[a];
         let (min, max) = (axis[0], axis[axis.len() - 1]);
         if !(value >= min && value <= max) {
-            return self.locate_outside(a, value);
+            return self.locate_outside(a, value, hint);
         }
-        Ok(Self::bracket(axis, value))
+        Ok(Self::bracket(axis, value, hint))
     }
 
     /// [`Self::locate`] for a value not inside `[min, max]` of its axis: an error when it is
@@ -613,7 +620,12 @@ impl CoefficientTable {
     /// else clamped to the edge.
     #[cold]
     #[inline(never)]
-    fn locate_outside(&self, a: usize, value: f64) -> Result<(usize, f64), TableError> {
+    fn locate_outside(
+        &self,
+        a: usize,
+        value: f64,
+        hint: &mut usize,
+    ) -> Result<(usize, f64), TableError> {
         let axis = &self.axes[a];
         if !value.is_finite() {
             return Err(TableError::NonFiniteQuery {
@@ -632,18 +644,27 @@ impl CoefficientTable {
                 max,
             });
         }
-        Ok(Self::bracket(axis, value.clamp(min, max)))
+        Ok(Self::bracket(axis, value.clamp(min, max), hint))
     }
 
-    /// Index `i` and fraction `t` of `v` (inside the axis) between nodes `i` and `i + 1`.
+    /// Index `i` and fraction `t` of `v` (inside the axis) between nodes `i` and `i + 1`:
+    /// `i` = (the first index whose value exceeds `v`, kept within `1..len-1`) - 1, i.e.
+    /// `axis[i] <= v < axis[i + 1]`, or `i = len - 2` at the upper end. The interval `hint`
+    /// is tried first and is taken only when it is that `i` (the axis ascends strictly), so
+    /// the result does not depend on the hint; the search runs only when the query left it.
     #[inline]
-    fn bracket(axis: &[f64], v: f64) -> (usize, f64) {
-        if axis.len() == 1 {
+    fn bracket(axis: &[f64], v: f64, hint: &mut usize) -> (usize, f64) {
+        let len = axis.len();
+        if len == 1 {
             return (0, 0.0);
         }
-        // First index whose value exceeds v, kept within 1..len-1 so i = that - 1 brackets.
-        let upper = axis.partition_point(|&x| x <= v).clamp(1, axis.len() - 1);
-        let i = upper - 1;
+        let h = *hint;
+        let i = if h + 1 < len && axis[h] <= v && (v < axis[h + 1] || h + 2 == len) {
+            h
+        } else {
+            axis.partition_point(|&x| x <= v).clamp(1, len - 1) - 1
+        };
+        *hint = i;
         (i, (v - axis[i]) / (axis[i + 1] - axis[i]))
     }
 
@@ -655,7 +676,7 @@ impl CoefficientTable {
         alpha_deg: f64,
         altitude_m: f64,
     ) -> Result<[f64; 3], TableError> {
-        let v = self.interpolate(mach, alpha_deg, altitude_m)?;
+        let v = self.interpolate(mach, alpha_deg, altitude_m, &mut TableHint::default())?;
         Ok([v[0], v[1], v[2]])
     }
 
@@ -671,10 +692,12 @@ impl CoefficientTable {
         mach: f64,
         alpha_deg: f64,
         altitude_m: f64,
+        hint: &mut TableHint,
     ) -> Result<[f64; MAX_VALUES], TableError> {
-        let (i0, t0) = self.locate(0, mach)?;
-        let (i1, t1) = self.locate(1, alpha_deg)?;
-        let (i2, t2) = self.locate(2, altitude_m)?;
+        let [h0, h1, h2] = &mut hint.0;
+        let (i0, t0) = self.locate(0, mach, h0)?;
+        let (i1, t1) = self.locate(1, alpha_deg, h1)?;
+        let (i2, t2) = self.locate(2, altitude_m, h2)?;
         let [s0, s1, s2] = self.strides;
         // Per axis: (weight, offset) of the lower and the upper node; the upper one is
         // absent when its weight t is exactly zero.
@@ -714,7 +737,7 @@ impl CoefficientTable {
         let q = [mach, alpha_deg, altitude_m];
         let mut base = [(0usize, 0.0f64); 3];
         for a in 0..3 {
-            base[a] = self.locate(a, q[a])?;
+            base[a] = self.locate(a, q[a], &mut 0)?;
         }
         let mut out = [0.0; MAX_VALUES];
         let w_n = self.width;
@@ -766,11 +789,53 @@ impl CoefficientTable {
         if !self.has_rates() {
             return Ok(None);
         }
-        let v = self.interpolate(mach, alpha_deg, altitude_m)?;
+        let v = self.interpolate(mach, alpha_deg, altitude_m, &mut TableHint::default())?;
         Ok(Some(BodyRateCoefficients {
             cn_q: v[3],
             cm_q: v[4],
         }))
+    }
+
+    /// [`Self::body`] and [`Self::body_rates`] from one interpolation (every column is
+    /// interpolated at once, so the same bits as the two calls), the brackets tried first
+    /// on the caller's `hint` (the flight's right-hand side: the flight condition moves
+    /// little between evaluations).
+    pub fn body_hinted(
+        &self,
+        mach: f64,
+        alpha_deg: f64,
+        altitude_m: f64,
+        hint: &mut TableHint,
+    ) -> Result<(BodyCoefficients, Option<BodyRateCoefficients>), TableError> {
+        let v = self.interpolate(mach, alpha_deg, altitude_m, hint)?;
+        let rates = self.has_rates().then_some(BodyRateCoefficients {
+            cn_q: v[3],
+            cm_q: v[4],
+        });
+        Ok((
+            BodyCoefficients {
+                cn: v[0],
+                ca: v[1],
+                cm: v[2],
+            },
+            rates,
+        ))
+    }
+
+    /// [`Self::fin`] with the brackets tried first on the caller's `hint`.
+    pub fn fin_hinted(
+        &self,
+        mach: f64,
+        alpha_deg: f64,
+        altitude_m: f64,
+        hint: &mut TableHint,
+    ) -> Result<FinCoefficients, TableError> {
+        let v = self.interpolate(mach, alpha_deg, altitude_m, hint)?;
+        Ok(FinCoefficients {
+            cn: v[0],
+            ca: v[1],
+            x_cp_m: v[2],
+        })
     }
 
     /// Fin coefficients (for a [`TableKind::Fin`] table).
@@ -822,7 +887,9 @@ mod tests {
 
     /// The per-axis interpolation has the bits of the corner-by-corner reference on every
     /// query: random points inside and outside the grid, exactly on nodes (t = 0) and at
-    /// the last node of an axis, on one-node axes, with and without rate columns.
+    /// the last node of an axis, on one-node axes, with and without rate columns; whatever
+    /// the bracket hint: the previous query's (as in a flight), none, or an arbitrary one
+    /// (also past the end of the axis).
     #[test]
     fn interpolation_by_axis_has_the_bits_of_the_corner_by_corner_form() {
         let mut rng = crate::testutil::XorShift64Star::new(0x9e37_79b9_7f4a_7c15);
@@ -858,6 +925,7 @@ mod tests {
             .unwrap();
             let with_rates = plain.clone().with_rates(&rates).unwrap();
             for t in [&plain, &with_rates] {
+                let mut carried = TableHint::default();
                 for k in 0..4000 {
                     let q: [f64; 3] = std::array::from_fn(|a| {
                         let ax = &axes[a];
@@ -870,18 +938,23 @@ mod tests {
                             _ => lo + (hi - lo) * next(),
                         }
                     });
-                    let got = t.interpolate(q[0], q[1], q[2]).unwrap();
                     let want = t.interpolate_by_corner(q[0], q[1], q[2]).unwrap();
-                    assert_eq!(
-                        got.map(f64::to_bits),
-                        want.map(f64::to_bits),
-                        "shape {s}, query {q:?}: {got:?} vs {want:?}"
-                    );
-                    compared += 1;
+                    let mut arbitrary = TableHint(std::array::from_fn(|a| {
+                        (next() * (axes[a].len() + 3) as f64) as usize
+                    }));
+                    for hint in [&mut carried, &mut TableHint::default(), &mut arbitrary] {
+                        let got = t.interpolate(q[0], q[1], q[2], hint).unwrap();
+                        assert_eq!(
+                            got.map(f64::to_bits),
+                            want.map(f64::to_bits),
+                            "shape {s}, query {q:?}, hint {hint:?}: {got:?} vs {want:?}"
+                        );
+                        compared += 1;
+                    }
                 }
             }
         }
-        assert_eq!(compared, 4 * 2 * 4000);
+        assert_eq!(compared, 4 * 2 * 4000 * 3);
     }
 
     #[test]
@@ -1031,6 +1104,19 @@ mod tests {
             rated.lookup(0.75, 2.5, 2500.0).unwrap(),
             plain.lookup(0.75, 2.5, 2500.0).unwrap()
         );
+        // The one-interpolation form of the flight has the values of the two calls.
+        for t in [&plain, &rated] {
+            let mut hint = TableHint::default();
+            for q in [(0.75, 2.5, 2500.0), (1.5, 12.5, 4999.0), (0.7, 3.0, 0.0)] {
+                assert_eq!(
+                    t.body_hinted(q.0, q.1, q.2, &mut hint).unwrap(),
+                    (
+                        t.body(q.0, q.1, q.2).unwrap(),
+                        t.body_rates(q.0, q.1, q.2).unwrap()
+                    )
+                );
+            }
+        }
         let back =
             CoefficientTable::parse_csv(TableKind::Body, p(), &rated.to_csv(), OutOfRange::Stop)
                 .unwrap();

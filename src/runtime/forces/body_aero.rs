@@ -67,7 +67,7 @@
 use crate::check::ir::{self, AeroSource, OutOfRange, Structure};
 use crate::runtime::aero::FinLoadError;
 use crate::runtime::aero::estimator::{BodyShape, EstimatedTables, FinPlanform, NoseShape};
-use crate::runtime::aero::tables::{Axis, CoefficientTable, TableError};
+use crate::runtime::aero::tables::{Axis, CoefficientTable, TableError, TableHint};
 use crate::runtime::atmosphere::{Atmosphere, Standard1976};
 use crate::runtime::eom::{ForceModel, StateView};
 use crate::runtime::kinematics::{cross, dot, mat_vec};
@@ -387,6 +387,8 @@ pub struct BodyAero {
     stimuli: Stimuli,
     /// `body_aero { rate_terms }`: apply the table's rate columns.
     rate_terms: bool,
+    /// The table brackets of the previous evaluation, tried first.
+    hint: TableHint,
     fault: Option<AeroFault>,
     last: BodyAeroSample,
 }
@@ -421,6 +423,7 @@ impl BodyAero {
             atmosphere,
             stimuli,
             rate_terms,
+            hint: TableHint::default(),
             fault: None,
             last: BodyAeroSample::default(),
         })
@@ -529,7 +532,7 @@ impl ForceModel for BodyAero {
             altitude,
             &mut self.fault,
         );
-        let Ok(coef) = self.table.body(m_q, a_q, h_q) else {
+        let Ok((coef, rates)) = self.table.body_hinted(m_q, a_q, h_q, &mut self.hint) else {
             self.fault.get_or_insert(AeroFault::NonFinite);
             return;
         };
@@ -542,7 +545,7 @@ impl ForceModel for BodyAero {
         let mut m_ba = [-m_co[0], -m_co[1], m_co[2]];
         let (mut alpha_dot, mut beta_dot) = (0.0, 0.0);
         if self.rate_terms {
-            let Ok(Some(rd)) = self.table.body_rates(m_q, a_q, h_q) else {
+            let Some(rd) = rates else {
                 self.fault.get_or_insert(AeroFault::NonFinite);
                 return;
             };

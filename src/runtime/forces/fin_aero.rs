@@ -98,7 +98,7 @@ use crate::check::ir;
 use crate::runtime::aero::fin_loads::{FinLoadTable, FinNode};
 use crate::runtime::aero::leeward::f_lw;
 use crate::runtime::aero::panel::fin_model::{self, PanelModel, PanelSettings};
-use crate::runtime::aero::tables::{Axis, CoefficientTable};
+use crate::runtime::aero::tables::{Axis, CoefficientTable, TableHint};
 use crate::runtime::atmosphere::{Atmosphere, Standard1976};
 use crate::runtime::eom::{ForceModel, StateView};
 use crate::runtime::kinematics::{Mat3, cross, mat_t_vec, mat_vec};
@@ -157,6 +157,8 @@ struct Fin {
     /// Grid intervals of the previous lumped-distribution and panel-matrix look-ups.
     hint_lump: usize,
     hint_panel: usize,
+    /// The fin table's brackets at the previous evaluation.
+    hint_table: TableHint,
     /// Area centroid of the undeformed planform, body frame (the lifting-surface model's
     /// Mach reference point).
     centroid: [f64; 3],
@@ -554,6 +556,7 @@ impl FinAero {
                 last: FinSample::default(),
                 hint_lump: 0,
                 hint_panel: 0,
+                hint_table: TableHint::default(),
                 centroid,
                 root_le,
                 z_panel: z_f.map(|x| -x),
@@ -889,7 +892,7 @@ impl ForceModel for FinAero {
                 altitude,
                 &mut self.fault,
             );
-            let Ok(coef) = self.table.fin(m_q, a_q, h_q) else {
+            let Ok(coef) = self.table.fin_hinted(m_q, a_q, h_q, &mut fin.hint_table) else {
                 self.fault.get_or_insert(AeroFault::NonFinite);
                 continue;
             };
