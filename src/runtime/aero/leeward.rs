@@ -34,10 +34,13 @@ pub fn x_delta(delta_tot_deg: f64) -> f64 {
     1.0 - (delta_tot_deg - 180.0).to_radians().cos()
 }
 
+/// `x_delta(225 deg) = 1 - cos 45 deg` (5.4.30), the bits of [`x_delta`]`(225.0)` (tested).
+const X_DELTA_225: f64 = 0.292_893_218_813_452_4;
+
 /// The exponential rate tau(alpha) = -ln f_LW(225 deg, alpha) / x_delta(225 deg), our reading
 /// of eq. (5.4.31): it makes (5.4.29) reproduce (5.4.28) at delta_tot = 225 deg.
 pub fn leeward_tau(alpha_deg: f64) -> f64 {
-    -leeward_factor_at_225(alpha_deg).ln() / x_delta(225.0)
+    -leeward_factor_at_225(alpha_deg).ln() / X_DELTA_225
 }
 
 /// Leeward reduction factor f_LW(delta_tot, alpha), eqs. (5.4.24)-(5.4.31).
@@ -47,11 +50,22 @@ pub fn leeward_tau(alpha_deg: f64) -> f64 {
 /// windward fins (0 <= delta_tot <= 180 deg) and exp(-tau x_delta) (5.4.29) for leeward ones,
 /// mirrored about the minimum at 270 deg (see the module doc). Non-finite input gives 1 (no reduction) rather than NaN loads.
 pub fn f_lw(delta_tot_deg: f64, alpha_deg: f64) -> f64 {
-    if !delta_tot_deg.is_finite() || !alpha_deg.is_finite() {
+    f_lw_with(delta_tot_deg, || alpha_deg)
+}
+
+/// [`f_lw`] with the angle of attack computed only when the fin is leeward (a windward fin,
+/// or a non-finite orientation, gives 1 whatever the angle of attack): the same values.
+#[inline]
+pub fn f_lw_with(delta_tot_deg: f64, alpha_deg: impl FnOnce() -> f64) -> f64 {
+    if !delta_tot_deg.is_finite() {
         return 1.0;
     }
     let d = delta_tot_deg.rem_euclid(360.0);
     if d <= 180.0 {
+        return 1.0;
+    }
+    let alpha_deg = alpha_deg();
+    if !alpha_deg.is_finite() {
         return 1.0;
     }
     // Mirror 270..360 onto 270..180 (symmetry about 270 deg stated in 5.4.4).
@@ -62,6 +76,11 @@ pub fn f_lw(delta_tot_deg: f64, alpha_deg: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_225_deg_constant_has_the_bits_of_x_delta() {
+        assert_eq!(X_DELTA_225.to_bits(), x_delta(225.0).to_bits());
+    }
 
     #[test]
     fn windward_fins_get_full_load() {

@@ -263,7 +263,8 @@ impl NodeRows {
     /// `(S_u q, S_θ q)` for modal coordinates (or rates) `q`: the six sums side by side over
     /// the modes (six independent chains instead of one after another), each in the order
     /// of the modes from the start value of `f64`'s `Sum`, so the bits of the row-by-row
-    /// `iter().sum()` (tested).
+    /// `iter().sum()` (tested). The flight uses [`Self::apply_pair`].
+    #[cfg(test)]
     pub(crate) fn apply(&self, q: &[f64]) -> ([f64; 3], [f64; 3]) {
         // As the zip of each row with `q`: the shorter of the two (`zip` below).
         let start: f64 = std::iter::empty::<f64>().sum();
@@ -274,6 +275,26 @@ impl NodeRows {
             }
         }
         ([out[0], out[1], out[2]], [out[3], out[4], out[5]])
+    }
+
+    /// [`Self::apply`] of `q` and of `qd` in one pass over the columns (twelve independent
+    /// chains), each sum with the bits of its own `apply`: `(S_u q, S_θ q, S_u qd, S_θ qd)`.
+    #[inline]
+    pub(crate) fn apply_pair(&self, q: &[f64], qd: &[f64]) -> [[f64; 3]; 4] {
+        let start: f64 = std::iter::empty::<f64>().sum();
+        let (mut a, mut b) = ([start; 6], [start; 6]);
+        for ((col, &x), &xd) in self.cols.chunks_exact(6).zip(q).zip(qd) {
+            for d in 0..6 {
+                a[d] += col[d] * x;
+                b[d] += col[d] * xd;
+            }
+        }
+        [
+            [a[0], a[1], a[2]],
+            [a[3], a[4], a[5]],
+            [b[0], b[1], b[2]],
+            [b[3], b[4], b[5]],
+        ]
     }
 
     /// The row-by-row form of [`Self::apply`], the reference of its bits.
@@ -488,8 +509,7 @@ impl BodyAero {
 
 impl ForceModel for BodyAero {
     fn generalized_forces(&mut self, t: f64, state: &StateView, out: &mut [f64]) {
-        let (u, theta) = self.key.apply(state.eta);
-        let (u_dot, theta_dot) = self.key.apply(state.eta_dot);
+        let [u, theta, u_dot, theta_dot] = self.key.apply_pair(state.eta, state.eta_dot);
         let p = [0, 1, 2].map(|k| self.key.position[k] + u[k]);
         let wind = self.stimuli.wind_at(t, -state.position[2]);
         let v_b = relative_velocity(state, &p, &u_dot, &wind);
@@ -603,7 +623,8 @@ impl ForceModel for BodyAero {
 mod tests {
     use super::*;
 
-    /// The six sums side by side have the bits of the row-by-row sums, for 0 to 12 modes,
+    /// The six sums side by side (and the twelve of `apply_pair`) have the bits of the
+    /// row-by-row sums, for 0 to 12 modes,
     /// with zeros of both signs among the shapes and coordinates.
     #[test]
     fn node_rows_side_by_side_have_the_bits_of_the_row_sums() {
@@ -630,7 +651,11 @@ mod tests {
                 let rows =
                     NodeRows::from_rows(0, [0.0; 3], (0..6 * n).map(|_| next()).collect(), n);
                 let q: Vec<f64> = (0..n).map(|_| next()).collect();
+                let qd: Vec<f64> = (0..n).map(|_| next()).collect();
                 assert_eq!(bits(rows.apply(&q)), bits(rows.apply_by_row(&q)), "n {n}");
+                let [u, th, ud, thd] = rows.apply_pair(&q, &qd);
+                assert_eq!(bits((u, th)), bits(rows.apply_by_row(&q)), "n {n}");
+                assert_eq!(bits((ud, thd)), bits(rows.apply_by_row(&qd)), "n {n}");
             }
         }
     }

@@ -28,7 +28,7 @@
 //!    reference area S (the fin table of [`crate::runtime::aero::tables`]):
 //!    `F_f = q S (-C_A, 0, -C_N)`; the side force is neglected, `F_fy = 0` ((5.4.13) as
 //!    corrected in REFERENCE-NOTES). With the leeward reduction the whole fin load is scaled by
-//!    `f_LW(δ_tot, α)` ([`f_lw`], (5.4.24)-(5.4.31)), `δ_tot = δ_i + θ_yz`,
+//!    `f_LW(δ_tot, α)` ([`f_lw`](crate::runtime::aero::leeward::f_lw), (5.4.24)-(5.4.31)), `δ_tot = δ_i + θ_yz`,
 //!    `θ_yz = atan2(V_y, V_z)` of `V_Bf` (5.4.25, four-quadrant so that `δ_tot` in (0, 180) deg
 //!    means the fin span has a positive component along the crossflow: windward) and `α` the
 //!    total angle of attack `atan2(sqrt(V_y² + V_z²), V_x)` of `V_Bf`, in degrees.
@@ -96,7 +96,7 @@ use std::sync::Arc;
 
 use crate::check::ir;
 use crate::runtime::aero::fin_loads::{FinLoadTable, FinNode};
-use crate::runtime::aero::leeward::f_lw;
+use crate::runtime::aero::leeward::f_lw_with;
 use crate::runtime::aero::panel::fin_model::{self, PanelModel, PanelSettings};
 use crate::runtime::aero::tables::{Axis, CoefficientTable, TableHint};
 use crate::runtime::atmosphere::{Atmosphere, Standard1976};
@@ -840,8 +840,7 @@ impl ForceModel for FinAero {
                     ([rest[0], rest[1], rest[2]], [0.0; 3], [0.0; 3])
                 }
                 ir::FinIncidence::KeyNode => {
-                    let (u, theta) = fin.key.apply(state.eta);
-                    let (u_dot, _) = fin.key.apply(state.eta_dot);
+                    let [u, theta, u_dot, _] = fin.key.apply_pair(state.eta, state.eta_dot);
                     let p = [0, 1, 2].map(|k| fin.key.position[k] + u[k]);
                     (p, theta, u_dot)
                 }
@@ -899,9 +898,10 @@ impl ForceModel for FinAero {
             let qs = q * self.area;
             let leeward_factor = if self.leeward {
                 let theta_yz = v_b[1].atan2(v_b[2]);
-                let cross_flow = (v_b[1] * v_b[1] + v_b[2] * v_b[2]).sqrt();
-                let alpha_tot = cross_flow.atan2(v_b[0]);
-                f_lw((fin.delta + theta_yz).to_degrees(), alpha_tot.to_degrees())
+                f_lw_with((fin.delta + theta_yz).to_degrees(), || {
+                    let cross_flow = (v_b[1] * v_b[1] + v_b[2] * v_b[2]).sqrt();
+                    cross_flow.atan2(v_b[0]).to_degrees()
+                })
             } else {
                 1.0
             };
