@@ -1333,15 +1333,18 @@ impl<F: ForceModel> Eom<'_, F> {
         for ((o, fm), dm) in rm.iter_mut().zip(&f[6..6 + n]).zip(&ws.dt_deta) {
             *o = fm + dm;
         }
-        for (p, (kc, cc)) in pre
-            .k_t
-            .chunks_exact(n)
-            .zip(pre.c_t.chunks_exact(n))
-            .enumerate()
-        {
-            let (e, ed) = (eta[p], eta_dot[p]);
-            for ((o, k), c) in rm.iter_mut().zip(kc).zip(cc) {
-                *o -= k * e + c * ed;
+        // A rigid body (n = 0) has no columns; `chunks_exact(0)` would panic.
+        if n > 0 {
+            for (p, (kc, cc)) in pre
+                .k_t
+                .chunks_exact(n)
+                .zip(pre.c_t.chunks_exact(n))
+                .enumerate()
+            {
+                let (e, ed) = (eta[p], eta_dot[p]);
+                for ((o, k), c) in rm.iter_mut().zip(kc).zip(cc) {
+                    *o -= k * e + c * ed;
+                }
             }
         }
         let mut dissipation = 0.0;
