@@ -503,3 +503,40 @@ fn lifting_surface_increments_are_the_panel_loads() {
         );
     }
 }
+
+/// `flexflight run` formats `history.csv` from the rows as the flight appends them
+/// (`runtime::run::run_with_rows`, `cli::run::HistoryText`): the rows handed over are exactly
+/// the run's rows, bit for bit and in order, and their text is `history_csv`'s. Two flights
+/// cover the three places a row is appended: the 0.6 mm flight stops at the fin stress
+/// limit inside a step (the cut row), the 1.0 mm flight ends at a stop time between output
+/// times (the closing row after the integration).
+#[test]
+fn streamed_history_text_is_the_history_csv() {
+    for sets in [
+        &["run.stop_time=1.2s"][..],
+        &["fins.thickness=1mm", "run.stop_time=0.3005s"][..],
+    ] {
+        let v = variant("subsonic_t06", sets);
+        let mut seen: Vec<Vec<f64>> = Vec::new();
+        let mut text = flexflight::cli::run::HistoryText::new(&v.plan.channels, 0);
+        let out = flexflight::runtime::run::run_with_rows(
+            &v.plan,
+            &v.compiled.reduced,
+            &mut |_, _| {},
+            &mut |row| {
+                seen.push(row.to_vec());
+                text.push_row(row);
+            },
+        )
+        .unwrap();
+        assert!(out.rows.len() > 10, "{sets:?}: {} rows", out.rows.len());
+        assert_eq!(seen.len(), out.rows.len(), "{sets:?}");
+        assert_eq!(digest(&seen), digest(&out.rows), "{sets:?}");
+        assert_eq!(text.rows(), out.rows.len());
+        assert_eq!(
+            text.finish(),
+            flexflight::cli::run::history_csv(&out),
+            "{sets:?}"
+        );
+    }
+}

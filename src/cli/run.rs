@@ -192,7 +192,50 @@ pub fn cmd_run(
             bar.set_message(format!("{t:.4}"));
         }
     };
-    let result = run::run(&p, &compiled.compiled.reduced, &mut progress);
+    // history.csv's text (a pure function of the rows) is formatted on a second thread as
+    // the flight appends the rows: the same bytes as formatting them afterwards
+    // ([`history_csv`]; test `streamed_history_text_is_the_history_csv` in tests/fin_models.rs),
+    // while the flight is still running.
+    let rows_hint = ((p.stop.stop_time / p.output_interval).max(0.0) as usize).saturating_add(2);
+    let (result, streamed) = std::thread::scope(|scope| {
+        let (tx, rx) = std::sync::mpsc::channel::<Vec<f64>>();
+        let channels = &p.channels;
+        let width = channels.len().max(1);
+        let writer = scope.spawn(move || {
+            let mut h = HistoryText::new(channels, rows_hint);
+            for batch in rx {
+                for row in batch.chunks_exact(width) {
+                    h.push_row(row);
+                }
+            }
+            h
+        });
+        // Rows go over in batches of `BATCH` (one message, so one wake-up of the writer,
+        // per batch: a message per row cost more than the formatting it moved).
+        const BATCH: usize = 256;
+        let mut batch = Vec::with_capacity(BATCH * width);
+        // Rows are `width` wide; one that is not (never seen) leaves the text to be
+        // formatted from the rows afterwards.
+        let mut widths_ok = true;
+        let result =
+            run::run_with_rows(&p, &compiled.compiled.reduced, &mut progress, &mut |row| {
+                widths_ok &= row.len() == width;
+                batch.extend_from_slice(row);
+                if batch.len() >= BATCH * width {
+                    // A send fails only if the writer has gone (it panicked): the text
+                    // is then formatted from the rows afterwards (below).
+                    let _ = tx.send(std::mem::replace(
+                        &mut batch,
+                        Vec::with_capacity(BATCH * width),
+                    ));
+                }
+            });
+        if !batch.is_empty() {
+            let _ = tx.send(batch);
+        }
+        drop(tx);
+        (result, writer.join().ok().filter(|_| widths_ok))
+    });
     bar.finish_and_clear();
     let output = match result {
         Ok(o) => o,
@@ -215,21 +258,18 @@ pub fn cmd_run(
     // eigen-solves, the margin's p-k solutions): faer's own threads only cost their start-up
     // and spinning here, and sequential kernels give the same bits whatever the machine.
     faer::set_global_parallelism(faer::Par::Seq);
-    // history.csv's text (a pure function of the rows) is formatted on a second thread
-    // while the summary and the margin are computed: the same bytes, in less wall time.
-    let (history, (summary, margin)) = rayon::join(
-        || history_csv(&output),
-        || {
-            post_process(
-                &p,
-                &sc,
-                &compiled,
-                &output,
-                aero_cache.as_ref(),
-                flutter_margin,
-                cache_dir,
-            )
-        },
+    let history = match streamed {
+        Some(h) if h.rows() == output.rows.len() => h.finish(),
+        _ => history_csv(&output),
+    };
+    let (summary, margin) = post_process(
+        &p,
+        &sc,
+        &compiled,
+        &output,
+        aero_cache.as_ref(),
+        flutter_margin,
+        cache_dir,
     );
     // Every output file at once (`write_all_atomic`): a run that cannot write all of them
     // writes none and leaves the directory as it was.
@@ -329,22 +369,63 @@ fn post_process(
 /// in the shortest round-trip form ([`super::floatfmt`]), so reading them back gives the
 /// same numbers.
 pub fn history_csv(o: &RunOutput) -> String {
-    let mut s = o.channels.join(",");
-    s.push('\n');
-    // Shortest round-trip form; exponent notation for very small or large values
-    // (`floatfmt`: the bytes of `{}` / `{:e}`, several times faster).
-    let mut buf = zmij::Buffer::new();
-    s.reserve(o.rows.len() * o.channels.len() * 20);
+    let mut h = HistoryText::new(&o.channels, o.rows.len());
     for row in &o.rows {
+        h.push_row(row);
+    }
+    h.finish()
+}
+
+/// The text of `history.csv` built row by row ([`history_csv`] is its rows pushed in
+/// order), so that `flexflight run` can format the rows on a second thread as the flight
+/// appends them (`runtime::run::run_with_rows`) instead of after it.
+pub struct HistoryText {
+    s: String,
+    buf: zmij::Buffer,
+    rows: usize,
+}
+
+impl HistoryText {
+    /// The header of `channels`; room reserved for about `rows_hint` rows.
+    pub fn new(channels: &[String], rows_hint: usize) -> Self {
+        let mut s = channels.join(",");
+        s.push('\n');
+        // About 20 bytes a value, at most 64 MiB ahead (a longer history grows as usual).
+        s.reserve(
+            rows_hint
+                .saturating_mul(channels.len())
+                .saturating_mul(20)
+                .min(64 << 20),
+        );
+        HistoryText {
+            s,
+            buf: zmij::Buffer::new(),
+            rows: 0,
+        }
+    }
+
+    /// Appends one row: shortest round-trip form, exponent notation for very small or
+    /// large values (`floatfmt`: the bytes of `{}` / `{:e}`, several times faster).
+    pub fn push_row(&mut self, row: &[f64]) {
         for (i, v) in row.iter().enumerate() {
             if i > 0 {
-                s.push(',');
+                self.s.push(',');
             }
-            super::floatfmt::push_shortest(&mut s, *v, &mut buf);
+            super::floatfmt::push_shortest(&mut self.s, *v, &mut self.buf);
         }
-        s.push('\n');
+        self.s.push('\n');
+        self.rows += 1;
     }
-    s
+
+    /// The number of rows pushed.
+    pub fn rows(&self) -> usize {
+        self.rows
+    }
+
+    /// The text.
+    pub fn finish(self) -> String {
+        self.s
+    }
 }
 
 /// `summary.json` of a run.

@@ -786,6 +786,8 @@ struct Driver<'a, 'p> {
     /// The segment end met in the last step, its time and state.
     segment: Option<(SegmentEnd, f64, Vec<f64>)>,
     progress: &'a mut dyn FnMut(f64, f64),
+    /// Called with every history row as it is appended (see [`run_with_rows`]).
+    on_row: &'a mut dyn FnMut(&[f64]),
 }
 
 impl Driver<'_, '_> {
@@ -988,6 +990,7 @@ impl Driver<'_, '_> {
             self.scratch = row_state;
             match r {
                 Ok(r) if r.iter().all(|v| v.is_finite()) => {
+                    (self.on_row)(&r);
                     self.rows.push(r);
                     self.last_row_t = tk;
                 }
@@ -1007,6 +1010,7 @@ impl Driver<'_, '_> {
             let mut row_state = std::mem::take(&mut self.scratch);
             if let Ok(r) = self.monitor.row(t_lim, &mut row_state) {
                 if r.iter().all(|v| v.is_finite()) && t_lim > self.last_row_t + self.eps {
+                    (self.on_row)(&r);
                     self.rows.push(r);
                     self.last_row_t = t_lim;
                 }
@@ -1064,6 +1068,19 @@ pub fn run(
     plan: &Plan,
     model: &ReducedModel,
     progress: &mut dyn FnMut(f64, f64),
+) -> Result<RunOutput, RunError> {
+    run_with_rows(plan, model, progress, &mut |_| {})
+}
+
+/// [`run`], with `on_row(row)` called for every row of the history as it is appended, in
+/// order: the rows it sees are exactly `RunOutput::rows` (rows are only ever appended), so a
+/// caller can format or analyse them on another thread while the flight goes on
+/// (`flexflight run` writes `history.csv`'s text that way).
+pub fn run_with_rows(
+    plan: &Plan,
+    model: &ReducedModel,
+    progress: &mut dyn FnMut(f64, f64),
+    on_row: &mut dyn FnMut(&[f64]),
 ) -> Result<RunOutput, RunError> {
     let started = Instant::now();
     let probe = AeroProbe::of_plan(plan, model);
@@ -1182,6 +1199,7 @@ pub fn run(
         deployed: vec![false; plan.parachutes.len()],
         segment: None,
         progress,
+        on_row,
     };
     // The thrust curve's points: the right-hand side is only continuous there (a kink of
     // the piecewise-linear curve) or jumps (ignition, burnout). A step across such a point
@@ -1313,6 +1331,7 @@ pub fn run(
         row_error,
         eps,
         events,
+        on_row,
         ..
     } = driver;
     if let Some(e) = row_error {
@@ -1352,6 +1371,7 @@ pub fn run(
     if stopped_at.is_none() && last_row_t < report.t - eps && x.iter().all(|v| v.is_finite()) {
         if let Ok(r) = monitor.row(report.t, &mut x) {
             if r.iter().all(|v| v.is_finite()) {
+                on_row(&r);
                 rows.push(r);
             }
         }
