@@ -165,6 +165,47 @@ fn series_terms(r2: f64) -> usize {
         .map_or(24, |(_, n)| *n)
 }
 
+/// [`phi_series`] at the four nodes `zc` of a step (`φ_0..φ_2` of the first three in
+/// `[0..3]`, `φ_0..φ_3` of the last), only where `need`: the four Horner chains side by side
+/// in one loop (independent chains, so the processor overlaps their latencies instead of
+/// waiting on one chain at a time). Each chain performs exactly [`phi_series`]' operations in
+/// its order: before its own first term it holds zero and adds zero (`0 z + 0 = ±0`, and
+/// `±0 + 1/n!` is `1/n!` exactly), so the bits of one call per node (tested); a node not
+/// needed gets zeros.
+fn phi_series_nodes(zc: [C64; 4], need: [bool; 4]) -> [[C64; 4]; 4] {
+    const TOP: [usize; 4] = [2, 2, 2, 3];
+    let terms: [usize; 4] = std::array::from_fn(|i| {
+        if need[i] {
+            series_terms(zc[i].norm_sqr())
+        } else {
+            0
+        }
+    });
+    let longest = terms.iter().copied().max().unwrap_or(0);
+    let mut acc = [C64::new(0.0, 0.0); 4];
+    for j in (0..longest).rev() {
+        for i in 0..4 {
+            let coef = if j < terms[i] {
+                INV_FACT[j + TOP[i]]
+            } else {
+                0.0
+            };
+            acc[i] = acc[i] * zc[i] + C64::new(coef, 0.0);
+        }
+    }
+    let mut out = [[C64::new(0.0, 0.0); 4]; 4];
+    for i in 0..4 {
+        if !need[i] {
+            continue;
+        }
+        out[i][TOP[i]] = acc[i];
+        for k in (0..TOP[i]).rev() {
+            out[i][k] = out[i][k + 1] * zc[i] + C64::new(INV_FACT[k], 0.0);
+        }
+    }
+    out
+}
+
 /// `(r², N)`: [`series_terms`]' bins.
 const SERIES_TERMS: [(f64, usize); 6] = [
     (1.0 / 256.0, 9),
@@ -226,19 +267,26 @@ impl Coef<C64> {
         let e2 = e4.map(|e| e * e);
         let e34 = e4.zip(e2).map(|(a, b)| a * b);
         let e1 = e2.map(|e| e * e);
-        let at = |c: f64, e: Option<C64>| -> [C64; 3] {
-            let zc = c * z;
-            match e {
-                Some(e) if zc.norm_sqr() >= 4.0 => phi_from_exp(zc, e),
-                _ => phi_series(zc),
+        // The nodes on the series branch (`|c z| < 2`, or every node when `|z| < 2`) by
+        // [`phi_series_nodes`], the four Horner chains side by side (the bits of one
+        // [`phi_series`] call per node), the others by the recurrence.
+        let zc = [0.25 * z, 0.5 * z, 0.75 * z, z];
+        let es = [e4, e2, e34, e1];
+        let need: [bool; 4] =
+            std::array::from_fn(|i| !(es[i].is_some() && zc[i].norm_sqr() >= 4.0));
+        let series = phi_series_nodes(zc, need);
+        let at = |i: usize| -> [C64; 3] {
+            match es[i] {
+                Some(e) if !need[i] => phi_from_exp(zc[i], e),
+                _ => [series[i][0], series[i][1], series[i][2]],
             }
         };
-        let [e4, p14_1, p14_2] = at(0.25, e4);
-        let [e2, p12_1, p12_2] = at(0.5, e2);
-        let [e34, p34_1, p34_2] = at(0.75, e34);
+        let [e4, p14_1, p14_2] = at(0);
+        let [e2, p12_1, p12_2] = at(1);
+        let [e34, p34_1, p34_2] = at(2);
         let [e1, p1, p2, p3] = match e1 {
             Some(e) => phi_from_exp::<4>(z, e),
-            None => phi_series::<4>(z),
+            None => series[3],
         };
         // ψ_k = k! φ_k.
         let (s14_1, s14_2) = (p14_1, 2.0 * p14_2);
@@ -1433,6 +1481,89 @@ mod tests {
             }
         }
         assert!(worst < 2e-14, "largest relative error {worst:e}");
+    }
+
+    /// The step's coefficients with the nodes' series side by side ([`phi_series_nodes`])
+    /// have the bits of one [`phi_series`] call per node, the way [`Coef::new`] computed them
+    /// before (the node's `e^{cz}` and `φ_k` by the series when `|c z| < 2` or `|z| < 2`, else
+    /// by the recurrence from the products of `e^{z/4}`): every φ of every node, through the
+    /// fields that use it, over `z` across the series bins and the branch switches.
+    #[test]
+    fn coefficients_with_the_series_side_by_side_have_the_bits_of_one_series_per_node() {
+        let reference = |z: C64| -> ([[C64; 3]; 3], [C64; 4]) {
+            let e4 = (z.norm_sqr() >= 4.0).then(|| (0.25 * z).exp());
+            let e2 = e4.map(|e| e * e);
+            let e34 = e4.zip(e2).map(|(a, b)| a * b);
+            let e1 = e2.map(|e| e * e);
+            let at = |c: f64, e: Option<C64>| -> [C64; 3] {
+                let zc = c * z;
+                match e {
+                    Some(e) if zc.norm_sqr() >= 4.0 => phi_from_exp(zc, e),
+                    _ => phi_series(zc),
+                }
+            };
+            let last = match e1 {
+                Some(e) => phi_from_exp::<4>(z, e),
+                None => phi_series::<4>(z),
+            };
+            ([at(0.25, e4), at(0.5, e2), at(0.75, e34)], last)
+        };
+        let bits = |v: C64| (v.re.to_bits(), v.im.to_bits());
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut uniform = move || {
+            seed = seed.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut x = seed;
+            x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            ((x ^ (x >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut zs = vec![
+            c(0.0, 0.0),
+            c(-0.0, 0.0),
+            c(1.999, 0.0),
+            c(-2.0, 0.0),
+            c(0.0, 8.0),
+        ];
+        for _ in 0..4000 {
+            // |z| log-uniform over 1e-4..40 (every bin, and |c z| on both sides of 2),
+            // any direction.
+            let r = 10f64.powf(-4.0 + 5.6 * uniform());
+            let a = std::f64::consts::TAU * uniform();
+            zs.push(c(r * a.cos(), r * a.sin()));
+        }
+        let mut checked = 0;
+        for z in zs {
+            let (nodes, last) = reference(z);
+            let k = Coef::new(z);
+            let s = |p: [C64; 3]| (p[1], 2.0 * p[2]);
+            let (s14_1, s14_2) = s(nodes[0]);
+            let (s12_1, s12_2) = s(nodes[1]);
+            let (s34_1, s34_2) = s(nodes[2]);
+            let (s1, s2, s3) = (last[1], 2.0 * last[2], 6.0 * last[3]);
+            let expect = [
+                nodes[0][0],
+                nodes[1][0],
+                nodes[2][0],
+                last[0],
+                0.25 * s14_1,
+                0.5 * s12_1,
+                0.75 * s34_1,
+                s1,
+                s14_2 / 8.0,
+                s12_2 / 2.0,
+                9.0 * s34_2 / 16.0,
+                (509.0 * s1 - 2129.0 * s2 + 1830.0 * s3) / 2700.0,
+            ];
+            let got = [
+                k.e[0], k.e[1], k.e[2], k.e[3], k.ce[0], k.ce[1], k.ce[2], k.ce[3], k.a32, k.a43,
+                k.a54, k.b6,
+            ];
+            for (i, (g, e)) in got.iter().zip(&expect).enumerate() {
+                assert_eq!(bits(*g), bits(*e), "z {z}, field {i}: {g} against {e}");
+                checked += 1;
+            }
+        }
+        assert_eq!(checked, 4005 * 12);
     }
 
     /// `φ_k` against its definition `φ_{k+1}(z) = (φ_k(z) - 1/k!)/z` evaluated in a regime
