@@ -1543,14 +1543,11 @@ mod tests {
 mod schur_tests {
     use super::*;
 
-    /// A uniform deviate in `[-1, 1)` (SplitMix64).
-    fn uniform(state: &mut u64) -> f64 {
-        *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = *state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    use crate::runtime::stimuli::NormalSource;
+
+    /// A uniform deviate in `[-1, 1)` from the crate's SplitMix64.
+    fn uniform(state: &mut NormalSource) -> f64 {
+        (state.next_u64() >> 11) as f64 / (1u64 << 52) as f64 - 1.0
     }
 
     fn skew(a: &[f64; 3]) -> Mat3 {
@@ -1565,7 +1562,7 @@ mod schur_tests {
     /// shapes `φ_m,k` (no FE model): `M_tot(η)` is then the mass matrix of the points at
     /// `r_k + Σ_m η_m φ_m,k`, symmetric positive definite for enough points.
     fn point_mass_model(n: usize, points: usize, seed: u64) -> ReducedModel {
-        let mut s = seed;
+        let mut s = NormalSource::new(seed);
         let mass: Vec<f64> = (0..points).map(|_| 1.5 + uniform(&mut s)).collect();
         let r: Vec<[f64; 3]> = (0..points)
             .map(|_| {
@@ -1649,7 +1646,7 @@ mod schur_tests {
             let md = point_mass_model(n, 4 * n + 6, 17 + case as u64);
             let pre = Precomputed::new(&md);
             assert!(pre.modal_error.is_none() && pre.rigid_error.is_none());
-            let mut s = 1000 + case as u64;
+            let mut s = NormalSource::new(1000 + case as u64);
             for _ in 0..20 {
                 let eta: Vec<f64> = (0..n).map(|_| 0.2 * uniform(&mut s)).collect();
                 let b: Vec<f64> = (0..6 + n).map(|_| uniform(&mut s)).collect();

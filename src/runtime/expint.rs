@@ -1509,14 +1509,8 @@ mod tests {
             ([at(0.25, e4), at(0.5, e2), at(0.75, e34)], last)
         };
         let bits = |v: C64| (v.re.to_bits(), v.im.to_bits());
-        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut uniform = move || {
-            seed = seed.wrapping_add(0x9e37_79b9_7f4a_7c15);
-            let mut x = seed;
-            x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-            x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-            ((x ^ (x >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut source = crate::runtime::stimuli::NormalSource::new(0x9e37_79b9_7f4a_7c15);
+        let mut uniform = move || (source.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
         let mut zs = vec![
             c(0.0, 0.0),
             c(-0.0, 0.0),

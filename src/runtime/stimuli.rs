@@ -465,20 +465,21 @@ impl Stimuli {
 
 /// SplitMix64 (Steele, Lea, Flood 2014; Vigna's reference constants) with Box-Muller
 /// normals. Deterministic across platforms: integer arithmetic plus `ln`, `sqrt`, `cos`.
-struct NormalSource {
+pub(crate) struct NormalSource {
     state: u64,
     spare: Option<f64>,
 }
 
 impl NormalSource {
-    fn new(seed: u64) -> Self {
+    pub(crate) fn new(seed: u64) -> Self {
         NormalSource {
             state: seed,
             spare: None,
         }
     }
 
-    fn next_u64(&mut self) -> u64 {
+    /// The next 64 random bits (also the tests' random inputs elsewhere in the crate).
+    pub(crate) fn next_u64(&mut self) -> u64 {
         self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.state;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
