@@ -541,3 +541,36 @@ fn a_tight_tolerance_flies_through_a_gusts_onset() {
     let s = summary(&out);
     assert_eq!(s["stop_reason"], "completed", "{}", s["stop_detail"]);
 }
+
+/// `aero_tables/` is the text of the tables the built-in estimator makes for the vehicle,
+/// byte for byte, now that the run's writer thread makes it while the flight runs (it
+/// was made on the main thread after the flight before): both the body and the fin table,
+/// each with its header line.
+#[test]
+fn the_written_coefficient_tables_are_the_estimators_text() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = run(
+        &repo("examples/thesis/section_6_5.vdl"),
+        "subsonic_t06",
+        &out,
+        &["run.stop_time=0.01 s"],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let checked = flexflight::check::check_files(
+        &[repo("vehicles/sphads1.vdl")],
+        &[],
+        &flexflight::check::DiskLoader,
+    );
+    let vehicle = &checked.program.vehicles[0];
+    let tables = flexflight::runtime::forces::aero_tables(vehicle).unwrap();
+    for (name, text) in tables.files() {
+        let written = std::fs::read_to_string(out.join("aero_tables").join(name)).unwrap();
+        assert!(
+            written == text,
+            "aero_tables/{name} is not the estimator's text ({} against {} bytes)",
+            written.len(),
+            text.len()
+        );
+    }
+}

@@ -197,18 +197,22 @@ pub fn cmd_run(
     // ([`history_csv`]; test `streamed_history_text_is_the_history_csv` in tests/fin_models.rs),
     // while the flight is still running.
     let rows_hint = ((p.stop.stop_time / p.output_interval).max(0.0) as usize).saturating_add(2);
-    let (result, streamed) = std::thread::scope(|scope| {
+    let (result, streamed, tables) = std::thread::scope(|scope| {
         let (tx, rx) = std::sync::mpsc::channel::<Vec<f64>>();
         let channels = &p.channels;
         let width = channels.len().max(1);
+        let aero = p.aero.as_ref();
         let writer = scope.spawn(move || {
+            // The estimated coefficient tables' text first (it depends on the vehicle
+            // only), while the flight starts: off the main thread's path.
+            let tables = aero.filter(|a| a.estimated).map(|a| a.tables.files());
             let mut h = HistoryText::new(channels, rows_hint);
             for batch in rx {
                 for row in batch.chunks_exact(width) {
                     h.push_row(row);
                 }
             }
-            h
+            (h, tables)
         });
         // Rows go over in batches of `BATCH` (one message, so one wake-up of the writer,
         // per batch: a message per row cost more than the formatting it moved).
@@ -234,7 +238,11 @@ pub fn cmd_run(
             let _ = tx.send(batch);
         }
         drop(tx);
-        (result, writer.join().ok().filter(|_| widths_ok))
+        let (streamed, tables) = match writer.join() {
+            Ok((h, tables)) => (Some(h).filter(|_| widths_ok), Some(tables)),
+            Err(_) => (None, None),
+        };
+        (result, streamed, tables)
     });
     bar.finish_and_clear();
     let output = match result {
@@ -284,11 +292,13 @@ pub fn cmd_run(
     // The coefficient tables the built-in estimator produced, for users to inspect or
     // replace (`aero { source = tables ... }`).
     let tables_dir = out.join("aero_tables");
-    let tables = p
-        .aero
-        .as_ref()
-        .filter(|a| a.estimated)
-        .map(|a| a.tables.files());
+    // Made on the writer thread during the flight; here only if that thread failed.
+    let tables = tables.unwrap_or_else(|| {
+        p.aero
+            .as_ref()
+            .filter(|a| a.estimated)
+            .map(|a| a.tables.files())
+    });
     let mut dirs = vec![out];
     if let Some(t) = &tables {
         dirs.push(&tables_dir);
