@@ -75,9 +75,21 @@ fn bench_rhs_with_aero(c: &mut Criterion) {
             x[13 + k] = 1e-5 * (k as f64 + 1.0);
             x[13 + plan.n_modes + k] = 1e-3 * (k as f64 - 3.0);
         }
-        let mut dx = vec![0.0; x.len()];
+        // Two states 1 mm apart in altitude, taken in turn: as in a flight, where no two
+        // stages share an altitude, the atmosphere is evaluated at every evaluation (once,
+        // for both aerodynamic blocks: `runtime::atmosphere::AirMemo`), never read from the
+        // previous one.
+        let mut x2 = x.clone();
+        x2[2] -= 1e-3;
+        let states = [x, x2];
+        let mut turn = 0;
+        let mut dx = vec![0.0; states[0].len()];
         c.bench_function(label, |b| {
-            b.iter(|| eom.rhs(0.0, black_box(&x), &mut dx).map(|_| dx[7]))
+            b.iter(|| {
+                turn ^= 1;
+                eom.rhs(0.0, black_box(&states[turn]), &mut dx)
+                    .map(|_| dx[7])
+            })
         });
     }
 }

@@ -98,6 +98,35 @@ pub trait Atmosphere {
     fn at(&self, altitude_m: f64) -> Result<AtmosphereState, AtmosphereError>;
 }
 
+/// The air of the last altitude [`Standard1976`] was evaluated at, for the force blocks of
+/// one right-hand side: the body and the fin block both need the air at the body origin's
+/// altitude, and [`Standard1976`] is a pure function of the altitude (it has no parameters:
+/// [`Standard1976::new`] is its only constructor), so the second block reads the first
+/// one's result, with its bits, instead of a second evaluation (two `powf` in the
+/// troposphere). Keyed on the altitude's bits; an error is not kept.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct AirMemo {
+    last: Option<(u64, AtmosphereState)>,
+}
+
+impl AirMemo {
+    /// `model.at(altitude_m)`, from the memo when the altitude is the last one's.
+    pub fn at(
+        &mut self,
+        model: &Standard1976,
+        altitude_m: f64,
+    ) -> Result<AtmosphereState, AtmosphereError> {
+        if let Some((bits, air)) = self.last
+            && bits == altitude_m.to_bits()
+        {
+            return Ok(air);
+        }
+        let air = model.at(altitude_m)?;
+        self.last = Some((altitude_m.to_bits(), air));
+        Ok(air)
+    }
+}
+
 /// Geopotential altitude H = r0 Z / (r0 + Z) of the geometric altitude Z, both in m
 /// (USSA76 eq. 18).
 pub fn geopotential_altitude(geometric_m: f64) -> f64 {
@@ -521,5 +550,55 @@ impl Atmosphere for TableAtmosphere {
             speed_of_sound,
             viscosity: sutherland_viscosity(temperature),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bits(a: &AtmosphereState) -> [u64; 5] {
+        [
+            a.temperature,
+            a.pressure,
+            a.density,
+            a.speed_of_sound,
+            a.viscosity,
+        ]
+        .map(f64::to_bits)
+    }
+
+    /// The memo serves every altitude with the bits of the model's own evaluation, whether
+    /// it evaluates or reads back: in turn at altitudes 1 mm apart (a memo that ignored its
+    /// key, or compared it loosely, would hand the neighbour's air back), again at the same
+    /// altitude, and across the layers; an error is passed on, not kept.
+    #[test]
+    fn the_memo_gives_the_models_bits_at_every_altitude() {
+        let model = Standard1976::new();
+        let mut memo = AirMemo::default();
+        let mut served = 0;
+        for z0 in [
+            -400.0, 0.0, 5_000.0, 11_000.0, 15_000.0, 32_000.0, 50_000.0, 81_234.5,
+        ] {
+            let z1 = z0 + 1e-3;
+            for z in [z0, z0, z1, z0, z1, z1] {
+                let want = model.at(z).unwrap();
+                let got = memo.at(&model, z).unwrap();
+                assert_eq!(bits(&got), bits(&want), "at {z} m");
+                served += 1;
+            }
+        }
+        assert_eq!(served, 48);
+        // The air 1 mm apart differs, so the comparison above can tell them apart.
+        for z0 in [
+            -400.0, 0.0, 5_000.0, 11_000.0, 15_000.0, 32_000.0, 50_000.0, 81_234.5,
+        ] {
+            let (a, b) = (model.at(z0).unwrap(), model.at(z0 + 1e-3).unwrap());
+            assert_ne!(bits(&a), bits(&b), "at {z0} m");
+        }
+        let high = memo.at(&model, 90_000.0);
+        assert!(matches!(high, Err(AtmosphereError::OutOfRange { .. })));
+        let again = memo.at(&model, 81_234.5).unwrap();
+        assert_eq!(bits(&again), bits(&model.at(81_234.5).unwrap()));
     }
 }

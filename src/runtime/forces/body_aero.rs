@@ -68,7 +68,7 @@ use crate::check::ir::{self, AeroSource, OutOfRange, Structure};
 use crate::runtime::aero::FinLoadError;
 use crate::runtime::aero::estimator::{BodyShape, EstimatedTables, FinPlanform, NoseShape};
 use crate::runtime::aero::tables::{Axis, CoefficientTable, TableError, TableHint};
-use crate::runtime::atmosphere::{Atmosphere, Standard1976};
+use crate::runtime::atmosphere::{AirMemo, Standard1976};
 use crate::runtime::eom::{ForceModel, StateView};
 use crate::runtime::kinematics::{cross, dot, mat_vec};
 use crate::runtime::stimuli::Stimuli;
@@ -509,6 +509,14 @@ impl BodyAero {
 
 impl ForceModel for BodyAero {
     fn generalized_forces(&mut self, t: f64, state: &StateView, out: &mut [f64]) {
+        self.forces_with(t, state, &mut AirMemo::default(), out);
+    }
+}
+
+impl BodyAero {
+    /// [`ForceModel::generalized_forces`] with the air read through `memo` (shared by the
+    /// blocks of one right-hand side, [`super::ForceBlocks`]).
+    pub fn forces_with(&mut self, t: f64, state: &StateView, memo: &mut AirMemo, out: &mut [f64]) {
         let [u, theta, u_dot, theta_dot] = self.key.apply_pair(state.eta, state.eta_dot);
         let p = [0, 1, 2].map(|k| self.key.position[k] + u[k]);
         let wind = self.stimuli.wind_at(t, -state.position[2]);
@@ -526,7 +534,7 @@ impl ForceModel for BodyAero {
             self.last = BodyAeroSample::default();
             return;
         }
-        let Ok(air) = self.atmosphere.at(altitude) else {
+        let Ok(air) = memo.at(&self.atmosphere, altitude) else {
             self.fault.get_or_insert(AeroFault::Atmosphere {
                 altitude_m: altitude,
             });

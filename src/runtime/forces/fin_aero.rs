@@ -99,7 +99,7 @@ use crate::runtime::aero::fin_loads::{FinLoadTable, FinNode};
 use crate::runtime::aero::leeward::f_lw_with;
 use crate::runtime::aero::panel::fin_model::{self, PanelModel, PanelSettings};
 use crate::runtime::aero::tables::{Axis, CoefficientTable, TableHint};
-use crate::runtime::atmosphere::{Atmosphere, Standard1976};
+use crate::runtime::atmosphere::{AirMemo, Standard1976};
 use crate::runtime::eom::{ForceModel, StateView};
 use crate::runtime::kinematics::{Mat3, cross, mat_t_vec, mat_vec};
 use crate::runtime::stimuli::Stimuli;
@@ -803,12 +803,20 @@ fn mat_mul(a: &Mat3, b: &Mat3) -> Mat3 {
 
 impl ForceModel for FinAero {
     fn generalized_forces(&mut self, t: f64, state: &StateView, out: &mut [f64]) {
+        self.forces_with(t, state, &mut AirMemo::default(), out);
+    }
+}
+
+impl FinAero {
+    /// [`ForceModel::generalized_forces`] with the air read through `memo` (shared by the
+    /// blocks of one right-hand side, [`super::ForceBlocks`]).
+    pub fn forces_with(&mut self, t: f64, state: &StateView, memo: &mut AirMemo, out: &mut [f64]) {
         let altitude = -state.position[2];
         if !altitude.is_finite() {
             self.fault.get_or_insert(AeroFault::NonFinite);
             return;
         }
-        let Ok(air) = self.atmosphere.at(altitude) else {
+        let Ok(air) = memo.at(&self.atmosphere, altitude) else {
             self.fault.get_or_insert(AeroFault::Atmosphere {
                 altitude_m: altitude,
             });

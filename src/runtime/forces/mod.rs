@@ -16,6 +16,7 @@ pub mod gravity;
 pub mod stress;
 pub mod thrust;
 
+use super::atmosphere::AirMemo;
 use super::eom::{ForceModel, StateView};
 
 pub use body_aero::{AeroFault, AeroForceError, BodyAero, aero_tables};
@@ -39,11 +40,19 @@ pub enum ForceBlock {
 
 impl ForceModel for ForceBlock {
     fn generalized_forces(&mut self, t: f64, state: &StateView, out: &mut [f64]) {
+        self.forces_with(t, state, &mut AirMemo::default(), out);
+    }
+}
+
+impl ForceBlock {
+    /// The block's generalised forces, the aerodynamic blocks reading the air through
+    /// `memo` (one evaluation of the atmosphere for every block of a right-hand side).
+    fn forces_with(&mut self, t: f64, state: &StateView, memo: &mut AirMemo, out: &mut [f64]) {
         match self {
             ForceBlock::Gravity(b) => b.generalized_forces(t, state, out),
             ForceBlock::Thrust(b) => b.generalized_forces(t, state, out),
-            ForceBlock::BodyAero(b) => b.generalized_forces(t, state, out),
-            ForceBlock::FinAero(b) => b.generalized_forces(t, state, out),
+            ForceBlock::BodyAero(b) => b.forces_with(t, state, memo, out),
+            ForceBlock::FinAero(b) => b.forces_with(t, state, memo, out),
         }
     }
 }
@@ -55,6 +64,8 @@ pub struct ForceBlocks {
     pub blocks: Vec<ForceBlock>,
     /// Empty, or one buffer per block (see [`Self::keep_each`]).
     each: Vec<Vec<f64>>,
+    /// The air at the last altitude, shared by the aerodynamic blocks ([`AirMemo`]).
+    air: AirMemo,
 }
 
 impl ForceBlocks {
@@ -62,6 +73,7 @@ impl ForceBlocks {
         ForceBlocks {
             blocks,
             each: Vec::new(),
+            air: AirMemo::default(),
         }
     }
 
@@ -85,15 +97,16 @@ impl ForceBlocks {
 
 impl ForceModel for ForceBlocks {
     fn generalized_forces(&mut self, t: f64, state: &StateView, out: &mut [f64]) {
+        let memo = &mut self.air;
         if self.each.is_empty() {
             for b in &mut self.blocks {
-                b.generalized_forces(t, state, out);
+                b.forces_with(t, state, memo, out);
             }
             return;
         }
         for (b, buf) in self.blocks.iter_mut().zip(&mut self.each) {
             buf.fill(0.0);
-            b.generalized_forces(t, state, buf);
+            b.forces_with(t, state, memo, buf);
             for (o, v) in out.iter_mut().zip(buf.iter()) {
                 *o += v;
             }
