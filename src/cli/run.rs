@@ -205,7 +205,7 @@ pub fn cmd_run(
         let writer = scope.spawn(move || {
             // The estimated coefficient tables' text first (it depends on the vehicle
             // only), while the flight starts: off the main thread's path.
-            let tables = aero.filter(|a| a.estimated).map(|a| a.tables.files());
+            let tables = estimated_table_files(aero);
             let mut h = HistoryText::new(channels, rows_hint);
             for batch in rx {
                 for row in batch.chunks_exact(width) {
@@ -293,12 +293,7 @@ pub fn cmd_run(
     // replace (`aero { source = tables ... }`).
     let tables_dir = out.join("aero_tables");
     // Made on the writer thread during the flight; here only if that thread failed.
-    let tables = tables.unwrap_or_else(|| {
-        p.aero
-            .as_ref()
-            .filter(|a| a.estimated)
-            .map(|a| a.tables.files())
-    });
+    let tables = tables.unwrap_or_else(|| estimated_table_files(p.aero.as_ref()));
     let mut dirs = vec![out];
     if let Some(t) = &tables {
         dirs.push(&tables_dir);
@@ -341,6 +336,13 @@ pub fn cmd_run(
 
 /// `summary.json` (with the aero cache's note) and, when asked or by default for a launch,
 /// the flutter margin over the flight (which adds itself to the summary).
+/// The files of `aero_tables/` (name, text) when the run's tables were estimated.
+fn estimated_table_files(
+    aero: Option<&plan::aero::PlanAero>,
+) -> Option<[(&'static str, String); 2]> {
+    aero.filter(|a| a.estimated).map(|a| a.tables.files())
+}
+
 fn post_process(
     p: &Plan,
     sc: &Scenario,

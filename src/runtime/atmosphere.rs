@@ -557,6 +557,11 @@ impl Atmosphere for TableAtmosphere {
 mod tests {
     use super::*;
 
+    /// Altitudes across the layers of the model, from below sea level to above 80 km.
+    const ALTITUDES: [f64; 8] = [
+        -400.0, 0.0, 5_000.0, 11_000.0, 15_000.0, 32_000.0, 50_000.0, 81_234.5,
+    ];
+
     fn bits(a: &AtmosphereState) -> [u64; 5] {
         [
             a.temperature,
@@ -576,23 +581,16 @@ mod tests {
     fn the_memo_gives_the_models_bits_at_every_altitude() {
         let model = Standard1976::new();
         let mut memo = AirMemo::default();
-        let mut served = 0;
-        for z0 in [
-            -400.0, 0.0, 5_000.0, 11_000.0, 15_000.0, 32_000.0, 50_000.0, 81_234.5,
-        ] {
+        for z0 in ALTITUDES {
             let z1 = z0 + 1e-3;
             for z in [z0, z0, z1, z0, z1, z1] {
                 let want = model.at(z).unwrap();
                 let got = memo.at(&model, z).unwrap();
                 assert_eq!(bits(&got), bits(&want), "at {z} m");
-                served += 1;
             }
         }
-        assert_eq!(served, 48);
         // The air 1 mm apart differs, so the comparison above can tell them apart.
-        for z0 in [
-            -400.0, 0.0, 5_000.0, 11_000.0, 15_000.0, 32_000.0, 50_000.0, 81_234.5,
-        ] {
+        for z0 in ALTITUDES {
             let (a, b) = (model.at(z0).unwrap(), model.at(z0 + 1e-3).unwrap());
             assert_ne!(bits(&a), bits(&b), "at {z0} m");
         }
