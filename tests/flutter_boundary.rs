@@ -473,6 +473,7 @@ fn rows_outside_the_grid_are_flagged_and_kept_out_of_the_minimum() {
         stats: Default::default(),
         wall_seconds: 0.0,
         events: Default::default(),
+        verdict: None,
     };
     let dir = tempfile::tempdir().unwrap();
     let m =

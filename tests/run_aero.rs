@@ -49,10 +49,11 @@ fn column(dir: &Path, name: &str) -> Vec<f64> {
 #[test]
 fn a_fluttering_fin_stops_the_run_at_yield() {
     // 0.3 mm fins at 200 m/s, 5 km: the model flutters (see the README's 6.5 table) and the
-    // vehicle file sets `stress_limit = 1.0`.
+    // vehicle file sets `stress_limit = 1.0`. The model's own bounds would stop it first
+    // (a flutter verdict at 0.133 s, `tests/verdict.rs`): off here, to test the stress stop.
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("t03");
-    let o = run("subsonic_t03", &out, &[]);
+    let o = run("subsonic_t03", &out, &["run.model_limits=false"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let s = summary(&out);
     assert_eq!(s["stop_reason"], "fin_stress", "{s}");
@@ -152,7 +153,14 @@ fn load_weighted_incidence_equals_the_key_node_one_on_an_undeformed_fin() {
     let dir = tempfile::tempdir().unwrap();
     let key = dir.path().join("key");
     let weighted = dir.path().join("weighted");
-    let base = ["initial.velocity=(200, 0, 5) m/s", "run.stop_time=0.05 s"];
+    // The key-node fins diverge within 10 ms at this incidence; the comparison is of the
+    // first rows and of the deformed rows the model still describes, so the verdict stop is
+    // off.
+    let base = [
+        "initial.velocity=(200, 0, 5) m/s",
+        "run.stop_time=0.05 s",
+        "run.model_limits=false",
+    ];
     let o = run("subsonic_t06", &key, &base);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let mut sets = base.to_vec();

@@ -181,6 +181,7 @@ mod tests {
             stats: Default::default(),
             wall_seconds: 0.0,
             events: Default::default(),
+            verdict: None,
         }
     }
 

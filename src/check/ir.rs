@@ -680,6 +680,8 @@ pub struct RunSettings {
     pub stop_on_ground: bool,
     pub max_alpha: Option<Q>,
     pub max_deformation: Option<Q>,
+    /// Stop with a verdict at the model's own bounds (`plan::ModelLimits`); default true.
+    pub model_limits: bool,
 }
 
 // ------------------------------------------------------------------------------------------

@@ -833,6 +833,10 @@ fn check_run(cx: &mut Cx, b: &Block) -> Option<RunSettings> {
             "0 < alpha <= 180 deg",
         )
     });
+    let model_limits = fl
+        .value("model_limits")
+        .and_then(|v| f::boolean(cx, v))
+        .unwrap_or(true);
     let max_def = fl
         .value("max_deformation")
         .map(|v| f::positive(f::quantity(cx, v, Dim::LENGTH), cx));
@@ -870,5 +874,6 @@ fn check_run(cx: &mut Cx, b: &Block) -> Option<RunSettings> {
         stop_on_ground: ground,
         max_alpha,
         max_deformation,
+        model_limits,
     })
 }

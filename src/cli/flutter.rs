@@ -16,7 +16,7 @@ use crate::analysis::flutter::margin::{
     BOUNDARY_REVISION, Boundary, BoundaryArtifact, BoundaryFin, BoundarySpec, solve_boundary,
     vehicle_spec,
 };
-use crate::analysis::flutter::pk::PkSolution;
+use crate::analysis::flutter::pk::{FlutterAnswer, PkSolution};
 use crate::analysis::tn4197::{Tn4197Fin, Tn4197Form};
 use crate::artifact::{Cache, CacheKey, CacheKeyBuilder, CacheOutcome};
 use crate::check::cli_values;
@@ -513,10 +513,11 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
 /// without one; unstable at the lowest speed, that speed (flutter at or below it: a bound,
 /// below the target whenever the target is in the sweep).
 fn flutter_speed_of(r: &FinFlutter) -> f64 {
-    if !r.solution.unstable_at_start.is_empty() {
-        return r.solution.speeds[0];
+    match r.solution.answer() {
+        FlutterAnswer::Flutter(f) => f.speed,
+        FlutterAnswer::Below(v) => v,
+        FlutterAnswer::Stable => f64::INFINITY,
     }
-    r.solution.critical().map_or(f64::INFINITY, |f| f.speed)
 }
 
 /// `--match-point`: [`match_point`] from `condition`'s Mach, each Mach one solution by
@@ -535,7 +536,11 @@ fn solve_matched(
                 mach: m,
                 ..condition
             })?;
-            Ok((r.solution.critical().map(|f| f.speed), r))
+            let v = match r.solution.answer() {
+                FlutterAnswer::Flutter(f) => Some(f.speed),
+                _ => None,
+            };
+            Ok((v, r))
         },
         condition.mach,
         condition.speed_of_sound,
@@ -933,25 +938,27 @@ pub fn report_text(r: &FinFlutter) -> String {
     for (j, name) in r.modes.names.iter().enumerate() {
         let _ = writeln!(t, "  {}  {name}", j + 1);
     }
-    match s.critical() {
-        Some(f) => {
-            let _ = writeln!(
-                t,
-                "flutter: V = {:.2} m/s (Mach {:.3} at this altitude), f = {:.2} Hz, q = {:.1} kPa, k = {:.4}, {} with {}",
-                f.speed,
-                f.speed / c.speed_of_sound,
-                hz(f.omega),
-                f.q / 1e3,
-                f.k,
-                f.name,
-                f.partner.as_ref().map_or("none", |p| p.1.as_str())
-            );
+    let answer = s.answer();
+    let extra = match answer {
+        FlutterAnswer::Flutter(f) => {
+            format!(" (Mach {:.3} at this altitude)", f.speed / c.speed_of_sound)
         }
-        None => {
+        _ => String::new(),
+    };
+    let _ = writeln!(
+        t,
+        "{}",
+        answer.headline(s.speeds.last().copied().unwrap_or(0.0), &extra)
+    );
+    if let Some(sc) = &s.screen {
+        let _ = writeln!(t, "  {}", sc.line());
+    }
+    if let (FlutterAnswer::Flutter(f), Some(g)) = (answer, s.critical()) {
+        if g.speed > f.speed {
             let _ = writeln!(
                 t,
-                "flutter: none up to V = {:.1} m/s (the largest speed tried)",
-                s.speeds.last().copied().unwrap_or(0.0)
+                "  the sweep proper's lowest crossing is higher, V = {:.2} m/s ({}): the flutter speed is the screen's",
+                g.speed, g.name
             );
         }
     }
@@ -1117,6 +1124,8 @@ pub fn summary_json(r: &FinFlutter) -> serde_json::Value {
             "mach": r.condition.mach, "machs_tried": mp.machs, "residual": mp.residual
         })),
         "unstable_at_lowest_speed": s.unstable_at_start,
+        "answer": s.answer().json(),
+        "screen": s.screen.as_ref().map(|sc| sc.json()),
         "divergence": s.divergence.as_ref().map(|d| serde_json::json!({
             "speed_m_s": d.speed, "dynamic_pressure_pa": d.q, "mode": d.name
         })),
@@ -1170,6 +1179,121 @@ pub struct FlightMargin {
     /// Empty when no margin could be computed.
     pub csv: String,
     pub line: String,
+}
+
+/// The flutter margin's history over a flight: when it first fell below the criterion and
+/// below 1, for how long, in which spans (row times; a row's interval runs to the next row).
+#[derive(Debug, Default)]
+struct MarginStory {
+    /// (row, margin) of the first row below the criterion / below 1.
+    first_violation: Option<(usize, f64)>,
+    first_below_one: Option<(usize, f64)>,
+    below_criterion: f64,
+    below_one: f64,
+    spans_criterion: Vec<[f64; 2]>,
+    spans_one: Vec<[f64; 2]>,
+}
+
+impl MarginStory {
+    fn add(&mut self, i: usize, t: f64, dt: f64, margin: f64) {
+        use crate::analysis::flutter::margin::CRITERION;
+        for (limit, first, total, spans) in [
+            (
+                CRITERION,
+                &mut self.first_violation,
+                &mut self.below_criterion,
+                &mut self.spans_criterion,
+            ),
+            (
+                1.0,
+                &mut self.first_below_one,
+                &mut self.below_one,
+                &mut self.spans_one,
+            ),
+        ] {
+            if margin >= limit {
+                continue;
+            }
+            first.get_or_insert((i, margin));
+            *total += dt;
+            match spans.last_mut() {
+                // Contiguous with the last span (this row starts where it ended).
+                Some(s) if s[1] >= t => s[1] = t + dt,
+                _ => spans.push([t, t + dt]),
+            }
+        }
+    }
+
+    /// One paragraph: the boundary's story and the time-domain flight's, and where they
+    /// disagree (None for a flight that never came below the criterion and stayed in its model).
+    fn text(
+        &self,
+        o: &crate::runtime::run::RunOutput,
+        points: &[crate::analysis::flutter::margin::BoundaryPoint],
+        cm: usize,
+        ch: usize,
+    ) -> Option<String> {
+        use crate::analysis::flutter::margin::CRITERION;
+        let mut s = String::new();
+        let at = |i: usize| {
+            let r = &o.rows[i];
+            format!(
+                "t = {:.3} s (Mach {:.3}, {:.0} m{})",
+                r[0],
+                r[cm],
+                r[ch],
+                if points[i].trusted && points[i].in_grid {
+                    ""
+                } else {
+                    ", an untrusted row"
+                }
+            )
+        };
+        if let Some((i, m)) = self.first_violation {
+            let _ = write!(
+                s,
+                "The margin first fell below {CRITERION} at {} (V_F/V = {m:.3}) and stayed below it {:.3} s in all",
+                at(i),
+                self.below_criterion
+            );
+            match self.first_below_one {
+                Some((j, m1)) => {
+                    let _ = write!(
+                        s,
+                        "; the flight crossed the clamped-fin flutter boundary (V_F/V < 1) at {} (V_F/V = {m1:.3}) and flew {:.3} s beyond it.",
+                        at(j),
+                        self.below_one
+                    );
+                }
+                None => s.push_str("; it never fell below 1 (the boundary was not crossed)."),
+            }
+        }
+        match (&o.verdict, self.first_below_one) {
+            (Some(v), Some((j, _))) => {
+                let _ = write!(
+                    s,
+                    " The time-domain flight left its model at t = {:.3} s ({}, Mach {:.3}), {:.3} s after the boundary was crossed. They are two models: the flight flies the free vehicle with its own fin loads (the flight's quasi-steady panels, no wake lag), the boundary is the clamped fin with unsteady panels; and a growing mode needs time to reach the model's bound.",
+                    v.t,
+                    v.kind.code(),
+                    o.rows.last().map_or(f64::NAN, |r| r[cm]),
+                    v.t - o.rows[j][0]
+                );
+            }
+            (Some(v), None) => {
+                let _ = write!(
+                    s,
+                    " The time-domain flight left its model at t = {:.3} s ({}) although the clamped-fin boundary was never crossed: the flight's free vehicle (body modes, every fin, the flight's quasi-steady fin loads) is not the clamped fin, so the two models disagree here; trust the verdict, which is what this flight's model did.",
+                    v.t,
+                    v.kind.code()
+                );
+            }
+            (None, Some(_)) => s.push_str(
+                " The time-domain flight did not leave its model: its modes did not grow to the model's bound while the margin was below 1 (the flight's quasi-steady fin loads have no wake lag and its free vehicle is not the clamped fin). The margin is the conservative answer.",
+            ),
+            (None, None) => {}
+        }
+        (!s.is_empty()).then(|| s.trim_start().to_string())
+    }
 }
 
 fn margin_skipped(why: String) -> FlightMargin {
@@ -1396,15 +1520,30 @@ pub fn flight_margin(
     let mut above_lowest = 0usize;
     let mut raised = 0usize;
     let mut points = Vec::with_capacity(o.rows.len());
+    // Under a canopy the fins are frozen with the rest of the vehicle (runtime::flight): the
+    // margin covers the flight up to the first deployment.
+    let t_canopy = o
+        .events
+        .deployments
+        .iter()
+        .map(|d| d.2.t)
+        .fold(f64::INFINITY, f64::min);
+    let mut story = MarginStory::default();
     for (i, r) in o.rows.iter().enumerate() {
         let (m, h, v) = (r[cm], r[ch], airspeed[i]);
         let p = b.at(m, h);
         points.push(p);
         // At rest (on the pad) the margin is undefined: no row.
-        if v.is_nan() || v <= 0.0 {
+        if v.is_nan() || v <= 0.0 || r[0] > t_canopy {
             continue;
         }
         let margin = p.flutter_speed / v;
+        let dt = o
+            .rows
+            .get(i + 1)
+            .map_or(0.0, |n| n[0].min(t_canopy) - r[0])
+            .max(0.0);
+        story.add(i, r[0], dt, margin);
         if !p.trusted {
             untrusted += 1;
         }
@@ -1473,7 +1612,22 @@ pub fn flight_margin(
         })
     };
     let critical = min_trusted.or(min_all);
-    let meets = critical.map(|(m, _)| m >= CRITERION);
+    // A flight that left its model never meets the criterion, whatever the boundary says.
+    let meets = critical.map(|(m, _)| m >= CRITERION && o.verdict.is_none());
+    let event = |x: Option<(usize, f64)>| {
+        x.map(|(i, margin)| {
+            let r = &o.rows[i];
+            serde_json::json!({
+                "t": r[0],
+                "mach": r[cm],
+                "altitude": r[ch],
+                "airspeed": airspeed[i],
+                "margin": margin,
+                "trusted": points[i].trusted && points[i].in_grid,
+            })
+        })
+    };
+    let story_text = story.text(o, &points, cm, ch);
     let mut warnings = String::new();
     if untrusted > 0 {
         let _ = write!(
@@ -1515,9 +1669,21 @@ pub fn flight_margin(
             o.rows[i][0],
             o.rows[i][cm],
             o.rows[i][ch],
-            if m >= CRITERION { "met" } else { "NOT MET" },
+            match (&o.verdict, m >= CRITERION) {
+                (Some(v), _) => format!(
+                    "NOT MET (the flight left its model: {} at t = {:.3} s)",
+                    v.kind.code(),
+                    v.t
+                ),
+                (None, true) => "met".into(),
+                (None, false) => "NOT MET".into(),
+            },
         ),
         None => "flutter margin: no row with airspeed".into(),
+    };
+    let line = match &story_text {
+        Some(t) => format!("{line}\n  {t}"),
+        None => line,
     };
     let json = serde_json::json!({
         "computed": true,
@@ -1526,6 +1692,14 @@ pub fn flight_margin(
         "criterion_speed_margin": CRITERION,
         "criterion_source": "15 % on equivalent airspeed (14 CFR 25.629(b)(1), MIL-A-8870C 3.1.1)",
         "meets_criterion": meets,
+        "first_violation": event(story.first_violation),
+        "first_below_one": event(story.first_below_one),
+        "time_below_criterion_s": story.below_criterion,
+        "time_below_one_s": story.below_one,
+        "spans_below_criterion": story.spans_criterion,
+        "spans_below_one": story.spans_one,
+        "story": story_text,
+        "rows_until": if t_canopy.is_finite() { Some(t_canopy) } else { None },
         "minimum": at(critical),
         "minimum_including_transonic": at(min_all),
         "transonic_rows": untrusted,

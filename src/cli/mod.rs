@@ -275,6 +275,9 @@ pub struct Terminal {
 pub const EXIT_OK: u8 = 0;
 pub const EXIT_DIAGNOSTICS: u8 = 1;
 pub const EXIT_USAGE: u8 = 2;
+/// `run`: the flight left its model (a flutter, divergence or model-limit verdict); its
+/// outputs are written and end at the verdict.
+pub const EXIT_VERDICT: u8 = 3;
 /// Standard output was closed by its reader (`flexflight inspect X | head`): 128 + SIGPIPE,
 /// the status a shell reports for a tool the signal ended.
 pub const EXIT_BROKEN_PIPE: u8 = 141;

@@ -16,7 +16,10 @@ use super::flutter as margin;
 use crate::syntax::SourceMap;
 
 use super::compile::{CachedAero, CompileOutcome, compile_cached, plan_cached};
-use super::{Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, emit, load_program};
+use super::{
+    Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, EXIT_VERDICT, Format, Terminal, emit,
+    load_program,
+};
 
 /// Channels whose extrema go into `summary.json` (when present).
 const SUMMARY_CHANNELS: &[&str] = &[
@@ -319,6 +322,9 @@ pub fn cmd_run(
             output.wall_seconds,
             out.display()
         );
+        if let Some(line) = verdict_line(&p, &output) {
+            eprintln!("{line}");
+        }
         if let Some(line) = flight_line(&flight_summary(&p, &output)) {
             eprintln!("{line}");
         }
@@ -331,7 +337,11 @@ pub fn cmd_run(
             serde_json::to_string_pretty(&summary).unwrap_or_default()
         );
     }
-    EXIT_OK
+    if output.stop.is_verdict() {
+        EXIT_VERDICT
+    } else {
+        EXIT_OK
+    }
 }
 
 /// `summary.json` (with the aero cache's note) and, when asked or by default for a launch,
@@ -487,6 +497,7 @@ pub fn summary_json(p: &Plan, c: &CompileOutcome, o: &RunOutput) -> serde_json::
         "output_interval": p.output_interval,
         "energy_balance": energy_balance,
         "mass": mass,
+        "verdict": verdict_json(p, o),
         "flight": flight_summary(p, o),
         "extrema": extrema,
         "identification": crate::analysis::gust_response::identify_after_stimuli(
@@ -496,6 +507,102 @@ pub fn summary_json(p: &Plan, c: &CompileOutcome, o: &RunOutput) -> serde_json::
             &crate::analysis::identify::IdentifyOptions::default(),
         ),
     })
+}
+
+/// The verdict of a run that left its model (`null` otherwise): the kind, the state at it
+/// (from the history's last row, which is at the verdict), the bound crossed and the modes
+/// with their growth rates and frequencies (`runtime::verdict`).
+pub fn verdict_json(p: &Plan, o: &RunOutput) -> serde_json::Value {
+    let Some(v) = &o.verdict else {
+        return serde_json::Value::Null;
+    };
+    let at = |name: &str| {
+        let c = o.channels.iter().position(|c| c == name)?;
+        o.rows.last().map(|r| r[c])
+    };
+    let mach = at("mach");
+    let airspeed = mach.zip(at("speed_of_sound")).map(|(m, a)| m * a);
+    let modes: Vec<serde_json::Value> = v
+        .modes
+        .iter()
+        .map(|m| {
+            serde_json::json!({
+                "name": p.mode_names.get(m.mode),
+                "growth_rate": m.growth_rate,
+                "frequency_hz": m.frequency_hz,
+                "energy_share": m.energy_share,
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "kind": v.kind.code(),
+        "t": v.t,
+        "mach": mach,
+        "altitude": at("altitude"),
+        "airspeed": airspeed,
+        "dynamic_pressure": at("dynamic_pressure"),
+        "criterion": v.criterion,
+        "modes": modes,
+        "growth_window_s": v.window,
+        "message": verdict_line(p, o),
+    })
+}
+
+/// The terminal line of a verdict (None without one).
+pub fn verdict_line(p: &Plan, o: &RunOutput) -> Option<String> {
+    let v = o.verdict.as_ref()?;
+    let at = |name: &str| {
+        let c = o.channels.iter().position(|c| c == name)?;
+        o.rows.last().map(|r| r[c])
+    };
+    let what = match v.kind {
+        crate::runtime::verdict::VerdictKind::Flutter => "FLUTTER",
+        crate::runtime::verdict::VerdictKind::Divergence => "DIVERGENCE",
+        crate::runtime::verdict::VerdictKind::ModelLimit => "MODEL LIMIT",
+    };
+    let mut s = format!("{what} at t = {:.3} s", v.t);
+    if let (Some(m), Some(a), Some(h), Some(q)) = (
+        at("mach"),
+        at("speed_of_sound"),
+        at("altitude"),
+        at("dynamic_pressure"),
+    ) {
+        let _ = write!(
+            s,
+            ", Mach {m:.3}, {:.1} m/s, altitude {h:.0} m, q {:.1} kPa",
+            m * a,
+            q / 1e3
+        );
+    }
+    let growing: Vec<String> = v
+        .modes
+        .iter()
+        .filter(|m| m.growth_rate > 0.0)
+        .map(|m| {
+            let name = p.mode_names.get(m.mode).map_or("?", String::as_str);
+            match m.frequency_hz {
+                Some(f) => format!("{name} {f:.1} Hz, growth {:.1} 1/s", m.growth_rate),
+                None => format!("{name} non-oscillatory, growth {:.1} 1/s", m.growth_rate),
+            }
+        })
+        .collect();
+    if !growing.is_empty() {
+        let more = growing.len().saturating_sub(4);
+        let _ = write!(
+            s,
+            "; growing: {}",
+            growing[..growing.len() - more].join("; ")
+        );
+        if more > 0 {
+            let _ = write!(s, "; {more} more in summary.json");
+        }
+    }
+    let _ = write!(
+        s,
+        " ({}); the history ends there: the flight after it is outside the model",
+        v.criterion
+    );
+    Some(s)
 }
 
 /// The energy balance of a run (replaces the old `energy_total_max_relative_drift`, which

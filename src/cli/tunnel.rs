@@ -6,7 +6,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::analysis::flutter::pk::{PkSettings, PkSolution, pk_solve};
+use crate::analysis::flutter::pk::{FlutterAnswer, PkSettings, PkSolution, pk_solve, screen_below};
 use crate::analysis::flutter::wing::{
     Grain, UnsteadyAero, UnsteadySettings, WingDensity, WingError, WingMaterial, WingModes,
     WingSpec, WingThickness, chordwise_for, k_max_for, quasi_steady_problem, unsteady_problem,
@@ -107,10 +107,7 @@ pub fn solve_tunnel(
         AeroChoice::QuasiSteady => {
             let chordwise = chordwise_for(&modes.planform, k_max_for(&modes, speeds[0]));
             let (model, gaf) = quasi_steady_problem(&modes, mach, density, chordwise, spanwise)?;
-            (
-                pk_solve(&model, &gaf, speeds, PkSettings::default())?,
-                (chordwise, spanwise),
-            )
+            (screened(&model, &gaf, speeds)?, (chordwise, spanwise))
         }
         AeroChoice::Unsteady | AeroChoice::DoubletLattice => {
             let settings = UnsteadySettings {
@@ -134,7 +131,7 @@ pub fn solve_tunnel(
             }
             let p = unsteady_problem(&modes, mach, density, &settings)?;
             (
-                pk_solve(&p.model, &p.gaf, speeds, PkSettings::default())?,
+                screened(&p.model, &p.gaf, speeds)?,
                 (p.chordwise, p.spanwise),
             )
         }
@@ -267,33 +264,23 @@ pub fn report_text(r: &TunnelFlutter) -> String {
             r.modes.frequencies_hz[j]
         );
     }
-    match s.critical() {
-        Some(f) => {
+    let answer = s.answer();
+    let _ = writeln!(
+        t,
+        "{}",
+        answer.headline(s.speeds.last().copied().unwrap_or(0.0), "")
+    );
+    if let FlutterAnswer::Flutter(f) = answer {
+        if let Some((fsi, ratio)) = indices(r, f.speed, f.omega) {
             let _ = writeln!(
                 t,
-                "flutter: V = {:.2} m/s, f = {:.3} Hz, q = {:.3} kPa, k = {:.4}, {} with {}",
-                f.speed,
-                hz(f.omega),
-                f.q / 1e3,
-                f.k,
-                f.name,
-                f.partner.as_ref().map_or("none", |p| p.1.as_str())
-            );
-            if let Some((fsi, ratio)) = indices(r, f.speed, f.omega) {
-                let _ = writeln!(
-                    t,
-                    "  flutter speed index {fsi:.4}, frequency ratio {ratio:.4} (reference frequency {:.2} rad/s)",
-                    r.reference_frequency.unwrap_or(f64::NAN)
-                );
-            }
-        }
-        None => {
-            let _ = writeln!(
-                t,
-                "flutter: none up to V = {:.1} m/s (the largest speed tried)",
-                s.speeds.last().copied().unwrap_or(0.0)
+                "  flutter speed index {fsi:.4}, frequency ratio {ratio:.4} (reference frequency {:.2} rad/s)",
+                r.reference_frequency.unwrap_or(f64::NAN)
             );
         }
+    }
+    if let Some(sc) = &s.screen {
+        let _ = writeln!(t, "  {}", sc.line());
     }
     if !s.unstable_at_start.is_empty() {
         let _ = writeln!(
@@ -354,6 +341,8 @@ pub fn summary_json(r: &TunnelFlutter) -> serde_json::Value {
         }).collect::<Vec<_>>(),
         "largest_speed_m_s": s.speeds.last(),
         "unstable_at_lowest_speed": s.unstable_at_start,
+        "answer": s.answer().json(),
+        "screen": s.screen.as_ref().map(|sc| sc.json()),
         "divergence": s.divergence.as_ref().map(|d| serde_json::json!({
             "speed_m_s": d.speed, "dynamic_pressure_pa": d.q, "mode": d.name
         })),
@@ -367,4 +356,16 @@ fn write_outputs(out: &Path, r: &TunnelFlutter) -> std::io::Result<()> {
         &[out],
         &[(out.join("vg.csv"), &vg), (out.join("flutter.json"), &json)],
     )
+}
+
+/// The tunnel's p-k sweep over `speeds` with the screen below its first speed
+/// ([`screen_below`]: no flutter below the lowest tunnel speed goes unseen).
+fn screened(
+    model: &crate::analysis::flutter::pk::FlutterModel,
+    gaf: &dyn crate::analysis::flutter::pk::Gaf,
+    speeds: &[f64],
+) -> Result<PkSolution, crate::analysis::flutter::pk::FlutterError> {
+    let mut s = pk_solve(model, gaf, speeds, PkSettings::default())?;
+    s.screen = screen_below(model, gaf, s.speeds[0], PkSettings::default())?;
+    Ok(s)
 }

@@ -114,6 +114,61 @@ pub struct StopConditions {
     pub max_alpha: Option<f64>,
     /// Stop when the elastic displacement `|S_trans,i η|` at any node exceeds this, m.
     pub max_deformation: Option<f64>,
+    /// The bounds of the model itself, always checked: a run that crosses one ends with a
+    /// verdict (`runtime::verdict`).
+    pub model_limits: ModelLimits,
+}
+
+/// The bounds of the small-deformation, linear model a run integrates (derivation at
+/// [`crate::runtime::verdict`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ModelLimits {
+    /// Largest elastic nodal displacement, m: [`DEFLECTION_FRACTION_FIN`] of the fin span,
+    /// or without fins [`DEFLECTION_FRACTION_BODY`] of the body length; None without
+    /// elastic modes.
+    pub deflection: Option<f64>,
+    /// What `deflection` is a fraction of, for people.
+    pub deflection_basis: &'static str,
+    /// Stop at a fin root stress (5.6) beyond the material's yield stress, where the
+    /// material states one and `fin_aero { stress_limit }` is not set.
+    pub fin_yield: bool,
+}
+
+/// The deflection bound as a fraction of the fin span (a tip slope of 0.15 rad).
+pub const DEFLECTION_FRACTION_FIN: f64 = 0.1;
+
+/// The deflection bound as a fraction of the body length, without fins.
+pub const DEFLECTION_FRACTION_BODY: f64 = 0.02;
+
+/// The model bounds of `vehicle` compiled as `compiled` (see [`ModelLimits`]).
+pub fn model_limits(
+    vehicle: &crate::check::ir::Vehicle,
+    compiled: &CompiledVehicle,
+) -> ModelLimits {
+    let elastic = !compiled.modes.is_empty();
+    let (deflection, deflection_basis) = match &vehicle.fins {
+        Some(f) => (
+            DEFLECTION_FRACTION_FIN * f.span.value,
+            "10 % of the fin span",
+        ),
+        None => {
+            let length = compiled
+                .node_positions
+                .iter()
+                .map(|p| -p[0])
+                .fold(0.0, f64::max);
+            (DEFLECTION_FRACTION_BODY * length, "2 % of the body length")
+        }
+    };
+    ModelLimits {
+        deflection: (elastic && deflection > 0.0).then_some(deflection),
+        deflection_basis,
+        fin_yield: vehicle
+            .forces
+            .fin_aero
+            .as_ref()
+            .is_some_and(|f| f.stress_limit_fraction.is_none()),
+    }
 }
 
 /// Gravity block parameters (5.1).
@@ -586,6 +641,15 @@ pub fn build_with_aero(
             ground_altitude,
             max_alpha: run.max_alpha.as_ref().map(|q| q.value),
             max_deformation: run.max_deformation.as_ref().map(|q| q.value),
+            model_limits: if run.model_limits {
+                model_limits(vehicle, compiled)
+            } else {
+                ModelLimits {
+                    deflection: None,
+                    deflection_basis: "off (run { model_limits = false })",
+                    fin_yield: false,
+                }
+            },
         },
         output_interval: run.output_interval.value,
         forces,
@@ -684,6 +748,18 @@ pub fn summary_text(p: &Plan) -> String {
     }
     if let Some(d) = st.max_deformation {
         let _ = writeln!(s, "               max nodal deformation > {d} m");
+    }
+    if let Some(d) = st.model_limits.deflection {
+        let _ = writeln!(
+            s,
+            "model limits   elastic displacement > {d} m ({}){}: a verdict (flutter, divergence or model limit)",
+            st.model_limits.deflection_basis,
+            if st.model_limits.fin_yield {
+                ", fin root stress > yield"
+            } else {
+                ""
+            }
+        );
     }
     let _ = writeln!(s, "               step underflow, non-finite state");
     let _ = writeln!(s, "force blocks:");

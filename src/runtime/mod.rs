@@ -30,3 +30,4 @@ pub mod motor;
 pub mod run;
 pub mod stimuli;
 pub mod thrust;
+pub mod verdict;

@@ -36,6 +36,7 @@ use super::integrate::{
 };
 use super::kinematics::{cross, euler_angles, mat_t_vec, mat_vec, normalize_euler_parameters};
 use super::motor::BurnSchedule;
+use super::verdict::{ModalTrace, TRACE_CAPACITY, Verdict, VerdictKind};
 use crate::check::ir;
 use crate::plan::{ForcePlan, Plan};
 use crate::structure::coefficients::ReducedModel;
@@ -94,6 +95,13 @@ pub enum RunStop {
     AeroOutOfRange,
     /// A fin root stress (5.6) exceeded the fin_aero `stress_limit` fraction of yield.
     FinStress,
+    /// The vehicle left its model (`plan::ModelLimits`) with the modes growing and
+    /// oscillating: a flutter verdict ([`RunOutput::verdict`]).
+    Flutter,
+    /// The vehicle left its model with the modes growing without oscillation.
+    Divergence,
+    /// The vehicle left its model without modal growth (a load beyond a bound).
+    ModelLimit,
 }
 
 impl RunStop {
@@ -110,7 +118,18 @@ impl RunStop {
             RunStop::MaxSteps => "max_steps",
             RunStop::AeroOutOfRange => "aero_out_of_range",
             RunStop::FinStress => "fin_stress",
+            RunStop::Flutter => "flutter",
+            RunStop::Divergence => "divergence",
+            RunStop::ModelLimit => "model_limit",
         }
+    }
+
+    /// Whether the run ended with a verdict: the vehicle left its model.
+    pub fn is_verdict(&self) -> bool {
+        matches!(
+            self,
+            RunStop::Flutter | RunStop::Divergence | RunStop::ModelLimit
+        )
     }
 }
 
@@ -130,6 +149,9 @@ pub struct RunOutput {
     pub wall_seconds: f64,
     /// Flight events located in time (rail exit, burnout, apogee, deployments, landing).
     pub events: FlightEvents,
+    /// What happened when the vehicle left its model (stop `flutter`, `divergence` or
+    /// `model_limit`); the rows end at it.
+    pub verdict: Option<Verdict>,
 }
 
 /// The state at a flight event.
@@ -289,7 +311,7 @@ pub fn check_initial_state(plan: &Plan, model: &ReducedModel) -> Option<(RunStop
     }
     let mut probe = AeroProbe::of_plan(plan, model);
     let s = StateView::new(plan.layout(), &plan.initial_state);
-    probe.evaluate(0.0, &s)
+    probe.evaluate(0.0, &s, plan.stop.model_limits.fin_yield)
 }
 
 /// The force blocks of the plan, in plan order (the aerodynamic ones copied from the plan).
@@ -435,7 +457,7 @@ impl AeroProbe {
     }
 
     /// Evaluates the blocks at `(t, state)`; returns a stop condition they raise, with a note.
-    fn evaluate(&mut self, t: f64, s: &StateView) -> Option<(RunStop, String)> {
+    fn evaluate(&mut self, t: f64, s: &StateView, yield_limit: bool) -> Option<(RunStop, String)> {
         use crate::runtime::eom::ForceModel;
         let mut hit = None;
         if let Some(b) = &mut self.body {
@@ -471,6 +493,20 @@ impl AeroProbe {
                         ),
                     ))
                 });
+            }
+            if yield_limit {
+                if let Some(i) = b.yield_exceeded() {
+                    hit = hit.or_else(|| {
+                        Some((
+                            RunStop::ModelLimit,
+                            format!(
+                                "fin {} root stress {:.4e} Pa beyond the material's yield stress, the end of linear elasticity",
+                                i + 1,
+                                b.root_stress(i)
+                            ),
+                        ))
+                    });
+                }
             }
         }
         hit
@@ -580,9 +616,18 @@ impl Monitor<'_> {
                 return Some(RunStop::MaxDeformation);
             }
         }
+        if let Some(limit) = st.model_limits.deflection {
+            if self.deformation.exceeds(s.eta, limit) {
+                self.stop_note = Some(format!(
+                    "elastic displacement beyond {limit} m ({}), the small-rotation bound of the linear model",
+                    st.model_limits.deflection_basis
+                ));
+                return Some(RunStop::ModelLimit);
+            }
+        }
         // Under a canopy the vehicle's own aerodynamics are off (crate::runtime::flight).
         if self.phase != Phase::Descent {
-            if let Some((stop, note)) = self.aero.evaluate(t, &s) {
+            if let Some((stop, note)) = self.aero.evaluate(t, &s, st.model_limits.fin_yield) {
                 self.stop_note = Some(note);
                 return Some(stop);
             }
@@ -668,7 +713,7 @@ impl Monitor<'_> {
         if self.phase == Phase::Descent {
             // Under a canopy the vehicle's aerodynamics are off: no loads, no root stress;
             // the fin angles of attack are those of the current air-relative velocity.
-            let _ = self.aero.evaluate(t, &s);
+            let _ = self.aero.evaluate(t, &s, false);
             self.aero.body_load = [0.0; 6];
             self.aero.fin_load = [0.0; 6];
             self.aero.channels(&mut r, None, false);
@@ -676,7 +721,7 @@ impl Monitor<'_> {
             match self.aero.loads_from(&self.accel.eom.forces) {
                 Some(fin) => self.aero.channels(&mut r, fin, true),
                 None => {
-                    let _ = self.aero.evaluate(t, &s);
+                    let _ = self.aero.evaluate(t, &s, false);
                     self.aero.channels(&mut r, None, true);
                 }
             }
@@ -788,6 +833,8 @@ struct Driver<'a, 'p> {
     progress: &'a mut dyn FnMut(f64, f64),
     /// Called with every history row as it is appended (see [`run_with_rows`]).
     on_row: &'a mut dyn FnMut(&[f64]),
+    /// The modal state at the last accepted steps, for a verdict's growth rates.
+    trace: ModalTrace,
 }
 
 impl Driver<'_, '_> {
@@ -1016,6 +1063,9 @@ impl Driver<'_, '_> {
                 }
             }
             if let Some(stop) = hit {
+                if stop == RunStop::ModelLimit {
+                    self.trace.push(self.layout, t_lim, &row_state);
+                }
                 if stop == RunStop::Ground {
                     self.events.landing = Some(EventPoint::of(self.layout, t_lim, &row_state));
                 }
@@ -1026,6 +1076,9 @@ impl Driver<'_, '_> {
             }
             self.scratch = row_state;
             return false;
+        }
+        if self.monitor.phase != Phase::Descent {
+            self.trace.push(self.layout, t, xs);
         }
         match &mut self.prev {
             Some((tp, xp, dp)) => {
@@ -1200,6 +1253,7 @@ pub fn run_with_rows(
         segment: None,
         progress,
         on_row,
+        trace: ModalTrace::new(layout.n, TRACE_CAPACITY),
     };
     // The thrust curve's points: the right-hand side is only continuous there (a kink of
     // the piecewise-linear curve) or jumps (ignition, burnout). A step across such a point
@@ -1332,11 +1386,30 @@ pub fn run_with_rows(
         eps,
         events,
         on_row,
+        trace,
         ..
     } = driver;
     if let Some(e) = row_error {
         return Err(RunError::Eom(e));
     }
+    // A bound of the model crossed: what the modes did on the way there.
+    let verdict = match (stop_cond, stopped_at) {
+        (Some(RunStop::ModelLimit), Some(t)) => Some(trace.verdict(
+            t,
+            monitor.stop_note.clone().unwrap_or_default(),
+            &model.modal_mass,
+            &model.modal_stiffness,
+        )),
+        _ => None,
+    };
+    let stop_cond = match &verdict {
+        Some(v) => Some(match v.kind {
+            VerdictKind::Flutter => RunStop::Flutter,
+            VerdictKind::Divergence => RunStop::Divergence,
+            VerdictKind::ModelLimit => RunStop::ModelLimit,
+        }),
+        None => stop_cond,
+    };
     let (stop, detail) = match (stop_cond, report.stop) {
         (Some(s), _) => (
             s,
@@ -1385,6 +1458,7 @@ pub fn run_with_rows(
         stats,
         wall_seconds: started.elapsed().as_secs_f64(),
         events,
+        verdict,
     })
 }
 

@@ -45,7 +45,7 @@
 use faer::c64;
 use rayon::prelude::*;
 
-use super::pk::{FlutterError, FlutterModel, GafTable, PkSettings, PkSolution, pk_solve_cut};
+use super::pk::{FlutterError, FlutterModel, GafTable, PkSettings, PkSolution, pk_solve_screened};
 use crate::check::ir;
 use crate::runtime::aero::estimator::FinPlanform;
 use crate::runtime::aero::panel::dlm::{Dlm, MAX_BOX_ASPECT, max_box_aspect};
@@ -562,5 +562,10 @@ pub fn solve_with(
     speeds: &[f64],
 ) -> Result<(PkSolution, Option<(f64, usize)>), FinFlutterError> {
     let model = flutter_model(modes, density);
-    Ok(pk_solve_cut(&model, gaf, speeds, PkSettings::default())?)
+    Ok(pk_solve_screened(
+        &model,
+        gaf,
+        speeds,
+        PkSettings::default(),
+    )?)
 }

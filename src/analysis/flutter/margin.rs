@@ -68,7 +68,13 @@
 //! for linear interpolation of `V_F` (`tests/flutter_boundary.rs`). At a node the value is
 //! the node's own.
 //!
-//! A node unstable at its lowest speed carries that speed, an upper bound of `V_F`
+//! Below each node's first speed the p-k equation is screened on the leading modes
+//! ([`super::pk::screen_below`]: the table resolves the lower branches' reduced frequencies
+//! far below the speed at which it resolves the highest one), and the node's flutter speed
+//! is the answer of [`super::pk::PkSolution::answer`]: the lowest crossing bracketed by a
+//! stable speed below it, never a crossing above a branch already unstable.
+//!
+//! A node unstable at its lowest speed solved carries that speed, an upper bound of `V_F`
 //! (`upper_bound`); its margin is then at most `v_lo / V`.
 //!
 //! A node whose p-k iteration does not converge at the lowest speed of its sweep (so that
@@ -83,7 +89,7 @@
 use super::fin::{
     FinAero, FinFlutterError, FinFlutterSettings, FinModes, fin_lattice, flutter_model, gaf_table,
 };
-use super::pk::{FlutterError, PkSettings, pk_solve_cut};
+use super::pk::{FlutterAnswer, FlutterError, PkSettings, pk_solve_cut, screen_below};
 use crate::runtime::aero::panel::piston::Correction;
 use crate::runtime::aero::panel::{self, Regime, SUBSONIC_LIMIT, SUPERSONIC_LIMIT};
 use crate::runtime::atmosphere::{Atmosphere, STANDARD_MIN_ALTITUDE, Standard1976};
@@ -93,7 +99,7 @@ pub const CRITERION: f64 = 1.15;
 
 /// Revision of the boundary's computation, part of its cache key: change it whenever the
 /// solution of a given [`BoundarySpec`] would change.
-pub const BOUNDARY_REVISION: &str = "flight flutter boundary r2: clamped fin (fin::clamped_fin_modes), unmatched p-k per (Mach, altitude) node (pk_solve_cut), node speeds [max(0.1 v_hi, box-rule floor), v_hi], a node not converging at its lowest speed started at the next, k table to 1.2 omega_max b / v_lo, US Standard Atmosphere 1976";
+pub const BOUNDARY_REVISION: &str = "flight flutter boundary r3: clamped fin (fin::clamped_fin_modes), unmatched p-k per (Mach, altitude) node (pk_solve_cut), node speeds [max(0.1 v_hi, box-rule floor), v_hi], a node not converging at its lowest speed started at the next, k table to 1.2 omega_max b / v_lo, the leading-mode screen below the first speed (pk::screen_below) and the answer rule (pk::PkSolution::answer), US Standard Atmosphere 1976";
 
 /// The ceiling of the margin's altitude grid, m (the built-in estimator's table top).
 pub const CEILING: f64 = 30_000.0;
@@ -387,20 +393,26 @@ pub fn solve_boundary(modes: &FinModes, spec: &BoundarySpec) -> Result<Boundary,
                     other => break other?.0,
                 }
             };
-            node_lowest.push(speeds[start]);
+            let mut sol = sol;
+            sol.screen = screen_below(&model, &gaf, sol.speeds[0], pk)?;
+            node_lowest.push(sol.lowest_speed());
             let sp = &sol.speeds;
-            if !sol.unstable_at_start.is_empty() {
-                out.push(sp[0]);
-                lower.push(false);
-                upper.push(true);
-            } else if let Some(f) = sol.critical() {
-                out.push(f.speed);
-                lower.push(false);
-                upper.push(false);
-            } else {
-                out.push(sp[sp.len() - 1]);
-                lower.push(true);
-                upper.push(false);
+            match sol.answer() {
+                FlutterAnswer::Below(v) => {
+                    out.push(v);
+                    lower.push(false);
+                    upper.push(true);
+                }
+                FlutterAnswer::Flutter(f) => {
+                    out.push(f.speed);
+                    lower.push(false);
+                    upper.push(false);
+                }
+                FlutterAnswer::Stable => {
+                    out.push(sp[sp.len() - 1]);
+                    lower.push(true);
+                    upper.push(false);
+                }
             }
         }
     }

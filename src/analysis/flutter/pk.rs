@@ -434,13 +434,292 @@ pub struct PkSolution {
     /// Branches already unstable at the lowest speed.
     pub unstable_at_start: Vec<usize>,
     pub divergence: Option<Divergence>,
+    /// The screen below the first speed ([`screen_below`]), when one was solved.
+    pub screen: Option<LowSpeedScreen>,
+}
+
+/// What a sweep says about flutter, read as a user must read it (issue 32): a flutter
+/// speed only where a stable speed brackets it from below; otherwise a bound.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FlutterAnswer<'a> {
+    /// The lowest crossing of any branch, with every branch stable at the lowest speed
+    /// solved.
+    Flutter(&'a FlutterPoint),
+    /// A branch is unstable at the lowest speed solved: the flutter speed is below it.
+    Below(f64),
+    /// No crossing up to the largest speed solved.
+    Stable,
 }
 
 impl PkSolution {
-    /// The lowest flutter point.
+    /// The lowest flutter point of the sweep proper (not the screen below it); see
+    /// [`PkSolution::answer`] for the flutter speed.
     pub fn critical(&self) -> Option<&FlutterPoint> {
         self.flutter.first()
     }
+
+    /// The lowest speed solved: the screen's, else the sweep's first.
+    pub fn lowest_speed(&self) -> f64 {
+        self.screen
+            .as_ref()
+            .map_or(self.speeds[0], |s| s.lowest_speed.min(self.speeds[0]))
+    }
+
+    /// The flutter answer over the screen and the sweep: unstable at the lowest speed solved
+    /// gives [`FlutterAnswer::Below`]; else the lowest crossing of either, bracketed by a
+    /// stable speed below it; a sweep unstable at its first speed with no crossing of the
+    /// screen below it is a bound at that speed; never a crossing above an instability.
+    pub fn answer(&self) -> FlutterAnswer<'_> {
+        let (screen_unstable, screen_first) = match &self.screen {
+            Some(s) => (!s.unstable_at_lowest.is_empty(), s.flutter.first()),
+            None => (false, None),
+        };
+        if screen_unstable {
+            return FlutterAnswer::Below(self.lowest_speed());
+        }
+        if let Some(f) = screen_first {
+            return FlutterAnswer::Flutter(f);
+        }
+        if !self.unstable_at_start.is_empty() {
+            return FlutterAnswer::Below(self.speeds[0]);
+        }
+        match self.flutter.first() {
+            Some(f) => FlutterAnswer::Flutter(f),
+            None => FlutterAnswer::Stable,
+        }
+    }
+}
+
+impl FlutterAnswer<'_> {
+    /// The headline of an answer: `flutter: V = ...` or the bound or none, for people.
+    /// `hz` converts rad/s to Hz; `extra` follows a flutter point's numbers.
+    pub fn headline(&self, largest: f64, extra: &str) -> String {
+        match self {
+            FlutterAnswer::Flutter(f) => format!(
+                "flutter: V = {:.2} m/s{extra}, f = {:.2} Hz, q = {:.1} kPa, k = {:.4}, {} with {}",
+                f.speed,
+                f.omega / (2.0 * std::f64::consts::PI),
+                f.q / 1e3,
+                f.k,
+                f.name,
+                f.partner.as_ref().map_or("none", |p| p.1.as_str())
+            ),
+            FlutterAnswer::Below(v) => format!(
+                "flutter: unstable at the lowest speed solved, V_F < {v:.2} m/s (no stable speed below it was found: lower the speeds, or fewer modes)"
+            ),
+            FlutterAnswer::Stable => {
+                format!("flutter: none up to V = {largest:.1} m/s (the largest speed tried)")
+            }
+        }
+    }
+
+    /// The answer in JSON: `{"kind": "flutter" | "below" | "none", "speed_m_s": ...}`.
+    pub fn json(&self) -> serde_json::Value {
+        match self {
+            FlutterAnswer::Flutter(f) => serde_json::json!({
+                "kind": "flutter", "speed_m_s": f.speed, "mode": f.name,
+                "frequency_hz": f.omega / (2.0 * std::f64::consts::PI),
+            }),
+            FlutterAnswer::Below(v) => serde_json::json!({"kind": "below", "speed_m_s": v}),
+            FlutterAnswer::Stable => serde_json::json!({"kind": "none", "speed_m_s": null}),
+        }
+    }
+}
+
+impl LowSpeedScreen {
+    /// The screen in JSON.
+    pub fn json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "segments": self.segments.iter().map(|(m, lo, hi)| serde_json::json!({
+                "modes": m, "lowest_m_s": lo, "highest_m_s": hi
+            })).collect::<Vec<_>>(),
+            "lowest_speed_m_s": self.lowest_speed,
+            "unstable_at_lowest": self.unstable_at_lowest,
+            "flutter": self.flutter.iter().map(|f| serde_json::json!({
+                "speed_m_s": f.speed, "mode": f.name,
+                "frequency_hz": f.omega / (2.0 * std::f64::consts::PI),
+            })).collect::<Vec<_>>(),
+        })
+    }
+
+    /// One line for people.
+    pub fn line(&self) -> String {
+        let segs: Vec<String> = self
+            .segments
+            .iter()
+            .map(|(m, lo, hi)| format!("{m} modes {lo:.1}-{hi:.1} m/s"))
+            .collect();
+        format!(
+            "below the sweep, screened on the leading modes down to {:.2} m/s ({})",
+            self.lowest_speed,
+            segs.join(", ")
+        )
+    }
+}
+
+/// The p-k screen below a sweep's first speed (see [`screen_below`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LowSpeedScreen {
+    /// Each segment: the number of leading modes kept, its lowest and highest speed, m/s;
+    /// from the fullest model down.
+    pub segments: Vec<(usize, f64, f64)>,
+    /// The lowest speed solved, m/s.
+    pub lowest_speed: f64,
+    /// Branches (coordinates of the full model) unstable at the lowest speed solved.
+    pub unstable_at_lowest: Vec<usize>,
+    /// Crossings found in the segments, by increasing speed (branch indices are the full
+    /// model's coordinates).
+    pub flutter: Vec<FlutterPoint>,
+}
+
+/// The leading coordinates `keep` of a GAF (the sub-block of `Q(k)`).
+struct LeadingGaf<'a> {
+    gaf: &'a dyn Gaf,
+    keep: Vec<usize>,
+    buf: std::cell::RefCell<Vec<c64>>,
+}
+
+impl Gaf for LeadingGaf<'_> {
+    fn order(&self) -> usize {
+        self.keep.len()
+    }
+    fn k_range(&self) -> (f64, f64) {
+        self.gaf.k_range()
+    }
+    fn eval(&self, k: f64, out: &mut [c64]) {
+        let n = self.gaf.order();
+        let mut buf = self.buf.borrow_mut();
+        self.gaf.eval(k, &mut buf);
+        let m = self.keep.len();
+        for (a, &i) in self.keep.iter().enumerate() {
+            for (b, &j) in self.keep.iter().enumerate() {
+                out[a * m + b] = buf[i * n + j];
+            }
+        }
+    }
+}
+
+/// Speeds per segment of [`screen_below`].
+pub const SCREEN_SPEEDS: usize = 12;
+
+/// The screen below a sweep's first speed `v_first` (issue 32: no sweep may miss a low
+/// flutter speed).
+///
+/// A sweep cannot start near zero airspeed with all its modes: the reduced frequency of the
+/// highest branch, `k = ω b / V`, grows without bound as `V` falls, and a panel lattice
+/// resolves it only up to the table's `k_max` (the box-size rule fixed the sweep's first
+/// speed). The lower branches need much smaller `k`. So below `v_first` the p-k equation is
+/// solved on the leading (lowest-frequency) modes alone, a modal truncation like the one that
+/// chose the sweep's modes: with the `m` lowest modes the table holds every branch's `k`
+/// (with the 20 % margin of the sweep, for roots stiffened above their vacuum frequency)
+/// down to `V_m = 1.2 ω_m b / k_max`. The segments run from `m = n - 1` (from `v_first`
+/// down to `V_{n-1}`) to `m = 2` (the two lowest modes, which a bending-torsion flutter
+/// needs), each over [`SCREEN_SPEEDS`] speeds and overlapping the next at its end. The
+/// coordinates must be uncoupled structurally (diagonal mass and stiffness, the modal
+/// coordinates of a fin or a fixture); otherwise, or with fewer than three coordinates, no
+/// screen is solved (`None`). A segment whose p-k iteration fails is cut like a sweep
+/// ([`pk_solve_cut`]); the screen ends at the lowest speed solved.
+pub fn screen_below(
+    model: &FlutterModel,
+    gaf: &dyn Gaf,
+    v_first: f64,
+    settings: PkSettings,
+) -> Result<Option<LowSpeedScreen>, FlutterError> {
+    let n = model.order();
+    let diagonal = |m: &[f64]| (0..n).all(|i| (0..n).all(|j| i == j || m[i * n + j] == 0.0));
+    if n < 3 || !diagonal(&model.mass) || !diagonal(&model.stiffness) {
+        return Ok(None);
+    }
+    let mut order: Vec<(f64, usize)> = (0..n)
+        .map(|i| {
+            let w2 = model.stiffness[i * n + i] / model.mass[i * n + i];
+            (w2.max(0.0).sqrt(), i)
+        })
+        .collect();
+    order.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (_, k_hi) = gaf.k_range();
+    let mut top = v_first;
+    let mut segments = Vec::new();
+    let mut flutter = Vec::new();
+    let mut unstable_at_lowest = Vec::new();
+    let mut lowest = v_first;
+    for m in (2..n).rev() {
+        let v_m = 1.2 * order[m - 1].0 * model.b_ref / k_hi;
+        if !(v_m.is_finite() && v_m > 0.0 && v_m < top * (1.0 - 1e-9)) {
+            continue;
+        }
+        let mut keep: Vec<usize> = order[..m].iter().map(|o| o.1).collect();
+        keep.sort_unstable();
+        let sub = |a: &[f64]| -> Vec<f64> {
+            keep.iter()
+                .flat_map(|&i| keep.iter().map(move |&j| a[i * n + j]))
+                .collect()
+        };
+        let part = FlutterModel {
+            names: keep.iter().map(|&i| model.names[i].clone()).collect(),
+            mass: sub(&model.mass),
+            stiffness: sub(&model.stiffness),
+            damping: sub(&model.damping),
+            structural_g: model.structural_g,
+            b_ref: model.b_ref,
+            density: model.density,
+        };
+        let leading = LeadingGaf {
+            gaf,
+            keep: keep.clone(),
+            buf: std::cell::RefCell::new(vec![c64::new(0.0, 0.0); n * n]),
+        };
+        let speeds: Vec<f64> = (0..SCREEN_SPEEDS)
+            .map(|i| v_m + (top - v_m) * i as f64 / (SCREEN_SPEEDS - 1) as f64)
+            .collect();
+        let sol = match cut_sweep(&part, &leading, &speeds, settings, None) {
+            Ok((s, _)) => s,
+            // Not even the two lowest speeds converge: the screen ends above.
+            Err(FlutterError::NoConvergence { .. }) => break,
+            Err(e) => return Err(e),
+        };
+        // Branch `j` of the part is its j-th vacuum mode; map it to the full model's
+        // coordinate by its name's coordinate.
+        let coord = |name: &str| keep[part.names.iter().position(|x| x == name).unwrap_or(0)];
+        for f in &sol.flutter {
+            let mut f = f.clone();
+            f.mode = coord(&f.name);
+            if let Some(p) = f.partner.as_mut() {
+                p.0 = coord(&p.1);
+            }
+            flutter.push(f);
+        }
+        unstable_at_lowest = sol
+            .unstable_at_start
+            .iter()
+            .map(|&j| coord(&sol.names[j]))
+            .collect();
+        lowest = sol.speeds[0];
+        segments.push((m, lowest, top));
+        top = lowest;
+    }
+    if segments.is_empty() {
+        return Ok(None);
+    }
+    flutter.sort_by(|x, y| x.speed.total_cmp(&y.speed));
+    Ok(Some(LowSpeedScreen {
+        segments,
+        lowest_speed: lowest,
+        unstable_at_lowest,
+        flutter,
+    }))
+}
+
+/// [`pk_solve_cut`] with the [`screen_below`] its first speed, in [`PkSolution::screen`].
+pub fn pk_solve_screened(
+    model: &FlutterModel,
+    gaf: &dyn Gaf,
+    speeds: &[f64],
+    settings: PkSettings,
+) -> Result<(PkSolution, Option<(f64, usize)>), FlutterError> {
+    let (mut sol, cut) = cut_sweep(model, gaf, speeds, settings, None)?;
+    sol.screen = screen_below(model, gaf, sol.speeds[0], settings)?;
+    Ok((sol, cut))
 }
 
 /// Workspace of the p-k eigenproblem.
@@ -750,6 +1029,7 @@ fn sweep(
         flutter,
         unstable_at_start,
         divergence,
+        screen: None,
     })
 }
 
@@ -1075,6 +1355,56 @@ pub fn k_method(
 
 #[cfg(test)]
 mod tests {
+    /// The answer is never a crossing above an instability: whatever the crossings, a
+    /// branch unstable at the lowest speed solved (of the screen, else of the sweep) gives a
+    /// bound at that speed; a screen crossing below the sweep is the answer even when the
+    /// sweep is unstable at its start; otherwise the lowest crossing.
+    #[test]
+    fn the_answer_is_never_a_crossing_above_an_instability() {
+        let point = |v: f64| FlutterPoint {
+            mode: 0,
+            name: "m".into(),
+            partner: None,
+            speed: v,
+            omega: 1.0,
+            k: 0.1,
+            q: 1.0,
+        };
+        let base = PkSolution {
+            speeds: vec![100.0, 200.0, 300.0],
+            names: vec!["m".into()],
+            roots: vec![],
+            flutter: vec![point(250.0)],
+            unstable_at_start: vec![],
+            divergence: None,
+            screen: None,
+        };
+        let screen = |unstable: bool, crossing: Option<f64>| LowSpeedScreen {
+            segments: vec![(2, 20.0, 100.0)],
+            lowest_speed: 20.0,
+            unstable_at_lowest: if unstable { vec![0] } else { vec![] },
+            flutter: crossing.into_iter().map(point).collect(),
+        };
+        let speed = |s: &PkSolution| match s.answer() {
+            FlutterAnswer::Flutter(f) => ("flutter", f.speed),
+            FlutterAnswer::Below(v) => ("below", v),
+            FlutterAnswer::Stable => ("none", 0.0),
+        };
+        assert_eq!(speed(&base), ("flutter", 250.0));
+        let mut s = base.clone();
+        s.unstable_at_start = vec![0];
+        assert_eq!(speed(&s), ("below", 100.0));
+        s.screen = Some(screen(false, Some(60.0)));
+        assert_eq!(speed(&s), ("flutter", 60.0));
+        s.screen = Some(screen(true, Some(60.0)));
+        assert_eq!(speed(&s), ("below", 20.0));
+        let mut s = base.clone();
+        s.screen = Some(screen(false, None));
+        assert_eq!(speed(&s), ("flutter", 250.0));
+        s.flutter.clear();
+        assert_eq!(speed(&s), ("none", 0.0));
+    }
+
     use super::*;
 
     /// Two uncoupled modes, `M = I`, `b = 1`, `ρ = 2` (so `q = V²`): mode B at 80 rad/s

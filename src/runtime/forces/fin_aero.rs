@@ -672,6 +672,16 @@ impl FinAero {
         })
     }
 
+    /// The first fin whose root stress exceeded its material's yield stress at the last
+    /// evaluation (None without a yield stress or an exceedance), whatever the stress limit.
+    pub fn yield_exceeded(&self) -> Option<usize> {
+        self.fins.iter().position(|f| {
+            f.stress
+                .yield_fraction(f.last.root_stress)
+                .is_some_and(|r| r > 1.0)
+        })
+    }
+
     /// What the last evaluation computed for fin `fin`.
     pub fn last(&self, fin: usize) -> Option<FinSample> {
         self.fins.get(fin).map(|f| f.last)
