@@ -420,8 +420,8 @@ fn write_flight(dir: &Path, summary: &str) {
     let mut m = String::from(
         "t,mach,altitude,airspeed,flutter_speed,flutter_mach,speed_margin,q_margin,trusted,lower_bound,in_grid\n",
     );
-    for k in 0..=600 {
-        let t = k as f64 * 0.1;
+    for k in 0..=6000 {
+        let t = k as f64 * 0.01;
         let up = t <= 15.0;
         let mach = if up {
             0.8 * (1.0 - (t - 3.0).abs() / 15.0).max(0.05)
@@ -438,7 +438,7 @@ fn write_flight(dir: &Path, summary: &str) {
         let roll = wrap(150.0 + 10.0 * t);
         let yaw = wrap(-150.0 - 7.0 * t);
         let north = 1e-12 * ((k * 7919) % 23) as f64;
-        let spike = if k == 50 { 352.0 } else { 1e-4 };
+        let spike = if k == 500 { 352.0 } else { 1e-4 };
         let flip = if k % 2 == 0 { 1e-3 } else { -1e-3 };
         h.push_str(&format!(
             "{t},{},{},{mach},{alt},{},{},{},{roll},{},{yaw},{north},0,{spike},{flip},0\n",
@@ -470,7 +470,7 @@ fn write_flight(dir: &Path, summary: &str) {
 
 /// `summary.json` as `flexflight run` writes it today: no `verdict` or `warnings` keys.
 const OLD_SUMMARY: &str = r#"{
-  "scenario": "k1000", "vehicle": "hpr", "stop_reason": "ground", "t_end": 60.0, "rows": 601,
+  "scenario": "k1000", "vehicle": "hpr", "stop_reason": "ground", "t_end": 60.0, "rows": 6001,
   "flutter_margin": {
     "computed": true, "criterion_speed_margin": 1.15, "meets_criterion": false,
     "minimum": {"speed_margin": 0.93, "t": 3.1, "mach": 0.95, "altitude": 900.0},
