@@ -1095,6 +1095,7 @@ pub fn summary_json(r: &FinFlutter) -> serde_json::Value {
         "aero": r.aero,
         "mach": c.mach,
         "altitude_m": c.altitude,
+        "fin_thickness_m": r.modes.thickness,
         "density_kg_m3": c.density,
         "speed_of_sound_m_s": c.speed_of_sound,
         "modes": r.modes.names.iter().zip(&r.modes.omega).map(|(n, w)| serde_json::json!({

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use crate::artifact::{self, Cache, CacheKey};
 use crate::report::ReportError;
 use crate::report::build::{
-    ReportOutput, RunReportOptions, map_figures, replace_manifest, run_figures,
+    Phases, ReportOutput, RunReportOptions, map_figures, replace_manifest, run_figures,
 };
 use crate::report::figures::ModeGroup;
 use crate::report::history::read_history;
@@ -285,6 +285,24 @@ pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
     } else {
         None
     };
+    // flutter.json beside vg.csv: the condition and flutter point for the V-g titles.
+    let flutter_json_path = dir.join("flutter.json");
+    let flutter_json: Option<serde_json::Value> = if vg.is_some() && flutter_json_path.is_file() {
+        let parsed = std::fs::read_to_string(&flutter_json_path)
+            .map_err(|e| e.to_string())
+            .and_then(|t| serde_json::from_str(&t).map_err(|e| e.to_string()));
+        match parsed {
+            Ok(v) => Some(v),
+            Err(message) => {
+                return fail(&ReportError::Summary {
+                    path: flutter_json_path,
+                    message,
+                });
+            }
+        }
+    } else {
+        None
+    };
     let margin_path = dir.join("flutter_margin.csv");
     let flutter_margin = if history.is_some() && margin_path.is_file() {
         match read_history(&margin_path) {
@@ -361,7 +379,11 @@ pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
         ));
     }
     if let Some(v) = &vg {
-        if let Err(e) = crate::report::build::flutter_figures(v, &out, &mut report) {
+        let condition = flutter_json
+            .as_ref()
+            .map(crate::report::build::FlutterCondition::from_json)
+            .unwrap_or_default();
+        if let Err(e) = crate::report::build::flutter_figures(v, &condition, &out, &mut report) {
             return fail(&e);
         }
         facts.push(("flutter".into(), format!("{} branches", v.len())));
@@ -382,11 +404,28 @@ pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
                 .find(|(n, _)| n == name)
                 .map_or_else(|| ModeGroup::from_name(name), |(_, g)| *g)
         };
+        let flight = summary.as_ref().map(|s| &s["flight"]);
+        let at = |key: &str| flight.and_then(|f| f[key]["t"].as_f64());
         let options = RunReportOptions {
             frame_times,
             magnify,
             events: summary.as_ref().map(flight_events).unwrap_or_default(),
             flutter_margin,
+            criterion: summary
+                .as_ref()
+                .and_then(|s| s["flutter_margin"]["criterion_speed_margin"].as_f64()),
+            phases: Phases {
+                apogee: at("apogee"),
+                first_deployment: flight
+                    .and_then(|f| f["deployments"].as_array())
+                    .and_then(|d| {
+                        d.iter()
+                            .filter_map(|x| x["deployment"]["t"].as_f64())
+                            .reduce(f64::min)
+                    }),
+            },
+            max_q: at("max_dynamic_pressure"),
+            burnout: at("burnout"),
         };
         if let Err(e) = run_figures(h, &group, mesh.as_ref(), &options, &out, &mut report) {
             return fail(&e);
@@ -414,13 +453,20 @@ pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
         ),
         None => format!("flexflight report: {}", dir.display()),
     };
-    for w in &warnings {
-        facts.push(("note".into(), w.clone()));
-    }
-    for n in &report.notes {
-        facts.push(("note".into(), n.clone()));
-    }
-    let index = match report.write_index(&out, &title, &facts) {
+    // A run's page leads with the answer: verdict, flight figures and every warning.
+    let lead = match &summary {
+        Some(s) => crate::report::index::lead_html(s, &warnings, &report.notes),
+        None => {
+            for w in &warnings {
+                facts.push(("note".into(), w.clone()));
+            }
+            for n in &report.notes {
+                facts.push(("note".into(), n.clone()));
+            }
+            String::new()
+        }
+    };
+    let index = match report.write_index(&out, &title, &lead, &facts) {
         Ok(p) => p,
         Err(e) => return fail(&e),
     };

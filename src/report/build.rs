@@ -5,19 +5,198 @@
 use std::path::{Path, PathBuf};
 
 use super::ReportError;
+use super::figures::PlannedFigure;
 use super::figures::{ModeGroup, plan_figures};
 use super::history::History;
 use super::index::{IndexEntry, index_html};
 use super::map::StabilityMap;
 use super::mesh::{DeformationFrame, MeshGeometry, auto_magnification};
-use super::plot::{FIGURE_SIZE, save_svg_png};
+use super::plot::{FIGURE_SIZE, Series, TimePlot, save_svg_png};
 
 /// Fraction of the reference span the largest magnified displacement is scaled to when the
 /// magnification is automatic.
 pub const AUTO_MAGNIFY_FRACTION: f64 = 0.1;
 
-/// Default number of deformation frames (evenly spaced, the last at the final time).
+/// Number of evenly spaced deformation frames (the last at the final time) when the run
+/// gives none of the default frame times ([`default_frame_times`]).
 pub const DEFAULT_FRAMES: usize = 4;
+
+/// The ascent's time axis runs past apogee by this fraction of the time to apogee (at least
+/// [`ASCENT_MARGIN_MIN_S`]), so the turn over the top is seen.
+pub const ASCENT_MARGIN_FRACTION: f64 = 0.05;
+
+/// The smallest time (s) the ascent's axis runs past apogee.
+pub const ASCENT_MARGIN_MIN_S: f64 = 1.0;
+
+/// Figures whose channels mean nothing once a recovery device is out (the vehicle hangs
+/// from it and is frozen to a rigid body; the aerodynamic tables do not describe it): the
+/// angle of attack and sideslip, the attitude and the static margin. They are drawn up to
+/// the first deployment only.
+pub const NOT_UNDER_CANOPIES: [&str; 3] = ["alpha", "attitude", "static_margin"];
+
+/// The phases of a flight, from `summary.json`'s `flight` events, for splitting the time
+/// axes.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Phases {
+    /// Time of apogee (s), if the flight reached one.
+    pub apogee: Option<f64>,
+    /// Time of the first deployment of a recovery device (s).
+    pub first_deployment: Option<f64>,
+}
+
+impl Phases {
+    /// The end of the ascent's time axis for a history ending at `t_end` and starting at
+    /// `t0`: apogee plus [`ASCENT_MARGIN_FRACTION`] of the time to apogee (at least
+    /// [`ASCENT_MARGIN_MIN_S`]); `None` (one axis) without an apogee or when the history
+    /// ends before that time.
+    pub fn ascent_end(&self, t0: f64, t_end: f64) -> Option<f64> {
+        let a = self.apogee?;
+        let end = a + (ASCENT_MARGIN_FRACTION * (a - t0)).max(ASCENT_MARGIN_MIN_S);
+        (end < t_end).then_some(end)
+    }
+}
+
+/// The part of a plot with abscissa in `[a, b]` (series, marked points and shaded
+/// intervals cut to it).
+pub fn clip_plot(plot: &TimePlot, a: f64, b: f64) -> TimePlot {
+    let inside = |x: f64| x >= a && x <= b;
+    TimePlot {
+        series: plot
+            .series
+            .iter()
+            .map(|s| {
+                let (xs, ys) =
+                    s.xs.iter()
+                        .zip(&s.ys)
+                        .filter(|(x, _)| inside(**x))
+                        .map(|(x, y)| (*x, *y))
+                        .unzip();
+                Series {
+                    label: s.label.clone(),
+                    xs,
+                    ys,
+                }
+            })
+            .collect(),
+        points: plot
+            .points
+            .iter()
+            .filter(|p| inside(p.x))
+            .cloned()
+            .collect(),
+        shaded: plot
+            .shaded
+            .iter()
+            .map(|&(x0, x1)| (x0.max(a), x1.min(b)))
+            .filter(|(x0, x1)| x0 <= x1)
+            .collect(),
+        ..plot.clone()
+    }
+}
+
+fn has_points(plot: &TimePlot) -> bool {
+    plot.series.iter().any(|s| s.xs.len() >= 2)
+}
+
+/// The time plots of a figure over the flight's phases: `(stem, caption, plot or reason)`.
+/// With an ascent end ([`Phases::ascent_end`]) the ascent (first row to that end) and the
+/// descent (apogee to the last row) each get their own axis (`<stem>` and
+/// `<stem>_descent`); figures of [`NOT_UNDER_CANOPIES`] stop at the first deployment.
+pub fn split_phases(
+    fig: &PlannedFigure,
+    plot: &TimePlot,
+    phases: &Phases,
+    (t0, t_end): (f64, f64),
+) -> Vec<(String, String, Result<TimePlot, String>)> {
+    let canopy_end = if NOT_UNDER_CANOPIES.contains(&fig.stem.as_str()) {
+        phases.first_deployment
+    } else {
+        None
+    }
+    .unwrap_or(f64::INFINITY);
+    let canopy_reason = |d: f64| {
+        format!(
+            "not drawn under the canopies: meaningless after the first deployment (t = {d:.3} s)"
+        )
+    };
+    let Some(split) = phases.ascent_end(t0, t_end) else {
+        let p = clip_plot(plot, t0, canopy_end);
+        let p = if has_points(&p) {
+            Ok(p)
+        } else {
+            Err(canopy_reason(canopy_end))
+        };
+        return vec![(fig.stem.clone(), fig.caption.clone(), p)];
+    };
+    let apogee = phases.apogee.unwrap_or(split);
+    let mut ascent = clip_plot(plot, t0, split.min(canopy_end));
+    ascent.title = format!("{} (ascent)", plot.title);
+    let mut descent = clip_plot(plot, apogee, t_end.min(canopy_end));
+    descent.title = format!("{} (descent)", plot.title);
+    let cut = |p: TimePlot| {
+        if has_points(&p) {
+            Ok(p)
+        } else {
+            Err(canopy_reason(canopy_end))
+        }
+    };
+    vec![
+        (
+            fig.stem.clone(),
+            format!(
+                "{}: ascent, t = {t0:.3} to {:.3} s (apogee at {apogee:.3} s)",
+                fig.caption,
+                split.min(canopy_end)
+            ),
+            cut(ascent),
+        ),
+        (
+            format!("{}_descent", fig.stem),
+            format!(
+                "{}: descent, t = {apogee:.3} to {:.3} s",
+                fig.caption,
+                t_end.min(canopy_end)
+            ),
+            cut(descent),
+        ),
+    ]
+}
+
+/// The default deformation frame times: at maximum dynamic pressure (`max_q`, from
+/// `summary.json`, else the row of largest `dynamic_pressure`), at burnout, and at the
+/// largest `max_deformation` of the history, in time order (coinciding times once); each
+/// with what it marks. Empty when the run gives none of them.
+pub fn default_frame_times(
+    h: &History,
+    max_q: Option<f64>,
+    burnout: Option<f64>,
+) -> Vec<(f64, String)> {
+    let argmax = |name: &str| -> Option<f64> {
+        let c = h.column(name)?;
+        let t = h.time();
+        (0..c.len())
+            .filter(|&r| c[r].is_finite())
+            .reduce(|a, b| if c[b] > c[a] { b } else { a })
+            .map(|r| t[r])
+    };
+    let mut out: Vec<(f64, String)> = [
+        (max_q.or_else(|| argmax("dynamic_pressure")), "max q"),
+        (burnout, "burnout"),
+        (argmax("max_deformation"), "largest deformation"),
+    ]
+    .into_iter()
+    .filter_map(|(t, what)| Some((t.filter(|t| t.is_finite())?, what.to_string())))
+    .collect();
+    out.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut merged: Vec<(f64, String)> = Vec::new();
+    for (t, what) in out {
+        match merged.last_mut() {
+            Some(last) if last.0 == t => last.1 = format!("{}, {what}", last.1),
+            _ => merged.push((t, what)),
+        }
+    }
+    merged
+}
 
 /// What to draw for a run.
 #[derive(Clone, Debug, Default)]
@@ -30,6 +209,15 @@ pub struct RunReportOptions {
     pub events: Vec<(f64, String)>,
     /// The run's `flutter_margin.csv`, when it wrote one.
     pub flutter_margin: Option<History>,
+    /// The speed margin criterion `V_F / V` (`summary.json`'s
+    /// `flutter_margin.criterion_speed_margin`; 1.15 when absent).
+    pub criterion: Option<f64>,
+    /// Apogee and first deployment, for the ascent and descent axes.
+    pub phases: Phases,
+    /// Time of maximum dynamic pressure (`summary.json`), for the default frames.
+    pub max_q: Option<f64>,
+    /// Time of burnout (`summary.json`), for the default frames.
+    pub burnout: Option<f64>,
 }
 
 /// The result of a report: index entries in page order and every file written.
@@ -69,15 +257,17 @@ impl ReportOutput {
         });
     }
 
-    /// Write `out/index.html` with `title` and `facts`; adds it to `files`.
+    /// Write `out/index.html` with `title`, the `lead` (HTML, see
+    /// [`super::index::lead_html`]) and `facts`; adds it to `files`.
     pub fn write_index(
         &mut self,
         out: &Path,
         title: &str,
+        lead: &str,
         facts: &[(String, String)],
     ) -> Result<PathBuf, ReportError> {
         let path = out.join("index.html");
-        std::fs::write(&path, index_html(title, facts, &self.entries)).map_err(|e| {
+        std::fs::write(&path, index_html(title, lead, facts, &self.entries)).map_err(|e| {
             ReportError::Write {
                 path: path.clone(),
                 message: e.to_string(),
@@ -173,19 +363,36 @@ pub fn run_figures(
         figures.push(super::figures::ground_track(h));
     }
     if let Some(m) = &options.flutter_margin {
-        let mut f = super::figures::flutter_margin(m);
+        let mut f = super::figures::flutter_margin(m, options.criterion.unwrap_or(1.15));
         if let Ok(p) = &mut f.plot {
             p.markers = options.events.clone();
         }
         figures.push(f);
     }
+    let t = h.time();
+    let span = (
+        t.first().copied().unwrap_or(0.0),
+        t.last().copied().unwrap_or(0.0),
+    );
     for fig in figures {
-        match fig.plot {
-            Ok(plot) => {
-                let files = save_svg_png(&plot, &out.join(&fig.stem), FIGURE_SIZE)?;
-                report.push_drawn(fig.caption, files);
+        match &fig.plot {
+            // The ground track is not a time plot.
+            Ok(plot) if fig.stem == "ground_track" => {
+                let files = save_svg_png(plot, &out.join(&fig.stem), FIGURE_SIZE)?;
+                report.push_drawn(fig.caption.clone(), files);
             }
-            Err(reason) => report.push_skipped(fig.caption, reason),
+            Ok(plot) => {
+                for (stem, caption, p) in split_phases(&fig, plot, &options.phases, span) {
+                    match p {
+                        Ok(p) => {
+                            let files = save_svg_png(&p, &out.join(&stem), FIGURE_SIZE)?;
+                            report.push_drawn(caption, files);
+                        }
+                        Err(reason) => report.push_skipped(caption, reason),
+                    }
+                }
+            }
+            Err(reason) => report.push_skipped(fig.caption.clone(), reason.clone()),
         }
     }
     let Some(mesh) = mesh else {
@@ -207,7 +414,23 @@ pub fn run_figures(
             missing.join(", ")
         ));
     }
-    let times = frame_times(h, &options.frame_times, DEFAULT_FRAMES);
+    let (times, whats): (Vec<f64>, Vec<String>) = if options.frame_times.is_empty() {
+        let d = default_frame_times(h, options.max_q, options.burnout);
+        if d.is_empty() {
+            frame_times(h, &[], DEFAULT_FRAMES)
+                .into_iter()
+                .map(|t| (t, String::new()))
+                .unzip()
+        } else {
+            d.into_iter().unzip()
+        }
+    } else {
+        options
+            .frame_times
+            .iter()
+            .map(|t| (*t, String::new()))
+            .unzip()
+    };
     let etas: Vec<Vec<f64>> = times
         .iter()
         .map(|&t| {
@@ -231,13 +454,18 @@ pub fn run_figures(
                 .into(),
         );
     }
-    for (k, (t, eta)) in times.iter().zip(etas).enumerate() {
+    for (k, ((t, eta), what)) in times.iter().zip(etas).zip(&whats).enumerate() {
+        let at = if what.is_empty() {
+            String::new()
+        } else {
+            format!(" ({what})")
+        };
         let frame = DeformationFrame {
             geometry: mesh,
             eta,
             t: *t,
             magnify,
-            title: format!("Deformed mesh at t = {t:.4} s (displacements x {magnify:.3e})"),
+            title: format!("Deformed mesh at t = {t:.4} s{at} (displacements x {magnify:.3e})"),
         };
         let files = save_svg_png(
             &frame,
@@ -246,7 +474,7 @@ pub fn run_figures(
         )?;
         report.push_drawn(
             format!(
-                "Deformed FE mesh at t = {t:.4} s, front and isometric views, displacements magnified x {magnify:.3e}"
+                "Deformed FE mesh at t = {t:.4} s{at}, front and isometric views, displacements magnified x {magnify:.3e}"
             ),
             files,
         );
@@ -279,6 +507,105 @@ mod tests {
         replace_manifest(out, &[out.join("a.svg")]).unwrap();
         assert!(dir.path().join("keep").is_file());
         assert!(!out.join("mine.txt").exists(), "listed in the manifest");
+    }
+
+    fn plot_0_to_100() -> TimePlot {
+        let t: Vec<f64> = (0..=1000).map(|k| k as f64 * 0.1).collect();
+        TimePlot {
+            title: "x".into(),
+            series: vec![Series {
+                label: "a".into(),
+                ys: t.clone(),
+                xs: t,
+            }],
+            ..TimePlot::default()
+        }
+    }
+
+    fn fig(stem: &str) -> PlannedFigure {
+        PlannedFigure {
+            stem: stem.into(),
+            caption: "c".into(),
+            plot: Err(String::new()),
+        }
+    }
+
+    /// The ascent runs to apogee + max(5 %, 1 s) on its own axis, the descent from apogee;
+    /// figures meaningless under canopies stop at the first deployment; without apogee (or
+    /// when the history ends first) one axis.
+    #[test]
+    fn phases_split_the_time_axis() {
+        let p = plot_0_to_100();
+        let phases = Phases {
+            apogee: Some(40.0),
+            first_deployment: Some(41.0),
+        };
+        let parts = split_phases(&fig("mach"), &p, &phases, (0.0, 100.0));
+        let stems: Vec<&str> = parts.iter().map(|x| x.0.as_str()).collect();
+        assert_eq!(stems, ["mach", "mach_descent"]);
+        let range = |r: &Result<TimePlot, String>| {
+            let xs = &r.as_ref().unwrap().series[0].xs;
+            (xs[0], *xs.last().unwrap())
+        };
+        assert_eq!(range(&parts[0].2), (0.0, 42.0));
+        assert_eq!(range(&parts[1].2), (40.0, 100.0));
+        let parts = split_phases(&fig("alpha"), &p, &phases, (0.0, 100.0));
+        assert_eq!(range(&parts[0].2), (0.0, 41.0));
+        // 40 to 41 s: the descent before the canopy.
+        assert_eq!(range(&parts[1].2), (40.0, 41.0));
+        let at_apogee = Phases {
+            apogee: Some(40.0),
+            first_deployment: Some(40.0),
+        };
+        let parts = split_phases(&fig("attitude"), &p, &at_apogee, (0.0, 100.0));
+        assert!(parts[1].2.as_ref().unwrap_err().contains("canopies"));
+        // Short apogee: at least one second past it.
+        assert_eq!(
+            Phases {
+                apogee: Some(4.0),
+                first_deployment: None
+            }
+            .ascent_end(0.0, 100.0),
+            Some(5.0)
+        );
+        for phases in [
+            Phases::default(),
+            Phases {
+                apogee: Some(99.5),
+                first_deployment: None,
+            },
+        ] {
+            let parts = split_phases(&fig("mach"), &p, &phases, (0.0, 100.0));
+            assert_eq!(parts.len(), 1);
+            assert_eq!(range(&parts[0].2), (0.0, 100.0));
+        }
+    }
+
+    /// Default frames: max q, burnout and the largest deformation, in time order, with
+    /// coinciding times merged; none of them: the evenly spaced fallback.
+    #[test]
+    fn default_frames_are_at_max_q_burnout_and_largest_deformation() {
+        let h = parse_history(
+            "t,dynamic_pressure,max_deformation\n0,0,0\n1,5,0.1\n2,9,0.3\n3,4,0.2\n",
+            Path::new("h"),
+        )
+        .unwrap();
+        assert_eq!(
+            default_frame_times(&h, None, Some(1.5)),
+            vec![
+                (1.5, "burnout".to_string()),
+                (2.0, "max q, largest deformation".to_string())
+            ]
+        );
+        assert_eq!(
+            default_frame_times(&h, Some(2.2), None),
+            vec![
+                (2.0, "largest deformation".to_string()),
+                (2.2, "max q".to_string())
+            ]
+        );
+        let bare = parse_history("t,a\n0,0\n1,0\n", Path::new("h")).unwrap();
+        assert!(default_frame_times(&bare, None, None).is_empty());
     }
 
     #[test]
@@ -356,13 +683,60 @@ pub fn read_vg_csv(path: &Path) -> Result<Vec<VgBranch>, ReportError> {
     Ok(branches)
 }
 
-/// The V-g and V-f diagrams of a flutter solution.
+/// The condition and flutter point of a flutter solution, from its `flutter.json`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FlutterCondition {
+    pub mach: Option<f64>,
+    pub altitude_m: Option<f64>,
+    pub fin_thickness_m: Option<f64>,
+    /// The first (lowest-speed) flutter point: speed (m/s), frequency (Hz), branch name.
+    pub flutter: Option<(f64, f64, String)>,
+}
+
+impl FlutterCondition {
+    /// From `flutter.json` (`analyze flutter --out`); absent keys stay `None`.
+    pub fn from_json(v: &serde_json::Value) -> Self {
+        let f = &v["flutter"][0];
+        FlutterCondition {
+            mach: v["mach"].as_f64(),
+            altitude_m: v["altitude_m"].as_f64(),
+            fin_thickness_m: v["fin_thickness_m"].as_f64(),
+            flutter: match (f["speed_m_s"].as_f64(), f["frequency_hz"].as_f64()) {
+                (Some(speed), Some(hz)) => Some((
+                    speed,
+                    hz,
+                    f["mode"].as_str().unwrap_or_default().to_string(),
+                )),
+                _ => None,
+            },
+        }
+    }
+
+    /// The condition for a title: `Mach 2, 5000 m, fin 1.00 mm` (the parts known).
+    pub fn text(&self) -> String {
+        let mut parts = Vec::new();
+        if let Some(m) = self.mach {
+            parts.push(format!("Mach {m:.3}"));
+        }
+        if let Some(h) = self.altitude_m {
+            parts.push(format!("{h:.0} m"));
+        }
+        if let Some(t) = self.fin_thickness_m {
+            parts.push(format!("fin {:.3} mm", t * 1e3));
+        }
+        parts.join(", ")
+    }
+}
+
+/// The V-g and V-f diagrams of a flutter solution; titles carry the condition and the
+/// flutter point is marked (at g = 0 on V-g, at its frequency on V-f).
 pub fn flutter_figures(
     branches: &[VgBranch],
+    condition: &FlutterCondition,
     out: &Path,
     report: &mut ReportOutput,
 ) -> Result<(), ReportError> {
-    use super::plot::{Series, TimePlot};
+    use super::plot::MarkedPoint;
     let series = |pick: fn(&VgBranch) -> &Vec<(f64, f64)>| -> Vec<Series> {
         branches
             .iter()
@@ -374,29 +748,63 @@ pub fn flutter_figures(
             })
             .collect()
     };
-    for (stem, caption, y_label, s) in [
+    let cond = condition.text();
+    let point = |on_g: bool| -> Vec<MarkedPoint> {
+        condition
+            .flutter
+            .iter()
+            .map(|(v, hz, name)| MarkedPoint {
+                x: *v,
+                y: if on_g { 0.0 } else { *hz },
+                label: format!(
+                    "flutter: {v:.1} m/s, {hz:.2} Hz{}",
+                    if name.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" ({name})")
+                    }
+                ),
+            })
+            .collect()
+    };
+    for (stem, name, caption, y_label, s, on_g) in [
         (
             "vg",
+            "V-g",
             "V-g: damping g = 2 Re(p)/Im(p) of each branch against speed (flutter where g crosses 0)",
             "g",
             series(|b| &b.g),
+            true,
         ),
         (
             "vf",
+            "V-f",
             "V-f: frequency of each branch against speed",
             "frequency (Hz)",
             series(|b| &b.f),
+            false,
         ),
     ] {
+        let title = if cond.is_empty() {
+            name.to_string()
+        } else {
+            format!("{name}: {cond}")
+        };
         let plot = TimePlot {
-            title: caption.split(':').next().unwrap_or(caption).to_string(),
+            title: title.clone(),
             x_label: "V (m/s)".to_string(),
             y_label: y_label.to_string(),
             series: s,
-            markers: Vec::new(),
+            points: point(on_g),
+            ..TimePlot::default()
         };
         let files = save_svg_png(&plot, &out.join(stem), FIGURE_SIZE)?;
-        report.push_drawn(caption.to_string(), files);
+        let caption = if cond.is_empty() {
+            caption.to_string()
+        } else {
+            format!("{caption}; {cond}")
+        };
+        report.push_drawn(caption, files);
     }
     Ok(())
 }

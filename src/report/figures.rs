@@ -3,7 +3,51 @@
 //! momenta), chosen from the columns a `history.csv` actually has.
 
 use super::history::History;
-use super::plot::{Series, TimePlot};
+use super::plot::{MarkedPoint, Series, TimePlot};
+
+/// Angles (deg) drawn unwrapped: roll and yaw (heading) are written in (-180, 180] and
+/// jump by 360 deg when they pass +-180 (near gimbal lock, pitch +-90 deg, both swing
+/// through it); pitch lies in [-90, 90] and never wraps.
+pub const UNWRAPPED: [&str; 2] = ["roll", "yaw"];
+
+/// Unwrap an angle in degrees: each value is moved by a whole number of turns so that it
+/// lies within 180 deg of the previous unwrapped value (the smallest rotation between
+/// consecutive samples, as numpy's `unwrap` with period 360). Values are unchanged modulo
+/// 360; non-finite values are passed through and do not move the reference.
+pub fn unwrap_degrees(v: &[f64]) -> Vec<f64> {
+    let mut out = Vec::with_capacity(v.len());
+    let mut prev: Option<f64> = None;
+    for &x in v {
+        if !x.is_finite() {
+            out.push(x);
+            continue;
+        }
+        let y = match prev {
+            None => x,
+            Some(p) => x - 360.0 * ((x - p) / 360.0).round(),
+        };
+        out.push(y);
+        prev = Some(y);
+    }
+    out
+}
+
+/// The smallest span (m) of either axis of the ground track: the larger of 10 m and 1 % of
+/// the largest horizontal distance from the first point, so a vertical flight's
+/// round-off (1e-11 m) is not drawn as a curve.
+pub fn ground_track_min_span(east: &[f64], north: &[f64]) -> f64 {
+    let (e0, n0) = (
+        east.first().copied().unwrap_or(0.0),
+        north.first().copied().unwrap_or(0.0),
+    );
+    let range = east
+        .iter()
+        .zip(north)
+        .map(|(e, n)| (e - e0).hypot(n - n0))
+        .filter(|d| d.is_finite())
+        .fold(0.0, f64::max);
+    (0.01 * range).max(10.0)
+}
 
 /// What kind of deformation a mode is, for grouping the `eta_*` columns.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -102,19 +146,70 @@ pub fn ground_track(h: &History) -> PlannedFigure {
                 xs: east.to_vec(),
                 ys: north.to_vec(),
             }],
-            markers: Vec::new(),
+            equal_axes_min_span: Some(ground_track_min_span(east, north)),
+            ..TimePlot::default()
         }),
         _ => Err("no columns: wanted p_inertial_x, p_inertial_y".to_string()),
     };
     PlannedFigure {
         stem: "ground_track".to_string(),
-        caption: "Ground track (inertial x north against y east)".to_string(),
+        caption: "Ground track (inertial x north against y east), equal axes, each at least 10 m or 1 % of the range".to_string(),
         plot,
     }
 }
 
-/// Flight Mach against the clamped fin's flutter Mach over time (`flutter_margin.csv`).
-pub fn flutter_margin(m: &History) -> PlannedFigure {
+/// Rows of `flutter_margin.csv` the margin does not trust: `trusted` 0 (the transonic gap)
+/// or `in_grid` 0 (outside the boundary's grid); as time intervals reaching half-way to
+/// the neighbouring rows.
+pub fn untrusted_intervals(m: &History) -> Vec<(f64, f64)> {
+    let t = m.time();
+    let flag = |name: &str, r: usize| m.column(name).is_some_and(|c| c[r] == 0.0);
+    let bad: Vec<bool> = (0..t.len())
+        .map(|r| flag("trusted", r) || flag("in_grid", r))
+        .collect();
+    let mid = |a: usize, b: usize| 0.5 * (t[a] + t[b]);
+    let mut out = Vec::new();
+    let mut r = 0;
+    while r < t.len() {
+        if !bad[r] {
+            r += 1;
+            continue;
+        }
+        let start = r;
+        while r + 1 < t.len() && bad[r + 1] {
+            r += 1;
+        }
+        let a = if start == 0 {
+            t[0]
+        } else {
+            mid(start - 1, start)
+        };
+        let b = if r + 1 == t.len() {
+            t[r]
+        } else {
+            mid(r, r + 1)
+        };
+        out.push((a, b));
+        r += 1;
+    }
+    out
+}
+
+/// The first trusted row inside the grid whose speed margin `V_F / V` is below
+/// `criterion`: `(t, mach, margin)`.
+pub fn first_violation(m: &History, criterion: f64) -> Option<(f64, f64, f64)> {
+    let t = m.time();
+    let (mach, margin) = (m.column("mach")?, m.column("speed_margin")?);
+    let ok = |name: &str, r: usize| m.column(name).is_none_or(|c| c[r] != 0.0);
+    (0..t.len())
+        .find(|&r| ok("trusted", r) && ok("in_grid", r) && margin[r] < criterion)
+        .map(|r| (t[r], mach[r], margin[r]))
+}
+
+/// Flight Mach against the clamped fin's flutter Mach over time (`flutter_margin.csv`),
+/// with the untrusted rows shaded and the first violation of `criterion` (`V_F / V`, 1.15
+/// unless `summary.json` says otherwise) marked.
+pub fn flutter_margin(m: &History, criterion: f64) -> PlannedFigure {
     let t = m.time().to_vec();
     let plot = match (m.column("mach"), m.column("flutter_mach")) {
         (Some(mach), Some(fm)) if !t.is_empty() => Ok(TimePlot {
@@ -133,20 +228,30 @@ pub fn flutter_margin(m: &History) -> PlannedFigure {
                     ys: fm.to_vec(),
                 },
                 Series {
-                    label: "flutter / 1.15".to_string(),
+                    label: format!("flutter / {criterion}"),
                     xs: t,
-                    ys: fm.iter().map(|x| x / 1.15).collect(),
+                    ys: fm.iter().map(|x| x / criterion).collect(),
                 },
             ],
-            markers: Vec::new(),
+            shaded: untrusted_intervals(m),
+            shaded_label: "untrusted (transonic gap or outside the grid)".to_string(),
+            points: first_violation(m, criterion)
+                .map(|(t, mach, margin)| MarkedPoint {
+                    x: t,
+                    y: mach,
+                    label: format!("first violation: t = {t:.3} s, V_F/V = {margin:.3}"),
+                })
+                .into_iter()
+                .collect(),
+            ..TimePlot::default()
         }),
         _ => Err("flutter_margin.csv has no mach and flutter_mach columns".to_string()),
     };
     PlannedFigure {
         stem: "flutter_margin".to_string(),
-        caption:
-            "Flight Mach against the flutter Mach of the clamped fin, and the 15 % margin line"
-                .to_string(),
+        caption: format!(
+            "Flight Mach against the flutter Mach of the clamped fin and the criterion line (V_F/V = {criterion}); untrusted rows shaded, the first violation of the criterion marked"
+        ),
         plot,
     }
 }
@@ -400,11 +505,15 @@ pub fn plan_figures(h: &History, group_of: &dyn Fn(&str) -> ModeGroup) -> Vec<Pl
                             Some(Series {
                                 label: c.clone(),
                                 xs: t.clone(),
-                                ys: h.column(c)?.to_vec(),
+                                ys: if UNWRAPPED.contains(&c.as_str()) {
+                                    unwrap_degrees(h.column(c)?)
+                                } else {
+                                    h.column(c)?.to_vec()
+                                },
                             })
                         })
                         .collect(),
-                    markers: Vec::new(),
+                    ..TimePlot::default()
                 })
             };
             PlannedFigure {
@@ -419,6 +528,94 @@ pub fn plan_figures(h: &History, group_of: &dyn Fn(&str) -> ModeGroup) -> Vec<Pl
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A small deterministic generator for the property tests (PCG-style LCG).
+    fn uniform(seed: &mut u64) -> f64 {
+        *seed = seed
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (*seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Unwrapping: no jump of more than 180 deg between consecutive points, the same
+    /// values modulo 360, and a walk with steps under 180 deg recovered up to one constant
+    /// whole number of turns (Euler angles written wrapped to (-180, 180]).
+    #[test]
+    fn unwrapped_angles_never_jump_and_keep_their_values_modulo_360() {
+        let wrap = |a: f64| a - 360.0 * ((a + 180.0) / 360.0).ceil() + 360.0;
+        let mut seed = 32;
+        for _ in 0..300 {
+            let n = 2 + (uniform(&mut seed) * 400.0) as usize;
+            let step = 179.0 * uniform(&mut seed);
+            let mut a = 2000.0 * uniform(&mut seed) - 1000.0;
+            let mut walk = Vec::with_capacity(n);
+            for _ in 0..n {
+                a += step * (2.0 * uniform(&mut seed) - 1.0);
+                walk.push(a);
+            }
+            let wrapped: Vec<f64> = walk.iter().map(|a| wrap(*a)).collect();
+            assert!(
+                wrapped
+                    .iter()
+                    .all(|w| *w > -180.0 - 1e-9 && *w <= 180.0 + 1e-9)
+            );
+            let u = unwrap_degrees(&wrapped);
+            assert!(u.windows(2).all(|w| (w[1] - w[0]).abs() <= 180.0));
+            for (w, x) in wrapped.iter().zip(&u) {
+                let turns = (x - w) / 360.0;
+                assert!((turns - turns.round()).abs() < 1e-9, "{w} -> {x}");
+            }
+            let offset = u[0] - walk[0];
+            assert!((offset / 360.0 - (offset / 360.0).round()).abs() < 1e-9);
+            for (x, a) in u.iter().zip(&walk) {
+                assert!((x - a - offset).abs() < 1e-6, "{x} {a} {offset}");
+            }
+        }
+        let u = unwrap_degrees(&[170.0, f64::NAN, -170.0]);
+        assert!(u[0] == 170.0 && u[1].is_nan() && u[2] == 190.0, "{u:?}");
+    }
+
+    /// The ground track's minimum span: 10 m for a vertical flight whose north position is
+    /// round-off; 1 % of the range for a long one.
+    #[test]
+    fn ground_track_spans_at_least_ten_metres_or_a_hundredth_of_the_range() {
+        let h = History {
+            channels: ["t", "p_inertial_x", "p_inertial_y", "speed"]
+                .map(String::from)
+                .to_vec(),
+            columns: vec![
+                vec![0.0, 1.0, 2.0],
+                vec![0.0, -2e-12, 2e-11],
+                vec![0.0, 0.0, 0.0],
+                vec![0.0, 1.0, 0.0],
+            ],
+        };
+        let p = ground_track(&h).plot.unwrap();
+        assert_eq!(p.equal_axes_min_span, Some(10.0));
+        assert_eq!(ground_track_min_span(&[0.0, 3000.0], &[0.0, 4000.0]), 50.0);
+    }
+
+    #[test]
+    fn untrusted_rows_and_the_first_violation() {
+        let h = History {
+            channels: ["t", "mach", "speed_margin", "trusted", "in_grid"]
+                .map(String::from)
+                .to_vec(),
+            columns: vec![
+                vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0],
+                vec![0.5, 0.95, 1.0, 1.1, 0.8, 0.7],
+                vec![2.0, 1.0, 1.05, 1.1, 1.12, 1.3],
+                vec![1.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+                vec![1.0, 1.0, 1.0, 0.0, 1.0, 1.0],
+            ],
+        };
+        assert_eq!(untrusted_intervals(&h), vec![(0.5, 3.5)]);
+        // Rows 1-3 are untrusted; row 4 is the first trusted row below 1.15.
+        assert_eq!(first_violation(&h, 1.15), Some((4.0, 0.8, 1.12)));
+        assert_eq!(first_violation(&h, 1.1), None);
+        let f = flutter_margin(&h, 1.15);
+        assert!(f.plot.is_err(), "no flutter_mach column");
+    }
     use crate::report::history::parse_history;
     use std::path::Path;
 

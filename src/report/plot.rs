@@ -5,7 +5,9 @@
 use std::path::{Path, PathBuf};
 
 use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::contour::{contour_segments, nice_levels};
 use super::map::StabilityMap;
@@ -47,8 +49,17 @@ pub struct Series {
     pub ys: Vec<f64>,
 }
 
-/// A plot of several series against one x axis, with legend, axis labels and grid.
+/// A point marked on a plot (a filled circle, with its label in the legend), e.g. the
+/// first violation of the flutter margin or the flutter point of a V-g diagram.
 #[derive(Clone, Debug, PartialEq)]
+pub struct MarkedPoint {
+    pub x: f64,
+    pub y: f64,
+    pub label: String,
+}
+
+/// A plot of several series against one x axis, with legend, axis labels and grid.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct TimePlot {
     /// Caption above the plot.
     pub title: String,
@@ -61,7 +72,27 @@ pub struct TimePlot {
     /// Events marked as labelled vertical lines at their abscissa (flight events: rail
     /// exit, burnout, apogee, deployments, landing); those outside the x range are skipped.
     pub markers: Vec<(f64, String)>,
+    /// Abscissa intervals shaded over the whole height (e.g. untrusted rows), drawn under
+    /// the lines; one legend entry, [`TimePlot::shaded_label`], when there are any.
+    pub shaded: Vec<(f64, f64)>,
+    /// Legend text of the shaded intervals.
+    pub shaded_label: String,
+    /// Points marked with a filled circle, each with its label in the legend.
+    pub points: Vec<MarkedPoint>,
+    /// `Some(min_span)`: equal axes (one metre per pixel on both, for a map-like plot such
+    /// as the ground track), each axis spanning at least `min_span` so round-off is not
+    /// drawn as a curve.
+    pub equal_axes_min_span: Option<f64>,
 }
+
+/// Colour of [`TimePlot::shaded`] intervals.
+pub const SHADE: RGBColor = RGBColor(253, 208, 162);
+
+/// Colour of [`TimePlot::points`].
+pub const POINT_COLOUR: RGBColor = RGBColor(0, 0, 0);
+
+/// Stroke width of the series lines, in pixels.
+pub const LINE_WIDTH: u32 = 2;
 
 pub(crate) fn draw_err<E: std::fmt::Display>(e: E) -> ReportError {
     ReportError::Draw(e.to_string())
@@ -145,6 +176,94 @@ pub fn decimate(xs: &[f64], ys: &[f64], max_points: usize) -> Vec<(f64, f64)> {
     out
 }
 
+/// The chart of a [`TimePlot`]: caption, margins and label areas. The plotting area's
+/// pixel size depends only on these and the root's size ([`TimePlot::draw`] and
+/// [`plot_area_size`] share it).
+fn time_chart<'a, DB: DrawingBackend>(
+    root: &'a DrawingArea<DB, Shift>,
+    title: &str,
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+) -> Result<ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>, ReportError> {
+    ChartBuilder::on(root)
+        .caption(title, font(24))
+        .margin(12)
+        .x_label_area_size(50)
+        .y_label_area_size(90)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(draw_err)
+}
+
+/// The plotting area (inside the axes) of a [`TimePlot`] of `size` pixels, as pixel
+/// ranges `(x_range, y_range)`, half-open: laid out on a scratch bitmap with the same
+/// chart builder as the figure.
+pub fn plot_area_pixels(
+    title: &str,
+    size: (u32, u32),
+) -> Result<(std::ops::Range<i32>, std::ops::Range<i32>), ReportError> {
+    ensure_font()?;
+    let mut buf = vec![0u8; size.0 as usize * size.1 as usize * 3];
+    let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
+    let chart = time_chart(&root, title, (0.0, 1.0), (0.0, 1.0))?;
+    Ok(chart.plotting_area().get_pixel_range())
+}
+
+/// Width and height in pixels of a [`TimePlot`]'s plotting area on a root of `size`.
+pub fn plot_area_size(title: &str, size: (u32, u32)) -> Result<(f64, f64), ReportError> {
+    let (xr, yr) = plot_area_pixels(title, size)?;
+    Ok((
+        f64::from((xr.end - xr.start).max(1)),
+        f64::from((yr.end - yr.start).max(1)),
+    ))
+}
+
+/// Axis ranges with one unit per the same number of pixels on both axes: each data range
+/// widened to at least `min_span`, then the axis with less data per pixel widened about
+/// its centre until both have the same scale. `area` is the plotting area in pixels.
+pub fn equal_axes(
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+    min_span: f64,
+    area: (f64, f64),
+) -> ((f64, f64), (f64, f64)) {
+    let min_span = if min_span.is_finite() && min_span > 0.0 {
+        min_span
+    } else {
+        1.0
+    };
+    let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+    let (sx, sy) = ((x1 - x0).max(min_span), (y1 - y0).max(min_span));
+    let per_pixel = (sx / area.0).max(sy / area.1);
+    let (hx, hy) = (0.5 * per_pixel * area.0, 0.5 * per_pixel * area.1);
+    ((cx - hx, cx + hx), (cy - hy, cy + hy))
+}
+
+/// Draw a polyline as separate two-point segments, never as one wide path.
+///
+/// Why: plotters' bitmap backend (plotters-backend 0.3.7, `rasterizer/path.rs`,
+/// `compute_polygon_vertex`) fills a path wider than one pixel as a single polygon whose
+/// vertex at each joint is the intersection of the two segments' offset edges. Only the
+/// outer side of a joint is capped (at 4 half-widths); on the inner side of a sharp
+/// reversal (a spike, or a fast oscillation a pixel apart) the two offset edges are nearly
+/// parallel and meet far away, so the polygon reaches across the title and axis labels and
+/// the fill paints a thick stroke there (the SVG backend writes a `<polyline>` and the
+/// viewer's miter limit saves it). A two-point path is a quadrilateral whose corners lie
+/// within half the stroke width of its two ends, so nothing is drawn more than a pixel
+/// outside the data's bounding box.
+pub fn draw_segments<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    pts: &[(f64, f64)],
+    style: ShapeStyle,
+) -> Result<(), ReportError> {
+    chart
+        .draw_series(
+            pts.windows(2)
+                .map(|w| PathElement::new(vec![w[0], w[1]], style)),
+        )
+        .map_err(draw_err)?;
+    Ok(())
+}
+
 impl Figure for TimePlot {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), ReportError> {
         ensure_font()?;
@@ -154,8 +273,16 @@ impl Figure for TimePlot {
             .iter()
             .map(|s| decimate(&s.xs, &s.ys, MAX_POINTS_PER_SERIES))
             .collect();
+        let points = self
+            .points
+            .iter()
+            .filter(|p| p.x.is_finite() && p.y.is_finite());
         let (x0, x1) = {
-            let xs = thinned.iter().flatten().map(|p| p.0);
+            let xs = thinned
+                .iter()
+                .flatten()
+                .map(|p| p.0)
+                .chain(points.clone().map(|p| p.x));
             let (lo, hi) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
                 (lo.min(v), hi.max(v))
             });
@@ -165,11 +292,25 @@ impl Figure for TimePlot {
                 padded_range([lo, hi].into_iter())
             }
         };
-        let (y0, y1) = padded_range(thinned.iter().flatten().map(|p| p.1));
-        // When the legend would hide data in every corner, make room above the data.
-        let n = self.series.len();
+        let (y0, y1) = padded_range(
+            thinned
+                .iter()
+                .flatten()
+                .map(|p| p.1)
+                .chain(points.clone().map(|p| p.y)),
+        );
+        let ((x0, x1), (y0, y1)) = match self.equal_axes_min_span {
+            Some(span) => {
+                let area = plot_area_size(&self.title, root.dim_in_pixel())?;
+                equal_axes(padded_range([x0, x1].into_iter()), (y0, y1), span, area)
+            }
+            None => ((x0, x1), (y0, y1)),
+        };
+        // When the legend would hide data in every corner, make room above the data
+        // (not on equal axes, whose scale is fixed).
+        let n = self.series.len() + self.points.len() + usize::from(!self.shaded.is_empty());
         let (corner, hidden) = legend_corner(&thinned, (x0, x1), (y0, y1), n);
-        let (legend_at, y1) = if hidden == 0 {
+        let (legend_at, y1) = if hidden == 0 || self.equal_axes_min_span.is_some() {
             (corner, y1)
         } else {
             let h = legend_height_fraction(n);
@@ -178,13 +319,7 @@ impl Figure for TimePlot {
                 y1 + (y1 - y0) * h / (1.0 - h),
             )
         };
-        let mut chart = ChartBuilder::on(root)
-            .caption(&self.title, font(24))
-            .margin(12)
-            .x_label_area_size(50)
-            .y_label_area_size(90)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(draw_err)?;
+        let mut chart = time_chart(root, &self.title, (x0, x1), (y0, y1))?;
         chart
             .configure_mesh()
             .x_desc(self.x_label.as_str())
@@ -197,14 +332,33 @@ impl Figure for TimePlot {
             .bold_line_style(RGBColor(200, 200, 200))
             .draw()
             .map_err(draw_err)?;
+        let bands: Vec<(f64, f64)> = self
+            .shaded
+            .iter()
+            .map(|&(a, b)| (a.max(x0), b.min(x1)))
+            .filter(|(a, b)| a.is_finite() && b.is_finite() && a <= b)
+            .collect();
+        if !bands.is_empty() {
+            chart
+                .draw_series(
+                    bands
+                        .iter()
+                        .map(|&(a, b)| Rectangle::new([(a, y0), (b, y1)], SHADE.filled())),
+                )
+                .map_err(draw_err)?
+                .label(self.shaded_label.as_str())
+                .legend(|(x, y)| Rectangle::new([(x, y - 6), (x + 24, y + 6)], SHADE.filled()));
+        }
         for (k, (s, pts)) in self.series.iter().zip(&thinned).enumerate() {
             let color = PALETTE[k % PALETTE.len()];
+            draw_segments(&mut chart, pts, color.stroke_width(LINE_WIDTH))?;
+            // The legend entry, on an empty series.
             chart
-                .draw_series(LineSeries::new(pts.iter().copied(), color.stroke_width(2)))
+                .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
                 .map_err(draw_err)?
                 .label(s.label.as_str())
                 .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(2))
+                    PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(LINE_WIDTH))
                 });
         }
         let marker_style = RGBColor(120, 120, 120).stroke_width(1);
@@ -222,16 +376,32 @@ impl Figure for TimePlot {
                 }))
                 .map_err(draw_err)?;
             // Labels stagger downwards so neighbouring events stay readable.
+            // Near the right edge the label goes to the left of its line, inside the frame.
             let y = y1 - (y1 - y0) * (0.04 + 0.05 * (k % 4) as f64);
+            let (text, style) = if (x - x0) > 0.85 * (x1 - x0) {
+                (
+                    format!("{label} "),
+                    font(13).pos(Pos::new(HPos::Right, VPos::Top)),
+                )
+            } else {
+                (format!(" {label}"), font(13))
+            };
             chart
-                .draw_series(std::iter::once(Text::new(
-                    format!(" {label}"),
-                    (*x, y),
-                    font(13),
-                )))
+                .draw_series(std::iter::once(Text::new(text, (*x, y), style)))
                 .map_err(draw_err)?;
         }
-        if !self.series.is_empty() {
+        for p in points {
+            chart
+                .draw_series(std::iter::once(Circle::new(
+                    (p.x, p.y),
+                    6,
+                    POINT_COLOUR.filled(),
+                )))
+                .map_err(draw_err)?
+                .label(p.label.as_str())
+                .legend(|(x, y)| Circle::new((x + 12, y), 6, POINT_COLOUR.filled()));
+        }
+        if n > 0 {
             chart
                 .configure_series_labels()
                 .label_font(font(14))
@@ -405,11 +575,10 @@ impl Figure for StabilityMap {
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK.stroke_width(4)));
         for (k, curve) in self.overlays.iter().enumerate() {
             let colour = PALETTE[(k + 3) % PALETTE.len()];
+            let pts: Vec<(f64, f64)> = curve.points.iter().map(|p| (p[0], p[1])).collect();
+            draw_segments(&mut chart, &pts, colour.stroke_width(3))?;
             chart
-                .draw_series(LineSeries::new(
-                    curve.points.iter().map(|p| (p[0], p[1])),
-                    colour.stroke_width(3),
-                ))
+                .draw_series(std::iter::empty::<PathElement<(f64, f64)>>())
                 .map_err(draw_err)?
                 .label(curve.label.as_str())
                 .legend(move |(x, y)| {
@@ -541,6 +710,91 @@ mod tests {
         let flat_bottom: Vec<(f64, f64)> = (0..=100).map(|k| (k as f64, 5.0)).collect();
         let (_, hidden) = legend_corner(&[flat_top, flat_bottom], (0.0, 100.0), (0.0, 100.0), 2);
         assert!(hidden > 0, "every corner has data");
+    }
+
+    /// Equal axes: the same units per pixel on both, each span at least the minimum,
+    /// the data inside, centred.
+    #[test]
+    fn equal_axes_have_one_scale() {
+        let area = (840.0, 480.0);
+        for (x, y, min) in [
+            ((0.0, 0.0), (-2e-12, 2e-11), 10.0),
+            ((-300.0, 1200.0), (0.0, 50.0), 10.0),
+            ((0.0, 5.0), (-4000.0, 10.0), 40.0),
+        ] {
+            let ((x0, x1), (y0, y1)) = equal_axes(x, y, min, area);
+            let (sx, sy) = ((x1 - x0) / area.0, (y1 - y0) / area.1);
+            assert!((sx - sy).abs() <= 1e-12 * sx, "{sx} {sy}");
+            assert!(x1 - x0 >= min * (1.0 - 1e-12) && y1 - y0 >= min * (1.0 - 1e-12));
+            let eps = 1e-12 * (x1 - x0);
+            assert!(x0 <= x.0 + eps && x1 >= x.1 - eps && y0 <= y.0 + eps && y1 >= y.1 - eps);
+            // One of the two is tight: its span is the data's or the minimum.
+            let tight = |s: f64, d: f64| (s - d.max(min)).abs() <= 1e-9 * s;
+            assert!(tight(x1 - x0, x.1 - x.0) || tight(y1 - y0, y.1 - y.0));
+        }
+    }
+
+    /// Red pixels outside the data's pixel box (plus 2 px) of a 400 x 300 picture of a
+    /// dense zig-zag (ten points per pixel column swinging over the whole height, as a
+    /// fast mode or a row-to-row sign flip is after decimation), drawn 2 px wide by `draw`.
+    fn red_outside(
+        draw: impl Fn(
+            &mut ChartContext<'_, BitMapBackend<'_>, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+            &[(f64, f64)],
+        ),
+    ) -> usize {
+        let size = (400u32, 300u32);
+        let pts: Vec<(f64, f64)> = (0..3000)
+            .map(|k| {
+                let y = if k % 2 == 0 { 352.0 } else { -1.0 };
+                (f64::from(k), y)
+            })
+            .collect();
+        let mut buf = vec![255u8; (size.0 * size.1 * 3) as usize];
+        {
+            let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
+            let mut chart = ChartBuilder::on(&root)
+                .margin(50)
+                .build_cartesian_2d(0.0..2999.0, -1.0..352.0)
+                .unwrap();
+            draw(&mut chart, &pts);
+        }
+        let mut n = 0;
+        for y in 0..size.1 {
+            for x in 0..size.0 {
+                let k = ((y * size.0 + x) * 3) as usize;
+                let red = buf[k] == 255 && buf[k + 1] == 0 && buf[k + 2] == 0;
+                let inside = (48..=352).contains(&x) && (48..=252).contains(&y);
+                if red && !inside {
+                    n += 1;
+                }
+            }
+        }
+        n
+    }
+
+    /// The cause of issue 32's strokes across the PNGs' titles: plotters' bitmap backend
+    /// fills a 2 px polyline through sharp reversals as one polygon whose inner joints
+    /// land far outside the data. Drawn as segments ([`draw_segments`]), nothing lands
+    /// more than the half width outside the data's pixel box.
+    #[test]
+    fn dense_reversals_stay_inside_the_data_box() {
+        let wide_path = red_outside(|chart, pts| {
+            chart
+                .draw_series(LineSeries::new(
+                    pts.iter().copied(),
+                    RED.stroke_width(LINE_WIDTH),
+                ))
+                .unwrap();
+        });
+        assert!(
+            wide_path > 100,
+            "plotters' wide path: {wide_path} pixels outside"
+        );
+        let segments = red_outside(|chart, pts| {
+            draw_segments(chart, pts, RED.stroke_width(LINE_WIDTH)).unwrap();
+        });
+        assert_eq!(segments, 0);
     }
 
     #[test]
