@@ -46,11 +46,12 @@
 //! written out, `DN = 24 eps gamma p0 / pi`, with `eps` taken from the fin's own planform,
 //! `eps = x_c / c_r - 0.25`, where `x_c` is the chordwise distance of the planform's area
 //! centroid aft of the root leading edge. What we read: Bennett's own implementation of the
-//! article, `src/Fin_Area_and_Cx_and_Input.py` of github.com/jkb-git/Fin-Flutter-Velocity-
-//! Calculator (commit 1a8def61, "(c) 2024 John K. Bennett", BSD-2): `Fin_Eps = (fin_Cx / RC)
-//! - 0.25`, `DN = (24 * Fin_Eps * 1.4 * p0) / math.pi`, `ThicknessRatio = Thickness / RC`,
-//! `Lambda = TC / RC`, `AspectRatio = Height^2 / fin_area`, `Vf = a sqrt(GE / (DN A^3 /
-//! ((t/c)^3 (A + 2)) (Lambda + 1)/2 p/p0))`, `fin_Cx` the area-weighted mean of the
+//! article, `src/Fin_Area_and_Cx_and_Input.py` of
+//! github.com/jkb-git/Fin-Flutter-Velocity-Calculator (commit 1a8def61, "(c) 2024 John K.
+//! Bennett", BSD-2): `Fin_Eps = (fin_Cx / RC) - 0.25`, `DN = (24 * Fin_Eps * 1.4 * p0) /
+//! math.pi`, `ThicknessRatio = Thickness / RC`, `Lambda = TC / RC`, `AspectRatio =
+//! Height^2 / fin_area`, `Vf = a sqrt(GE / (DN A^3 / ((t/c)^3 (A + 2)) (Lambda + 1)/2
+//! p/p0))`, `fin_Cx` the area-weighted mean of the
 //! triangles' x centroids of the OpenRocket fin outline (x from the root leading edge). The
 //! newsletters themselves (apogeerockets.com/Peak-of-Flight/Newsletter615 and 617) we did not
 //! reach; OpenRocket's open feature request for a flutter output (issue #2709, 2025) names
