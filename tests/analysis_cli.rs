@@ -41,6 +41,7 @@ fn tn4197_flutter_mach_is_martins_original_form() {
         root_chord: 0.2,
         tip_chord: 0.1,
         thickness: 0.002,
+        tip_le_offset: 0.1,
     };
     let m = f.flutter_mach(50_000.0);
     assert!((m - 1.527_758).abs() < 5e-7, "{m}: not Martin's TN 4197");

@@ -1,7 +1,7 @@
 //! Stability maps over fin thickness x Mach (thesis Figs 6.3-6.8): sigma_d, omega_d and the
 //! class at every grid point, the TN 4197 flutter Mach next to them (Martin's original form
-//! for the boundaries; the Peak of Flight 291 form as a column of `map.csv`), per-thickness stability
-//! boundaries, and the CSV files.
+//! and Bennett's revised one, Peak of Flight 615, for the boundaries; the Peak of Flight 291
+//! form as a column of `map.csv`), per-thickness stability boundaries, and the CSV files.
 //!
 //! [`StabilityMap`] is the plain data a plot takes: `xs` (Mach, the thesis' horizontal axis),
 //! `ys` (fin thickness, m) and row-major grids indexed `[iy][ix]`.
@@ -85,6 +85,10 @@ pub struct PlanarMap {
     /// The same in the Peak of Flight 291 / RocketPy form (sqrt(2) higher), for comparison
     /// (`map.csv` only).
     pub tn4197_pof291_mach: Vec<Vec<f64>>,
+    /// The same in Bennett's revised form (Peak of Flight 615, eps from the planform's
+    /// centroid): `map.csv`, the `tn4197_pof615` columns of `boundary.csv` and
+    /// `critical_thickness.csv`, and `overlay_TN_4197_PoF_615.csv`.
+    pub tn4197_pof615_mach: Vec<Vec<f64>>,
     /// Why points failed, as `(iy, ix, message)` (no-equilibrium points included).
     pub failures: Vec<(usize, usize, String)>,
 }
@@ -120,6 +124,8 @@ pub struct Boundary {
     pub model: BoundaryMach,
     /// Lowest Mach where Mach - TN 4197 flutter Mach crosses 0.
     pub tn4197: BoundaryMach,
+    /// The same for Bennett's form (Peak of Flight 615).
+    pub tn4197_pof615: BoundaryMach,
 }
 
 /// Where the stability boundary lies along the thickness axis at one Mach number.
@@ -142,6 +148,8 @@ pub struct MachBoundary {
     pub mach: f64,
     pub model: CriticalThickness,
     pub tn4197: CriticalThickness,
+    /// Bennett's form (Peak of Flight 615).
+    pub tn4197_pof615: CriticalThickness,
 }
 
 /// The thickness above which `f` stays negative (stable): the highest downward zero
@@ -207,6 +215,7 @@ pub fn planar_map(
     let mut speed = grid();
     let mut tn = grid();
     let mut tn_pof = grid();
+    let mut tn_615 = grid();
     let mut class = vec![vec![CellClass::Failed; nx]; ny];
     let mut failures = Vec::new();
     let f = &vehicle.fins;
@@ -217,6 +226,7 @@ pub fn planar_map(
             root_chord: f.root_chord,
             tip_chord: f.tip_chord,
             thickness: t,
+            tip_le_offset: f.tip_le_offset,
         };
         for (ix, &m) in machs.iter().enumerate() {
             let result = condition_at(vehicle, t, m, altitude).and_then(|c| {
@@ -224,6 +234,7 @@ pub fn planar_map(
                 speed[iy][ix] = c.speed;
                 tn[iy][ix] = tn_fin.flutter_mach_in(Tn4197Form::Martin, c.pressure);
                 tn_pof[iy][ix] = tn_fin.flutter_mach_in(Tn4197Form::PeakOfFlight291, c.pressure);
+                tn_615[iy][ix] = tn_fin.flutter_mach_in(Tn4197Form::PeakOfFlight615, c.pressure);
                 planar::verdict(&planar::parameters(vehicle, kind, t, c)?)
             });
             match result {
@@ -256,6 +267,7 @@ pub fn planar_map(
         speed,
         tn4197_mach: tn,
         tn4197_pof291_mach: tn_pof,
+        tn4197_pof615_mach: tn_615,
         failures,
     }
 }
@@ -293,15 +305,13 @@ impl PlanarMap {
             .iter()
             .enumerate()
             .map(|(iy, &t)| {
-                let excess: Vec<f64> = xs
-                    .iter()
-                    .zip(&self.tn4197_mach[iy])
-                    .map(|(m, f)| m - f)
-                    .collect();
+                let excess =
+                    |row: &[f64]| -> Vec<f64> { xs.iter().zip(row).map(|(m, f)| m - f).collect() };
                 Boundary {
                     thickness: t,
                     model: lowest_crossing(xs, &self.map.sigma[iy]),
-                    tn4197: lowest_crossing(xs, &excess),
+                    tn4197: lowest_crossing(xs, &excess(&self.tn4197_mach[iy])),
+                    tn4197_pof615: lowest_crossing(xs, &excess(&self.tn4197_pof615_mach[iy])),
                 }
             })
             .collect()
@@ -316,11 +326,13 @@ impl PlanarMap {
             .enumerate()
             .map(|(ix, &mach)| {
                 let sigma: Vec<f64> = self.map.sigma.iter().map(|r| r[ix]).collect();
-                let excess: Vec<f64> = self.tn4197_mach.iter().map(|r| mach - r[ix]).collect();
+                let excess =
+                    |g: &[Vec<f64>]| -> Vec<f64> { g.iter().map(|r| mach - r[ix]).collect() };
                 MachBoundary {
                     mach,
                     model: critical_thickness(ys, &sigma),
-                    tn4197: critical_thickness(ys, &excess),
+                    tn4197: critical_thickness(ys, &excess(&self.tn4197_mach)),
+                    tn4197_pof615: critical_thickness(ys, &excess(&self.tn4197_pof615_mach)),
                 }
             })
             .collect()
@@ -335,6 +347,8 @@ impl PlanarMap {
             "model_status",
             "tn4197_critical_thickness_m",
             "tn4197_status",
+            "tn4197_pof615_critical_thickness_m",
+            "tn4197_pof615_status",
         ])?;
         let cell = |c: CriticalThickness| match c {
             CriticalThickness::Crossing(t) => (t.to_string(), "crossing"),
@@ -344,7 +358,16 @@ impl PlanarMap {
         for b in self.mach_boundaries() {
             let (m, ms) = cell(b.model);
             let (t, ts) = cell(b.tn4197);
-            w.write_record([b.mach.to_string(), m, ms.to_string(), t, ts.to_string()])?;
+            let (b6, bs) = cell(b.tn4197_pof615);
+            w.write_record([
+                b.mach.to_string(),
+                m,
+                ms.to_string(),
+                t,
+                ts.to_string(),
+                b6,
+                bs.to_string(),
+            ])?;
         }
         w.flush()?;
         Ok(())
@@ -363,6 +386,7 @@ impl PlanarMap {
             "class",
             "tn4197_flutter_mach",
             "tn4197_pof291_flutter_mach",
+            "tn4197_pof615_flutter_mach",
         ])?;
         let m = &self.map;
         for (iy, t) in m.ys.iter().enumerate() {
@@ -377,6 +401,7 @@ impl PlanarMap {
                     m.class[iy][ix].name().to_string(),
                     self.tn4197_mach[iy][ix].to_string(),
                     self.tn4197_pof291_mach[iy][ix].to_string(),
+                    self.tn4197_pof615_mach[iy][ix].to_string(),
                 ])?;
             }
         }
@@ -384,15 +409,16 @@ impl PlanarMap {
         Ok(())
     }
 
-    /// `overlay_TN_4197.csv`: the NACA TN 4197 flutter boundary (Martin's form) as a curve
-    /// (thickness in m,
-    /// Mach) in the axes of `map.csv`, for the thicknesses where it lies inside the Mach
-    /// range; `flexflight report` draws it over the map.
-    pub fn write_tn4197_overlay(&self, path: &Path) -> Result<(), csv::Error> {
+    /// `overlay_TN_4197.csv` (Martin's form) or `overlay_TN_4197_PoF_615.csv` (Bennett's,
+    /// `pof615`): the NACA TN 4197 flutter boundary as a curve (thickness in m, Mach) in the
+    /// axes of `map.csv`, for the thicknesses where it lies inside the Mach range;
+    /// `flexflight report` draws every overlay over the map.
+    pub fn write_tn4197_overlay(&self, path: &Path, pof615: bool) -> Result<(), csv::Error> {
         let mut w = csv::Writer::from_path(path)?;
         w.write_record(["thickness_m", "mach"])?;
         for b in self.boundaries() {
-            if let BoundaryMach::Crossing(m) = b.tn4197 {
+            let curve = if pof615 { b.tn4197_pof615 } else { b.tn4197 };
+            if let BoundaryMach::Crossing(m) = curve {
                 w.write_record([b.thickness.to_string(), m.to_string()])?;
             }
         }
@@ -409,16 +435,21 @@ impl PlanarMap {
             "model_status",
             "tn4197_boundary_mach",
             "tn4197_status",
+            "tn4197_pof615_boundary_mach",
+            "tn4197_pof615_status",
         ])?;
         for b in self.boundaries() {
             let (m, ms) = b.model.csv();
             let (t, ts) = b.tn4197.csv();
+            let (b6, bs) = b.tn4197_pof615.csv();
             w.write_record([
                 b.thickness.to_string(),
                 m,
                 ms.to_string(),
                 t,
                 ts.to_string(),
+                b6,
+                bs.to_string(),
             ])?;
         }
         w.flush()?;

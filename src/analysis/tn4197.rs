@@ -1,9 +1,12 @@
 //! The NACA TN 4197 fin flutter boundary: D. J. Martin, "Summary of Flutter Experiences as
 //! a Guide to the Preliminary Design of Lifting Surfaces on Missiles", NACA TN 4197 (1958),
-//! and the form popularised for rocket fins by J. Bennett's Apogee "Peak of Flight"
-//! newsletter 291 (2011), used by RocketPy (`rocketpy/utilities.py`, `_flutter_mach_number`).
-//! They differ by a factor of 2 under the root, i.e. sqrt(2) in speed; [`Tn4197Form`] has
-//! both and the original is the default.
+//! in the three forms rocketeers use: Martin's own; the form popularised for rocket fins by
+//! Zachary Howard's Apogee "Peak of Flight" newsletter 291 ("How To Calculate Fin Flutter
+//! Speed", 19 July 2011), used by RocketPy (`rocketpy/utilities.py`, `_flutter_mach_number`);
+//! and the revised method of J. K. Bennett ("Fin Flutter Analysis Revisited (Again)", Peak of
+//! Flight 615, with follow-ups in 617), which takes Martin's planform term from the fin's
+//! centroid instead of fixing it. [`Tn4197Form`] has all three; Martin's is the default and
+//! the one the map boundaries use.
 //!
 //! **Martin (TN 4197)**, as every secondary source quotes it (we could not read the report
 //! itself: no copy of its text is reachable here, so the equation below is the quoted one,
@@ -39,10 +42,48 @@
 //! (aerorocket.com/FinSim_Supersonic_Flutter.html, Table 1) gives Mach 3.89 by TN 4197 and
 //! 5.50 by PoF 291 for one fin: `5.50 / 3.89 = 1.414`.
 //!
+//! **Peak of Flight 615/617 (Bennett's revised method)**: Martin's denominator constant
+//! written out, `DN = 24 eps gamma p0 / pi`, with `eps` taken from the fin's own planform,
+//! `eps = x_c / c_r - 0.25`, where `x_c` is the chordwise distance of the planform's area
+//! centroid aft of the root leading edge. What we read: Bennett's own implementation of the
+//! article, `src/Fin_Area_and_Cx_and_Input.py` of
+//! github.com/jkb-git/Fin-Flutter-Velocity-Calculator (commit 1a8def61, "(c) 2024 John K.
+//! Bennett", BSD-2): `Fin_Eps = (fin_Cx / RC) - 0.25`, `DN = (24 * Fin_Eps * 1.4 * p0) /
+//! math.pi`, `ThicknessRatio = Thickness / RC`, `Lambda = TC / RC`, `AspectRatio =
+//! Height^2 / fin_area`, `Vf = a sqrt(GE / (DN A^3 / ((t/c)^3 (A + 2)) (Lambda + 1)/2
+//! p/p0))`, `fin_Cx` the area-weighted mean of the
+//! triangles' x centroids of the OpenRocket fin outline (x from the root leading edge). The
+//! newsletters themselves (apogeerockets.com/Peak-of-Flight/Newsletter615 and 617) we did not
+//! reach; OpenRocket's open feature request for a flutter output (issue #2709, 2025) names
+//! them as today's standard approach. Dividing by `p0` as above:
+//!
+//! ```text
+//! V_f / a = sqrt( G / X_B ),   X_B = (24 eps gamma / pi) A^3 p (lambda + 1) / (2 (A + 2) (t/c)^3)
+//! ```
+//!
+//! with `gamma = 1.4`. For a trapezoid with root chord `c_r`, tip chord `c_t` and the tip's
+//! leading edge `m` aft of the root's (`m = b tan Lambda_LE`), the centroid is (the area
+//! integral of the local mid-chord, `int_0^1 c(e) (m e + c(e)/2) de / int_0^1 c(e) de` with
+//! `c(e) = c_r + (c_t - c_r) e`, worked out; the same closed form as the trapezoid's
+//! two-triangle split Bennett's code performs):
+//!
+//! ```text
+//! x_c = (c_r^2 + c_r c_t + c_t^2 + m (c_r + 2 c_t)) / (3 (c_r + c_t))
+//! ```
+//!
+//! A rectangle (`c_t = c_r`, `m = 0`) gives `x_c = c_r / 2`, `eps = 0.25`, so Bennett's form
+//! then is Martin's (to the 1.25e-4 of the printed 39.3); a swept fin's centroid lies further
+//! aft and its `eps` is larger, its flutter speed lower by `sqrt(0.25 / eps)`.
+//!
 //! Symbols: `a` the speed of sound, `G` the shear modulus of the fin material, `p` the
 //! ambient (static) pressure, `A = b^2 / S_fin` the aspect ratio of ONE fin panel (span b,
 //! planform area S_fin), `lambda = c_t / c_r` the taper ratio and `t/c = t / c_r` the
-//! thickness ratio at the root. The flutter Mach number is `V_f / a`.
+//! thickness ratio **at the root chord** in all three forms (Martin's convention as quoted;
+//! Bennett's code divides by `RC`). The flutter Mach number is `V_f / a`.
+//!
+//! Since `V_f ~ (t/c)^(3/2)`, the thickness whose flutter speed is a given `V` has the closed
+//! form `t = c_r (k A^3 p (lambda + 1) (V/a)^2 / (2 (A + 2) G))^(1/3)` with `k` the form's
+//! coefficient ([`Tn4197Fin::critical_thickness_in`]).
 //!
 //! This is an empirical boundary for the torsion-dominated flutter of a cantilevered panel;
 //! the planar models of chapter 6 instead predict the loss of pitch stability through fin
@@ -56,28 +97,40 @@ use serde::Serialize;
 pub enum Tn4197Form {
     /// Martin's original: `39.3 psi`, `(lambda + 1)/2`, `p/p0` (the default everywhere).
     Martin,
-    /// Peak of Flight 291 / RocketPy: `1.337` and a further 2 in the denominator.
+    /// Peak of Flight 291 (Z. Howard, 2011) / RocketPy: `1.337` and a further 2 in the
+    /// denominator.
     PeakOfFlight291,
+    /// Peak of Flight 615/617 (J. K. Bennett): Martin's `24 eps gamma p0 / pi` with `eps`
+    /// from the planform's centroid.
+    PeakOfFlight615,
 }
 
-impl Tn4197Form {
-    /// Both forms, the original first.
-    pub const ALL: [Tn4197Form; 2] = [Tn4197Form::Martin, Tn4197Form::PeakOfFlight291];
+/// The ratio of specific heats of air in Martin's constant and Bennett's `DN`.
+pub const GAMMA_AIR: f64 = 1.4;
 
-    /// The coefficient `k` of `X = k A^3 p (lambda + 1) / (2 (A + 2) (t/c)^3)`.
-    pub fn coefficient(self) -> f64 {
-        match self {
-            // 39.3 psi / p0 with p0 = 14.7 psi (module doc).
-            Tn4197Form::Martin => 39.3 / 14.7,
-            Tn4197Form::PeakOfFlight291 => 1.337,
-        }
-    }
+impl Tn4197Form {
+    /// The three forms, the original first.
+    pub const ALL: [Tn4197Form; 3] = [
+        Tn4197Form::Martin,
+        Tn4197Form::PeakOfFlight291,
+        Tn4197Form::PeakOfFlight615,
+    ];
 
     /// Short name for tables and CSV headers.
     pub fn name(self) -> &'static str {
         match self {
             Tn4197Form::Martin => "TN 4197 (Martin 1958)",
             Tn4197Form::PeakOfFlight291 => "TN 4197 as in Peak of Flight 291 / RocketPy",
+            Tn4197Form::PeakOfFlight615 => "TN 4197 as revised in Peak of Flight 615 (Bennett)",
+        }
+    }
+
+    /// The key of this form in JSON outputs.
+    pub fn key(self) -> &'static str {
+        match self {
+            Tn4197Form::Martin => "martin",
+            Tn4197Form::PeakOfFlight291 => "peak_of_flight_291",
+            Tn4197Form::PeakOfFlight615 => "peak_of_flight_615",
         }
     }
 }
@@ -93,6 +146,10 @@ pub struct Tn4197Fin {
     pub tip_chord: f64,
     /// Thickness t, m.
     pub thickness: f64,
+    /// Chordwise distance from the root leading edge back to the tip leading edge, m
+    /// (`b tan Lambda_LE`; `c_r - c_t` for an unswept trailing edge). Only Bennett's form
+    /// (Peak of Flight 615) reads it, through the centroid.
+    pub tip_le_offset: f64,
 }
 
 impl Tn4197Fin {
@@ -100,6 +157,29 @@ impl Tn4197Fin {
     pub fn aspect_ratio(&self) -> f64 {
         let area = 0.5 * (self.root_chord + self.tip_chord) * self.span;
         self.span * self.span / area
+    }
+
+    /// Chordwise distance of the planform's area centroid aft of the root leading edge, m
+    /// (the trapezoid's closed form in the module doc).
+    pub fn centroid_x(&self) -> f64 {
+        let (cr, ct, m) = (self.root_chord, self.tip_chord, self.tip_le_offset);
+        (cr * cr + cr * ct + ct * ct + m * (cr + 2.0 * ct)) / (3.0 * (cr + ct))
+    }
+
+    /// Bennett's planform term `eps = x_c / c_r - 0.25` (Peak of Flight 615; module doc).
+    pub fn epsilon(&self) -> f64 {
+        self.centroid_x() / self.root_chord - 0.25
+    }
+
+    /// The coefficient `k` of `X = k A^3 p (lambda + 1) / (2 (A + 2) (t/c)^3)` in `form`.
+    pub fn coefficient_in(&self, form: Tn4197Form) -> f64 {
+        match form {
+            // 39.3 psi / p0 with p0 = 14.7 psi (module doc).
+            Tn4197Form::Martin => 39.3 / 14.7,
+            Tn4197Form::PeakOfFlight291 => 1.337,
+            // DN / p0 = 24 eps gamma / pi.
+            Tn4197Form::PeakOfFlight615 => 24.0 * self.epsilon() * GAMMA_AIR / std::f64::consts::PI,
+        }
     }
 
     /// The flutter Mach number of Martin's original form at ambient pressure `pressure`
@@ -113,9 +193,27 @@ impl Tn4197Fin {
         let ar = self.aspect_ratio();
         let taper = self.tip_chord / self.root_chord;
         let tc = self.thickness / self.root_chord;
-        let x = form.coefficient() * ar.powi(3) * pressure * (taper + 1.0)
+        let x = self.coefficient_in(form) * ar.powi(3) * pressure * (taper + 1.0)
             / (2.0 * (ar + 2.0) * tc.powi(3));
         (self.shear_modulus / x).sqrt()
+    }
+
+    /// The thickness whose flutter speed in `form` is `speed` (m/s) at ambient pressure
+    /// `pressure` (Pa) and speed of sound `speed_of_sound` (m/s), m: the closed form of the
+    /// module doc (the formula inverted for `t`; the fin's own `thickness` is not read).
+    pub fn critical_thickness_in(
+        &self,
+        form: Tn4197Form,
+        pressure: f64,
+        speed_of_sound: f64,
+        speed: f64,
+    ) -> f64 {
+        let ar = self.aspect_ratio();
+        let taper = self.tip_chord / self.root_chord;
+        let mach = speed / speed_of_sound;
+        let tc3 = self.coefficient_in(form) * ar.powi(3) * pressure * (taper + 1.0) * mach * mach
+            / (2.0 * (ar + 2.0) * self.shear_modulus);
+        self.root_chord * tc3.cbrt()
     }
 
     /// The flutter speed `V_f = a sqrt(G / X)` of `form`, m/s.
@@ -135,6 +233,7 @@ mod tests {
             root_chord: 0.2,
             tip_chord: 0.1,
             thickness: 0.002,
+            tip_le_offset: 0.1,
         }
     }
 
@@ -184,7 +283,7 @@ mod tests {
         let derived = 24.0 * 0.25 * 1.4 * 14.7 / std::f64::consts::PI;
         assert!((derived - 39.3).abs() < 0.01, "{derived}");
         assert!((39.3f64 / (2.0 * 14.7) - 1.337).abs() < 5e-4);
-        assert_eq!(Tn4197Form::Martin.coefficient(), 39.3 / 14.7);
+        assert_eq!(hand_fin().coefficient_in(Tn4197Form::Martin), 39.3 / 14.7);
     }
 
     /// Scaling laws read off the formula: V_f ~ t^(3/2) and ~ p^(-1/2).
@@ -196,6 +295,7 @@ mod tests {
             root_chord: 0.325,
             tip_chord: 0.123,
             thickness: t,
+            tip_le_offset: 0.202,
         };
         for form in Tn4197Form::ALL {
             let r =
@@ -204,6 +304,81 @@ mod tests {
             let r =
                 f(1e-3).flutter_mach_in(form, 10_000.0) / f(1e-3).flutter_mach_in(form, 40_000.0);
             assert!((r - 2.0).abs() < 1e-14);
+        }
+    }
+
+    /// The centroid's closed form against a direct quadrature of the trapezoid (midpoint
+    /// rule over 4096 strips of `c(e) (m e + c(e)/2)`, exact to O(1/n^2)) for swept-back,
+    /// swept-forward and clipped-delta planforms; a rectangle gives eps = 0.25 exactly, so
+    /// Bennett's form is then Martin's up to the printed 39.3 (`24 x 0.25 x 1.4 / pi` against
+    /// `39.3 / 14.7`: 2.673803 / 2.673469 = 1.000125).
+    #[test]
+    fn centroid_closed_form_matches_quadrature() {
+        for (cr, ct, m) in [
+            (0.3, 0.1, 0.2),
+            (0.2, 0.2, 0.0),
+            (0.25, 0.15, -0.05),
+            (0.4, 0.0, 0.4),
+            (0.1, 0.3, 0.05),
+        ] {
+            let f = Tn4197Fin {
+                shear_modulus: 26e9,
+                span: 0.1,
+                root_chord: cr,
+                tip_chord: ct,
+                thickness: 0.002,
+                tip_le_offset: m,
+            };
+            let n = 4096;
+            let (mut num, mut den) = (0.0, 0.0);
+            for i in 0..n {
+                let e = (i as f64 + 0.5) / n as f64;
+                let c = cr + (ct - cr) * e;
+                num += c * (m * e + 0.5 * c);
+                den += c;
+            }
+            let q = num / den;
+            assert!(
+                (f.centroid_x() - q).abs() < 1e-8,
+                "{cr} {ct} {m}: {} vs {q}",
+                f.centroid_x()
+            );
+        }
+        let rect = Tn4197Fin {
+            tip_chord: 0.2,
+            tip_le_offset: 0.0,
+            ..hand_fin()
+        };
+        assert!((rect.epsilon() - 0.25).abs() < 1e-15);
+        let r = rect.coefficient_in(Tn4197Form::PeakOfFlight615)
+            / rect.coefficient_in(Tn4197Form::Martin);
+        assert!((r - 1.000_125).abs() < 1e-6, "{r}");
+    }
+
+    /// Bennett's speed over Martin's is `sqrt(k_M / k_B)` for every fin, and the closed-form
+    /// critical thickness gives back the target speed in all three forms.
+    #[test]
+    fn bennett_ratio_and_critical_thickness_invert_the_formula() {
+        let f = hand_fin();
+        // hand_fin: c_r 0.2, c_t 0.1, m 0.1: x_c = (0.04 + 0.02 + 0.01 + 0.1 x 0.4) / 0.9
+        // = 0.11 / 0.9 = 0.122222 m, eps = 0.611111 - 0.25 = 0.361111.
+        assert!(
+            (f.epsilon() - 0.361_111_111_111).abs() < 1e-12,
+            "{}",
+            f.epsilon()
+        );
+        let kb = 24.0 * 0.361_111_111_111_111 * 1.4 / std::f64::consts::PI;
+        let ratio =
+            f.flutter_mach_in(Tn4197Form::PeakOfFlight615, 50_000.0) / f.flutter_mach(50_000.0);
+        assert!(
+            (ratio - ((39.3 / 14.7) / kb).sqrt()).abs() < 1e-14,
+            "{ratio}"
+        );
+        for form in Tn4197Form::ALL {
+            let t = f.critical_thickness_in(form, 50_000.0, 320.0, 400.0);
+            let g = Tn4197Fin { thickness: t, ..f };
+            let v = g.flutter_speed_in(form, 50_000.0, 320.0);
+            assert!((v - 400.0).abs() < 1e-10, "{form:?}: {v}");
         }
     }
 }

@@ -274,11 +274,12 @@ fn tn4197_fin(v: &PlanarVehicle, r: &PlanarAnalysis) -> Tn4197Fin {
         root_chord: f.root_chord,
         tip_chord: f.tip_chord,
         thickness: r.parameters.thickness,
+        tip_le_offset: f.tip_le_offset,
     }
 }
 
-/// The TN 4197 flutter Mach and speed at the analysis' condition in both published forms
-/// (see [`crate::analysis::tn4197`]).
+/// The TN 4197 flutter Mach and speed at the analysis' condition in the three published
+/// forms (see [`crate::analysis::tn4197`]).
 fn tn4197_json(v: &PlanarVehicle, r: &PlanarAnalysis) -> serde_json::Value {
     let fin = tn4197_fin(v, r);
     let c = &r.parameters.condition;
@@ -289,13 +290,18 @@ fn tn4197_json(v: &PlanarVehicle, r: &PlanarAnalysis) -> serde_json::Value {
             "flutter_speed_m_s": fin.flutter_speed_in(form, c.pressure, c.speed_of_sound),
         })
     };
-    serde_json::json!({
+    let mut j = serde_json::json!({
         "shear_modulus_pa": fin.shear_modulus,
         "aspect_ratio": fin.aspect_ratio(),
+        "thickness_ratio": fin.thickness / fin.root_chord,
+        "thickness_ratio_chord": "root",
+        "epsilon": fin.epsilon(),
         "pressure_pa": c.pressure,
-        "martin": one(Tn4197Form::Martin),
-        "peak_of_flight_291": one(Tn4197Form::PeakOfFlight291),
-    })
+    });
+    for form in Tn4197Form::ALL {
+        j[form.key()] = one(form);
+    }
+    j
 }
 
 /// The human report of one analysis.
@@ -452,16 +458,17 @@ pub fn analysis_text(v: &PlanarVehicle, r: &PlanarAnalysis) -> String {
     let fin = tn4197_fin(v, r);
     let _ = writeln!(
         s,
-        "NACA TN 4197 flutter boundary (G {:.4e} Pa, A = b^2/S {:.5}, t/c_r {:.5e}, p {:.6e} Pa)",
+        "NACA TN 4197 flutter boundary (G {:.4e} Pa, A = b^2/S {:.5}, t/c_r {:.5e} (root chord), eps {:.5}, p {:.6e} Pa)",
         fin.shear_modulus,
         fin.aspect_ratio(),
         fin.thickness / fin.root_chord,
+        fin.epsilon(),
         c.pressure
     );
     for form in Tn4197Form::ALL {
         let _ = writeln!(
             s,
-            "  {:<44} flutter Mach {:.5}   V_f {:.3} m/s",
+            "  {:<50} flutter Mach {:.5}   V_f {:.3} m/s",
             form.name(),
             fin.flutter_mach_in(form, c.pressure),
             fin.flutter_speed_in(form, c.pressure, c.speed_of_sound)
@@ -569,7 +576,11 @@ fn cmd_map(a: &MapArgs, term: Terminal) -> u8 {
         ),
         (
             "overlay_TN_4197.csv",
-            m.write_tn4197_overlay(&a.out.join("overlay_TN_4197.csv")),
+            m.write_tn4197_overlay(&a.out.join("overlay_TN_4197.csv"), false),
+        ),
+        (
+            "overlay_TN_4197_PoF_615.csv",
+            m.write_tn4197_overlay(&a.out.join("overlay_TN_4197_PoF_615.csv"), true),
         ),
     ] {
         if let Err(e) = r {
@@ -590,8 +601,8 @@ fn cmd_map(a: &MapArgs, term: Terminal) -> u8 {
     );
     let _ = writeln!(
         s,
-        "{:>14} {:>16} {:>16}",
-        "thickness (mm)", "model boundary", "TN 4197 boundary"
+        "{:>14} {:>16} {:>16} {:>16}",
+        "thickness (mm)", "model boundary", "TN 4197 boundary", "PoF 615 boundary"
     );
     let show = |b: BoundaryMach| match b {
         BoundaryMach::Crossing(x) => format!("M {x:.4}"),
@@ -601,16 +612,17 @@ fn cmd_map(a: &MapArgs, term: Terminal) -> u8 {
     for b in m.boundaries() {
         let _ = writeln!(
             s,
-            "{:>14.4} {:>16} {:>16}",
+            "{:>14.4} {:>16} {:>16} {:>16}",
             b.thickness * 1e3,
             show(b.model),
-            show(b.tn4197)
+            show(b.tn4197),
+            show(b.tn4197_pof615)
         );
     }
     let _ = writeln!(
         s,
-        "{:>8} {:>22} {:>22}",
-        "Mach", "model t_crit (mm)", "TN 4197 t_crit (mm)"
+        "{:>8} {:>22} {:>22} {:>22}",
+        "Mach", "model t_crit (mm)", "TN 4197 t_crit (mm)", "PoF 615 t_crit (mm)"
     );
     let show_t = |c: CriticalThickness| match c {
         CriticalThickness::Crossing(t) => format!("{:.4}", t * 1e3),
@@ -620,15 +632,16 @@ fn cmd_map(a: &MapArgs, term: Terminal) -> u8 {
     for b in m.mach_boundaries() {
         let _ = writeln!(
             s,
-            "{:>8.4} {:>22} {:>22}",
+            "{:>8.4} {:>22} {:>22} {:>22}",
             b.mach,
             show_t(b.model),
-            show_t(b.tn4197)
+            show_t(b.tn4197),
+            show_t(b.tn4197_pof615)
         );
     }
     let _ = writeln!(
         s,
-        "wrote map.csv, boundary.csv, critical_thickness.csv and overlay_TN_4197.csv in {}",
+        "wrote map.csv, boundary.csv, critical_thickness.csv, overlay_TN_4197.csv and overlay_TN_4197_PoF_615.csv in {}",
         a.out.display()
     );
     match format {

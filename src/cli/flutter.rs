@@ -880,6 +880,7 @@ fn tn4197(r: &FinFlutter) -> Tn4197Fin {
         root_chord: r.modes.planform.root_chord,
         tip_chord: r.modes.planform.tip_chord,
         thickness: r.modes.thickness,
+        tip_le_offset: r.modes.planform.tip_le_offset,
     }
 }
 
@@ -1036,7 +1037,7 @@ pub fn report_text(r: &FinFlutter) -> String {
         None => {}
     }
     let fin = tn4197(r);
-    for form in [Tn4197Form::Martin, Tn4197Form::PeakOfFlight291] {
+    for form in Tn4197Form::ALL {
         let _ = writeln!(
             t,
             "NACA TN 4197 ({}): flutter speed {:.2} m/s",
@@ -1130,7 +1131,7 @@ pub fn summary_json(r: &FinFlutter) -> serde_json::Value {
         "divergence": s.divergence.as_ref().map(|d| serde_json::json!({
             "speed_m_s": d.speed, "dynamic_pressure_pa": d.q, "mode": d.name
         })),
-        "tn4197": { "martin": tn(Tn4197Form::Martin), "peak_of_flight_291": tn(Tn4197Form::PeakOfFlight291) },
+        "tn4197": { "martin": tn(Tn4197Form::Martin), "peak_of_flight_291": tn(Tn4197Form::PeakOfFlight291), "peak_of_flight_615": tn(Tn4197Form::PeakOfFlight615), "epsilon": fin.epsilon(), "thickness_ratio_chord": "root" },
         "gaf_cache": r.gaf_cache.as_ref().map(|g| serde_json::json!({
             "outcome": g.outcome, "hash": g.hash, "warning": g.warning
         })),
@@ -1585,6 +1586,7 @@ pub fn flight_margin(
         root_chord: finv.root_chord,
         tip_chord: finv.tip_chord,
         thickness: finv.thickness,
+        tip_le_offset: finv.tip_le_offset,
     };
     let at = |x: Option<(f64, usize)>| {
         x.map(|(margin, i)| {
@@ -1593,6 +1595,7 @@ pub fn flight_margin(
                 serde_json::json!({
                     "martin_flutter_speed": fin.flutter_speed_in(Tn4197Form::Martin, air.pressure, air.speed_of_sound),
                     "peak_of_flight_291_flutter_speed": fin.flutter_speed_in(Tn4197Form::PeakOfFlight291, air.pressure, air.speed_of_sound),
+                    "peak_of_flight_615_flutter_speed": fin.flutter_speed_in(Tn4197Form::PeakOfFlight615, air.pressure, air.speed_of_sound),
                 })
             });
             serde_json::json!({

@@ -528,6 +528,8 @@ pub struct BoundaryFin {
     pub root_chord: f64,
     pub tip_chord: f64,
     pub thickness: f64,
+    /// Root leading edge to tip leading edge, m (TN 4197 in Bennett's form).
+    pub tip_le_offset: f64,
 }
 
 impl BoundaryFin {
@@ -540,6 +542,7 @@ impl BoundaryFin {
             root_chord: m.planform.root_chord,
             tip_chord: m.planform.tip_chord,
             thickness: m.thickness,
+            tip_le_offset: m.planform.tip_le_offset,
         }
     }
 }
@@ -560,12 +563,12 @@ pub struct BoundaryArtifact {
     pub node_lowest_speeds: Vec<f64>,
     pub mode_names: Vec<String>,
     pub omega: Vec<f64>,
-    /// Shear modulus, span, root chord, tip chord, thickness.
+    /// Shear modulus, span, root chord, tip chord, thickness, tip leading-edge offset.
     pub fin: Vec<f64>,
 }
 
 impl crate::artifact::ArtifactPayload for BoundaryArtifact {
-    const SCHEMA: &'static str = "BoundaryArtifact v2: machs Vec<f64>, altitudes Vec<f64>, densities Vec<f64> (per altitude), speeds Vec<f64> (machs x altitudes row-major), lower_bound Vec<u8>, upper_bound Vec<u8>, speed_ranges Vec<f64> (2 per Mach), node_lowest_speeds Vec<f64> (per node), mode_names Vec<String>, omega Vec<f64>, fin Vec<f64> [G, span, root chord, tip chord, thickness]";
+    const SCHEMA: &'static str = "BoundaryArtifact v3: machs Vec<f64>, altitudes Vec<f64>, densities Vec<f64> (per altitude), speeds Vec<f64> (machs x altitudes row-major), lower_bound Vec<u8>, upper_bound Vec<u8>, speed_ranges Vec<f64> (2 per Mach), node_lowest_speeds Vec<f64> (per node), mode_names Vec<String>, omega Vec<f64>, fin Vec<f64> [G, span, root chord, tip chord, thickness, tip LE offset]";
 }
 
 impl BoundaryArtifact {
@@ -587,6 +590,7 @@ impl BoundaryArtifact {
                 f.root_chord,
                 f.tip_chord,
                 f.thickness,
+                f.tip_le_offset,
             ],
         }
     }
@@ -608,7 +612,7 @@ impl BoundaryArtifact {
             || self.node_lowest_speeds.len() != n
             || self.omega.len() != spec.modes
             || self.mode_names.len() != spec.modes
-            || self.fin.len() != 5
+            || self.fin.len() != 6
         {
             return Err("the cached boundary's sizes do not fit its grid".into());
         }
@@ -655,6 +659,7 @@ impl BoundaryArtifact {
                 root_chord: self.fin[2],
                 tip_chord: self.fin[3],
                 thickness: self.fin[4],
+                tip_le_offset: self.fin[5],
             },
         ))
     }

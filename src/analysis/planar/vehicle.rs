@@ -68,6 +68,9 @@ pub struct FinGeometry {
     pub mean_chord: f64,
     /// Body x of the root leading edge, m.
     pub root_leading_edge_x: f64,
+    /// Chordwise distance from the root leading edge back to the tip leading edge, m
+    /// (`L tan Lambda_LE`).
+    pub tip_le_offset: f64,
     /// Body x of the planform centroid, m.
     pub centroid_x: f64,
     /// Radius of the planform centroid from the body axis, m.
@@ -243,6 +246,7 @@ impl PlanarVehicle {
             area,
             mean_chord: area / span,
             root_leading_edge_x: root_le_x,
+            tip_le_offset: x_le_tip,
             centroid_x: root_le_x - xi_c,
             centroid_radius: body_radius + eta_c * span,
             youngs_modulus: f.material.youngs_modulus.value,
