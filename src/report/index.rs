@@ -79,9 +79,7 @@ pub fn verdict_lines(summary: &Value) -> (Outcome, Vec<String>) {
         if let Some(a) = num(&v["airspeed"]) {
             s.push_str(&format!(", airspeed {a:.1} m/s"));
         }
-        if let Some(m) = v["message"].as_str() {
-            s.push_str(&format!(": {m}"));
-        }
+        // `message` is the terminal's line: the same facts as the lines below, not repeated.
         lines.push(s);
         if let Some(c) = v["criterion"].as_str() {
             lines.push(format!("criterion: {c}"));
