@@ -286,7 +286,8 @@ fn header_dimensions(
         let (Some(g), Some(h)) = (given, header) else {
             continue;
         };
-        if (g.value - h).abs() > HEADER_DIMENSION_TOL {
+        // (1e-9 m: a value written 1 mm off is within the tolerance despite rounding.)
+        if (g.value - h).abs() > HEADER_DIMENSION_TOL + 1e-9 {
             let mm = |x: f64| super::plausible::short(x * 1e3);
             cx.push(
                 Diagnostic::warning(

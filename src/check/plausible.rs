@@ -144,10 +144,7 @@ pub fn material_warning(
         Some((_, kr)) => format!("did you mean rho = {} kg/m^3?", short(rv * kr)),
         None => "check the units of E and rho".to_string(),
     };
-    d.message = format!(
-        "material `{name}`: {}: {guess}",
-        findings.join("; ")
-    );
+    d.message = format!("material `{name}`: {}: {guess}", findings.join("; "));
     Some(d.label(header, "this material").with_help(
         "foams and elastomers lie outside these ranges: if the material is one, write \
          `expect_unusual = true` in it to silence this warning",

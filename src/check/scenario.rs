@@ -917,11 +917,14 @@ const TEXT_BYTES_PER_VALUE: f64 = 25.0;
 /// The error for an output interval that asks for more than [`MAX_OUTPUT_ROWS`] rows, with
 /// the rows and the memory it implies.
 fn history_size(output: &Q, stop: &Q) -> Option<crate::diagnostics::Diagnostic> {
-    let rows = (stop.value / output.value).floor() + 1.0;
+    // Rows at 0, dt, 2 dt, ... up to the stop time (a ratio within 1e-9 of a whole number,
+    // as 2 s / 1 us in floating point, counts as that number).
+    let rows = (stop.value / output.value + 1e-9).floor() + 1.0;
     if rows <= MAX_OUTPUT_ROWS {
         return None;
     }
-    let columns = (crate::plan::RIGID_CHANNELS.len() + crate::plan::INVARIANT_CHANNELS.len()) as f64;
+    let columns =
+        (crate::plan::RIGID_CHANNELS.len() + crate::plan::INVARIANT_CHANNELS.len()) as f64;
     let numbers = rows * columns * 8.0;
     let text = rows * columns * TEXT_BYTES_PER_VALUE;
     Some(

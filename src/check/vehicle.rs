@@ -437,7 +437,7 @@ fn check_generate(cx: &mut Cx, b: &Block) -> Option<Generate> {
                     Diagnostic::error(
                         "vdl::body::elements",
                         format!(
-                            "{n} body elements are more than the modal solve can resolve (at most {MAX_BODY_ELEMENTS}): a uniform beam of n elements has its largest stiffness-to-mass ratio 0.0645 n^4 = {:.1e} times its first bending eigenvalue, and from a few 1e12 on the eigensolver no longer tells the lowest elastic modes from rigid-body modes (it reported them as mechanisms)",
+                            "{n} body elements are more than the modal solve can resolve (at most {MAX_BODY_ELEMENTS}): a uniform beam of n elements has its largest stiffness-to-mass ratio 0.0645 n^4 = {:.1e} times its first bending eigenvalue, and from about 1e12 on the eigensolver no longer tells the lowest elastic modes from rigid-body modes (it reported them as mechanisms)",
                             0.0645 * (n as f64).powi(4)
                         ),
                     )
@@ -803,11 +803,14 @@ fn dof_order(cx: &mut Cx, v: &Value) -> Option<Spanned<[u8; 6]>> {
 /// double precision no longer resolves the lowest elastic modes from the rigid ones.
 /// Measured on this code: the HPR K1000 vehicle (1.9 m, 98 mm, fibreglass) solves at 2500
 /// elements (body bending 62.51 Hz, the same as at 40 to 2000) and fails as "8 mechanisms" at
-/// 3000; SPHADS-1 (fins at 36.5 Hz, below its body bending) fails at 3000 too. The ratio
-/// `0.0645 n^4` is 2.5e12 at 2500 elements and 5.2e12 at 3000 (the vehicles' lowest elastic
-/// modes lie below the bare beam's first bending, which widens their spectrum further). At
-/// 1000 elements it is 6.5e10, 80 times below where the solves failed; 40 to 100 elements
-/// converge the low modes (62.51 Hz from 40 to 2500 elements on the HPR vehicle).
+/// 3000; SPHADS-1 (fins at 36.5 Hz, below its body bending) fails at 2000 and 3000. The
+/// ratio `0.0645 n^4` is 1.0e12 at 2000 elements, 2.5e12 at 2500 and 5.2e12 at 3000 (the
+/// vehicles' lowest elastic modes lie below the bare beam's first bending, the thin fins of
+/// SPHADS-1 far below, which widens their spectrum further). At 1000 elements it is 6.5e10,
+/// 16 times below the first failure seen, and SPHADS-1 solves there (body bending
+/// 90.50 Hz, fin flap 36.55 Hz, as with its 40 elements); 40 to 100 elements converge the
+/// low modes
+/// (62.51 Hz from 40 to 2500 elements on the HPR vehicle).
 pub const MAX_BODY_ELEMENTS: usize = 1000;
 
 /// The largest fin thickness against the smaller of its root chord and span.

@@ -146,11 +146,9 @@ pub fn terminal_lines(summary: &Value) -> Vec<String> {
                         w["code"].as_str().unwrap_or(""),
                         w["message"].as_str().unwrap_or("")
                     );
-                    if let (Some(f), Some(line), Some(col)) = (
-                        w["file"].as_str(),
-                        w["line"].as_u64(),
-                        w["column"].as_u64(),
-                    ) {
+                    if let (Some(f), Some(line), Some(col)) =
+                        (w["file"].as_str(), w["line"].as_u64(), w["column"].as_u64())
+                    {
                         s.push_str(&format!(" ({f}:{line}:{col})"));
                     }
                     s

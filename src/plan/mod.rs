@@ -780,11 +780,20 @@ pub fn fin_corners(f: &ir::Fins, i: usize, root_radius: f64) -> [[f64; 3]; 4] {
     let x_te = f.root_trailing_edge_x.value;
     let pivot = x_te + 0.5 * cr;
     let x_le_tip = x_te + cr - b * f.leading_edge_sweep.value.tan();
-    let planform = [(x_te, 0.0), (x_te + cr, 0.0), (x_le_tip, b), (x_le_tip - ct, b)];
+    let planform = [
+        (x_te, 0.0),
+        (x_te + cr, 0.0),
+        (x_le_tip, b),
+        (x_le_tip - ct, b),
+    ];
     planform.map(|(x, eta)| {
         let a = x - pivot;
         let r = root_radius + eta;
-        [pivot + a * ea[0], r * es[1] + a * ea[1], r * es[2] + a * ea[2]]
+        [
+            pivot + a * ea[0],
+            r * es[1] + a * ea[1],
+            r * es[2] + a * ea[2],
+        ]
     })
 }
 
