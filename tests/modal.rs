@@ -340,7 +340,10 @@ fn disconnected_model_has_mechanisms() {
     model.mass = keep(&model.mass, &t.mass);
     let e = modal::solve_dense(&model, 4).unwrap_err();
     assert_eq!(e.code(), "modal::mechanisms");
-    assert_eq!(e, modal::ModalError::Mechanisms { n_zero: 12 });
+    assert!(
+        matches!(e, modal::ModalError::Mechanisms { n_zero: 12, .. }),
+        "{e:?}"
+    );
     assert!(e.to_string().contains("more than 6 zero-frequency modes"));
     let e = modal::solve_sparse(&model, 6).unwrap_err();
     assert_eq!(e.code(), "modal::mechanisms");

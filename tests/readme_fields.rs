@@ -314,7 +314,7 @@ scenario a {
 }
 scenario w {
   vehicle = gen
-  launch { site_altitude = 0 m; rail_length = 0 m; elevation = 90 deg }
+  launch { site_altitude = 0 m; rail_length = 1 m; elevation = 90 deg }
   wind { profile = [at(0 m, 2 m/s, 270 deg), at(500 m, 6 m/s, 280 deg)] }
   run { stop_time = 1 s }
 }

@@ -11,6 +11,7 @@ mod fixture;
 pub mod ir;
 mod motor;
 pub mod overrides;
+pub mod plausible;
 mod scenario;
 mod sweep;
 mod vehicle;

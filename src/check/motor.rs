@@ -105,9 +105,16 @@ pub(crate) fn check_motor(cx: &mut Cx, b: &Block, structure: Option<&Structure>)
     let total = fl
         .value("total_mass")
         .map(|v| f::positive(f::quantity(cx, v, Dim::MASS), cx));
+    let expect_unusual = fl
+        .value("expect_unusual")
+        .and_then(|v| f::boolean(cx, v))
+        .unwrap_or(false);
     fl.finish(cx);
     let curve_path = curve_path?;
     let curve = read_curve(cx, &curve_path.value, curve_path.span)?;
+    if !expect_unusual {
+        header_dimensions(cx, &curve, &curve_path, length, diameter);
+    }
     let from_header = |given: Option<Option<Spanned<f64>>>,
                        header: Option<f64>,
                        cx: &mut Cx,
@@ -254,6 +261,51 @@ pub(crate) fn check_motor(cx: &mut Cx, b: &Block, structure: Option<&Structure>)
         propellant_mass,
         total_mass,
     })
+}
+
+/// How far a motor's `length` or `diameter` may differ from the RASP header's before
+/// `check` questions it, m. The header gives both in whole millimetres (RASP format: "diameter
+/// and length in mm"), so a value written to the millimetre is within 0.5 mm of it; 1 mm
+/// leaves room for a value written in inches.
+pub const HEADER_DIMENSION_TOL: f64 = 1e-3;
+
+/// Warns (`vdl::motor::header`) where the motor's `length` or `diameter` contradicts the
+/// `.eng` header's: the motor's cylinder sets its mass distribution and so the static margin
+/// (the issue's 0.30 m for the M1670's 757 mm moved it by 0.5 calibre).
+fn header_dimensions(
+    cx: &mut Cx,
+    curve: &ThrustCurve,
+    curve_path: &Spanned<std::path::PathBuf>,
+    length: Option<Spanned<f64>>,
+    diameter: Option<Spanned<f64>>,
+) {
+    for (what, given, header) in [
+        ("length", length, curve.length),
+        ("diameter", diameter, curve.diameter),
+    ] {
+        let (Some(g), Some(h)) = (given, header) else {
+            continue;
+        };
+        // (1e-9 m: a value written 1 mm off is within the tolerance despite rounding.)
+        if (g.value - h).abs() > HEADER_DIMENSION_TOL + 1e-9 {
+            let mm = |x: f64| super::plausible::short(x * 1e3);
+            cx.push(
+                Diagnostic::warning(
+                    "vdl::motor::header",
+                    format!(
+                        "the motor's {what} ({} mm) differs from its thrust curve's header ({} mm)",
+                        mm(g.value),
+                        mm(h)
+                    ),
+                )
+                .label(g.span, format!("{what} {} mm", mm(g.value)))
+                .label(curve_path.span, format!("the `.eng` header says {} mm", mm(h)))
+                .with_help(format!(
+                    "the motor's cylinder places its mass, and so the centre of mass and the static margin: write the header's {what}, or `expect_unusual = true` in the motor if the difference is meant"
+                )),
+            );
+        }
+    }
 }
 
 impl ThrustCurveError {

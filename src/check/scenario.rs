@@ -210,11 +210,32 @@ fn check_launch(cx: &mut Cx, b: &Block) -> Option<Launch> {
         |h| (-500.0..=86_000.0).contains(&h),
         "a site altitude from -500 m to 86 km (the 1976 standard atmosphere)",
     );
+    // The foot of the rail is the launch's only pad contact (runtime/flight.rs: it holds the
+    // vehicle at rest until the thrust exceeds the weight's component along the rail). With
+    // no rail the vehicle would start free, at rest on the pad, and sink under its weight
+    // until the thrust caught up (the 1.6 cm and 347,058 steps): refused here.
     let rail = f::non_negative(
         fl.required(cx, "rail_length", "3 m")
             .and_then(|v| f::quantity(cx, v, Dim::LENGTH)),
         cx,
     );
+    let rail = match rail {
+        Some(r) if r.value == 0.0 => {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::launch::rail",
+                    format!(
+                        "a launch needs a rail longer than 0 m (rail_length = {} m): the foot of the rail is what holds the vehicle on the pad until its thrust exceeds its weight",
+                        r.value
+                    ),
+                )
+                .label(r.span, "no rail")
+                .with_help("give the rail's length (the distance the vehicle travels along it before it flies free), or start the vehicle in flight with an `initial` block instead of `launch`"),
+            );
+            None
+        }
+        other => other,
+    };
     let elevation = f::check_range(
         fl.required(cx, "elevation", "85 deg")
             .and_then(|v| f::quantity(cx, v, Dim::ANGLE)),
@@ -862,6 +883,12 @@ fn check_run(cx: &mut Cx, b: &Block) -> Option<RunSettings> {
             return None;
         }
     }
+    if let (Some(o), Some(s)) = (&output, &stop) {
+        if let Some(d) = history_size(o, s) {
+            cx.push(d);
+            return None;
+        }
+    }
     Some(RunSettings {
         span: b.header,
         stop_time: stop?,
@@ -876,4 +903,51 @@ fn check_run(cx: &mut Cx, b: &Block) -> Option<RunSettings> {
         max_deformation,
         model_limits,
     })
+}
+
+/// The most output rows a run may ask for (`stop_time / output_interval + 1`).
+///
+/// Every row is kept in memory while the run lasts (`RunOutput::rows`, one `f64` per
+/// column) and written to `history.csv` as text (the shortest round-trip form, at most 24
+/// characters and a separator per value, cli/floatfmt.rs). A run writes at least the 24
+/// rigid and 25 invariant channels ([`crate::plan::RIGID_CHANNELS`],
+/// [`crate::plan::INVARIANT_CHANNELS`]), so 2,000,000 rows hold at least 0.78 GB of numbers
+/// and up to 2.45 GB of text: flexflight's bound for one run on a workstation. The longest
+/// example flight (600 s at 10 ms) writes 60,001 rows; a 1000 s flight at 1 ms, 1,000,001.
+pub const MAX_OUTPUT_ROWS: f64 = 2_000_000.0;
+
+/// Bytes of text a value of `history.csv` may take (24 characters and a separator).
+const TEXT_BYTES_PER_VALUE: f64 = 25.0;
+
+/// The error for an output interval that asks for more than [`MAX_OUTPUT_ROWS`] rows, with
+/// the rows and the memory it implies.
+fn history_size(output: &Q, stop: &Q) -> Option<crate::diagnostics::Diagnostic> {
+    // Rows at 0, dt, 2 dt, ... up to the stop time (a ratio within 1e-9 of a whole number,
+    // as 2 s / 1 us in floating point, counts as that number).
+    let rows = (stop.value / output.value + 1e-9).floor() + 1.0;
+    if rows <= MAX_OUTPUT_ROWS {
+        return None;
+    }
+    let columns =
+        (crate::plan::RIGID_CHANNELS.len() + crate::plan::INVARIANT_CHANNELS.len()) as f64;
+    let numbers = rows * columns * 8.0;
+    let text = rows * columns * TEXT_BYTES_PER_VALUE;
+    Some(
+        Diagnostic::error(
+            "vdl::run::output_rows",
+            format!(
+                "output_interval = {} s over stop_time = {} s asks for {rows:.0} rows: with at least {columns:.0} columns that is at least {:.2} GB of numbers in memory and up to {:.2} GB of history.csv text; the limit is {MAX_OUTPUT_ROWS:.0} rows",
+                output.value,
+                stop.value,
+                numbers / 1e9,
+                text / 1e9
+            ),
+        )
+        .label(output.span, "output interval")
+        .label(stop.span, "stop time")
+        .with_help(format!(
+            "write a longer output interval: at least {} s for this stop time",
+            stop.value / (MAX_OUTPUT_ROWS - 1.0)
+        )),
+    )
 }

@@ -58,7 +58,23 @@ pub(crate) fn check_material(cx: &mut Cx, b: &Block) -> Option<Material> {
             return None;
         }
     };
+    let expect_unusual = fl
+        .value("expect_unusual")
+        .and_then(|v| f::boolean(cx, v))
+        .unwrap_or(false);
     fl.finish(cx);
+    // Constants outside the range of structural solids: a warning naming the likely unit
+    // slip (check/plausible.rs), unless the file says the material is meant to be unusual.
+    if let (Some(e), Some(rho), false) = (e, rho, expect_unusual) {
+        if let Some(d) = super::plausible::material_warning(
+            &name.name,
+            (e.value, e.span),
+            (rho.value, rho.span),
+            name.span,
+        ) {
+            cx.push(d);
+        }
+    }
     // A positive definite plane-stress lamina: nu_12 nu_21 = nu_12^2 E2 / E1 < 1.
     if let (Some(o), Some(e), Some(nu)) = (&orthotropic, e, nu) {
         if nu.value * nu.value * o.e2.value / e.value >= 1.0 {
@@ -413,9 +429,24 @@ fn check_generate(cx: &mut Cx, b: &Block) -> Option<Generate> {
             Some(v) => f::non_negative(f::quantity(cx, v, Dim::LENGTH), cx),
             None => Some(Spanned::new(0.0, bb.header)),
         };
-        let elements = fl
-            .required(cx, "elements", "40")
-            .and_then(|v| f::count(cx, v, 1, 100_000));
+        let elements_v = fl.required(cx, "elements", "40");
+        let elements = elements_v.and_then(|v| f::count(cx, v, 1, 100_000));
+        if let (Some(n), Some(v)) = (elements, elements_v) {
+            if n > MAX_BODY_ELEMENTS {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::body::elements",
+                        format!(
+                            "{n} body elements are more than the modal solve can resolve (at most {MAX_BODY_ELEMENTS}): a uniform beam of n elements has its largest stiffness-to-mass ratio 0.0645 n^4 = {:.1e} times its first bending eigenvalue, and from about 1e12 on the eigensolver no longer tells the lowest elastic modes from rigid-body modes (it reported them as mechanisms)",
+                            0.0645 * (n as f64).powi(4)
+                        ),
+                    )
+                    .label(v.span, "too many elements")
+                    .with_help("40 to 100 elements converge the body's low modes; the fins' modes do not depend on it"),
+                );
+                return None;
+            }
+        }
         let theory = match fl.value("theory") {
             Some(v) => f::keyword(
                 cx,
@@ -758,6 +789,42 @@ fn dof_order(cx: &mut Cx, v: &Value) -> Option<Spanned<[u8; 6]>> {
     Some(Spanned::new(order, v.span))
 }
 
+/// The most elements of a generated body.
+///
+/// Not a mesh limit but one of the modal solve's conditioning. Both of its paths
+/// (structure/modal) call an eigenvalue "zero" (a rigid-body mode) below 1e-10 of the
+/// largest translational `K_ii / M_ii`, the scale of the top of the spectrum, and more than
+/// six such modes is reported as mechanisms. For a uniform Euler–Bernoulli beam of `n`
+/// elements of length `h = L/n` with consistent mass (Przemieniecki 11.3), the largest
+/// `K_ii / M_ii` is `24 EI/h^3 / (312/420 rho A h) = 32.31 (EI/rho A)/h^4`, and the first
+/// free-free bending eigenvalue is `4.7300^4 (EI/rho A)/L^4 = 500.56 (EI/rho A)/L^4`; their
+/// ratio `0.0645 n^4` depends on the element count alone, not on the material or the
+/// section. The spectrum widens as the fourth power of the count, and the eigensolver in
+/// double precision no longer resolves the lowest elastic modes from the rigid ones.
+/// Measured on this code: the HPR K1000 vehicle (1.9 m, 98 mm, fibreglass) solves at 2500
+/// elements (body bending 62.51 Hz, the same as at 40 to 2000) and fails as "8 mechanisms" at
+/// 3000; SPHADS-1 (fins at 36.5 Hz, below its body bending) fails at 2000 and 3000. The
+/// ratio `0.0645 n^4` is 1.0e12 at 2000 elements, 2.5e12 at 2500 and 5.2e12 at 3000 (the
+/// vehicles' lowest elastic modes lie below the bare beam's first bending, the thin fins of
+/// SPHADS-1 far below, which widens their spectrum further). At 1000 elements it is 6.5e10,
+/// 16 times below the first failure seen, and SPHADS-1 solves there (body bending
+/// 90.50 Hz, fin flap 36.55 Hz, as with its 40 elements); 40 to 100 elements converge the
+/// low modes
+/// (62.51 Hz from 40 to 2500 elements on the HPR vehicle).
+pub const MAX_BODY_ELEMENTS: usize = 1000;
+
+/// The largest fin thickness against the smaller of its root chord and span.
+///
+/// The fin is a flat plate meshed with MITC4 (Reissner–Mindlin) shells and loaded by
+/// thin-aerofoil (strip, piston or lifting-surface) theory. Both are expansions in the
+/// thickness ratio: plate theory in t/L, the plate's thickness against its in-plane extent,
+/// and thin-aerofoil theory in t/c. 0.2 is flexflight's bound: beyond it the section is
+/// thicker than any fin section in use, and a thickness of the order of the chord (the
+/// issue's 250 mm on a 203 mm chord) is a unit slip, not a fin. The root chord and the span
+/// are the fin's in-plane extents (the tip chord, up to 0 for a nearly pointed fin, is not:
+/// a thin fin may taper to a tip as narrow as it is thick).
+pub const MAX_FIN_THICKNESS_RATIO: f64 = 0.2;
+
 fn check_fins(
     cx: &mut Cx,
     b: &Block,
@@ -822,6 +889,32 @@ fn check_fins(
         }
     }
     let (span_q, root_q, tip_q) = (span?, root?, tip?);
+    // A fin is a thin plate (MITC4 shells) with thin-aerofoil loads: its thickness must be
+    // small against its chord and its span (see `MAX_FIN_THICKNESS_RATIO`).
+    if let Some(t) = thickness {
+        let (extent, which) = if root_q.value <= span_q.value {
+            (root_q, "root chord")
+        } else {
+            (span_q, "span")
+        };
+        let ratio = t.value / extent.value;
+        if ratio > MAX_FIN_THICKNESS_RATIO {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::fins::thickness",
+                    format!(
+                        "the fin is {} mm thick on a {} mm {which} (thickness/{which} = {ratio:.3}): a fin is modelled as a thin plate with thin-aerofoil loads, which needs the ratio <= {MAX_FIN_THICKNESS_RATIO}",
+                        super::plausible::short(t.value * 1e3),
+                        super::plausible::short(extent.value * 1e3),
+                    ),
+                )
+                .label(t.span, "thickness")
+                .label(extent.span, which)
+                .with_help("check the thickness's unit (mm, not cm)"),
+            );
+            return None;
+        }
+    }
     // Leading-edge sweep: given, or from the trailing-edge sweep and the taper:
     // x_LE(tip) - x_LE(root) = -(span tan(Lambda_LE)); the tip's trailing edge sits at
     // span tan(Lambda_TE) behind the root's, so tan(Lambda_LE) = tan(Lambda_TE) + (c_r - c_t)/s.

@@ -28,6 +28,7 @@ pub mod report;
 pub mod run;
 pub mod sweep;
 pub mod tunnel;
+pub mod warnings;
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -433,12 +434,15 @@ pub fn load_program(files: &[PathBuf], common: &Common, term: Terminal) -> Resul
     }
     let checked = check_files(files, &common.sets, &DiskLoader);
     if !checked.diagnostics.is_empty() {
-        emit(
-            &checked.diagnostics,
-            &checked.sources,
-            common.output.format,
-            term,
-        );
+        // Warnings alone (the input is usable) go to standard error in both formats: with
+        // `--format json` standard output holds the command's one JSON document (`check`'s
+        // lists them in its `diagnostics`, `run`'s summary in its `warnings`).
+        let format = if checked.has_errors() {
+            common.output.format
+        } else {
+            Format::Human
+        };
+        emit(&checked.diagnostics, &checked.sources, format, term);
     }
     if checked.has_errors() {
         Err(EXIT_DIAGNOSTICS)
@@ -463,8 +467,12 @@ fn cmd_check(files: &[PathBuf], common: &Common, term: Terminal) -> u8 {
                             p.tunnel_tests.len()
                         )
                     };
+                    let warnings = match checked.diagnostics.len() {
+                        0 => String::new(),
+                        n => format!(", {n} warning(s)"),
+                    };
                     eprintln!(
-                        "ok: {} material(s), {} vehicle(s), {} scenario(s), {} sweep(s){fixtures}",
+                        "ok: {} material(s), {} vehicle(s), {} scenario(s), {} sweep(s){fixtures}{warnings}",
                         p.materials.len(),
                         p.vehicles.len(),
                         p.scenarios.len(),
@@ -473,7 +481,7 @@ fn cmd_check(files: &[PathBuf], common: &Common, term: Terminal) -> u8 {
                 }
                 Format::Json => {
                     let json = serde_json::json!({
-                        "diagnostics": [],
+                        "diagnostics": diagnostics::to_json(&checked.diagnostics, &checked.sources),
                         "materials": p.materials.iter().map(|m| &m.name.value).collect::<Vec<_>>(),
                         "vehicles": p.vehicles.iter().map(|v| &v.name.value).collect::<Vec<_>>(),
                         "scenarios": p.scenarios.iter().map(|s| &s.name.value).collect::<Vec<_>>(),

@@ -47,6 +47,7 @@ type Prepared = (
     Scenario,
     SourceMap,
     Option<CachedAero>,
+    Vec<serde_json::Value>,
 );
 
 /// Check, compile and plan, the structure and the aerodynamics through the cache.
@@ -65,7 +66,10 @@ fn prepare_with_scenario(
     let outcome = compile_cached(&mut checked, &sc.vehicle, cache_dir, format, term)?;
     let cache = crate::artifact::Cache::resolve(cache_dir);
     match plan_cached(&sc, &outcome.compiled, &outcome.key, &cache) {
-        Ok((p, aero)) => Ok((p, outcome, sc, checked.sources, aero)),
+        Ok((p, aero)) => {
+            let warnings = super::warnings::check_warnings(&checked.diagnostics, &checked.sources);
+            Ok((p, outcome, sc, checked.sources, aero, warnings))
+        }
         Err(e) => {
             emit(&[plan_diagnostic(&e, &sc)], &checked.sources, format, term);
             Err(EXIT_DIAGNOSTICS)
@@ -89,7 +93,7 @@ pub fn cmd_plan(
     cache_dir: Option<&Path>,
     term: Terminal,
 ) -> u8 {
-    let (p, compiled, sc, _, _) =
+    let (p, compiled, sc, _, _, _) =
         match prepare_with_scenario(file, scenario, common, cache_dir, term) {
             Ok(x) => x,
             Err(code) => return code,
@@ -97,6 +101,7 @@ pub fn cmd_plan(
     match common.output.format {
         Format::Human => {
             out!("{}", plan::summary_text(&p));
+            out!("{}", plan::fin_corners_text(&sc.vehicle));
             match p.aero.as_ref().and_then(|a| a.fin.as_ref()) {
                 // The lifting-surface model's matrices, as the run uses them (from the cache).
                 Some(f) if f.panel_model().is_some() => {
@@ -147,7 +152,7 @@ pub fn cmd_run(
     flutter_margin: Option<bool>,
     term: Terminal,
 ) -> u8 {
-    let (p, compiled, sc, sources, aero_cache) =
+    let (p, compiled, sc, sources, aero_cache, check_warnings) =
         match prepare_with_scenario(file, scenario, common, cache_dir, term) {
             Ok(x) => x,
             Err(code) => return code,
@@ -273,7 +278,7 @@ pub fn cmd_run(
         Some(h) if h.rows() == output.rows.len() => h.finish(),
         _ => history_csv(&output),
     };
-    let (summary, margin) = post_process(
+    let (mut summary, margin) = post_process(
         &p,
         &sc,
         &compiled,
@@ -282,6 +287,10 @@ pub fn cmd_run(
         flutter_margin,
         cache_dir,
     );
+    super::warnings::add_to_summary(&mut summary, check_warnings);
+    let flight_warnings =
+        super::warnings::flight_warnings(&sc, &output, p.stop.ground_altitude, &sources);
+    super::warnings::add_to_summary(&mut summary, flight_warnings);
     // Every output file at once (`write_all_atomic`): a run that cannot write all of them
     // writes none and leaves the directory as it was.
     let summary_text = serde_json::to_string_pretty(&summary).unwrap_or_default() + "\n";
@@ -330,6 +339,9 @@ pub fn cmd_run(
         }
         if let Some(line) = margin.as_ref().map(|m| m.line.as_str()) {
             eprintln!("{line}");
+        }
+        for line in super::warnings::terminal_lines(&summary) {
+            eprintln!("  {line}");
         }
     } else {
         outln!(

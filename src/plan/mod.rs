@@ -26,7 +26,7 @@ use crate::runtime::thrust::{ThrustCurve, ThrustCurveError};
 use crate::structure::compile::CompiledVehicle;
 use crate::syntax::Span;
 
-pub use channels::{AeroChannels, channel_names};
+pub use channels::{AeroChannels, INVARIANT_CHANNELS, RIGID_CHANNELS, channel_names};
 
 /// Why a plan could not be made.
 #[derive(Debug, thiserror::Error)]
@@ -836,5 +836,71 @@ pub fn summary_text(p: &Plan) -> String {
         p.output_interval,
         p.channels.len()
     );
+    s
+}
+
+/// Body-frame corners of fin `i` (m): root trailing edge, root leading edge, tip leading
+/// edge, tip trailing edge, laid out as the structure generator lays out the fin
+/// (`structure::generate::mesh::fin_grid`): the planform in the plane of body x and the
+/// span direction `e_s = (0, cos delta_i, sin delta_i)`, its root at `root_radius` from the
+/// axis, the chord turned by the cant about the span axis through the middle of the root
+/// chord toward the fin normal `(0, -sin delta_i, cos delta_i)`. The leading edge at the tip
+/// lies `span tan(leading_edge_sweep)` aft of the root's (docs/language.md, "Angles").
+pub fn fin_corners(f: &ir::Fins, i: usize, root_radius: f64) -> [[f64; 3]; 4] {
+    let delta = f.angles.get(i).map_or(0.0, |a| a.value);
+    let (sd, cd) = delta.sin_cos();
+    let (sc, cc) = f.cant.value.sin_cos();
+    let es = [0.0, cd, sd];
+    let ea = [cc, -sc * sd, sc * cd];
+    let (cr, ct, b) = (f.root_chord.value, f.tip_chord.value, f.span.value);
+    let x_te = f.root_trailing_edge_x.value;
+    let pivot = x_te + 0.5 * cr;
+    let x_le_tip = x_te + cr - b * f.leading_edge_sweep.value.tan();
+    let planform = [
+        (x_te, 0.0),
+        (x_te + cr, 0.0),
+        (x_le_tip, b),
+        (x_le_tip - ct, b),
+    ];
+    planform.map(|(x, eta)| {
+        let a = x - pivot;
+        let r = root_radius + eta;
+        [
+            pivot + a * ea[0],
+            r * es[1] + a * ea[1],
+            r * es[2] + a * ea[2],
+        ]
+    })
+}
+
+/// `plan`'s lines with each fin's four corner points (body frame, m), or a line saying why
+/// there are none.
+pub fn fin_corners_text(v: &ir::Vehicle) -> String {
+    use std::fmt::Write as _;
+    let Some(f) = v.fins.as_ref() else {
+        return String::new();
+    };
+    let radius = match &v.structure {
+        ir::Structure::Generate(g) => 0.5 * g.body.diameter.value,
+        ir::Structure::Files(_) => {
+            return "fin corners    not drawn: the structure is read from files (its nodes place the fins)\n".to_string();
+        }
+    };
+    let mut s = String::from(
+        "fin corners    body frame, m: root TE, root LE, tip LE, tip TE (x forward from the nose tip)\n",
+    );
+    for i in 0..f.count.value {
+        let c = fin_corners(f, i, radius);
+        let _ = write!(
+            s,
+            "  fin {} at {:.3} deg:",
+            i + 1,
+            f.angles.get(i).map_or(0.0, |a| a.value.to_degrees())
+        );
+        for p in c {
+            let _ = write!(s, " ({:.5}, {:.5}, {:.5})", p[0], p[1], p[2]);
+        }
+        s.push('\n');
+    }
     s
 }

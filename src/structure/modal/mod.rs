@@ -52,10 +52,13 @@ pub enum ModalError {
     ShiftedNotPositiveDefinite(String),
     /// More than 6 zero-frequency modes. `n_zero` is the number found: the dense path sees
     /// all of them; the sparse path looks at the 8 lowest eigenpairs, so it reports at most 8.
+    /// `threshold_hz` is the frequency below which a mode counts as zero (1e-10 of the
+    /// largest translational `K_ii / M_ii`): a model whose shortest elements raise the top
+    /// of the spectrum far enough hides genuine elastic modes under it.
     #[error(
-        "more than 6 zero-frequency modes: the model has mechanisms ({n_zero} zero-frequency modes found)"
+        "more than 6 zero-frequency modes: the model has mechanisms ({n_zero} zero-frequency modes found, below {threshold_hz:.4} Hz), or elements so short that the top of its spectrum hides its lowest elastic modes (a mode counts as zero below 1e-10 of the largest K_ii/M_ii)"
     )]
-    Mechanisms { n_zero: usize },
+    Mechanisms { n_zero: usize, threshold_hz: f64 },
     /// The eigensolver failed or did not converge.
     #[error("eigensolver failed: {0}")]
     Eigensolver(String),
@@ -210,7 +213,10 @@ pub(crate) fn finish(
     order.sort_by(|&a, &b| lambda[a].total_cmp(&lambda[b]));
     let n_zero = order.iter().filter(|&&i| lambda[i] < tol).count();
     if n_zero > 6 {
-        return Err(ModalError::Mechanisms { n_zero });
+        return Err(ModalError::Mechanisms {
+            n_zero,
+            threshold_hz: tol.max(0.0).sqrt() / (2.0 * std::f64::consts::PI),
+        });
     }
     let n = model.n_dof();
     let mut rigid: Vec<faer::Col<f64>> = Vec::new();

@@ -264,7 +264,10 @@ pub fn solve_sparse_with(
     let (lambda1, phi1) = lanczos(model, &op1, 8.min(n), opts)?;
     let zero: Vec<usize> = (0..lambda1.len()).filter(|&j| lambda1[j] < tol).collect();
     if zero.len() > 6 {
-        return Err(ModalError::Mechanisms { n_zero: zero.len() });
+        return Err(ModalError::Mechanisms {
+            n_zero: zero.len(),
+            threshold_hz: tol.max(0.0).sqrt() / (2.0 * std::f64::consts::PI),
+        });
     }
     let first_elastic = lambda1
         .iter()
