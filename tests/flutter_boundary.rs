@@ -570,3 +570,41 @@ fn a_node_whose_lowest_speed_does_not_converge_starts_at_the_next_speed() {
     // The sweep proper still starts at the next speed that converges (the screen is solved
     // from there): without the screen's segments the node would carry that start.
 }
+
+/// Under a canopy the vehicle is a frozen rigid body: the margin covers the flight up to the
+/// first deployment (issue 32: the margin's warnings counted descent rows). The same three
+/// rows as above with a deployment at t = 1.5 s: the row after it (the one outside the grid)
+/// is neither written nor counted. Fails on the old code (3 rows, 1 outside the grid).
+#[test]
+fn margin_rows_end_at_the_first_deployment() {
+    use flexflight::runtime::run::{EventPoint, FlightEvents, RunOutput, RunStop};
+    let sc = hpr();
+    let rows: Vec<Vec<f64>> = [(0.0, 0.3, 1000.0), (1.0, 0.85, 1000.0), (2.0, 1.5, 1000.0)]
+        .iter()
+        .map(|&(t, m, h)| vec![t, m, h])
+        .collect();
+    let at = |t: f64| EventPoint {
+        t,
+        ..Default::default()
+    };
+    let o = RunOutput {
+        channels: vec!["t".into(), "mach".into(), "altitude".into()],
+        rows,
+        stop: RunStop::Completed,
+        stop_detail: String::new(),
+        t_end: 2.0,
+        stats: Default::default(),
+        wall_seconds: 0.0,
+        events: FlightEvents {
+            deployments: vec![("drogue".into(), at(1.4), at(1.5))],
+            ..Default::default()
+        },
+        verdict: None,
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let m =
+        flexflight::cli::flutter::flight_margin(&sc, &o, &[0.0, 0.4, 0.8], &Cache::new(dir.path()));
+    assert_eq!(m.json["rows_until"], 1.5);
+    assert_eq!(m.json["outside_grid_rows"], 0);
+    assert_eq!(m.csv.lines().count(), 1 + 2, "{}", m.csv);
+}

@@ -287,18 +287,10 @@ pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
     };
     // flutter.json beside vg.csv: the condition and flutter point for the V-g titles.
     let flutter_json_path = dir.join("flutter.json");
-    let flutter_json: Option<serde_json::Value> = if vg.is_some() && flutter_json_path.is_file() {
-        let parsed = std::fs::read_to_string(&flutter_json_path)
-            .map_err(|e| e.to_string())
-            .and_then(|t| serde_json::from_str(&t).map_err(|e| e.to_string()));
-        match parsed {
+    let flutter_json = if vg.is_some() && flutter_json_path.is_file() {
+        match read_json(flutter_json_path) {
             Ok(v) => Some(v),
-            Err(message) => {
-                return fail(&ReportError::Summary {
-                    path: flutter_json_path,
-                    message,
-                });
-            }
+            Err(e) => return fail(&e),
         }
     } else {
         None
@@ -313,18 +305,10 @@ pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
         None
     };
     let summary_path = dir.join("summary.json");
-    let summary: Option<serde_json::Value> = if history.is_some() && summary_path.is_file() {
-        let parsed = std::fs::read_to_string(&summary_path)
-            .map_err(|e| e.to_string())
-            .and_then(|t| serde_json::from_str(&t).map_err(|e| e.to_string()));
-        match parsed {
+    let summary = if history.is_some() && summary_path.is_file() {
+        match read_json(summary_path) {
             Ok(v) => Some(v),
-            Err(message) => {
-                return fail(&ReportError::Summary {
-                    path: summary_path,
-                    message,
-                });
-            }
+            Err(e) => return fail(&e),
         }
     } else {
         None
@@ -489,6 +473,15 @@ pub fn cmd_report(args: &ReportArgs, term: Terminal) -> u8 {
         index.display()
     );
     EXIT_OK
+}
+
+/// A JSON file of a run or analysis directory (`summary.json`, `flutter.json`); a file that
+/// cannot be read or parsed is a `ReportError::Summary` naming it.
+fn read_json(path: std::path::PathBuf) -> Result<serde_json::Value, ReportError> {
+    std::fs::read_to_string(&path)
+        .map_err(|e| e.to_string())
+        .and_then(|t| serde_json::from_str(&t).map_err(|e| e.to_string()))
+        .map_err(|message| ReportError::Summary { path, message })
 }
 
 #[cfg(test)]

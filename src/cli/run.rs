@@ -528,10 +528,7 @@ pub fn verdict_json(p: &Plan, o: &RunOutput) -> serde_json::Value {
     let Some(v) = &o.verdict else {
         return serde_json::Value::Null;
     };
-    let at = |name: &str| {
-        let c = o.channels.iter().position(|c| c == name)?;
-        o.rows.last().map(|r| r[c])
-    };
+    let at = |name: &str| last_value(o, name);
     let mach = at("mach");
     let airspeed = mach.zip(at("speed_of_sound")).map(|(m, a)| m * a);
     let modes: Vec<serde_json::Value> = v
@@ -560,13 +557,16 @@ pub fn verdict_json(p: &Plan, o: &RunOutput) -> serde_json::Value {
     })
 }
 
+/// Channel `name` at the history's last row (at a verdict, the verdict's state).
+fn last_value(o: &RunOutput, name: &str) -> Option<f64> {
+    let c = o.channels.iter().position(|c| c == name)?;
+    o.rows.last().map(|r| r[c])
+}
+
 /// The terminal line of a verdict (None without one).
 pub fn verdict_line(p: &Plan, o: &RunOutput) -> Option<String> {
     let v = o.verdict.as_ref()?;
-    let at = |name: &str| {
-        let c = o.channels.iter().position(|c| c == name)?;
-        o.rows.last().map(|r| r[c])
-    };
+    let at = |name: &str| last_value(o, name);
     let what = match v.kind {
         crate::runtime::verdict::VerdictKind::Flutter => "FLUTTER",
         crate::runtime::verdict::VerdictKind::Divergence => "DIVERGENCE",

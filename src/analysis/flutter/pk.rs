@@ -491,8 +491,8 @@ impl PkSolution {
 }
 
 impl FlutterAnswer<'_> {
-    /// The headline of an answer: `flutter: V = ...` or the bound or none, for people.
-    /// `hz` converts rad/s to Hz; `extra` follows a flutter point's numbers.
+    /// The headline of an answer: `flutter: V = ...` or the bound or none, for people;
+    /// `largest` is the sweep's largest speed, `extra` follows a flutter point's speed.
     pub fn headline(&self, largest: f64, extra: &str) -> String {
         match self {
             FlutterAnswer::Flutter(f) => format!(
