@@ -51,6 +51,23 @@ fn column(dir: &Path, name: &str) -> Vec<f64> {
         .collect()
 }
 
+/// `examples/m1670_4fin` with its G10 modulus typed in MPa (17 MPa, meant 17 GPa), written
+/// into `dir` with its motor file.
+fn soft_copy(dir: &Path) -> PathBuf {
+    let src = std::fs::read_to_string(repo("examples/m1670_4fin/m1670_4fin.vdl"))
+        .unwrap()
+        .replacen("E = 18 GPa\n  nu = 0.12", "E = 17 MPa\n  nu = 0.12", 1);
+    assert!(src.contains("E = 17 MPa"));
+    let file = dir.join("soft.vdl");
+    std::fs::write(&file, src).unwrap();
+    std::fs::copy(
+        repo("examples/m1670_4fin/Cesaroni_M1670.eng"),
+        dir.join("Cesaroni_M1670.eng"),
+    )
+    .unwrap();
+    file
+}
+
 #[test]
 fn a_flight_that_flutters_ends_with_a_flutter_verdict_and_covers_only_the_valid_flight() {
     let dir = tempfile::tempdir().unwrap();
@@ -143,17 +160,7 @@ fn a_flight_with_a_verdict_never_meets_the_margin_criterion_and_tells_the_story(
 #[test]
 fn a_unit_slip_in_the_modulus_never_gives_criterion_met() {
     let dir = tempfile::tempdir().unwrap();
-    let src = std::fs::read_to_string(repo("examples/m1670_4fin/m1670_4fin.vdl"))
-        .unwrap()
-        .replacen("E = 18 GPa\n  nu = 0.12", "E = 17 MPa\n  nu = 0.12", 1);
-    assert!(src.contains("E = 17 MPa"));
-    let file = dir.path().join("soft.vdl");
-    std::fs::write(&file, src).unwrap();
-    std::fs::copy(
-        repo("examples/m1670_4fin/Cesaroni_M1670.eng"),
-        dir.path().join("Cesaroni_M1670.eng"),
-    )
-    .unwrap();
+    let file = soft_copy(dir.path());
     let out = dir.path().join("run");
     let o = run(&file, "flight", &out, &["--flutter-margin"]);
     let err = String::from_utf8_lossy(&o.stderr);
@@ -172,16 +179,7 @@ fn a_unit_slip_in_the_modulus_never_gives_criterion_met() {
 #[test]
 fn a_clamped_sweep_never_reports_a_crossing_above_a_low_speed_instability() {
     let dir = tempfile::tempdir().unwrap();
-    let src = std::fs::read_to_string(repo("examples/m1670_4fin/m1670_4fin.vdl"))
-        .unwrap()
-        .replacen("E = 18 GPa\n  nu = 0.12", "E = 17 MPa\n  nu = 0.12", 1);
-    let file = dir.path().join("soft.vdl");
-    std::fs::write(&file, src).unwrap();
-    std::fs::copy(
-        repo("examples/m1670_4fin/Cesaroni_M1670.eng"),
-        dir.path().join("Cesaroni_M1670.eng"),
-    )
-    .unwrap();
+    let file = soft_copy(dir.path());
     let out = dir.path().join("flutter");
     let o = Command::new(env!("CARGO_BIN_EXE_flexflight"))
         .args(["analyze", "flutter", "--clamped"])
