@@ -66,8 +66,8 @@ fn bench_compile(c: &mut Criterion) {
 /// The fin panel matrices of SPHADS-1 (issue 12): 4 fins, 8 x 12 lattice, on the 17 Machs of
 /// the built-in fin table (target < 1 s).
 fn bench_panels(c: &mut Criterion) {
-    use flexflight::runtime::aero::estimator::ESTIMATOR_MACH;
-    use flexflight::runtime::aero::panel::fin_model::{self, PanelSettings};
+    use flexflight::aero::estimator::ESTIMATOR_MACH;
+    use flexflight::aero::panel::fin_model::{self, PanelSettings};
     let v = sphads1(&[]);
     let compiled = compile(&v).expect("compiles").0;
     let mut g = c.benchmark_group("fin panels");

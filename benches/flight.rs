@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use flexflight::check::{DiskLoader, check_files};
-use flexflight::runtime::run::run;
+use flexflight::run::run;
 use flexflight::structure::compile::compile;
 
 fn flight(c: &mut Criterion, label: &str, sets: &[String]) {

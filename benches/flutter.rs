@@ -9,6 +9,8 @@ use std::hint::black_box;
 use std::path::PathBuf;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use flexflight::aero::atmosphere::{Atmosphere, Standard1976};
+use flexflight::aero::estimator::ESTIMATOR_MACH;
 use flexflight::analysis::flutter::fin::{
     FinAero, FinFlutterSettings, chordwise_for, clamped_fin_modes, fin_lattice, flutter_model,
     gaf_table,
@@ -17,8 +19,6 @@ use flexflight::analysis::flutter::pk::{PkSettings, pk_solve_cut};
 use flexflight::artifact::Cache;
 use flexflight::check::{DiskLoader, check_files};
 use flexflight::cli::flutter::{cached_boundary, margin_spec};
-use flexflight::runtime::aero::estimator::ESTIMATOR_MACH;
-use flexflight::runtime::atmosphere::{Atmosphere, Standard1976};
 
 fn bench_flutter(c: &mut Criterion) {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/thesis/section_6_5.vdl");

@@ -16,12 +16,12 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use flexflight::check::{DiskLoader, check_files};
+use flexflight::run::build_force_blocks;
 use flexflight::runtime::eom::Eom;
 use flexflight::runtime::expint::Exponential;
 use flexflight::runtime::integrate::{
     AdaptiveOptions, Dop853, DormandPrince54, Integrator, PI_BETA, StepStats,
 };
-use flexflight::runtime::run::build_force_blocks;
 use flexflight::structure::compile::compile;
 
 #[derive(Clone, Copy)]

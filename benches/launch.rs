@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use flexflight::check::{DiskLoader, check_files};
-use flexflight::runtime::run::run;
+use flexflight::run::run;
 use flexflight::structure::compile::compile;
 
 fn bench_launch(c: &mut Criterion) {

@@ -46,7 +46,7 @@ criterion_group!(benches, bench_rhs);
 /// elastic increments from the per-Mach panel matrices). Target: the lifting-surface RHS no
 /// slower than the key-node one.
 fn bench_rhs_with_aero(c: &mut Criterion) {
-    use flexflight::runtime::run::build_force_blocks;
+    use flexflight::run::build_force_blocks;
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/thesis/section_6_5.vdl");
     for (sets, label) in [
         (

@@ -23,6 +23,7 @@
 // Library code reports errors; it does not unwrap (tests, benches and the fuzzer may).
 #![warn(clippy::unwrap_used, clippy::expect_used)]
 
+pub mod aero;
 pub mod analysis;
 pub mod artifact;
 pub mod check;
@@ -30,6 +31,7 @@ pub mod cli;
 pub mod diagnostics;
 pub mod plan;
 pub mod report;
+pub mod run;
 pub mod runtime;
 pub mod structure;
 pub mod syntax;

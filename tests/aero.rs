@@ -2,12 +2,12 @@
 //! fin planform against hand calculations, and the estimator's tables written to CSV and read
 //! back through the table reader.
 
-use flexflight::check::ir::{Distribution, OutOfRange};
-use flexflight::runtime::aero::fin_loads::{centre_of_pressure, supersonic_regime};
-use flexflight::runtime::aero::{
+use flexflight::aero::fin_loads::{centre_of_pressure, supersonic_regime};
+use flexflight::aero::{
     BodyShape, CoefficientTable, EstimatedTables, FinNode, FinPlanform, NoseShape,
     SupersonicRegime, TableKind, nodal_weights,
 };
+use flexflight::check::ir::{Distribution, OutOfRange};
 
 fn sphads_fin() -> FinPlanform {
     FinPlanform::unswept_trailing_edge(0.12723, 0.32468, 0.12267, 0.127 / 2.0)
@@ -175,7 +175,7 @@ fn sphads1_vdl_body() -> BodyShape {
 
 #[test]
 fn body_rate_derivatives_hand_values() {
-    use flexflight::runtime::aero::estimator::body_rate_derivatives;
+    use flexflight::aero::estimator::body_rate_derivatives;
     // Hand calculation, d = 0.127 m, l = 2.75 m, L_n = 0.45 m, s_r = 1.59 m (reference point
     // aft of the nose), S = pi d^2/4 = 0.01266768698 m^2, A_b = S.
     // Vol/S = L_n/3 + (l - L_n) = 0.15 + 2.30 = 2.45 m; l - s_r = 1.16 m.
@@ -213,7 +213,7 @@ fn body_rate_derivatives_hand_values() {
 
 #[test]
 fn fin_rate_derivatives_hand_values() {
-    use flexflight::runtime::aero::estimator::fin_rate_derivatives;
+    use flexflight::aero::estimator::fin_rate_derivatives;
     // SPHADS-1 fins at Mach 0.6 (root leading edge at x = -2.75 + 0.32468 = -2.42532 m):
     // beta = 0.8, A = 1.137633, Lambda_c = 38.4453 deg (cos = 0.783180),
     //   beta A / cos Lambda_c = 1.162053, C_Nalpha,1 = 2 pi 1.137633 * 2.246518

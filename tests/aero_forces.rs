@@ -5,12 +5,12 @@
 
 use std::sync::OnceLock;
 
+use flexflight::aero::atmosphere::{Atmosphere, Standard1976};
+use flexflight::aero::estimator::planform;
+use flexflight::aero::fin_loads::centre_of_pressure;
+use flexflight::aero::{CoefficientTable, EstimatedTables, TableKind, f_lw};
 use flexflight::check::ir::{OutOfRange, Vehicle};
-use flexflight::runtime::aero::fin_loads::centre_of_pressure;
-use flexflight::runtime::aero::{CoefficientTable, EstimatedTables, TableKind, f_lw};
-use flexflight::runtime::atmosphere::{Atmosphere, Standard1976};
 use flexflight::runtime::eom::{ForceModel, StateLayout, StateView};
-use flexflight::runtime::forces::body_aero::planform;
 use flexflight::runtime::forces::{BodyAero, FinAero, aero_tables};
 use flexflight::runtime::stimuli::Stimuli;
 use flexflight::structure::compile::{CompiledVehicle, compile};
@@ -106,19 +106,9 @@ fn body(f: &Fixture) -> BodyAero {
 fn body_with_rates(f: &Fixture, on: bool, rates: [f64; 2]) -> BodyAero {
     let mut v = f.vehicle.clone();
     v.forces.body_aero.as_mut().unwrap().rate_terms = on;
-    let n = f
-        .tables
-        .body
-        .axis(flexflight::runtime::aero::Axis::Mach)
-        .len()
-        * f.tables
-            .body
-            .axis(flexflight::runtime::aero::Axis::AlphaDeg)
-            .len()
-        * f.tables
-            .body
-            .axis(flexflight::runtime::aero::Axis::AltitudeM)
-            .len();
+    let n = f.tables.body.axis(flexflight::aero::Axis::Mach).len()
+        * f.tables.body.axis(flexflight::aero::Axis::AlphaDeg).len()
+        * f.tables.body.axis(flexflight::aero::Axis::AltitudeM).len();
     let table = f.tables.body.clone().with_rates(&vec![rates; n]).unwrap();
     BodyAero::new(
         &f.compiled,

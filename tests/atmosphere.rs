@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use flexflight::runtime::atmosphere::{
+use flexflight::aero::atmosphere::{
     Atmosphere, AtmosphereError, AtmosphereTableError, Standard1976, TableAtmosphere,
     geopotential_altitude,
 };

@@ -9,8 +9,8 @@ use flexflight::analysis::linear::{self, Variant};
 use flexflight::analysis::linearise::LineariseOptions;
 use flexflight::cli::linear::load_variant;
 use flexflight::plan::ForcePlan;
+use flexflight::run::build_force_blocks;
 use flexflight::runtime::eom::{ForceModel, StateLayout, StateView};
-use flexflight::runtime::run::build_force_blocks;
 
 fn repo(p: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(p)

@@ -14,7 +14,7 @@ use std::path::PathBuf;
 use flexflight::analysis::gust_response::{DEFAULT_CHANNELS, StimulusFit, identify_after_stimuli};
 use flexflight::analysis::identify::IdentifyOptions;
 use flexflight::check::{DiskLoader, check_files};
-use flexflight::runtime::run::{RunOutput, RunStop, run};
+use flexflight::run::{RunOutput, RunStop, run};
 use flexflight::structure::compile::compile;
 
 fn fly(sets: &[&str]) -> (RunOutput, Vec<StimulusFit>) {

@@ -43,7 +43,7 @@ fn variant_of(file: &Path, scenario: &str, sets: &[&str]) -> Variant {
 
 /// The history rows of a run of `v`.
 fn history(v: &Variant) -> Vec<Vec<f64>> {
-    flexflight::runtime::run::run(&v.plan, &v.compiled.reduced, &mut |_, _| {})
+    flexflight::run::run(&v.plan, &v.compiled.reduced, &mut |_, _| {})
         .unwrap()
         .rows
 }
@@ -295,8 +295,7 @@ fn stiff_fins_fly_the_same_trajectory_with_both_models() {
 /// The right-hand side of a variant's equations of motion at `x`.
 fn rhs(v: &Variant, x: &[f64]) -> Vec<f64> {
     use flexflight::runtime::integrate::OdeSystem;
-    let forces =
-        flexflight::runtime::run::build_force_blocks(&v.plan, &v.compiled.reduced).unwrap();
+    let forces = flexflight::run::build_force_blocks(&v.plan, &v.compiled.reduced).unwrap();
     let mut eom = flexflight::runtime::eom::Eom::new(&v.compiled.reduced, forces).unwrap();
     let mut dx = vec![0.0; x.len()];
     eom.rhs(0.0, x, &mut dx).unwrap();
@@ -437,7 +436,7 @@ fn panel_matrices_are_cached_with_the_aerodynamics() {
 /// root stress monitor sees them), fin by fin, in a crossflow where some fins are leeward.
 #[test]
 fn lifting_surface_increments_are_the_panel_loads() {
-    use flexflight::runtime::atmosphere::{Atmosphere, Standard1976};
+    use flexflight::aero::atmosphere::{Atmosphere, Standard1976};
     use flexflight::runtime::eom::{ForceModel, StateLayout, StateView};
     let v = variant("subsonic_t06", &[LIFTING]);
     let mut block = v.plan.aero.as_ref().unwrap().fin.clone().unwrap();
@@ -525,7 +524,7 @@ fn streamed_history_text_is_the_history_csv() {
         let v = variant("subsonic_t06", sets);
         let mut seen: Vec<Vec<f64>> = Vec::new();
         let mut text = flexflight::cli::run::HistoryText::new(&v.plan.channels, 0);
-        let out = flexflight::runtime::run::run_with_rows(
+        let out = flexflight::run::run_with_rows(
             &v.plan,
             &v.compiled.reduced,
             &mut |_, _| {},

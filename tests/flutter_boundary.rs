@@ -7,6 +7,8 @@ mod common;
 use std::path::Path;
 use std::process::Command;
 
+use flexflight::aero::atmosphere::{Atmosphere, Standard1976};
+use flexflight::aero::estimator::ESTIMATOR_MACH;
 use flexflight::analysis::flutter::fin::{
     FinAero, clamped_fin_modes, fin_lattice, flutter_model, gaf_table,
 };
@@ -17,8 +19,6 @@ use flexflight::analysis::flutter::pk::{PkSettings, pk_solve_cut};
 use flexflight::artifact::{Cache, CacheOutcome, write_atomic};
 use flexflight::check::{DiskLoader, check_files, ir};
 use flexflight::cli::flutter::{boundary_key, cached_boundary, margin_spec};
-use flexflight::runtime::aero::estimator::ESTIMATOR_MACH;
-use flexflight::runtime::atmosphere::{Atmosphere, Standard1976};
 
 fn hpr() -> ir::Scenario {
     let file = common::root().join("examples/hpr_k1000/hpr_k1000.vdl");
@@ -392,7 +392,7 @@ fn a_warm_run_writes_the_cold_runs_margin_bit_for_bit() {
 /// model compiled directly for the same vehicle. Before, `inspect` knew only the compiled
 /// structure and refused both with `artifact::schema`.
 fn inspect_shows_the_cached_boundary_and_panel_matrices(cache: &Path, cold: &serde_json::Value) {
-    use flexflight::runtime::aero::panel::fin_model::{PanelSettings, compile as panels};
+    use flexflight::aero::panel::fin_model::{PanelSettings, compile as panels};
     use flexflight::structure::compile::compile;
     let inspect = |hash: &str, json: bool| -> String {
         let mut c = flexflight();
@@ -457,7 +457,7 @@ fn inspect_shows_the_cached_boundary_and_panel_matrices(cache: &Path, cold: &ser
 /// such a row were silently extrapolated into the minimum.
 #[test]
 fn rows_outside_the_grid_are_flagged_and_kept_out_of_the_minimum() {
-    use flexflight::runtime::run::{RunOutput, RunStop};
+    use flexflight::run::{RunOutput, RunStop};
     let sc = hpr();
     // (t, Mach, altitude): in the grid; in the grid, the fastest; above the last Mach node.
     let rows: Vec<Vec<f64>> = [(0.0, 0.3, 1000.0), (1.0, 0.85, 1000.0), (2.0, 1.5, 1000.0)]
@@ -577,7 +577,7 @@ fn a_node_whose_lowest_speed_does_not_converge_starts_at_the_next_speed() {
 /// is neither written nor counted. Fails on the old code (3 rows, 1 outside the grid).
 #[test]
 fn margin_rows_end_at_the_first_deployment() {
-    use flexflight::runtime::run::{EventPoint, FlightEvents, RunOutput, RunStop};
+    use flexflight::run::{EventPoint, FlightEvents, RunOutput, RunStop};
     let sc = hpr();
     let rows: Vec<Vec<f64>> = [(0.0, 0.3, 1000.0), (1.0, 0.85, 1000.0), (2.0, 1.5, 1000.0)]
         .iter()

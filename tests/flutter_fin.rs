@@ -5,12 +5,12 @@ mod common;
 
 use std::process::Command;
 
+use flexflight::aero::atmosphere::{Atmosphere, Standard1976};
 use flexflight::analysis::flutter::fin::{
     FinFlutterSettings, clamped_fin_modes, fin_lattice, flutter_model, gaf_table,
 };
 use flexflight::analysis::flutter::pk::{PkSettings, k_method, pk_solve};
 use flexflight::check::{DiskLoader, check_files, ir};
-use flexflight::runtime::atmosphere::{Atmosphere, Standard1976};
 
 fn sphads1(sets: &[&str]) -> ir::Vehicle {
     let file = common::root().join("examples/thesis/section_6_5.vdl");
@@ -408,7 +408,7 @@ fn the_margin_boundary_is_the_p_k_flutter_speed_at_its_nodes() {
     );
     // Midway in altitude its equivalent airspeed V_F sqrt(rho) is the mean of the two nodes'
     // (margin.rs module doc).
-    use flexflight::runtime::atmosphere::{Atmosphere, Standard1976};
+    use flexflight::aero::atmosphere::{Atmosphere, Standard1976};
     let rho = |h: f64| Standard1976::new().at(h).unwrap().density;
     let mid = b.at(0.6, 2500.0).flutter_speed * rho(2500.0).sqrt();
     let mean = 0.5 * (b.speeds[2] * rho(0.0).sqrt() + b.speeds[3] * rho(5000.0).sqrt());
@@ -469,8 +469,8 @@ fn a_launch_reports_its_flutter_margin_row_by_row() {
 /// (aspect at most 0.52) is accepted, and the vortex lattice takes the wide boxes as before.
 #[test]
 fn the_doublet_lattice_refuses_boxes_much_wider_than_long() {
+    use flexflight::aero::panel::dlm::{MAX_BOX_ASPECT, max_box_aspect};
     use flexflight::analysis::flutter::fin::{FinAero, FinFlutterError};
-    use flexflight::runtime::aero::panel::dlm::{MAX_BOX_ASPECT, max_box_aspect};
     let v = sphads1(&["fins.thickness=0.875 mm"]);
     let modes = clamped_fin_modes(&v, 2).unwrap();
     let wide = FinFlutterSettings {

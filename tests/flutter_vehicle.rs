@@ -404,7 +404,7 @@ fn analyze_flutter_of_the_free_vehicle_writes_its_tables() {
 /// at 5 km (`V_F = M a` to the iteration's 1e-4), started from the scenario's Mach.
 #[test]
 fn the_free_vehicle_matched_point_flutters_at_its_own_mach() {
-    use flexflight::runtime::atmosphere::{Atmosphere, Standard1976};
+    use flexflight::aero::atmosphere::{Atmosphere, Standard1976};
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("fv");
     let o = flexflight()

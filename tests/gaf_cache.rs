@@ -6,6 +6,7 @@ mod common;
 
 use std::process::Command;
 
+use flexflight::aero::panel::piston::Correction;
 use flexflight::analysis::flutter::fin::{
     FinAero, FinFlutterSettings, clamped_fin_modes, fin_lattice, gaf_table,
 };
@@ -13,7 +14,6 @@ use flexflight::analysis::flutter::pk::GafTable;
 use flexflight::artifact::{Cache, CacheOutcome, write_atomic};
 use flexflight::check::{DiskLoader, check_files, ir};
 use flexflight::cli::gaf_cache::{GafArtifact, cached_gaf_table, gaf_key};
-use flexflight::runtime::aero::panel::piston::Correction;
 
 fn sphads1() -> ir::Vehicle {
     let file = common::root().join("examples/thesis/section_6_5.vdl");

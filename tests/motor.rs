@@ -211,7 +211,7 @@ fn burning_vehicle_balances_momentum_with_the_exhaust() {
     );
     let (compiled, plan) = compile_and_plan(&file);
     let model = &compiled.reduced;
-    let p = flexflight::runtime::run::build_propulsion(&plan, model)
+    let p = flexflight::run::build_propulsion(&plan, model)
         .unwrap()
         .unwrap();
     let eom = Eom::new(model, FreeFlight)

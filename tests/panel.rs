@@ -4,9 +4,9 @@
 
 use std::sync::OnceLock;
 
+use flexflight::aero::estimator::ESTIMATOR_MACH;
+use flexflight::aero::panel::fin_model::{self, PanelSettings};
 use flexflight::check::ir;
-use flexflight::runtime::aero::estimator::ESTIMATOR_MACH;
-use flexflight::runtime::aero::panel::fin_model::{self, PanelSettings};
 use flexflight::structure::compile::CompiledVehicle;
 
 fn sphads1() -> &'static (ir::Vehicle, CompiledVehicle) {

@@ -99,11 +99,11 @@ fn plan_json_holds_the_tables_load_weights_and_key_node_rows() {
     for t in tables {
         assert_eq!(
             f64s(&t["mach"]),
-            flexflight::runtime::aero::estimator::ESTIMATOR_MACH.to_vec()
+            flexflight::aero::estimator::ESTIMATOR_MACH.to_vec()
         );
         assert_eq!(
             f64s(&t["altitude_m"]),
-            flexflight::runtime::aero::estimator::ESTIMATOR_ALTITUDE.to_vec()
+            flexflight::aero::estimator::ESTIMATOR_ALTITUDE.to_vec()
         );
         let alpha = f64s(&t["alpha_deg"]);
         assert_eq!((alpha[0], *alpha.last().unwrap()), (-20.0, 20.0));
@@ -135,7 +135,7 @@ fn plan_json_holds_the_tables_load_weights_and_key_node_rows() {
         let weights = f["weights"].as_array().unwrap();
         assert_eq!(
             weights.len(),
-            flexflight::runtime::aero::estimator::ESTIMATOR_MACH.len()
+            flexflight::aero::estimator::ESTIMATOR_MACH.len()
         );
         for w in weights {
             assert!((w["sum"].as_f64().unwrap() - 1.0).abs() < 1e-14, "{w}");

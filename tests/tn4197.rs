@@ -6,8 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use flexflight::aero::atmosphere::{Atmosphere, Standard1976};
 use flexflight::analysis::tn4197::{Tn4197Fin, Tn4197Form};
-use flexflight::runtime::atmosphere::{Atmosphere, Standard1976};
 
 fn repo(p: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(p)

@@ -6,7 +6,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::check::ir::{Stimulus, StimulusKind};
-use crate::runtime::run::RunOutput;
+use crate::run::RunOutput;
 
 use super::identify::{Identification, IdentifyOptions, identify};
 
@@ -130,7 +130,7 @@ pub fn identify_after_stimuli(
 mod tests {
     use super::*;
     use crate::check::ir::Frame;
-    use crate::runtime::run::RunStop;
+    use crate::run::RunStop;
     use crate::syntax::{Span, Spanned};
 
     fn gust(name: &str, start: f64, duration: f64) -> Stimulus {

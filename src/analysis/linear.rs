@@ -18,14 +18,14 @@ use serde::Serialize;
 use super::linear_grid::{StabilityClass, StabilityMap};
 use super::linearise::{LinearModel, LineariseError, LineariseOptions, Linearizer, Trim};
 use super::roots::{EigenStructure, FlightPathScale, eigen_structure_separated};
+use crate::aero::atmosphere::{Atmosphere, Standard1976};
 use crate::check::ir::Scenario;
 use crate::plan::{ForcePlan, Plan};
-use crate::runtime::atmosphere::{Atmosphere, Standard1976};
+use crate::run::{RunError, build_force_blocks};
 use crate::runtime::eom::Eom;
 use crate::runtime::forces::ForceBlocks;
 use crate::runtime::forces::gravity::gravity_at;
 use crate::runtime::kinematics::{c_bi, mat_vec};
-use crate::runtime::run::{RunError, build_force_blocks};
 use crate::runtime::stimuli::Stimuli;
 use crate::structure::compile::CompiledVehicle;
 

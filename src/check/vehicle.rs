@@ -295,7 +295,7 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
     // does not parse is left to the plan, which reports it with its line.
     if let (Some(a), Some(fo)) = (&aero, &forces) {
         if let (AeroSource::Tables { body, .. }, Some(ba)) = (&a.source, &fo.body_aero) {
-            use crate::runtime::aero::tables::{CoefficientTable, TableKind};
+            use crate::aero::tables::{CoefficientTable, TableKind};
             let parsed = cx.loader.read(&body.value).ok().and_then(|text| {
                 CoefficientTable::parse_csv(TableKind::Body, &body.value, &text, OutOfRange::Clamp)
                     .ok()
@@ -331,14 +331,14 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
         }
     }
     // The supersonic load model of the `theory` distribution (App. A.2.6 generalised to any
-    // trapezoid, runtime/aero/fin_loads.rs) builds on the apex of the leading edge at the
+    // trapezoid, aero/fin_loads.rs) builds on the apex of the leading edge at the
     // root: a leading edge swept forward has none. Its weights are tabulated over the whole
     // Mach axis, so this is refused here whatever the flight's Mach number.
     if let (Some(fi), Some(fo)) = (&fins, &forces) {
         if let Some(fa) = &fo.fin_aero {
             let tan_le = fi.leading_edge_sweep.value.tan();
             if fa.distribution.value == Distribution::Theory
-                && tan_le < -crate::runtime::aero::fin_loads::FORWARD_SWEEP_TOL
+                && tan_le < -crate::aero::fin_loads::FORWARD_SWEEP_TOL
             {
                 cx.push(
                     Diagnostic::error(

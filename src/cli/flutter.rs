@@ -8,6 +8,8 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
+use crate::aero::atmosphere::{Atmosphere, Standard1976};
+use crate::aero::panel::{Lattice, PanelError};
 use crate::analysis::flutter::fin::{
     FinAero, FinFlutterError, FinFlutterSettings, FinModes, chordwise_for, clamped_fin_modes,
     fin_lattice, solve_at, solve_with,
@@ -22,8 +24,6 @@ use crate::artifact::{Cache, CacheKey, CacheKeyBuilder, CacheOutcome};
 use crate::check::cli_values;
 use crate::check::ir;
 use crate::diagnostics::Diagnostic;
-use crate::runtime::aero::panel::{Lattice, PanelError};
-use crate::runtime::atmosphere::{Atmosphere, Standard1976};
 use crate::units::Dim;
 
 use super::analyze::refused;
@@ -653,8 +653,8 @@ fn cmd_free(
     if sc.vehicle.fins.is_none() {
         return refuse(&FinFlutterError::NoFins, &checked.sources);
     }
-    if let Ok(crate::runtime::aero::panel::Regime::Transonic { .. }) =
-        crate::runtime::aero::panel::regime(condition.mach)
+    if let Ok(crate::aero::panel::Regime::Transonic { .. }) =
+        crate::aero::panel::regime(condition.mach)
     {
         let e = FinFlutterError::Transonic {
             mach: condition.mach,
@@ -1230,7 +1230,7 @@ impl MarginStory {
     /// disagree (None for a flight that never came below the criterion and stayed in its model).
     fn text(
         &self,
-        o: &crate::runtime::run::RunOutput,
+        o: &crate::run::RunOutput,
         points: &[crate::analysis::flutter::margin::BoundaryPoint],
         cm: usize,
         ch: usize,
@@ -1465,7 +1465,7 @@ pub fn margin_spec(
 /// Mach axis of the vehicle's fin coefficient table.
 pub fn flight_margin(
     sc: &ir::Scenario,
-    o: &crate::runtime::run::RunOutput,
+    o: &crate::run::RunOutput,
     table_machs: &[f64],
     cache: &Cache,
 ) -> FlightMargin {

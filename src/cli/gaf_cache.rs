@@ -28,15 +28,15 @@
 
 use faer::c64;
 
+use crate::aero::panel::Lattice;
+use crate::aero::panel::harmonic::WakeSettings;
+use crate::aero::panel::piston::Correction;
 use crate::analysis::flutter::fin::{
     FinAero, FinFlutterError, FinFlutterSettings, FinModes, gaf_ks, gaf_table,
 };
 use crate::analysis::flutter::pk::{Gaf, GafTable};
 use crate::artifact::{ArtifactPayload, Cache, CacheKey, CacheKeyBuilder, CacheOutcome};
 use crate::check::ir;
-use crate::runtime::aero::panel::Lattice;
-use crate::runtime::aero::panel::harmonic::WakeSettings;
-use crate::runtime::aero::panel::piston::Correction;
 
 /// Revision of the GAF computation: bump when `gaf_table`'s numbers change for the same
 /// inputs (the lattice, the wake, the spline rows, the virtual-work projection).

@@ -10,7 +10,7 @@ use crate::check::Checked;
 use crate::check::ir::Scenario;
 use crate::diagnostics::Diagnostic;
 use crate::plan::{self, Plan, PlanError};
-use crate::runtime::run::{self, RunOutput};
+use crate::run::{self, RunOutput};
 
 use super::flutter as margin;
 use crate::syntax::SourceMap;
@@ -122,8 +122,8 @@ pub fn cmd_plan(
 /// whose run does not use them (`model = key_node`); a line saying why when they cannot be
 /// built.
 fn fin_panels_text(sc: &Scenario, c: &crate::structure::compile::CompiledVehicle) -> String {
-    use crate::runtime::aero::panel::fin_model::{self, PanelSettings};
-    use crate::runtime::aero::tables::Axis;
+    use crate::aero::panel::fin_model::{self, PanelSettings};
+    use crate::aero::tables::Axis;
     let v = &sc.vehicle;
     let Some(f) = v.fins.as_ref() else {
         return String::new();
@@ -379,13 +379,8 @@ fn post_process(
         // The boundary's Mach grid reaches the fin table's last Mach (the built-in
         // estimator's grid without aerodynamics).
         let table_machs = p.aero.as_ref().map_or_else(
-            || crate::runtime::aero::estimator::ESTIMATOR_MACH.to_vec(),
-            |a| {
-                a.tables
-                    .fin
-                    .axis(crate::runtime::aero::tables::Axis::Mach)
-                    .to_vec()
-            },
+            || crate::aero::estimator::ESTIMATOR_MACH.to_vec(),
+            |a| a.tables.fin.axis(crate::aero::tables::Axis::Mach).to_vec(),
         );
         let cache = crate::artifact::Cache::resolve(cache_dir);
         let m = margin::flight_margin(sc, output, &table_machs, &cache);

@@ -31,7 +31,7 @@ use crate::analysis::sweep::{
 use crate::artifact::{Cache, CacheKey, GetOrBuildError};
 use crate::check::ir::{Scenario, Sweep, SweepAnalysis};
 use crate::check::{DiskLoader, check_scenario_files};
-use crate::runtime::run;
+use crate::run;
 use crate::structure::compile::{CompiledVehicle, compile};
 
 use super::compile::{CachedAero, CompileOutcome, aero_cache_key, cache_key, vehicle_aero_cached};

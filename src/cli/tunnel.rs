@@ -6,6 +6,9 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use crate::aero::panel::dlm::Dlm;
+use crate::aero::panel::harmonic::{HarmonicVlm, WakeSettings};
+use crate::aero::panel::{Lattice, Spacing, vlm};
 use crate::analysis::flutter::pk::{FlutterAnswer, PkSettings, PkSolution, pk_solve, screen_below};
 use crate::analysis::flutter::wing::{
     Grain, UnsteadyAero, UnsteadySettings, WingDensity, WingError, WingMaterial, WingModes,
@@ -13,9 +16,6 @@ use crate::analysis::flutter::wing::{
 };
 use crate::check::ir;
 use crate::diagnostics::Diagnostic;
-use crate::runtime::aero::panel::dlm::Dlm;
-use crate::runtime::aero::panel::harmonic::{HarmonicVlm, WakeSettings};
-use crate::runtime::aero::panel::{Lattice, Spacing, vlm};
 
 use super::flutter::{AeroChoice, FlutterArgs, MAX_CHORDWISE, vg_table};
 use super::{EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, emit};

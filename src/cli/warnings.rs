@@ -10,7 +10,7 @@ use serde_json::{Value, json};
 
 use crate::check::ir::{Scenario, Trigger};
 use crate::diagnostics::{self, Diagnostic, Severity};
-use crate::runtime::run::RunOutput;
+use crate::run::RunOutput;
 use crate::syntax::SourceMap;
 
 /// The check-time warnings among `diags`, as `summary.json` entries.
@@ -39,7 +39,7 @@ pub fn check_warnings(diags: &[Diagnostic], sources: &SourceMap) -> Vec<Value> {
 ///
 /// * `run::parachute::above_apogee`: a parachute triggered at `altitude(h)` with `h` above
 ///   the flight's apogee (height above the ground). The trigger is "on descent through h",
-///   so such a parachute opens at apogee (runtime/run.rs, the altitude trigger is armed from
+///   so such a parachute opens at apogee (run/mod.rs, the altitude trigger is armed from
 ///   apogee on and met at once), with whatever opens there too.
 /// * `run::parachute::order`: a canopy opening at apogee (triggered there, by `apogee` or by
 ///   an altitude trigger above it) with a larger drag area than one that opens later: the

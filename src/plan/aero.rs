@@ -19,12 +19,12 @@ use std::path::Path;
 
 use serde::Serialize;
 
+use crate::aero::atmosphere::Standard1976;
+use crate::aero::estimator::EstimatedTables;
+use crate::aero::fin_loads::FinLoadTable;
+use crate::aero::panel::fin_model::{FinTransfer, PanelModel, PanelSettings};
+use crate::aero::tables::{Axis, CoefficientTable, TableKind};
 use crate::check::ir::{self, AeroSource};
-use crate::runtime::aero::estimator::EstimatedTables;
-use crate::runtime::aero::fin_loads::FinLoadTable;
-use crate::runtime::aero::panel::fin_model::{FinTransfer, PanelModel, PanelSettings};
-use crate::runtime::aero::tables::{Axis, CoefficientTable, TableKind};
-use crate::runtime::atmosphere::Standard1976;
 use crate::runtime::forces::{AeroForceError, BodyAero, FinAero, aero_tables};
 use crate::runtime::stimuli::Stimuli;
 use crate::structure::compile::CompiledVehicle;
@@ -116,8 +116,8 @@ pub struct FinPanels {
 
 impl FinPanels {
     fn new(m: &PanelModel) -> Self {
-        use crate::runtime::aero::panel::Spacing;
-        use crate::runtime::aero::panel::piston::Correction;
+        use crate::aero::panel::Spacing;
+        use crate::aero::panel::piston::Correction;
         FinPanels {
             chordwise: m.settings.chordwise as u64,
             spanwise: m.settings.spanwise as u64,
@@ -131,8 +131,8 @@ impl FinPanels {
 
     /// Back to a [`PanelModel`]; an error when a size does not fit.
     fn to_model(&self) -> Result<PanelModel, String> {
-        use crate::runtime::aero::panel::Spacing;
-        use crate::runtime::aero::panel::piston::Correction;
+        use crate::aero::panel::Spacing;
+        use crate::aero::panel::piston::Correction;
         let n = usize::try_from(self.n_modes).map_err(|e| e.to_string())?;
         let size = self.machs.len() * (n + 3) * (2 * n + 3);
         if let Some(t) = self.transfer.iter().find(|t| t.len() != size) {

@@ -17,8 +17,8 @@ use std::path::PathBuf;
 
 use serde::Serialize;
 
+use crate::aero::atmosphere::{Atmosphere, AtmosphereError, Standard1976};
 use crate::check::ir::{self, Attitude, InitialPosition, InitialVelocity, Scenario, Stimulus};
-use crate::runtime::atmosphere::{Atmosphere, AtmosphereError, Standard1976};
 use crate::runtime::eom::StateLayout;
 use crate::runtime::kinematics::euler_parameters_from_angles;
 use crate::runtime::stimuli::{Stimuli, StimulusError};
@@ -327,7 +327,7 @@ pub struct Plan {
     pub parachutes: Vec<ParachutePlan>,
     /// The static margin model from the same tables as the aerodynamic blocks (both on).
     #[serde(skip)]
-    pub static_margin: Option<crate::runtime::run::StaticMargin>,
+    pub static_margin: Option<crate::aero::static_margin::StaticMargin>,
     /// The aerodynamic blocks (with `body_aero` or `fin_aero`), built with the planned
     /// stimuli; a run copies them into its force blocks.
     #[serde(skip)]
@@ -600,7 +600,7 @@ pub fn build_with_aero(
     let aero_summary = aero.as_ref().map(aero::AeroSummary::new);
     let static_margin = aero
         .as_ref()
-        .and_then(|a| crate::runtime::run::StaticMargin::new(vehicle, compiled, &a.tables));
+        .and_then(|a| crate::aero::static_margin::StaticMargin::new(vehicle, compiled, &a.tables));
     let mode_names: Vec<String> = compiled.modes.iter().map(|m| m.name.clone()).collect();
     let mut node_translation_shapes = Vec::with_capacity(3 * n_nodes * n);
     for node in 0..n_nodes {

@@ -49,12 +49,12 @@
 //! Architecture invariant: `rhs` never allocates, does IO or looks up names (the buffers are
 //! made in [`Flight::new`]).
 
-use super::atmosphere::{Atmosphere, Standard1976};
 use super::eom::{EnergyLayout, Eom, ForceModel, StateView};
 use super::forces::{ForceBlock, ForceBlocks};
 use super::integrate::{OdeSystem, RhsError};
 use super::kinematics::{mat_t_vec, mat_vec};
 use super::stimuli::Stimuli;
+use crate::aero::atmosphere::{Atmosphere, Standard1976};
 
 /// Which equations of motion hold.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -17,8 +17,6 @@
 //! every buffer lives in a [`eom::Workspace`] created once per run, and everything the
 //! environment models need (files, turbulence series) is prepared before the run.
 
-pub mod aero;
-pub mod atmosphere;
 pub mod deformation;
 pub mod eom;
 pub mod expint;
@@ -27,7 +25,6 @@ pub mod forces;
 pub mod integrate;
 pub mod kinematics;
 pub mod motor;
-pub mod run;
 pub mod stimuli;
 pub mod thrust;
 pub mod verdict;

@@ -46,14 +46,14 @@ use faer::c64;
 use rayon::prelude::*;
 
 use super::pk::{FlutterError, FlutterModel, GafTable, PkSettings, PkSolution, pk_solve_screened};
+use crate::aero::estimator::FinPlanform;
+use crate::aero::estimator::planform;
+use crate::aero::panel::dlm::{Dlm, MAX_BOX_ASPECT, max_box_aspect};
+use crate::aero::panel::harmonic::{self, HarmonicMap, HarmonicVlm, WakeSettings};
+use crate::aero::panel::piston::{self, Correction};
+use crate::aero::panel::spline::{SplineError, surface_spline};
+use crate::aero::panel::{self, Lattice, PanelError, Regime, Spacing, vlm};
 use crate::check::ir;
-use crate::runtime::aero::estimator::FinPlanform;
-use crate::runtime::aero::panel::dlm::{Dlm, MAX_BOX_ASPECT, max_box_aspect};
-use crate::runtime::aero::panel::harmonic::{self, HarmonicMap, HarmonicVlm, WakeSettings};
-use crate::runtime::aero::panel::piston::{self, Correction};
-use crate::runtime::aero::panel::spline::{SplineError, surface_spline};
-use crate::runtime::aero::panel::{self, Lattice, PanelError, Regime, Spacing, vlm};
-use crate::runtime::forces::body_aero::planform;
 use crate::structure::compile::generator_spec;
 use crate::structure::{generate, modal};
 

@@ -90,9 +90,9 @@ use super::fin::{
     FinAero, FinFlutterError, FinFlutterSettings, FinModes, fin_lattice, flutter_model, gaf_table,
 };
 use super::pk::{FlutterAnswer, FlutterError, PkSettings, pk_solve_cut, screen_below};
-use crate::runtime::aero::panel::piston::Correction;
-use crate::runtime::aero::panel::{self, Regime, SUBSONIC_LIMIT, SUPERSONIC_LIMIT};
-use crate::runtime::atmosphere::{Atmosphere, STANDARD_MIN_ALTITUDE, Standard1976};
+use crate::aero::atmosphere::{Atmosphere, STANDARD_MIN_ALTITUDE, Standard1976};
+use crate::aero::panel::piston::Correction;
+use crate::aero::panel::{self, Regime, SUBSONIC_LIMIT, SUPERSONIC_LIMIT};
 
 /// The required speed margin `V_F / V` (15 % on equivalent airspeed).
 pub const CRITERION: f64 = 1.15;

@@ -5,24 +5,18 @@
 //! - [`pk`]: the solver (p-k after Hassig 1971 and Rodden & Johnson's MSC Nastran Aeroelastic
 //!   User's Guide, the k method, flutter points by root finding, divergence);
 //! - [`bessel`], [`theodorsen`]: Theodorsen's function and the typical-section airloads;
-//! - [`typical_section`]: the two-degree-of-freedom section of Hodges & Pierce;
 //! - [`fin`]: the fin clamped at its root with the fin panels' generalised forces (the fin
 //!   designer's case);
 //! - [`vehicle`]: the free flexible vehicle (its reduced model's modes and rigid-body
 //!   motions) with every fin's panel generalised forces and the body's quasi-steady loads;
 //! - [`wing`]: a lifting surface clamped at its root (the language's `fixture`), its plate
-//!   model and flutter problems; [`agard445`] is one;
-//! - [`goland`]: the Goland wing, a uniform cantilever as bending-torsion beam elements with
-//!   Theodorsen strip theory.
+//!   model and flutter problems (AGARD 445.6 is `examples/agard445/agard445.vdl`).
 
-pub mod agard445;
 pub mod bessel;
 pub mod fin;
-pub mod goland;
 pub mod margin;
 pub mod pk;
 pub mod theodorsen;
-pub mod typical_section;
 pub mod vehicle;
 pub mod wing;
 

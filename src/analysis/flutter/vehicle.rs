@@ -118,15 +118,15 @@ use super::pk::{
     Divergence, FlutterModel, GafTable, K_FLOOR, PkSettings, PkSolution, divergence, pk_roots,
     pk_solve_cut_started,
 };
+use crate::aero::atmosphere::{Atmosphere, Standard1976};
+use crate::aero::estimator::planform;
+use crate::aero::panel::fin_model::fin_structure;
+use crate::aero::panel::{Lattice, Spacing};
 use crate::analysis::linear::{Variant, ballistic_plan};
 use crate::analysis::linearise::step_size;
-use crate::runtime::aero::panel::fin_model::fin_structure;
-use crate::runtime::aero::panel::{Lattice, Spacing};
-use crate::runtime::atmosphere::{Atmosphere, Standard1976};
+use crate::run::build_force_blocks;
 use crate::runtime::eom::{ForceModel, StateLayout, StateView};
 use crate::runtime::forces::ForceBlock;
-use crate::runtime::forces::body_aero::planform;
-use crate::runtime::run::build_force_blocks;
 
 /// Number of rigid coordinates (`r`, `θ`).
 pub const N_RIGID: usize = 6;
@@ -715,9 +715,7 @@ pub fn solve_coordinates(
     with_body: bool,
 ) -> Result<VehicleFlutter, FinFlutterError> {
     // Refuse the transonic gap before anything else (as the clamped path).
-    if let crate::runtime::aero::panel::Regime::Transonic { .. } =
-        crate::runtime::aero::panel::regime(mach)?
-    {
+    if let crate::aero::panel::Regime::Transonic { .. } = crate::aero::panel::regime(mach)? {
         return Err(FinFlutterError::Transonic { mach });
     }
     let lattice = vehicle_lattice(&coords, settings)?;

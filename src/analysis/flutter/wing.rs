@@ -24,7 +24,7 @@
 //!
 //! Node positions are given in the wing's own frame: `x` chordwise aft of the root leading
 //! edge, `y` spanwise from the root; `w` is the displacement normal to the plate along
-//! `z = x × y` (the lattice frame of [`crate::runtime::aero::panel`]), per unit modal
+//! `z = x × y` (the lattice frame of [`crate::aero::panel`]), per unit modal
 //! coordinate of the mass-normalised mode (`φᵀ M φ = 1`, so `w` is in m/sqrt(kg)).
 //!
 //! # Reference quantities
@@ -39,11 +39,11 @@ use faer::{Mat, c64};
 use rayon::prelude::*;
 
 use super::pk::{FlutterError, FlutterModel, GafFn, GafTable};
-use crate::runtime::aero::FinPlanform;
-use crate::runtime::aero::panel::dlm::Dlm;
-use crate::runtime::aero::panel::harmonic::{self, HarmonicVlm, WakeSettings};
-use crate::runtime::aero::panel::spline::{SplineError, surface_spline};
-use crate::runtime::aero::panel::{Lattice, PanelError, Spacing, vlm};
+use crate::aero::FinPlanform;
+use crate::aero::panel::dlm::Dlm;
+use crate::aero::panel::harmonic::{self, HarmonicVlm, WakeSettings};
+use crate::aero::panel::spline::{SplineError, surface_spline};
+use crate::aero::panel::{Lattice, PanelError, Spacing, vlm};
 use crate::structure::fe_model::FeModel;
 use crate::structure::generate::{
     FinSpec, GenerateError, MaterialProps, cantilever_fin_model, cantilever_plate_model,
@@ -485,7 +485,7 @@ pub type QuasiSteadyProblem<F> = (FlutterModel, GafFn<F>);
 /// Modal mass `I`, stiffness `diag(ω²)`. Aerodynamics: the vortex-lattice force map `K` of
 /// [`vlm::force_map`] (`F = q K α_e`, Prandtl-Glauert) with the harmonic normalwash of mode
 /// `j`, `α_e = -∂z_j/∂x - i (k/b) z_j` at the control points (the linearised tangency
-/// condition of [`crate::runtime::aero::panel`], `∂/∂t = iω`, `ω/V = k/b`), and the work of
+/// condition of [`crate::aero::panel`], `∂/∂t = iω`, `ω/V = k/b`), and the work of
 /// the panel forces on mode `i` at the force points:
 ///
 /// `Q_ij(k) = Σ_p z_i(f_p) Σ_r K_pr (-∂z_j/∂x - i (k/b) z_j)(c_r) = A_ij + i (k/b) B_ij`.
@@ -614,7 +614,7 @@ pub enum UnsteadyAero {
     /// The harmonic vortex lattice of [`harmonic`] (convected ringed wake, Göthert
     /// compressibility), `2n` force points.
     VortexLattice,
-    /// The doublet-lattice method of [`crate::runtime::aero::panel::dlm`] (the compressible unsteady kernel), `n` force
+    /// The doublet-lattice method of [`crate::aero::panel::dlm`] (the compressible unsteady kernel), `n` force
     /// points at the box quarter-chord mid-points.
     DoubletLattice,
 }
@@ -675,7 +675,7 @@ pub struct UnsteadyProblem {
 /// every tabulated `k`; the wake is [`WakeSettings::default`]. `M > 0.9` is refused by the
 /// vortex lattice ([`PanelError::Untrusted`]). With [`UnsteadyAero::DoubletLattice`] the map is
 /// [`Dlm::forces`] instead (`n` force points, no wake: the kernel carries it), accepted up to
-/// [`crate::runtime::aero::panel::dlm::MACH_LIMIT`].
+/// [`crate::aero::panel::dlm::MACH_LIMIT`].
 pub fn unsteady_problem(
     modes: &WingModes,
     mach: f64,

@@ -24,7 +24,7 @@ pub use vehicle::{
     AeroDerivatives, FinGeometry, FlightCondition, PitchMassProperties, PlanarVehicle,
 };
 
-use crate::runtime::atmosphere::{STANDARD_MAX_ALTITUDE, STANDARD_MIN_ALTITUDE};
+use crate::aero::atmosphere::{STANDARD_MAX_ALTITUDE, STANDARD_MIN_ALTITUDE};
 
 /// Which planar model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]

@@ -33,10 +33,10 @@
 //! reference area S read from the runtime's fin table (which already holds `S_f/S` and the
 //! body-fin interference).
 
+use crate::aero::atmosphere::{Atmosphere, AtmosphereState, Standard1976};
+use crate::aero::estimator::EstimatedTables;
+use crate::aero::tables::{Axis, CoefficientTable};
 use crate::check::ir::{self, OutOfRange, Structure};
-use crate::runtime::aero::estimator::EstimatedTables;
-use crate::runtime::aero::tables::{Axis, CoefficientTable};
-use crate::runtime::atmosphere::{Atmosphere, AtmosphereState, Standard1976};
 use crate::runtime::forces::{aero_tables, gravity::gravity_at};
 use crate::structure::compile::CompiledVehicle;
 

@@ -29,7 +29,7 @@
 //! 5. Coefficients at (Mach, α_b in degrees, altitude `-z`), Mach from the 1976 speed of sound.
 //!    The rate derivatives `cn_q` = C_Nq + C_Nα̇ and `cm_q` = C_mq + C_mα̇ (per rad of
 //!    `ω b/(2V)`, about the reference point) are the optional rate columns of the body table
-//!    ([`crate::runtime::aero::tables`], written by the built-in estimator); with
+//!    ([`crate::aero::tables`], written by the built-in estimator); with
 //!    `rate_terms` and a table without them the block cannot be built
 //!    ([`AeroForceError::NoRateColumns`]).
 //! 6. Loads in the coefficient frame co, `C_co,ba = diag(-1, -1, 1)` (5.3.27), at the
@@ -64,11 +64,11 @@
 //! it with [`BodyAero::fault`]) and the clamped value is used for this evaluation, so the run
 //! driver can stop the run at the end of the step.
 
+use crate::aero::FinLoadError;
+use crate::aero::atmosphere::{AirMemo, Standard1976};
+use crate::aero::estimator::{BodyShape, EstimatedTables, FinPlanform, NoseShape, planform};
+use crate::aero::tables::{Axis, CoefficientTable, TableError, TableHint};
 use crate::check::ir::{self, AeroSource, OutOfRange, Structure};
-use crate::runtime::aero::FinLoadError;
-use crate::runtime::aero::estimator::{BodyShape, EstimatedTables, FinPlanform, NoseShape};
-use crate::runtime::aero::tables::{Axis, CoefficientTable, TableError, TableHint};
-use crate::runtime::atmosphere::{AirMemo, Standard1976};
 use crate::runtime::eom::{ForceModel, StateView};
 use crate::runtime::kinematics::{cross, dot, mat_vec};
 use crate::runtime::stimuli::Stimuli;
@@ -112,7 +112,7 @@ pub enum AeroForceError {
     )]
     FinCount { key_nodes: usize, declared: usize },
     #[error("fin panel model: {0}")]
-    FinPanels(#[from] crate::runtime::aero::panel::fin_model::FinPanelError),
+    FinPanels(#[from] crate::aero::panel::fin_model::FinPanelError),
     #[error("cached aerodynamics: {0}")]
     Cached(String),
     #[error("fin {fin} has no nodes in the compiled model")]
@@ -150,12 +150,12 @@ pub fn aero_tables(v: &ir::Vehicle) -> Result<EstimatedTables, AeroForceError> {
             out_of_range,
         } => Ok(EstimatedTables {
             body: CoefficientTable::read_csv(
-                crate::runtime::aero::TableKind::Body,
+                crate::aero::TableKind::Body,
                 &body.value,
                 out_of_range.value,
             )?,
             fin: CoefficientTable::read_csv(
-                crate::runtime::aero::TableKind::Fin,
+                crate::aero::TableKind::Fin,
                 &fins.value,
                 out_of_range.value,
             )?,
@@ -184,17 +184,6 @@ pub fn aero_tables(v: &ir::Vehicle) -> Result<EstimatedTables, AeroForceError> {
             };
             Ok(EstimatedTables::estimate(&body, &fin, out_of_range.value)?)
         }
-    }
-}
-
-/// The trapezoidal planform of the `fins` block (x_t = s tan Λ_LE).
-pub fn planform(f: &ir::Fins, body_radius: f64) -> FinPlanform {
-    FinPlanform {
-        span: f.span.value,
-        root_chord: f.root_chord.value,
-        tip_chord: f.tip_chord.value,
-        tip_le_offset: f.span.value * f.leading_edge_sweep.value.tan(),
-        body_radius,
     }
 }
 

@@ -25,10 +25,10 @@
 //!    use. The fin's elastic rotation enters through the frame `C_f`, i.e. through `α_f`.
 //!    `V_f = C_f V_Bf` (5.4.9), `α_f = atan2(V_fz, V_fx)` (5.4.10).
 //! 4. Loads in the fin frame (5.4.12)-(5.4.14), with the tabulated `C_N(α_f)` of ONE fin on the
-//!    reference area S (the fin table of [`crate::runtime::aero::tables`]):
+//!    reference area S (the fin table of [`crate::aero::tables`]):
 //!    `F_f = q S (-C_A, 0, -C_N)`; the side force is neglected, `F_fy = 0` ((5.4.13) as
 //!    corrected in REFERENCE-NOTES). With the leeward reduction the whole fin load is scaled by
-//!    `f_LW(δ_tot, α)` ([`f_lw`](crate::runtime::aero::leeward::f_lw), (5.4.24)-(5.4.31)), `δ_tot = δ_i + θ_yz`,
+//!    `f_LW(δ_tot, α)` ([`f_lw`](crate::aero::leeward::f_lw), (5.4.24)-(5.4.31)), `δ_tot = δ_i + θ_yz`,
 //!    `θ_yz = atan2(V_y, V_z)` of `V_Bf` (5.4.25, four-quadrant so that `δ_tot` in (0, 180) deg
 //!    means the fin span has a positive component along the crossflow: windward) and `α` the
 //!    total angle of attack `atan2(sqrt(V_y² + V_z²), V_x)` of `V_Bf`, in degrees.
@@ -89,17 +89,18 @@
 //! construction.
 
 use super::body_aero::{
-    AeroFault, AeroForceError, NodeRows, clamped_query, planform, relative_velocity_rotated,
+    AeroFault, AeroForceError, NodeRows, clamped_query, relative_velocity_rotated,
 };
 use super::stress::FinRootStress;
 use std::sync::Arc;
 
+use crate::aero::atmosphere::{AirMemo, Standard1976};
+use crate::aero::estimator::planform;
+use crate::aero::fin_loads::{FinLoadTable, FinNode};
+use crate::aero::leeward::f_lw_with;
+use crate::aero::panel::fin_model::{self, PanelModel, PanelSettings, rigid_rows};
+use crate::aero::tables::{Axis, CoefficientTable, TableHint};
 use crate::check::ir;
-use crate::runtime::aero::fin_loads::{FinLoadTable, FinNode};
-use crate::runtime::aero::leeward::f_lw_with;
-use crate::runtime::aero::panel::fin_model::{self, PanelModel, PanelSettings};
-use crate::runtime::aero::tables::{Axis, CoefficientTable, TableHint};
-use crate::runtime::atmosphere::{AirMemo, Standard1976};
 use crate::runtime::eom::{ForceModel, StateView};
 use crate::runtime::kinematics::{Mat3, cross, mat_t_vec, mat_vec};
 use crate::runtime::stimuli::Stimuli;
@@ -768,33 +769,6 @@ impl FinAero {
     pub fn clear_fault(&mut self) {
         self.fault = None;
     }
-}
-
-/// Translation rows (3 x n, row-major) of a point `p` rigidly attached to the body node
-/// nearest to it: `S_u,m - o^× S_θ,m` with `o = p - r_m`.
-pub(crate) fn rigid_rows(c: &CompiledVehicle, p: &[f64; 3]) -> Option<(Vec<f64>, Vec<f64>)> {
-    let n = c.modes.len();
-    let m = (0..c.node_positions.len())
-        .filter(|&k| c.node_components[k] < 0)
-        .min_by(|&a, &b| {
-            let d = |k: usize| {
-                let r = c.node_positions[k];
-                (0..3).map(|e| (r[e] - p[e]).powi(2)).sum::<f64>()
-            };
-            d(a).total_cmp(&d(b))
-        })?;
-    let r = c.node_positions[m];
-    let o = [p[0] - r[0], p[1] - r[1], p[2] - r[2]];
-    let skew = [[0.0, -o[2], o[1]], [o[2], 0.0, -o[0]], [-o[1], o[0], 0.0]];
-    let s = |d: usize, j: usize| c.shapes[(6 * m + d) * n + j];
-    let mut rows = vec![0.0; 3 * n];
-    for d in 0..3 {
-        for j in 0..n {
-            rows[d * n + j] = s(d, j) - (0..3).map(|e| skew[d][e] * s(3 + e, j)).sum::<f64>();
-        }
-    }
-    // A rigid attachment rotates with the body node.
-    Some((rows, c.shapes[(6 * m + 3) * n..(6 * m + 6) * n].to_vec()))
 }
 
 fn dot3(a: &[f64; 3], b: &[f64; 3]) -> f64 {

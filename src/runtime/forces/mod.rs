@@ -16,8 +16,8 @@ pub mod gravity;
 pub mod stress;
 pub mod thrust;
 
-use super::atmosphere::AirMemo;
 use super::eom::{ForceModel, StateView};
+use crate::aero::atmosphere::AirMemo;
 
 pub use body_aero::{AeroFault, AeroForceError, BodyAero, aero_tables};
 pub use fin_aero::FinAero;

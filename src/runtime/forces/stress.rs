@@ -6,7 +6,7 @@
 //! places the centre of pressure at mid-span. We use the root bending moment of the
 //! distributed nodal normal loads instead, `M = Σ_k f_k (y_k - y_root)`, which equals
 //! `N_f y_cp` with the centre of pressure of the actual distribution (the spanwise moment
-//! the fin load weights carry exactly, see [`crate::runtime::aero::fin_loads`]). The
+//! the fin load weights carry exactly, see [`crate::aero::fin_loads`]). The
 //! critical normal force of (5.6.2) is also given, for reports.
 
 /// The stress model of one fin.

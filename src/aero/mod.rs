@@ -13,10 +13,12 @@
 //! Angles in the tables and in the leeward formula are degrees (as in the thesis); every
 //! other quantity is SI.
 
+pub mod atmosphere;
 pub mod estimator;
 pub mod fin_loads;
 pub mod leeward;
 pub mod panel;
+pub mod static_margin;
 pub mod tables;
 
 pub use estimator::{BodyShape, EstimatedTables, FinPlanform, NoseShape};

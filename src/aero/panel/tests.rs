@@ -7,7 +7,7 @@ use faer::linalg::solvers::Solve;
 use super::piston::{self, Correction};
 use super::vlm;
 use super::{Lattice, Spacing};
-use crate::runtime::aero::estimator::FinPlanform;
+use crate::aero::estimator::FinPlanform;
 
 /// SPHADS-1's fin planform (the panel tests' common fixture).
 pub(super) fn sphads1() -> FinPlanform {

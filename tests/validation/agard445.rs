@@ -46,7 +46,7 @@
 //! # The structural model
 //!
 //! A flat plate on the planform, clamped along the root chord, of MITC4 shells
-//! ([`crate::structure::generate::cantilever_plate_model`]) whose thickness follows the
+//! ([`flexflight::structure::generate::cantilever_plate_model`]) whose thickness follows the
 //! section, `t(x, y) = c(y) τ(x/c)`, `τ` twice the NACA 65A004 half-thickness ordinate
 //! (linear between tenths of the chord, averaged over the element by Gauss quadrature), as
 //! in the Code_Aster / MBDyn model above. Two materials:
@@ -67,20 +67,20 @@
 //!
 //! Node positions are given in the wing's own frame: `x` chordwise aft of the root leading
 //! edge, `y` spanwise from the root; `w` is the displacement normal to the plate along
-//! `z = x × y` (the lattice frame of [`crate::runtime::aero::panel`]), per unit modal
+//! `z = x × y` (the lattice frame of [`flexflight::aero::panel`]), per unit modal
 //! coordinate of the mass-normalised mode (`φᵀ M φ = 1`, so `w` is in m/sqrt(kg)).
 
-use super::goland::{FT, SLUG};
-pub use super::wing::{
+use crate::goland::{FT, SLUG};
+use flexflight::aero::FinPlanform;
+pub use flexflight::analysis::flutter::wing::{
     Grain, QuasiSteadyProblem, UnsteadyAero, UnsteadyProblem, UnsteadySettings,
     WingError as AgardError, WingModes, k_max_for, quasi_steady_problem, sign_changes,
     unsteady_problem,
 };
-use super::wing::{
+use flexflight::analysis::flutter::wing::{
     WingDensity, WingMaterial, WingSpec, WingThickness, section_thickness_over_chord,
 };
-use crate::runtime::aero::FinPlanform;
-use crate::structure::fe_model::FeModel;
+use flexflight::structure::fe_model::FeModel;
 
 /// Pounds per square inch in pascals (1 lbf / (0.0254 m)²).
 pub const PSI: f64 = 4.448_221_615_260_5 / (0.0254 * 0.0254);
@@ -455,7 +455,7 @@ mod tests {
     #[test]
     #[ignore = "slow (three p-k sweeps); run with --ignored to print the table"]
     fn quasi_steady_flutter_table() {
-        use super::super::pk::{PkSettings, pk_solve};
+        use flexflight::analysis::flutter::pk::{PkSettings, pk_solve};
         let modes = wing_modes(&ModelSpec::default(), 4).unwrap();
         let speeds: Vec<f64> = (1..=80).map(|i| 5.0 * i as f64).collect();
         println!("| M | FSI exp | FSI quasi-steady | diff | w_f/w_a exp | quasi-steady | diff |");
@@ -504,7 +504,7 @@ mod tests {
         min_chordwise: usize,
         aero: UnsteadyAero,
     ) -> Result<UnsteadyResult, AgardError> {
-        use super::super::pk::{PkSettings, pk_solve};
+        use flexflight::analysis::flutter::pk::{PkSettings, pk_solve};
         let speeds: Vec<f64> = (0..=((400.0 - V_MIN) / 5.0) as usize)
             .map(|i| V_MIN + 5.0 * i as f64)
             .collect();
@@ -634,11 +634,11 @@ mod tests {
         };
         let p = unsteady_problem(&six, t.mach, t.density, &settings).unwrap();
         let speeds: Vec<f64> = (0..=68).map(|i| V_MIN + 5.0 * i as f64).collect();
-        let sol = super::super::pk::pk_solve(
+        let sol = flexflight::analysis::flutter::pk::pk_solve(
             &p.model,
             &p.gaf,
             &speeds,
-            super::super::pk::PkSettings::default(),
+            flexflight::analysis::flutter::pk::PkSettings::default(),
         )
         .unwrap();
         println!(

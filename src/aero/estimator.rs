@@ -216,7 +216,7 @@ fn transonic_blend(mach: f64, sub: impl Fn(f64) -> f64, sup: impl Fn(f64) -> f64
 /// runtime's U.S. Standard Atmosphere 1976 (thesis 4.5.1), for Reynolds numbers; the altitude
 /// is clamped to the model's range (-0.5 km to 86 km), so the lookup cannot fail.
 fn atmosphere(h: f64) -> (f64, f64, f64, f64) {
-    use crate::runtime::atmosphere::{Atmosphere, Standard1976};
+    use crate::aero::atmosphere::{Atmosphere, Standard1976};
     match Standard1976::new().at(h.clamp(-500.0, 86_000.0)) {
         Ok(a) => (a.temperature, a.density, a.speed_of_sound, a.viscosity),
         Err(_) => (f64::NAN, f64::NAN, f64::NAN, f64::NAN),
@@ -468,5 +468,16 @@ impl EstimatedTables {
                 ),
             )
         })
+    }
+}
+
+/// The trapezoidal planform of the `fins` block (x_t = s tan Λ_LE).
+pub fn planform(f: &crate::check::ir::Fins, body_radius: f64) -> FinPlanform {
+    FinPlanform {
+        span: f.span.value,
+        root_chord: f.root_chord.value,
+        tip_chord: f.tip_chord.value,
+        tip_le_offset: f.span.value * f.leading_edge_sweep.value.tan(),
+        body_radius,
     }
 }

@@ -41,9 +41,8 @@
 use super::piston::{self, Correction};
 use super::spline::{SplineError, surface_spline};
 use super::{Lattice, PanelError, Regime, Spacing, regime, vlm};
+use crate::aero::estimator::planform;
 use crate::check::ir;
-use crate::runtime::forces::body_aero::planform;
-use crate::runtime::forces::fin_aero::rigid_rows;
 use crate::structure::compile::CompiledVehicle;
 
 /// Lattice size and supersonic options.
@@ -456,4 +455,31 @@ impl PanelModel {
         }
         true
     }
+}
+
+/// Translation rows (3 x n, row-major) of a point `p` rigidly attached to the body node
+/// nearest to it: `S_u,m - o^× S_θ,m` with `o = p - r_m`.
+pub fn rigid_rows(c: &CompiledVehicle, p: &[f64; 3]) -> Option<(Vec<f64>, Vec<f64>)> {
+    let n = c.modes.len();
+    let m = (0..c.node_positions.len())
+        .filter(|&k| c.node_components[k] < 0)
+        .min_by(|&a, &b| {
+            let d = |k: usize| {
+                let r = c.node_positions[k];
+                (0..3).map(|e| (r[e] - p[e]).powi(2)).sum::<f64>()
+            };
+            d(a).total_cmp(&d(b))
+        })?;
+    let r = c.node_positions[m];
+    let o = [p[0] - r[0], p[1] - r[1], p[2] - r[2]];
+    let skew = [[0.0, -o[2], o[1]], [o[2], 0.0, -o[0]], [-o[1], o[0], 0.0]];
+    let s = |d: usize, j: usize| c.shapes[(6 * m + d) * n + j];
+    let mut rows = vec![0.0; 3 * n];
+    for d in 0..3 {
+        for j in 0..n {
+            rows[d * n + j] = s(d, j) - (0..3).map(|e| skew[d][e] * s(3 + e, j)).sum::<f64>();
+        }
+    }
+    // A rigid attachment rotates with the body node.
+    Some((rows, c.shapes[(6 * m + 3) * n..(6 * m + 6) * n].to_vec()))
 }

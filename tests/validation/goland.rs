@@ -22,7 +22,7 @@
 //! # Aerodynamics: strip theory
 //!
 //! Each strip carries the two-dimensional Theodorsen airloads of its own motion
-//! ([`super::theodorsen::section_gaf`], coordinates `(h/b, θ)`, `h = -w` down, elastic axis at
+//! ([`flexflight::analysis::flutter::theodorsen::section_gaf`], coordinates `(h/b, θ)`, `h = -w` down, elastic axis at
 //! `a` semichords aft of mid-chord). In `(w, θ)` the section's generalised forces per unit span
 //! are `q A(k) (w, θ)` with (derived from the section's `q b² Q η` and `h = -w`)
 //!
@@ -43,8 +43,8 @@
 use faer::c64;
 use nalgebra::{DMatrix, SymmetricEigen};
 
-use super::pk::{FlutterError, FlutterModel, GafFn};
-use super::theodorsen::section_gaf;
+use flexflight::analysis::flutter::pk::{FlutterError, FlutterModel, GafFn};
+use flexflight::analysis::flutter::theodorsen::section_gaf;
 
 pub const FT: f64 = 0.3048;
 pub const LBF: f64 = 4.448_221_615_260_5;
@@ -328,8 +328,8 @@ impl UniformWing {
 
 #[cfg(test)]
 mod tests {
-    use super::super::pk::{PkSettings, k_method, pk_solve};
     use super::*;
+    use flexflight::analysis::flutter::pk::{PkSettings, k_method, pk_solve};
 
     /// Without static unbalance bending and torsion uncouple, and the FE frequencies converge
     /// to the exact cantilever values `1.87510² sqrt(EI/(m L⁴))` and `(π/2L) sqrt(GJ/I_α)`.
@@ -355,7 +355,10 @@ mod tests {
         );
     }
 
-    fn goland(elements: usize, modes: usize) -> (super::super::pk::PkSolution, FlutterModel) {
+    fn goland(
+        elements: usize,
+        modes: usize,
+    ) -> (flexflight::analysis::flutter::pk::PkSolution, FlutterModel) {
         let w = UniformWing::goland();
         let (model, gaf, _) = w.flutter_problem(elements, modes).unwrap();
         let speeds: Vec<f64> = (1..=60).map(|i| 5.0 * i as f64).collect();

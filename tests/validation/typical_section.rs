@@ -10,7 +10,7 @@
 //!
 //! `M = m b² [[1, x_θ], [x_θ, r²]]`, `K = m b² ω_θ² diag(σ², r²)`,
 //!
-//! and the generalised aerodynamic forces `q b² Q(k) η` of [`super::theodorsen::section_gaf`].
+//! and the generalised aerodynamic forces `q b² Q(k) η` of [`flexflight::analysis::flutter::theodorsen::section_gaf`].
 //! The model is built with `b = 1`, `ω_θ = 1`, `ρ = 1`, so speeds are `U / (b ω_θ)` and
 //! frequencies `ω / ω_θ`.
 //!
@@ -19,8 +19,8 @@
 
 use faer::c64;
 
-use super::pk::{FlutterModel, GafFn};
-use super::theodorsen::section_gaf;
+use flexflight::analysis::flutter::pk::{FlutterModel, GafFn};
+use flexflight::analysis::flutter::theodorsen::section_gaf;
 
 /// A typical section in H&P's parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -78,8 +78,8 @@ impl TypicalSection {
 
 #[cfg(test)]
 mod tests {
-    use super::super::pk::{Gaf, GafTable, PkSettings, k_method, pk_solve};
     use super::*;
+    use flexflight::analysis::flutter::pk::{Gaf, GafTable, PkSettings, k_method, pk_solve};
 
     fn speeds(lo: f64, hi: f64, n: usize) -> Vec<f64> {
         (0..n)
@@ -87,7 +87,7 @@ mod tests {
             .collect()
     }
 
-    fn solve(sp: &[f64]) -> super::super::pk::PkSolution {
+    fn solve(sp: &[f64]) -> flexflight::analysis::flutter::pk::PkSolution {
         let s = TypicalSection::hodges_pierce();
         pk_solve(&s.model(), &s.gaf(50.0), sp, PkSettings::default()).unwrap()
     }
@@ -135,7 +135,7 @@ mod tests {
             ..m2
         };
         let g2 = s.gaf(50.0);
-        let gaf = super::super::pk::GafFn {
+        let gaf = flexflight::analysis::flutter::pk::GafFn {
             order: 3,
             k_max: 50.0,
             f: move |k: f64, out: &mut [c64]| {
@@ -219,7 +219,7 @@ mod tests {
             .iter()
             .map(|&k| {
                 let mut m = vec![c64::new(0.0, 0.0); 4];
-                super::super::pk::Gaf::eval(&exact, k, &mut m);
+                flexflight::analysis::flutter::pk::Gaf::eval(&exact, k, &mut m);
                 m
             })
             .collect();
@@ -248,7 +248,10 @@ mod tests {
         .unwrap();
         let err = pk_solve(&s.model(), &short, &sp, PkSettings::default()).unwrap_err();
         assert!(
-            matches!(err, super::super::pk::FlutterError::KOutOfRange { .. }),
+            matches!(
+                err,
+                flexflight::analysis::flutter::pk::FlutterError::KOutOfRange { .. }
+            ),
             "{err}"
         );
     }

@@ -22,23 +22,26 @@
 
 use std::time::Instant;
 
-use super::atmosphere::{Atmosphere, Standard1976};
-use super::deformation::NodeDeformation;
-use super::eom::{EnergyLayout, Eom, EomError, FreeFlight, Propulsion, StateView};
-use super::expint::Exponential;
-use super::flight::{Flight, Phase};
-use super::forces::{
+use crate::aero::atmosphere::{Atmosphere, Standard1976};
+pub use crate::aero::static_margin::StaticMargin;
+use crate::check::ir;
+use crate::plan::{ForcePlan, Plan};
+use crate::runtime::deformation::NodeDeformation;
+use crate::runtime::eom::{EnergyLayout, Eom, EomError, FreeFlight, Propulsion, StateView};
+use crate::runtime::expint::Exponential;
+use crate::runtime::flight::{Flight, Phase};
+use crate::runtime::forces::{
     AeroFault, BodyAero, FinAero, ForceBlock, ForceBlocks, GravityBlock, ThrustBlock,
 };
-use super::integrate::{
+use crate::runtime::integrate::{
     AdaptiveOptions, DenseOutput, Dop853, DormandPrince54, Integrator, OdeSystem, Rk4, StepStats,
     StopReason,
 };
-use super::kinematics::{cross, euler_angles, mat_t_vec, mat_vec, normalize_euler_parameters};
-use super::motor::BurnSchedule;
-use super::verdict::{ModalTrace, TRACE_CAPACITY, Verdict, VerdictKind};
-use crate::check::ir;
-use crate::plan::{ForcePlan, Plan};
+use crate::runtime::kinematics::{
+    cross, euler_angles, mat_t_vec, mat_vec, normalize_euler_parameters,
+};
+use crate::runtime::motor::BurnSchedule;
+use crate::runtime::verdict::{ModalTrace, TRACE_CAPACITY, Verdict, VerdictKind};
 use crate::structure::coefficients::ReducedModel;
 
 /// Lowest and highest altitude of the 1976 standard atmosphere, m (geometric).
@@ -200,106 +203,6 @@ pub struct FlightEvents {
     pub deployments: Vec<(String, EventPoint, EventPoint)>,
     /// The body origin descended through the ground.
     pub landing: Option<EventPoint>,
-}
-
-/// The static margin of the vehicle from the SAME coefficient tables its aerodynamic blocks
-/// use: with the normal-force slopes `C_N_alpha` by central difference at `alpha = ±2 deg`
-/// (the estimator's grid spacing; one-sided over [0, 2] deg for a table whose alpha axis
-/// starts at 0, which the body block allows since it only queries `alpha_b >= 0`), the body's centre of pressure
-/// `x_b = x_ref + b C_M_alpha / C_N_alpha` (from (5.3.3): `C_M = C_N (x_cp - x_ref) / b`,
-/// x forward), each fin's `x_f = x_le,root - x_cp,f` (the fin table's chordwise centre of
-/// pressure aft of the root leading edge), and the fins' pitch-plane sum
-/// `Σ_i C_N_alpha,f cos^2(delta_i) = (N/2) C_N_alpha,f`, exact for N >= 3 fins evenly spaced
-/// (the fin at roll angle delta sees `alpha cos delta` and its normal force has the share
-/// `cos delta` in the pitch plane; Barrowman 1967 sums the fins the same way). The total
-/// centre of pressure is the slope-weighted mean, and the margin in calibres is
-/// `(x_cg - x_cp) / d` with `x_cg` the undeformed mass centre at the row's time (it moves as
-/// the propellant burns: `c̄ / m` of the coefficients at the current propellant fraction,
-/// without the elastic `P̄ η`) and `d` the aerodynamic reference length (the body diameter
-/// for the built-in estimator).
-#[derive(Debug, Clone)]
-pub struct StaticMargin {
-    body: crate::runtime::aero::CoefficientTable,
-    fin: crate::runtime::aero::CoefficientTable,
-    fins: f64,
-    x_ref: f64,
-    length: f64,
-    x_root_le: f64,
-}
-
-impl StaticMargin {
-    /// The model of a vehicle with body and fin tables and fins (both aero blocks on).
-    pub fn new(
-        v: &crate::check::ir::Vehicle,
-        compiled: &crate::structure::compile::CompiledVehicle,
-        tables: &crate::runtime::aero::EstimatedTables,
-    ) -> Option<Self> {
-        let f = v.fins.as_ref()?;
-        if v.forces.body_aero.is_none() || v.forces.fin_aero.is_none() {
-            return None;
-        }
-        let m = compiled.reduced.mass;
-        (m > 0.0).then(|| StaticMargin {
-            body: tables.body.clone(),
-            fin: tables.fin.clone(),
-            fins: f.count.value as f64,
-            x_ref: v.aero.reference_point.value[0],
-            length: v.aero.reference_length.value,
-            x_root_le: f.root_trailing_edge_x.value + f.root_chord.value,
-        })
-    }
-
-    /// The centre of pressure `x_cp` (body frame, m) at `(mach, altitude)`, and the total
-    /// `C_N_alpha` (1/rad). Queries are clamped into the tables (this is a monitor, never a stop).
-    pub fn centre_of_pressure(&self, mach: f64, altitude: f64) -> Option<(f64, f64)> {
-        let q = |t: &crate::runtime::aero::CoefficientTable, a: f64| {
-            let ax = |k| t.axis(k);
-            let m = mach.clamp(
-                ax(crate::runtime::aero::Axis::Mach)[0],
-                *ax(crate::runtime::aero::Axis::Mach).last()?,
-            );
-            let h = altitude.clamp(
-                ax(crate::runtime::aero::Axis::AltitudeM)[0],
-                *ax(crate::runtime::aero::Axis::AltitudeM).last()?,
-            );
-            t.lookup(m, a, h).ok()
-        };
-        // The difference over [-2, 2] deg, cut to the table's alpha axis: a body table may
-        // start at alpha = 0 (the body block only queries alpha_b >= 0), where the slope is
-        // the one-sided (C(2) - C(0))/2 deg, equal to the central one for coefficients odd in
-        // alpha (a body of revolution).
-        let pair = |t: &crate::runtime::aero::CoefficientTable| {
-            let ax = t.axis(crate::runtime::aero::Axis::AlphaDeg);
-            let lo = (-2f64).max(ax[0]);
-            let hi = 2f64.min(*ax.last()?);
-            (hi > lo).then_some((hi, lo))
-        };
-        let (hb, lb) = pair(&self.body)?;
-        let (hf, lf) = pair(&self.fin)?;
-        let (b_p, b_m) = (q(&self.body, hb)?, q(&self.body, lb)?);
-        let (f_p, f_m) = (q(&self.fin, hf)?, q(&self.fin, lf)?);
-        let (db, df) = ((hb - lb).to_radians(), (hf - lf).to_radians());
-        let cn_b = (b_p[0] - b_m[0]) / db;
-        let cm_b = (b_p[2] - b_m[2]) / db;
-        let cn_f = 0.5 * self.fins * (f_p[0] - f_m[0]) / df;
-        let x_cp_f = self.x_root_le - 0.5 * (f_p[2] + f_m[2]);
-        let x_b = if cn_b != 0.0 {
-            self.x_ref + self.length * cm_b / cn_b
-        } else {
-            self.x_ref
-        };
-        let cn = cn_b + cn_f;
-        if !(cn.is_finite() && cn != 0.0) {
-            return None;
-        }
-        Some(((cn_b * x_b + cn_f * x_cp_f) / cn, cn))
-    }
-
-    /// `(x_cg - x_cp) / d`, calibres, for the undeformed mass centre `x_cg` (body x, m).
-    pub fn calibres(&self, mach: f64, altitude: f64, x_cg: f64) -> Option<f64> {
-        self.centre_of_pressure(mach, altitude)
-            .map(|(x, _)| (x_cg - x) / self.length)
-    }
 }
 
 /// The stop condition the aerodynamic blocks raise at the plan's initial state, if any: an
