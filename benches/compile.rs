@@ -9,7 +9,7 @@ use std::time::Duration;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use flexflight::artifact::Cache;
 use flexflight::check::{DiskLoader, check_files};
-use flexflight::cli::compile::cache_key;
+use flexflight::ops::compile::cache_key;
 use flexflight::structure::compile::{CompiledVehicle, compile};
 
 fn sphads1(sets: &[String]) -> flexflight::check::ir::Vehicle {

@@ -18,7 +18,7 @@ use flexflight::analysis::flutter::fin::{
 use flexflight::analysis::flutter::pk::{PkSettings, pk_solve_cut};
 use flexflight::artifact::Cache;
 use flexflight::check::{DiskLoader, check_files};
-use flexflight::cli::flutter::{cached_boundary, margin_spec};
+use flexflight::ops::flutter::{cached_boundary, margin_spec};
 
 fn bench_flutter(c: &mut Criterion) {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/thesis/section_6_5.vdl");

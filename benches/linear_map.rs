@@ -16,7 +16,7 @@ use std::path::PathBuf;
 use criterion::{Criterion, criterion_group, criterion_main};
 use flexflight::analysis::linear::{analyse, analyse_with, linear_map, linearizer, plan_gravity};
 use flexflight::analysis::linearise::LineariseOptions;
-use flexflight::cli::linear::load_variant;
+use flexflight::ops::linear::load_variant;
 
 fn thicknesses(n: usize) -> Vec<f64> {
     (0..n)
@@ -37,7 +37,7 @@ fn bench_linear_map(c: &mut Criterion) {
         let file = file.clone();
         move |t: f64| {
             let sets = vec![format!("fins.thickness={} mm", t * 1e3)];
-            load_variant(&file, "subsonic_t06", &sets, Some(&dir))
+            load_variant(&file, "subsonic_t06", &sets, Some(&dir), &mut |_| {})
         }
     };
     let options = LineariseOptions::default();

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use flexflight::analysis::sweep::Shard;
 use flexflight::check::{DiskLoader, check_files};
-use flexflight::cli::sweep::{SweepOptions, run_sweep};
+use flexflight::ops::sweep::{SweepOptions, run_sweep};
 
 const FILE: &str = r#"
 import "VEHICLE"
@@ -69,7 +69,7 @@ fn bench_sweep(c: &mut Criterion) {
         shard: Shard::ALL,
         cache_dir: Some(dir.path().join("cache")),
         sets: Vec::new(),
-        progress: false,
+        progress: None,
     };
     // Warm the cache: the timed sweeps only load the artifact.
     run_sweep(&file, &sweep, "tumble", &dir.path().join("warm"), &opts(1)).expect("sweep");

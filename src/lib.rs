@@ -29,6 +29,7 @@ pub mod artifact;
 pub mod check;
 pub mod cli;
 pub mod diagnostics;
+pub mod ops;
 pub mod plan;
 pub mod report;
 pub mod run;

@@ -19,8 +19,8 @@ fn the_aero_key_follows_the_vehicle_and_not_the_scenario() {
         );
         assert!(!checked.has_errors(), "{sets:?}: {:?}", checked.diagnostics);
         let sc = checked.program.scenario("subsonic_t06").unwrap().clone();
-        let structural = flexflight::cli::compile::cache_key(&sc.vehicle).unwrap();
-        flexflight::cli::compile::aero_cache_key(&sc.vehicle, &structural).unwrap()
+        let structural = flexflight::ops::compile::cache_key(&sc.vehicle).unwrap();
+        flexflight::ops::compile::aero_cache_key(&sc.vehicle, &structural).unwrap()
     };
     let base = key(&[]);
     assert_eq!(base, key(&[]), "the key is deterministic");

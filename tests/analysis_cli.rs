@@ -9,7 +9,7 @@ use flexflight::analysis::linear::analyse;
 use flexflight::analysis::linear_grid::StabilityClass;
 use flexflight::analysis::linearise::LineariseOptions;
 use flexflight::analysis::tn4197::Tn4197Fin;
-use flexflight::cli::linear::load_variant;
+use flexflight::ops::linear::load_variant;
 
 fn repo(p: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(p)
@@ -111,7 +111,7 @@ fn climb_file(dir: &Path) -> PathBuf {
 fn a_climbing_flight_with_stiff_fins_is_not_divergent() {
     let dir = tempfile::tempdir().unwrap();
     let file = climb_file(dir.path());
-    let v = load_variant(&file, "climb", &[], Some(&cache())).unwrap();
+    let v = load_variant(&file, "climb", &[], Some(&cache()), &mut |_| {}).unwrap();
     let r = analyse(&v, LineariseOptions::default()).unwrap();
     let slow: Vec<(f64, f64)> = r
         .eigen

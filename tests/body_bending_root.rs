@@ -7,7 +7,7 @@ use faer::Mat;
 use faer::linalg::solvers::DenseSolveCore;
 use flexflight::analysis::linear::{self, Variant};
 use flexflight::analysis::linearise::LineariseOptions;
-use flexflight::cli::linear::load_variant;
+use flexflight::ops::linear::load_variant;
 use flexflight::plan::ForcePlan;
 use flexflight::run::build_force_blocks;
 use flexflight::runtime::eom::{ForceModel, StateLayout, StateView};
@@ -30,7 +30,7 @@ fn variant(model: &str, thickness: &str, extra: &[&str]) -> Variant {
         &repo("examples/thesis/section_6_5.vdl"),
         "supersonic_t10",
         &sets,
-        Some(&cache()),
+        Some(&cache()), &mut |_| {},
     )
     .unwrap()
 }

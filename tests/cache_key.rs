@@ -13,8 +13,8 @@ use std::path::{Path, PathBuf};
 
 use flexflight::check::ir::{Scenario, Vehicle};
 use flexflight::check::{DiskLoader, check_files, check_scenario_files};
-use flexflight::cli::compile::cache_key;
-use flexflight::cli::sweep::case_fingerprints;
+use flexflight::ops::compile::cache_key;
+use flexflight::ops::sweep::case_fingerprints;
 use serde_json::Value;
 
 fn root(p: &str) -> PathBuf {
@@ -674,7 +674,7 @@ fn moved_text_keeps_every_fingerprint() {
     assert_eq!(a, b);
     // The aerodynamic cache key (structural key + whole vehicle, with the scenario's `with`
     // overrides, whose positions moved) too; it changes with a value outside the structure.
-    let aero = |sc: &Scenario| flexflight::cli::compile::aero_cache_key(&sc.vehicle, &a.0).unwrap();
+    let aero = |sc: &Scenario| flexflight::ops::compile::aero_cache_key(&sc.vehicle, &a.0).unwrap();
     assert_eq!(aero(&sa), aero(&sb));
     let other = scenario(&file, &["aero.reference_length=128 mm".into()]);
     assert_ne!(aero(&sa), aero(&other));

@@ -372,7 +372,7 @@ fn bad_fin_models_are_check_time_diagnostics() {
 #[test]
 fn panel_matrices_are_cached_with_the_aerodynamics() {
     use flexflight::artifact::{Cache, CacheOutcome};
-    use flexflight::cli::compile::{aero_cache_key, cache_key, plan_cached, vehicle_aero_cached};
+    use flexflight::ops::compile::{aero_cache_key, cache_key, plan_cached, vehicle_aero_cached};
     use flexflight::plan::aero::AeroArtifact;
     let dir = tempfile::tempdir().unwrap();
     let cache = Cache::new(dir.path());
@@ -411,7 +411,7 @@ fn panel_matrices_are_cached_with_the_aerodynamics() {
     }
     let key = aero_cache_key(&v.scenario.vehicle, &structural).unwrap();
     flexflight::artifact::write_atomic(dir.path(), &key, &AeroArtifact::new(&doctored)).unwrap();
-    let (plan, _) = plan_cached(&v.scenario, &v.compiled, &structural, &cache).unwrap();
+    let (plan, _) = plan_cached(&v.scenario, &v.compiled, &structural, &cache, &mut |_| {}).unwrap();
     let flown = plan
         .aero
         .as_ref()
@@ -523,7 +523,7 @@ fn streamed_history_text_is_the_history_csv() {
     ] {
         let v = variant("subsonic_t06", sets);
         let mut seen: Vec<Vec<f64>> = Vec::new();
-        let mut text = flexflight::cli::run::HistoryText::new(&v.plan.channels, 0);
+        let mut text = flexflight::ops::run::HistoryText::new(&v.plan.channels, 0);
         let out = flexflight::run::run_with_rows(
             &v.plan,
             &v.compiled.reduced,
@@ -540,7 +540,7 @@ fn streamed_history_text_is_the_history_csv() {
         assert_eq!(text.rows(), out.rows.len());
         assert_eq!(
             text.finish(),
-            flexflight::cli::run::history_csv(&out),
+            flexflight::ops::run::history_csv(&out),
             "{sets:?}"
         );
     }

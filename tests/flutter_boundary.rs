@@ -18,7 +18,7 @@ use flexflight::analysis::flutter::margin::{
 use flexflight::analysis::flutter::pk::{PkSettings, pk_solve_cut};
 use flexflight::artifact::{Cache, CacheOutcome, write_atomic};
 use flexflight::check::{DiskLoader, check_files, ir};
-use flexflight::cli::flutter::{boundary_key, cached_boundary, margin_spec};
+use flexflight::ops::flutter::{boundary_key, cached_boundary, margin_spec};
 
 fn hpr() -> ir::Scenario {
     let file = common::root().join("examples/hpr_k1000/hpr_k1000.vdl");
@@ -477,7 +477,7 @@ fn rows_outside_the_grid_are_flagged_and_kept_out_of_the_minimum() {
     };
     let dir = tempfile::tempdir().unwrap();
     let m =
-        flexflight::cli::flutter::flight_margin(&sc, &o, &[0.0, 0.4, 0.8], &Cache::new(dir.path()));
+        flexflight::ops::flutter::flight_margin(&sc, &o, &[0.0, 0.4, 0.8], &Cache::new(dir.path()));
     let j = &m.json;
     assert_eq!(
         j["boundary"]["machs"],
@@ -603,7 +603,7 @@ fn margin_rows_end_at_the_first_deployment() {
     };
     let dir = tempfile::tempdir().unwrap();
     let m =
-        flexflight::cli::flutter::flight_margin(&sc, &o, &[0.0, 0.4, 0.8], &Cache::new(dir.path()));
+        flexflight::ops::flutter::flight_margin(&sc, &o, &[0.0, 0.4, 0.8], &Cache::new(dir.path()));
     assert_eq!(m.json["rows_until"], 1.5);
     assert_eq!(m.json["outside_grid_rows"], 0);
     assert_eq!(m.csv.lines().count(), 1 + 2, "{}", m.csv);

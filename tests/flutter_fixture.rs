@@ -24,7 +24,7 @@ use std::process::Command;
 use agard445::{FLUTTER_TESTS, ModelSpec, wing_mass};
 use flexflight::analysis::flutter::wing::{WingDensity, WingMaterial, WingThickness};
 use flexflight::check::{DiskLoader, MemoryLoader, check_files, check_source, ir};
-use flexflight::cli::tunnel::wing_spec;
+use flexflight::ops::tunnel::wing_spec;
 
 fn example() -> PathBuf {
     common::root().join("examples/agard445/agard445.vdl")

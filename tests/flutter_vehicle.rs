@@ -16,8 +16,8 @@ use flexflight::analysis::flutter::vehicle::{
 };
 use flexflight::analysis::linear::{Variant, analyse};
 use flexflight::analysis::linearise::LineariseOptions;
-use flexflight::cli::flutter::{Condition, solve_free};
-use flexflight::cli::linear::load_variant;
+use flexflight::ops::flutter::{Condition, solve_free};
+use flexflight::ops::linear::load_variant;
 
 /// 5 km, standard atmosphere: density, speed of sound.
 const RHO_5KM: f64 = 0.736_429;
@@ -30,7 +30,7 @@ fn variant(sets: &[&str]) -> Variant {
         &common::root().join("examples/thesis/section_6_5.vdl"),
         "subsonic_t06",
         &sets,
-        Some(&cache),
+        Some(&cache), &mut |_| {},
     )
     .unwrap()
 }

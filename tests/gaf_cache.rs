@@ -13,7 +13,7 @@ use flexflight::analysis::flutter::fin::{
 use flexflight::analysis::flutter::pk::GafTable;
 use flexflight::artifact::{Cache, CacheOutcome, write_atomic};
 use flexflight::check::{DiskLoader, check_files, ir};
-use flexflight::cli::gaf_cache::{GafArtifact, cached_gaf_table, gaf_key};
+use flexflight::ops::gaf_cache::{GafArtifact, cached_gaf_table, gaf_key};
 
 fn sphads1() -> ir::Vehicle {
     let file = common::root().join("examples/thesis/section_6_5.vdl");

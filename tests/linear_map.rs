@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use flexflight::analysis::linear::linear_map;
 use flexflight::analysis::linearise::LineariseOptions;
-use flexflight::cli::linear::load_variant;
+use flexflight::ops::linear::load_variant;
 
 fn file() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/thesis/section_6_5.vdl")
@@ -19,7 +19,7 @@ fn thickness_changes_the_fe_model_and_the_map_is_complete() {
     let load = |t: f64| {
         loads.push(t);
         let sets = vec![format!("fins.thickness={} mm", t * 1e3)];
-        load_variant(&file(), "subsonic_t06", &sets, Some(cache.path()))
+        load_variant(&file(), "subsonic_t06", &sets, Some(cache.path()), &mut |_| {})
     };
     let ts = [0.4e-3, 0.8e-3];
     let ms = [0.5, 0.6, 0.7];
@@ -35,7 +35,7 @@ fn thickness_changes_the_fe_model_and_the_map_is_complete() {
     // override must reach the FE model, not only the aerodynamics.
     let flap = |t: f64| {
         let sets = vec![format!("fins.thickness={} mm", t * 1e3)];
-        let v = load_variant(&file(), "subsonic_t06", &sets, Some(cache.path())).unwrap();
+        let v = load_variant(&file(), "subsonic_t06", &sets, Some(cache.path()), &mut |_| {}).unwrap();
         v.compiled
             .modes
             .iter()
@@ -56,7 +56,7 @@ fn thickness_changes_the_fe_model_and_the_map_is_complete() {
         &ms,
         |t: f64| {
             let sets = vec![format!("fins.thickness={} mm", t * 1e3)];
-            load_variant(&file(), "subsonic_t06", &sets, Some(cache.path()))
+            load_variant(&file(), "subsonic_t06", &sets, Some(cache.path()), &mut |_| {})
         },
         LineariseOptions::default(),
     )

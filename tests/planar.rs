@@ -134,7 +134,7 @@ fn analyze_planar_prints_matrices_and_eigenvalues_as_json() {
         };
         let checked = check_files(&[repo("examples/thesis/section_6_5.vdl")], &[], &DiskLoader);
         let sc = checked.program.scenario("supersonic_t10").unwrap();
-        let want = flexflight::cli::analyze::analyse_at_initial_condition(
+        let want = flexflight::ops::planar::analyse_at_initial_condition(
             sc,
             &vehicle("supersonic_t10"),
             kind,

@@ -9,7 +9,7 @@ use std::process::Command;
 
 use flexflight::analysis::sweep::{Shard, merge};
 use flexflight::check::{DiskLoader, check_files};
-use flexflight::cli::sweep::{SweepOptions, read_shard, run_sweep, write_merged};
+use flexflight::ops::sweep::{SweepOptions, read_shard, run_sweep, write_merged};
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_flexflight"))
@@ -90,11 +90,11 @@ fn opts(jobs: usize, shard: Shard) -> SweepOptions {
         shard,
         cache_dir: Some(cache()),
         sets: Vec::new(),
-        progress: false,
+        progress: None,
     }
 }
 
-fn sweep_in(file: &Path, out: &Path, o: &SweepOptions) -> flexflight::cli::sweep::SweepReport {
+fn sweep_in(file: &Path, out: &Path, o: &SweepOptions) -> flexflight::ops::sweep::SweepReport {
     let checked = check_files(&[file.to_path_buf()], &[], &DiskLoader);
     assert!(!checked.has_errors(), "{:?}", checked.diagnostics);
     let sweep = checked.program.sweep("small").unwrap();

@@ -19,16 +19,13 @@ macro_rules! outln {
 
 pub mod analyze;
 pub mod compile;
-pub mod floatfmt;
 pub mod flutter;
 mod fmt;
-pub mod gaf_cache;
 pub mod linear;
 pub mod report;
 pub mod run;
 pub mod sweep;
 pub mod tunnel;
-pub mod warnings;
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -190,52 +187,6 @@ pub enum Command {
     },
 }
 
-/// `flexflight analyze linear ...` and `analyze linear-map ...` (flattened into
-/// [`analyze::AnalyzeCommand`]).
-#[derive(Subcommand, Debug)]
-pub enum Analyze {
-    /// Linearise the 3-D model about a trimmed ballistic condition (the scenario's speed,
-    /// altitude and attitude, alpha = 0): trim, eigenvalues, damping, frequency and the
-    /// states that participate in each root.
-    Linear {
-        file: PathBuf,
-        #[arg(long)]
-        scenario: String,
-        /// Keep gravity fixed in body axes instead of rotating it with the attitude
-        /// perturbation (removes the slow gravity-driven roots of the frozen reference).
-        #[arg(long)]
-        frozen_gravity: bool,
-        #[command(flatten)]
-        common: Common,
-        #[command(flatten)]
-        cache: CacheArgs,
-    },
-    /// Map sigma_d of the linearised 3-D model over fin thickness x Mach (the FE model is
-    /// recompiled, through the cache, for every thickness); writes DIR/map.csv.
-    LinearMap {
-        file: PathBuf,
-        #[arg(long)]
-        scenario: String,
-        /// Fin thickness range START:STOP:COUNT, each end with a length unit
-        /// (0.3mm:1.2mm:10: COUNT points from START to STOP).
-        #[arg(long, value_name = "START:STOP:COUNT")]
-        thickness: String,
-        /// Mach range START:STOP:COUNT, dimensionless (speed = Mach x speed of sound at the
-        /// scenario's altitude).
-        #[arg(long, value_name = "START:STOP:COUNT")]
-        mach: String,
-        /// Keep gravity fixed in body axes (as `analyze linear --frozen-gravity`).
-        #[arg(long)]
-        frozen_gravity: bool,
-        #[arg(long)]
-        out: PathBuf,
-        #[command(flatten)]
-        common: Common,
-        #[command(flatten)]
-        cache: CacheArgs,
-    },
-}
-
 /// Options shared by commands that read a vehicle or scenario.
 #[derive(Args, Debug, Clone, Default)]
 pub struct Common {
@@ -358,7 +309,7 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
             vehicle_file,
             cache,
         } => report::cmd_report(
-            &report::ReportArgs {
+            &crate::ops::report::ReportArgs {
                 dir: &dir,
                 frames: frames.as_deref(),
                 magnify: magnify.as_deref(),
@@ -512,7 +463,7 @@ fn cmd_compile(
         Ok(c) => c,
         Err(code) => return code,
     };
-    let v = match compile::pick_vehicle(&checked, vehicle) {
+    let v = match crate::ops::compile::pick_vehicle(&checked, vehicle) {
         Ok(v) => v.clone(),
         Err(msg) => {
             eprintln!("error: {msg}");
@@ -529,7 +480,7 @@ fn cmd_compile(
             compile::print_outcome(&outcome, format);
             EXIT_OK
         }
-        Some(dir) => match compile::export_modes(&outcome.compiled, dir) {
+        Some(dir) => match crate::ops::compile::export_modes(&outcome.compiled, dir) {
             Ok(files) => {
                 for f in files {
                     outln!("{}", f.display());
@@ -547,77 +498,20 @@ fn cmd_compile(
     }
 }
 
-/// Runs `analyze linear` / `analyze linear-map`.
-pub fn cmd_analyze_linear(cmd: &Analyze, term: Terminal) -> u8 {
-    match cmd {
-        Analyze::Linear {
-            file,
-            scenario,
-            frozen_gravity,
-            common,
-            cache,
-        } => linear::cmd_linear(
-            file,
-            scenario,
-            *frozen_gravity,
-            common,
-            cache.cache_dir.as_deref(),
-            term,
-        ),
-        Analyze::LinearMap {
-            file,
-            scenario,
-            thickness,
-            mach,
-            frozen_gravity,
-            out,
-            common,
-            cache,
-        } => linear::cmd_linear_map(
-            file,
-            scenario,
-            thickness,
-            mach,
-            *frozen_gravity,
-            common,
-            cache.cache_dir.as_deref(),
-            out,
-            term,
-        ),
-    }
-}
-
-/// Reports a name that the program does not declare (`kind` "scenario" or "sweep") with the
-/// names it does declare; returns the usage exit code.
-/// A scenario name that names no flown scenario: a wind-tunnel scenario is named as such
-/// (only `analyze flutter` takes it), anything else as unknown with the declared names.
+/// A scenario name that names no flown scenario ([`crate::ops::unknown_scenario`]),
+/// printed; returns the usage exit code.
 pub(crate) fn unknown_scenario(program: &crate::check::ir::Program, name: &str) -> u8 {
-    if program.tunnel_test(name).is_some() {
-        eprintln!(
-            "error: scenario `{name}` tests a fixture in a wind tunnel: it is not flown; `flexflight analyze flutter FILE --scenario {name}` takes it"
-        );
-        return EXIT_USAGE;
-    }
-    unknown_name(
-        "scenario",
-        name,
-        program.scenarios.iter().map(|s| s.name.value.as_str()),
-    )
+    eprintln!("error: {}", crate::ops::unknown_scenario(program, name));
+    EXIT_USAGE
 }
 
+/// A name the program does not declare ([`crate::ops::unknown_name`]), printed; returns the
+/// usage exit code.
 pub(crate) fn unknown_name<'a>(
     kind: &str,
     name: &str,
     declared: impl Iterator<Item = &'a str>,
 ) -> u8 {
-    let names: Vec<&str> = declared.collect();
-    eprintln!(
-        "error: no {kind} named `{name}`; declared: {}",
-        if names.is_empty() {
-            "none".to_string()
-        } else {
-            names.join(", ")
-        }
-    );
+    eprintln!("error: {}", crate::ops::unknown_name(kind, name, declared));
     EXIT_USAGE
 }
