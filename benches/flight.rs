@@ -1,7 +1,8 @@
 //! Whole flights of the subsonic thesis scenario (200 m/s at 5 km, rtol 1e-6, every force
 //! block of the plan, 1 ms output): with the scenario's 0.6 mm fins (our model flutters and
-//! the run stops at the fin stress limit) and with 1.0 mm fins over the full 10 s. The
-//! figures, with steps and right-hand-side evaluations, are quoted in the README.
+//! the run stops at the fin stress limit) and with 1.0 mm fins over the full 10 s. Its last
+//! figures (25 November, before the right-hand-side and integrator work) are in the git
+//! history of docs/performance.md, which today quotes the same flights as whole processes.
 
 use std::path::PathBuf;
 

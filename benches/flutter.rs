@@ -1,5 +1,5 @@
 //! The clamped SPHADS-1 fin's flutter solution (issue 13): 10 modes, 20 reduced frequencies,
-//! 40 speeds, at 200 m/s' Mach (0.624) at 5 km with the 0.875 mm fin (the README's case):
+//! 40 speeds, at 200 m/s' Mach (0.624) at 5 km with the 0.875 mm fin (docs/validation.md's case):
 //! the p-k solution alone on a prebuilt GAF table (target: under 1 s), and the GAF table
 //! build alone, with the unsteady panels (harmonic vortex lattice, `analyze flutter`'s
 //! default; as many chordwise panels as the box-size rule needs at the lowest speed) and the
