@@ -5,16 +5,22 @@
 //! blocks; the compiler checks it, reduces the FE model to a few deformation modes with the
 //! constant inertia coefficients of the floating-frame equations, and caches the result.
 //!
-//! Pipeline stages, one module each (see ARCHITECTURE.md):
+//! Pipeline stages, one module each, bottom to top (see ARCHITECTURE.md; a stage imports only
+//! the stages below it, `tests/layering.rs`):
 //! - [`syntax`]: text to an untyped tree with spans, and the canonical printer;
 //! - [`check`]: names, imports, units, ranges, overrides; produces the typed IR in SI;
-//! - [`structure`]: FE models (read or generated), modal analysis, reduced coefficients;
 //! - [`artifact`]: the cached, memory-mapped binary artifact of a compiled vehicle;
+//! - [`structure`]: FE models (read or generated), modal analysis, reduced coefficients;
+//! - [`aero`]: coefficient tables, the estimator, fin load weights, the steady and unsteady
+//!   panel methods, the standard atmosphere, the static margin;
+//! - [`runtime`]: equations of motion (3.2.1), integrators, force blocks, thrust curves,
+//!   stimuli, the verdict;
 //! - [`plan`]: a checked scenario and its compiled vehicle resolved into a run plan;
-//! - [`runtime`]: equations of motion (3.2.1), integrators, force blocks, the run driver,
-//!   atmosphere, thrust curves, stimuli;
+//! - [`run`]: the run driver (segments, events, stops, rows);
 //! - [`analysis`]: stability analyses (planar and linearised 3-D models of ch. 6, stability
-//!   maps, the TN 4197 baseline, time-domain identification after stimuli, variant sweeps);
+//!   maps, the TN 4197 baseline, flutter, time-domain identification, variant sweeps);
+//! - [`report`]: figures and the report page;
+//! - [`ops`]: the library API every front end calls (never prints or exits);
 //! - [`cli`]: the command-line front end.
 //!
 //! Shared services: [`units`] (dimensions and unit table), [`diagnostics`] (the one place
