@@ -14,10 +14,10 @@ use crate::check::cli_values;
 use crate::check::ir;
 use crate::diagnostics::Diagnostic;
 use crate::ops::flutter::{
-    AeroChoice,
-    CLAMPED_MODES, Condition, FREE_SPEEDS, FinFlutter, MATCH_MAX, MatchError, critical_thickness,
-    flutter_code, flutter_diagnostic, flutter_speed_of, match_point, report_text, scenario_altitude,
-    scenario_speed, solve_clamped, solve_free, summary_json, write_outputs,
+    AeroChoice, CLAMPED_MODES, Condition, FREE_SPEEDS, FinFlutter, MATCH_MAX, MatchError,
+    critical_thickness, flutter_code, flutter_diagnostic, flutter_speed_of, match_point,
+    report_text, scenario_altitude, scenario_speed, solve_clamped, solve_free, summary_json,
+    write_outputs,
 };
 use crate::units::Dim;
 
@@ -373,7 +373,7 @@ fn cmd_free(
                 let variant = crate::ops::linear::variant_for(s, cache_dir, &mut |w| {
                     eprintln!("warning: {w}")
                 })
-                    .map_err(|e| FinFlutterError::Vehicle(format!("thickness {t} m: {e}")))?;
+                .map_err(|e| FinFlutterError::Vehicle(format!("thickness {t} m: {e}")))?;
                 let r = solve_free(&variant, condition, speeds, a.aero.model(), scenario_speed)?;
                 Ok(flutter_speed_of(&r))
             };

@@ -61,9 +61,8 @@ pub fn variant_for(
         .map_err(|e| e.to_string())?;
     let compiled = rkyv::deserialize::<CompiledVehicle, rkyv::rancor::Error>(art.get())
         .map_err(|e| format!("artifact could not be read back: {e}"))?;
-    let (plan, _) =
-        super::compile::plan_cached(&sc, &compiled, &key, &cache, warn)
-            .map_err(|e| e.to_string())?;
+    let (plan, _) = super::compile::plan_cached(&sc, &compiled, &key, &cache, warn)
+        .map_err(|e| e.to_string())?;
     Ok(Variant {
         plan,
         scenario: sc,
@@ -163,4 +162,3 @@ pub fn report_text(variant: &Variant, r: &LinearAnalysis) -> String {
     }
     s
 }
-
