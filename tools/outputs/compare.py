@@ -1,8 +1,10 @@
+"""compare.py A B: the outputs of tools/outputs/run_examples.sh in A and B, file by file."""
 import os,sys,json,re,filecmp
-a,b=sys.argv[1],sys.argv[2]
+a,b=os.path.abspath(sys.argv[1]),os.path.abspath(sys.argv[2])
+ROOTS=re.compile(re.escape(a)+"|"+re.escape(b))
 TIME=re.compile(r'(wall|seconds|elapsed|_s$|time_s|wall_time)')
 def norm(x):
-    if isinstance(x,str): return re.sub(r"OUTDIR","OUT",x)
+    if isinstance(x,str): return ROOTS.sub("OUT",x)
     if isinstance(x,dict): return {k:norm(v) for k,v in x.items() if not re.search(r'wall|seconds|elapsed|wall_time_s|compute_s',k)}
     if isinstance(x,list): return [norm(v) for v in x]
     return x
@@ -18,7 +20,7 @@ for root,_,files in os.walk(a):
             except Exception: pass
         if f.endswith('.stderr') or f.endswith('.stdout') or f.endswith('.txt') or f.endswith('.html'):
             ta=re.sub(r'\d+\.\d+ s\b','X s',open(pa,errors='replace').read()); tb=re.sub(r'\d+\.\d+ s\b','X s',open(pb,errors='replace').read())
-            ta=re.sub(r'OUTDIR','OUT',ta); tb=re.sub(r'OUTDIR','OUT',tb)
+            ta=ROOTS.sub('OUT',ta); tb=ROOTS.sub('OUT',tb)
             if ta==tb: same+=1; continue
         diff.append(('differs',rel))
 for root,_,files in os.walk(b):
