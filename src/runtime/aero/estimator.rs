@@ -30,11 +30,12 @@
 //!   ratio of a fin and its mirror image), Lambda_c the mid-chord sweep;
 //! - supersonic (M >= [`FIN_SUPERSONIC_FROM`] = 1.1), the steady supersonic lifting surface
 //!   of `panel::supersonic` (linear theory with the fin's leading-edge, tip and trailing-edge
-//!   Mach cones, valid for subsonic and supersonic leading edges; [`FIN_LATTICE`] panels):
-//!   C_Nalpha (A_f/S) and its centre of pressure. Two-dimensional Ackeret theory,
-//!   4/sqrt(M^2 - 1), which this replaced, is its limit for a supersonic leading edge and a
-//!   large beta A; for a subsonic leading edge or a small beta A it over-predicts (16.8 /rad
-//!   against 9.4 on the reference area for the issue-33 fin at M 1.2);
+//!   Mach cones, valid for subsonic and supersonic leading edges; [`FIN_LATTICE`] panels,
+//!   extrapolated): C_Nalpha (A_f/S) and its centre of pressure. Two-dimensional Ackeret
+//!   theory, 4/sqrt(M^2 - 1), which this replaced, is its limit for a supersonic leading edge
+//!   and a large beta A; for a subsonic leading edge or a small beta A it over-predicts
+//!   (K_T(B) C_Nalpha 14.0 /rad against 6.54 on S for the issue-33 fin at M 1.2,
+//!   docs/validation.md);
 //! - transonic: linear in Mach between the subsonic value at M = 0.9 and the supersonic
 //!   value at M = 1.1 (our blend). The limits are those of linear theory for thin fins:
 //!   the transonic similarity parameter |M^2 - 1| / ((gamma + 1) tau M^2)^(2/3) (Spreiter;
@@ -234,7 +235,10 @@ impl FinPlanform {
     /// (slope on A_f per rad, x_cp) at Mach `mach`, blended on 0.9..1.1.
     fn linear(&self, mach: f64) -> (f64, f64) {
         let (mac, x_le) = self.mean_aerodynamic_chord();
-        let sub = (self.subsonic_slope(mach.min(TRANSONIC_LO)), x_le + 0.25 * mac);
+        let sub = (
+            self.subsonic_slope(mach.min(TRANSONIC_LO)),
+            x_le + 0.25 * mac,
+        );
         if mach <= TRANSONIC_LO {
             return sub;
         }

@@ -118,7 +118,10 @@ fn primitive(x0: f64, e1: f64, beta: f64, t: f64) -> f64 {
     let b = 2.0 * e1 * x0;
     let j1 = -((2.0 * a + b * t + 2.0 * ax * sq) / t).abs().ln() / ax;
     let cj2 = if c < 0.0 {
-        (-c).sqrt() * ((2.0 * c * t + b) / (2.0 * beta * ax)).clamp(-1.0, 1.0).asin()
+        (-c).sqrt()
+            * ((2.0 * c * t + b) / (2.0 * beta * ax))
+                .clamp(-1.0, 1.0)
+                .asin()
     } else if c > 0.0 {
         c.sqrt() * (2.0 * (c * q).sqrt() + 2.0 * c * t + b).abs().ln()
     } else {

@@ -59,7 +59,11 @@ fn two_dimensional_limit_is_ackeret() {
     for i in 0..3 {
         for j in 0..3 {
             let want = if i == j { beta / 4.0 } else { 0.0 };
-            assert!((d[i * 3 + j] - want).abs() < 1e-9, "{i} {j}: {}", d[i * 3 + j]);
+            assert!(
+                (d[i * 3 + j] - want).abs() < 1e-9,
+                "{i} {j}: {}",
+                d[i * 3 + j]
+            );
         }
     }
 }
@@ -75,7 +79,10 @@ fn rectangular_fin_matches_exact_linear_theory() {
         let (a, _) = extrapolated(&p, 4, 8, mach);
         let exact = rectangular_exact(s, 1.0, beta);
         eprintln!("rectangle M {mach} s/c {s}: {a} exact {exact}");
-        assert!(((a - exact) / exact).abs() < 1.5e-3, "M {mach} s {s}: {a} vs {exact}");
+        assert!(
+            ((a - exact) / exact).abs() < 1.5e-3,
+            "M {mach} s {s}: {a} vs {exact}"
+        );
     }
 }
 
@@ -104,8 +111,14 @@ fn delta_fin_matches_conical_flow_theory() {
         let exact = delta_exact(0.5, beta);
         let (a, x) = extrapolated(&p, 8, 8, mach);
         eprintln!("delta M {mach}: {a} exact {exact}, x_cp {x}");
-        assert!(((a - exact) / exact).abs() < 0.01, "M {mach}: {a} vs {exact}");
-        assert!((x / (2.0 / 3.0 * 2.0) - 1.0).abs() < 0.01, "M {mach}: x_cp {x}");
+        assert!(
+            ((a - exact) / exact).abs() < 0.01,
+            "M {mach}: {a} vs {exact}"
+        );
+        assert!(
+            (x / (2.0 / 3.0 * 2.0) - 1.0).abs() < 0.01,
+            "M {mach}: x_cp {x}"
+        );
     }
 }
 
@@ -116,7 +129,10 @@ fn lift_slope_converges_at_first_order() {
     // at 2.
     let p = sphads1();
     for mach in [1.2, 2.0] {
-        let a: Vec<f64> = [4, 8, 16].iter().map(|&n| slope(&p, n, n, mach).0).collect();
+        let a: Vec<f64> = [4, 8, 16]
+            .iter()
+            .map(|&n| slope(&p, n, n, mach).0)
+            .collect();
         let ratio = (a[2] - a[1]) / (a[1] - a[0]);
         eprintln!("SPHADS-1 M {mach}: {a:?}, ratio {ratio}");
         assert!((0.4..0.6).contains(&ratio), "M {mach}: {a:?} ratio {ratio}");
