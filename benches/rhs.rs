@@ -77,7 +77,7 @@ fn bench_rhs_with_aero(c: &mut Criterion) {
         }
         // Two states 1 mm apart in altitude, taken in turn: as in a flight, where no two
         // stages share an altitude, the atmosphere is evaluated at every evaluation (once,
-        // for both aerodynamic blocks: `runtime::atmosphere::AirMemo`), never read from the
+        // for both aerodynamic blocks: `aero::atmosphere::AirMemo`), never read from the
         // previous one.
         let mut x2 = x.clone();
         x2[2] -= 1e-3;

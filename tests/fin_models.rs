@@ -511,7 +511,7 @@ fn lifting_surface_increments_are_the_panel_loads() {
 }
 
 /// `flexflight run` formats `history.csv` from the rows as the flight appends them
-/// (`runtime::run::run_with_rows`, `cli::run::HistoryText`): the rows handed over are exactly
+/// (`run::run_with_rows`, `cli::run::HistoryText`): the rows handed over are exactly
 /// the run's rows, bit for bit and in order, and their text is `history_csv`'s. Two flights
 /// cover the three places a row is appended: the 0.6 mm flight stops at the fin stress
 /// limit inside a step (the cut row), the 1.0 mm flight ends at a stop time between output

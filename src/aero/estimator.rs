@@ -28,15 +28,25 @@
 //! - subsonic, Barrowman (1967) / Diederich: C_Nalpha = 2 pi A (A_f/S) / (2 + sqrt(4 +
 //!   (beta A / cos Lambda_c)^2)), beta = sqrt|1 - M^2|, A = 2 s^2/A_f (the two-panel aspect
 //!   ratio of a fin and its mirror image), Lambda_c the mid-chord sweep;
-//! - supersonic, linear (Ackeret) theory: C_Nalpha = 4/sqrt(M^2 - 1) (A_f/S);
+//! - supersonic (M >= [`FIN_SUPERSONIC_FROM`] = 1.1), the steady supersonic lifting surface
+//!   of `panel::supersonic` (linear theory with the fin's leading-edge, tip and trailing-edge
+//!   Mach cones, valid for subsonic and supersonic leading edges; [`FIN_LATTICE`] panels,
+//!   extrapolated): C_Nalpha (A_f/S) and its centre of pressure. Two-dimensional Ackeret
+//!   theory, 4/sqrt(M^2 - 1), which this replaced, is its limit for a supersonic leading edge
+//!   and a large beta A; for a subsonic leading edge or a small beta A it over-predicts
+//!   (K_T(B) C_Nalpha 14.0 /rad against 6.54 on S for the issue-33 fin at M 1.2,
+//!   docs/validation.md);
 //! - transonic: linear in Mach between the subsonic value at M = 0.9 and the supersonic
-//!   value at M = 1.2 (our blend);
+//!   value at M = 1.1 (our blend). The limits are those of linear theory for thin fins:
+//!   the transonic similarity parameter |M^2 - 1| / ((gamma + 1) tau M^2)^(2/3) (Spreiter;
+//!   Anderson, *Modern Compressible Flow*, 3rd ed., 11.x) must be of order 1 or more; for
+//!   tau = t/c = 0.05 it is 1.0 at M = 0.90 and 0.97 at M = 1.1;
 //! - body-fin interference K_T(B) = 1 + r/(s + r) (Barrowman), multiplying C_N;
 //! - C_N = K_T(B) C_Nalpha alpha (alpha in rad; linear, as (5.4.6));
 //! - centre of pressure aft of the root leading edge: subsonic Barrowman
 //!   x_f = x_t/3 (c_r + 2 c_t)/(c_r + c_t) + (c_r + c_t - c_r c_t/(c_r + c_t))/6, i.e. the
-//!   quarter point of the mean aerodynamic chord; supersonic the half point of the mean
-//!   aerodynamic chord (uniform Ackeret loading); blended linearly on 0.9..1.2 like C_Nalpha;
+//!   quarter point of the mean aerodynamic chord; supersonic the lifting surface's centre of
+//!   pressure; blended linearly on 0.9..1.1 like C_Nalpha;
 //! - C_A: skin friction on both faces (2 A_f / S) with the body's C_f law on the mean chord.
 //!   Fin thickness wave drag and trailing-edge base drag are not modelled.
 //!
@@ -173,15 +183,7 @@ impl FinPlanform {
 
     /// Per-fin normal-force slope on reference area `s_ref`, per rad, WITHOUT interference.
     pub fn cn_alpha(&self, mach: f64, s_ref: f64) -> f64 {
-        let ratio = self.area() / s_ref;
-        let sub = |m: f64| {
-            let beta = (1.0 - m * m).abs().sqrt();
-            let a = self.aspect_ratio();
-            let k = beta * a / self.mid_chord_sweep().cos();
-            2.0 * std::f64::consts::PI * a * ratio / (2.0 + (4.0 + k * k).sqrt())
-        };
-        let sup = |m: f64| 4.0 / (m * m - 1.0).sqrt() * ratio;
-        transonic_blend(mach, sub, sup)
+        self.linear(mach).0 * self.area() / s_ref
     }
 
     /// Body-fin interference factor K_T(B) = 1 + r/(s + r) (Barrowman).
@@ -190,17 +192,79 @@ impl FinPlanform {
     }
 
     /// Chordwise centre of pressure aft of the root leading edge, m: quarter MAC subsonic
-    /// (equal to Barrowman's x_f), half MAC supersonic, blended on 0.9..1.2.
+    /// (equal to Barrowman's x_f), the supersonic lifting surface's from Mach 1.1, blended on
+    /// 0.9..1.1.
     pub fn x_cp(&self, mach: f64) -> f64 {
+        self.linear(mach).1
+    }
+
+    /// Subsonic Barrowman/Diederich slope on the fin's own area A_f, per rad.
+    fn subsonic_slope(&self, m: f64) -> f64 {
+        let beta = (1.0 - m * m).abs().sqrt();
+        let a = self.aspect_ratio();
+        let k = beta * a / self.mid_chord_sweep().cos();
+        2.0 * std::f64::consts::PI * a / (2.0 + (4.0 + k * k).sqrt())
+    }
+
+    /// The steady supersonic lifting surface (`panel::supersonic`): normal-force slope on A_f
+    /// per rad and centre of pressure (m aft of the root leading edge) at Mach `mach > 1`,
+    /// Richardson-extrapolated from uniform `n x n` and `2n x 2n` lattices, `n` =
+    /// [`FIN_LATTICE`] (the method converges at first order in the panel size, so
+    /// `2 f(2n) - f(n)`; the force and the moment are extrapolated, the centre of pressure is
+    /// their ratio). A pointed tip (c_t = 0, which the lattice cannot panel) is given the chord
+    /// 1e-6 c_r: its load share is of that order. NaN when the planform cannot be panelled
+    /// (non-finite or non-positive dimensions, refused by the checker), so the table
+    /// constructor reports it.
+    pub fn supersonic_lifting_surface(&self, mach: f64) -> (f64, f64) {
+        use super::panel::{Lattice, Spacing, supersonic};
+        let mut p = self.clone();
+        if p.tip_chord == 0.0 {
+            p.tip_chord = 1e-6 * p.root_chord;
+        }
+        let at = |n: usize| {
+            Lattice::new(&p, n, n, Spacing::Uniform)
+                .and_then(|l| supersonic::slope_and_centre(&l, mach))
+                .unwrap_or((f64::NAN, f64::NAN))
+        };
+        let (coarse, fine) = (at(FIN_LATTICE), at(2 * FIN_LATTICE));
+        let slope = 2.0 * fine.0 - coarse.0;
+        let moment = 2.0 * fine.0 * fine.1 - coarse.0 * coarse.1;
+        (slope, moment / slope)
+    }
+
+    /// (slope on A_f per rad, x_cp) at Mach `mach`, blended on 0.9..1.1.
+    fn linear(&self, mach: f64) -> (f64, f64) {
         let (mac, x_le) = self.mean_aerodynamic_chord();
-        transonic_blend(mach, |_| x_le + 0.25 * mac, |_| x_le + 0.5 * mac)
+        let sub = (
+            self.subsonic_slope(mach.min(TRANSONIC_LO)),
+            x_le + 0.25 * mac,
+        );
+        if mach <= TRANSONIC_LO {
+            return sub;
+        }
+        let sup = self.supersonic_lifting_surface(mach.max(FIN_SUPERSONIC_FROM));
+        if mach >= FIN_SUPERSONIC_FROM {
+            return sup;
+        }
+        let t = (mach - TRANSONIC_LO) / (FIN_SUPERSONIC_FROM - TRANSONIC_LO);
+        ((1.0 - t) * sub.0 + t * sup.0, (1.0 - t) * sub.1 + t * sup.1)
     }
 }
 
+/// Upper Mach of the subsonic branches.
+const TRANSONIC_LO: f64 = 0.9;
+/// Lower Mach of the fins' supersonic lifting surface in the built-in tables (the criterion
+/// is in the module doc).
+pub const FIN_SUPERSONIC_FROM: f64 = 1.1;
+/// Panels per side of the coarse lattice of the supersonic lifting surface in the built-in
+/// tables (extrapolated with the doubled lattice; within 1 % of the exact linear-theory slope
+/// of a delta fin with a subsonic leading edge, `panel::supersonic_tests`).
+pub const FIN_LATTICE: usize = 6;
+
 /// Subsonic branch below M = 0.9, supersonic above 1.2, linear in Mach between their values
-/// at 0.9 and 1.2.
+/// at 0.9 and 1.2 (the body's wave drag).
 fn transonic_blend(mach: f64, sub: impl Fn(f64) -> f64, sup: impl Fn(f64) -> f64) -> f64 {
-    const LO: f64 = 0.9;
+    const LO: f64 = TRANSONIC_LO;
     const HI: f64 = 1.2;
     if mach <= LO {
         sub(mach)
@@ -377,12 +441,24 @@ pub fn fin_coefficients(
     alpha_deg: f64,
     altitude_m: f64,
 ) -> [f64; 3] {
-    let cn = f.interference() * f.cn_alpha(mach, s_ref) * alpha_deg.to_radians();
+    fin_coefficients_with(f, f.linear(mach), s_ref, mach, alpha_deg, altitude_m)
+}
+
+/// [`fin_coefficients`] with the Mach's (slope on A_f, x_cp) computed once by the caller.
+fn fin_coefficients_with(
+    f: &FinPlanform,
+    (slope, x_cp): (f64, f64),
+    s_ref: f64,
+    mach: f64,
+    alpha_deg: f64,
+    altitude_m: f64,
+) -> [f64; 3] {
+    let cn = f.interference() * slope * f.area() / s_ref * alpha_deg.to_radians();
     let (_, rho, sound, mu) = atmosphere(altitude_m);
     let (mac, _) = f.mean_aerodynamic_chord();
     let re = rho * mach.max(FRICTION_REYNOLDS_MIN_MACH) * sound * mac / mu;
     let ca = skin_friction(re, mach) * 2.0 * f.area() / s_ref;
-    [cn, ca, f.x_cp(mach)]
+    [cn, ca, x_cp]
 }
 
 /// The grid the estimator writes: Mach 0..5 (a launch starts at rest), alpha -20..20 deg by
@@ -418,11 +494,12 @@ impl EstimatedTables {
         let mut br = Vec::new();
         let mut fp = Vec::new();
         for &m in &ESTIMATOR_MACH {
+            let lin = fin.linear(m);
             for &a in &alpha {
                 for &h in &ESTIMATOR_ALTITUDE {
                     bp.push(body_coefficients(body, m, a, h));
                     br.push(body_rate_derivatives(body, a));
-                    fp.push(fin_coefficients(fin, s_ref, m, a, h));
+                    fp.push(fin_coefficients_with(fin, lin, s_ref, m, a, h));
                 }
             }
         }
@@ -463,7 +540,7 @@ impl EstimatedTables {
             (
                 name,
                 format!(
-                    "# written by the flexflight built-in estimator (runtime::aero::estimator)\n{}",
+                    "# written by the flexflight built-in estimator (aero::estimator)\n{}",
                     t.to_csv()
                 ),
             )

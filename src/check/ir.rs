@@ -441,7 +441,7 @@ pub enum FinAeroModel {
     KeyNode,
     /// The rigid load from the coefficient tables at the undeformed fin, the elastic
     /// increments from the fin's panel model (vortex lattice / piston theory,
-    /// `runtime::aero::panel`): independent of `key_nodes.fins`. The default.
+    /// `aero::panel`): independent of `key_nodes.fins`. The default.
     LiftingSurface,
 }
 

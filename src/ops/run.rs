@@ -324,7 +324,7 @@ pub fn history_csv(o: &RunOutput) -> String {
 
 /// The text of `history.csv` built row by row ([`history_csv`] is its rows pushed in
 /// order), so that `flexflight run` can format the rows on a second thread as the flight
-/// appends them (`runtime::run::run_with_rows`) instead of after it.
+/// appends them (`run::run_with_rows`) instead of after it.
 pub struct HistoryText {
     s: String,
     buf: zmij::Buffer,

@@ -53,12 +53,15 @@ pub mod fin_model;
 pub mod harmonic;
 pub mod piston;
 pub mod spline;
+pub mod supersonic;
 pub mod vlm;
 
 #[cfg(test)]
 mod dlm_tests;
 #[cfg(test)]
 mod harmonic_tests;
+#[cfg(test)]
+mod supersonic_tests;
 #[cfg(test)]
 mod tests;
 

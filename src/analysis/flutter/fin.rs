@@ -13,7 +13,7 @@
 //! (NACA TN 4197 assumes it); the flexible vehicle's own modes are analysed by `analyze
 //! linear`, whose body participation a clamped root ignores.
 //!
-//! Fin coordinates are those of `runtime::aero::panel` (`x` aft of the root leading edge,
+//! Fin coordinates are those of `aero::panel` (`x` aft of the root leading edge,
 //! `y` out along the span from the root, panel `+z = x_aft × e_s`). The cantilever mesh lies
 //! in the body `x-y` plane with its root on `y = 0`; with cant `γ` its normal is
 //! `n = e_a × e_s = (-sin γ, 0, cos γ)` and the panel normal displacement is `z = -n · u`
@@ -24,11 +24,11 @@
 //! # Generalised aerodynamic forces
 //!
 //! For harmonic motion `η e^{iωt}`, `ν = ω / V = k / b` (`b` the reference semichord), the
-//! normalwash angle of `runtime::aero::panel` is `α_e = -∂z/∂x - (1/V) ∂z/∂t = (-Z_x - i ν Z_c) η`
+//! normalwash angle of `aero::panel` is `α_e = -∂z/∂x - (1/V) ∂z/∂t = (-Z_x - i ν Z_c) η`
 //! at the normalwash points (`Z_x`, `Z_c` the spline's slope and value rows times the modal
 //! normal displacements), the panel forces `F = q K(ν, M) α_e` at the force points, and the
 //! generalised forces by virtual work `Q = Z_fᵀ F` (`Z_f` the spline's value rows at the force
-//! points; `runtime::aero::panel::spline`, "consistent forces"):
+//! points; `aero::panel::spline`, "consistent forces"):
 //!
 //! `Q(k) = Z_fᵀ K(k/b, M) (-Z_x - i (k/b) Z_c)`, the `q Q(k) η` of [`super::pk`].
 //!

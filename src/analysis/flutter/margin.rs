@@ -11,7 +11,7 @@
 //! boundary is interpolated bilinearly in `(M, h)` (of `V_F sqrt(ρ)`, below). In the transonic
 //! gap `0.9 < M < 1.2` it is the linear blend of the 0.9 and 1.2 nodes and every such row is
 //! flagged untrusted (neither theory holds there; the flight's panel loads are bridged the
-//! same way, `runtime::aero::panel::Regime`).
+//! same way, `aero::panel::Regime`).
 //!
 //! A node where no flutter point is found up to the largest speed tried carries that speed
 //! and is flagged as a lower bound (the margin there is at least the value written).
@@ -187,7 +187,7 @@ pub struct Boundary {
 }
 
 /// The supersonic Mach nodes of the margin above [`SUPERSONIC_LIMIT`] (the built-in
-/// estimator's, `runtime::aero::estimator::ESTIMATOR_MACH`).
+/// estimator's, `aero::estimator::ESTIMATOR_MACH`).
 pub const SUPERSONIC_NODES: [f64; 6] = [1.5, 2.0, 2.5, 3.0, 4.0, 5.0];
 
 /// The Mach nodes of a vehicle whose fin coefficient table has the Mach axis `table_machs`

@@ -40,7 +40,7 @@
 //! # Fin aerodynamics
 //!
 //! Per fin, the spline nodes and normal modal rows of the flight's panel model
-//! (`runtime::aero::panel::fin_model::fin_structure`: the fin's FE nodes, the root row
+//! (`aero::panel::fin_model::fin_structure`: the fin's FE nodes, the root row
 //! attached to the body), extended by six columns for the rigid motions: a point at body
 //! position `p` moves by `u = r + θ × p`, and its panel-normal displacement is
 //! `z = -n · u` (`n` the fin's mesh normal, as `fin_structure`). The body position of a
@@ -48,7 +48,7 @@
 //! y_root) e_s` (exact without cant; cant is ignored in the aerodynamics, as in the panel
 //! issue). A rigid rotation's normal displacement is linear over the fin plane, so the
 //! spline reproduces it and its slope exactly (the spline is exact on linear fields,
-//! `runtime::aero::panel::spline`): the slope `-∂z/∂x` of a pitch or yaw rotation is the
+//! `aero::panel::spline`): the slope `-∂z/∂x` of a pitch or yaw rotation is the
 //! incidence it causes, `-i ν z` its plunge velocity, exactly the rigid normalwash of the
 //! flight model (`fin_model`, the `a_0, a_x, a_y` columns). Each fin's `Q(k)` is then
 //! [`super::fin::gaf_table`] on those rows (quasi-steady or the harmonic lattice with wake

@@ -65,7 +65,7 @@
 //!   rigid airspeed at the fin planform's area centroid `r_c` (a fixed point of the
 //!   geometry: the weights must be known before `r_cp`);
 //! - the elastic increments, quasi-steady, from the fin's panel model
-//!   (`runtime::aero::panel::fin_model`, compiled per grid Mach of the fin table and cached
+//!   (`aero::panel::fin_model`, compiled per grid Mach of the fin table and cached
 //!   with the aerodynamic artifact): with `u = [η; η̇ / V]` (V, q and M of the rigid airspeed
 //!   at `r_cp`), the outputs `y = q T(M) u` (linear in Mach between grid points; only the
 //!   `η` and `η̇` columns of `T`, the rigid normalwash being the tables' part) are the modal
