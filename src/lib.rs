@@ -28,6 +28,7 @@ pub mod artifact;
 pub mod check;
 pub mod cli;
 pub mod diagnostics;
+pub mod import;
 pub mod plan;
 pub mod report;
 pub mod runtime;
