@@ -34,7 +34,9 @@ fn import(design: &Path, out: &Path, extra: &[&str]) -> Output {
 }
 
 fn with_materials(m: &[&str]) -> Vec<String> {
-    m.iter().flat_map(|s| ["--material".to_string(), s.to_string()]).collect()
+    m.iter()
+        .flat_map(|s| ["--material".to_string(), s.to_string()])
+        .collect()
 }
 
 fn stderr(o: &Output) -> String {
@@ -66,7 +68,10 @@ fn the_simple_model_rocket_imports_checks_and_flies() {
     assert!(dir.path().join("Estes_A8.eng").exists());
     // One scenario per stored simulation, each with OpenRocket's result in a comment.
     assert_eq!(text.matches("\nscenario ").count(), 5, "{text}");
-    assert!(text.contains("OpenRocket's stored result: apogee 50.59 m"), "{text}");
+    assert!(
+        text.contains("OpenRocket's stored result: apogee 50.59 m"),
+        "{text}"
+    );
 
     let c = bin().arg("check").arg(&out).output().unwrap();
     assert!(c.status.success(), "check: {}\n{text}", stderr(&c));
@@ -98,8 +103,16 @@ fn the_import_is_deterministic() {
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let a = dir.path().join("a.vdl");
     let b = dir.path().join("b.vdl");
-    assert!(import(&design("simple_model_rocket.ork"), &a, &args).status.success());
-    assert!(import(&design("simple_model_rocket.ork"), &b, &args).status.success());
+    assert!(
+        import(&design("simple_model_rocket.ork"), &a, &args)
+            .status
+            .success()
+    );
+    assert!(
+        import(&design("simple_model_rocket.ork"), &b, &args)
+            .status
+            .success()
+    );
     let ta = std::fs::read_to_string(&a).unwrap();
     let tb = std::fs::read_to_string(&b).unwrap();
     assert_eq!(ta.replace("a.vdl", ""), tb.replace("b.vdl", ""));
@@ -112,9 +125,16 @@ fn a_material_without_stiffness_is_asked_for_and_nothing_is_written() {
     let o = import(&design("simple_model_rocket.ork"), &out, &[]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     let e = stderr(&o);
-    assert!(e.contains("import::material") && e.contains("Cardboard"), "{e}");
+    assert!(
+        e.contains("import::material") && e.contains("Cardboard"),
+        "{e}"
+    );
     assert!(e.contains("--material"), "{e}");
-    assert!(files_in(dir.path()).is_empty(), "{:?}", files_in(dir.path()));
+    assert!(
+        files_in(dir.path()).is_empty(),
+        "{:?}",
+        files_in(dir.path())
+    );
 }
 
 #[test]
@@ -130,8 +150,14 @@ fn a_motor_not_in_the_catalogue_lists_candidates() {
     let o = import(&design("chute_release.ork"), &out, &args);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     let e = stderr(&o);
-    assert!(e.contains("import::motor::not_found") && e.contains("G40W"), "{e}");
-    assert!(e.contains("G80") && e.contains("G64"), "lists the G class: {e}");
+    assert!(
+        e.contains("import::motor::not_found") && e.contains("G40W"),
+        "{e}"
+    );
+    assert!(
+        e.contains("G80") && e.contains("G64"),
+        "lists the G class: {e}"
+    );
     assert!(files_in(dir.path()).is_empty());
 }
 
@@ -174,11 +200,17 @@ fn designs_the_language_cannot_say_are_refused_by_name() {
     let o = import(&design("two_stage_high_power_rocket.ork"), &out, &[]);
     assert_eq!(o.status.code(), Some(1));
     let e = stderr(&o);
-    assert!(e.contains("import::multistage") && e.contains("Booster"), "{e}");
+    assert!(
+        e.contains("import::multistage") && e.contains("Booster"),
+        "{e}"
+    );
     let o = import(&design("tube_fin_rocket.ork"), &out, &[]);
     assert_eq!(o.status.code(), Some(1));
     let e = stderr(&o);
-    assert!(e.contains("import::unsupported") && e.contains("tube fins"), "{e}");
+    assert!(
+        e.contains("import::unsupported") && e.contains("tube fins"),
+        "{e}"
+    );
     // The diagnostic points into the design: file and line.
     assert!(e.contains("tube_fin_rocket.ork:"), "{e}");
     assert!(files_in(dir.path()).is_empty());
@@ -213,11 +245,19 @@ fn broken_designs_are_diagnostics_with_a_place() {
         std::fs::write(&p, &b[..b.len() / 2]).unwrap();
         let o = import(&p, &out, &[]);
         assert_eq!(o.status.code(), Some(1), "{name}");
-        assert!(stderr(&o).contains("import::container"), "{name}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("import::container"),
+            "{name}: {}",
+            stderr(&o)
+        );
     }
     // Truncated XML: the parser's line and column.
     let p = dir.path().join("cut.xml");
-    std::fs::write(&p, "<?xml version='1.0'?>\n<openrocket version=\"1.10\">\n<rocket>\n").unwrap();
+    std::fs::write(
+        &p,
+        "<?xml version='1.0'?>\n<openrocket version=\"1.10\">\n<rocket>\n",
+    )
+    .unwrap();
     let o = import(&p, &out, &[]);
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("import::xml"), "{}", stderr(&o));
@@ -230,7 +270,10 @@ fn broken_designs_are_diagnostics_with_a_place() {
     let o = import(&p, &out, &[]);
     assert_eq!(o.status.code(), Some(1));
     let e = stderr(&o);
-    assert!(e.contains("import::component") && e.contains("warpdrive"), "{e}");
+    assert!(
+        e.contains("import::component") && e.contains("warpdrive"),
+        "{e}"
+    );
     assert!(e.contains("unknown.ork:6:"), "line 6: {e}");
     // A freeform fin whose outline crosses itself.
     let p = write_design(
@@ -245,10 +288,17 @@ fn broken_designs_are_diagnostics_with_a_place() {
     let o = import(&p, &out, &[]);
     assert_eq!(o.status.code(), Some(1));
     let e = stderr(&o);
-    assert!(e.contains("import::fin::crossing") && e.contains("Bow tie"), "{e}");
+    assert!(
+        e.contains("import::fin::crossing") && e.contains("Bow tie"),
+        "{e}"
+    );
     // A RockSim design is named as such.
     let p = dir.path().join("r.rkt");
-    std::fs::write(&p, "<RockSimDocument><FileVersion>4</FileVersion></RockSimDocument>").unwrap();
+    std::fs::write(
+        &p,
+        "<RockSimDocument><FileVersion>4</FileVersion></RockSimDocument>",
+    )
+    .unwrap();
     let o = import(&p, &out, &[]);
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("import::format"), "{}", stderr(&o));

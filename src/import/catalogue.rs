@@ -13,8 +13,14 @@ use crate::runtime::thrust::ThrustCurve;
 
 /// The bundled curves: (file name, text).
 pub const BUNDLED: &[(&str, &str)] = &[
-    ("AeroTech_G64.eng", include_str!("../../motors/AeroTech_G64.eng")),
-    ("AeroTech_G80.eng", include_str!("../../motors/AeroTech_G80.eng")),
+    (
+        "AeroTech_G64.eng",
+        include_str!("../../motors/AeroTech_G64.eng"),
+    ),
+    (
+        "AeroTech_G80.eng",
+        include_str!("../../motors/AeroTech_G80.eng"),
+    ),
     (
         "AeroTech_K1000T.eng",
         include_str!("../../motors/AeroTech_K1000T.eng"),
@@ -131,10 +137,7 @@ pub fn load(dirs: &[PathBuf]) -> Vec<Entry> {
         };
         let mut files: Vec<PathBuf> = rd
             .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| {
-                p.extension()
-                    .is_some_and(|e| e.eq_ignore_ascii_case("eng"))
-            })
+            .filter(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("eng")))
             .collect();
         files.sort();
         for p in files {
@@ -172,7 +175,9 @@ pub fn load(dirs: &[PathBuf]) -> Vec<Entry> {
 pub fn lookup(catalogue: &[Entry], designation: &str, manufacturer: Option<&str>) -> Lookup {
     let hits: Vec<&Entry> = catalogue
         .iter()
-        .filter(|e| name_matches(&e.curve.name, designation) && maker_matches(&e.curve, manufacturer))
+        .filter(|e| {
+            name_matches(&e.curve.name, designation) && maker_matches(&e.curve, manufacturer)
+        })
         .collect();
     match hits.as_slice() {
         [] => {
@@ -243,7 +248,10 @@ mod tests {
         }
         match lookup(&c, "C7", Some("Estes")) {
             Lookup::NotFound(near) => {
-                assert!(near.iter().any(|e| e.curve.name == "C6"), "lists the C class")
+                assert!(
+                    near.iter().any(|e| e.curve.name == "C6"),
+                    "lists the C class"
+                )
             }
             other => panic!("{other:?}"),
         }

@@ -109,10 +109,18 @@ fn resolve_material(cx: &mut Cx, m: &OrMaterial, opts: &Options) -> Option<MatOu
         .iter()
         .find(|g| g.name.eq_ignore_ascii_case(m.name.trim()));
     let (e, nu, source) = if let Some(g) = given {
-        (g.e, g.nu, "E and nu given on the command line (--material)".to_string())
+        (
+            g.e,
+            g.nu,
+            "E and nu given on the command line (--material)".to_string(),
+        )
     } else if let Some((_, std)) = MATERIAL_MAP.iter().find(|(k, _)| lname.contains(k)) {
         let (e, nu) = std_elastic(std)?;
-        (e, nu, format!("E and nu of `{std}` in std/materials.vdl (see its sources)"))
+        (
+            e,
+            nu,
+            format!("E and nu of `{std}` in std/materials.vdl (see its sources)"),
+        )
     } else {
         cx.diags.push(
             Diagnostic::error(
@@ -190,7 +198,10 @@ fn resolve_motor(cx: &mut Cx, r: &MotorRef, cat: &[Entry]) -> Option<Entry> {
             } else {
                 format!(
                     "of its impulse class: {}",
-                    near.iter().map(Entry::describe).collect::<Vec<_>>().join("; ")
+                    near.iter()
+                        .map(Entry::describe)
+                        .collect::<Vec<_>>()
+                        .join("; ")
                 )
             };
             cx.diags.push(
@@ -239,8 +250,11 @@ pub(crate) fn emit(
         }
     } else {
         cx.diags.push(
-            Diagnostic::error("import::motor::none", "the design has no motor: nothing to fly")
-                .with_help("add a motor mount with a motor in OpenRocket"),
+            Diagnostic::error(
+                "import::motor::none",
+                "the design has no motor: nothing to fly",
+            )
+            .with_help("add a motor mount with a motor in OpenRocket"),
         );
     }
     if cx.diags.iter().any(Diagnostic::is_error) {
@@ -263,14 +277,30 @@ pub(crate) fn emit(
             .shell_mass(r, ln, n.thickness, n.material.density, n.filled);
         if let Some(om) = n.override_mass {
             mt = om;
-            notes.push(format!("nose `{}`: mass overridden in the design ({om} kg)", n.name));
+            notes.push(format!(
+                "nose `{}`: mass overridden in the design ({om} kg)",
+                n.name
+            ));
         }
         if let Some(cg) = n.override_cg {
             xt = cg;
-            notes.push(format!("nose `{}`: CG overridden in the design ({cg} m from the tip)", n.name));
+            notes.push(format!(
+                "nose `{}`: CG overridden in the design ({cg} m from the tip)",
+                n.name
+            ));
         }
         let (mg, xg) = NoseShape::Conical.shell_mass(r, ln, t_b, rho_b, false);
-        add_difference(cx, &mut masses, &format!("{} (shape and material)", n.name), mt, xt, mg, xg, (0.0, ln), &mut notes);
+        add_difference(
+            cx,
+            &mut masses,
+            &format!("{} (shape and material)", n.name),
+            mt,
+            xt,
+            mg,
+            xg,
+            (0.0, ln),
+            &mut notes,
+        );
         if n.shape != NoseShape::Conical {
             cx.diags.push(Diagnostic::warning(
                 "import::approximation",
@@ -292,7 +322,17 @@ pub(crate) fn emit(
             .unwrap_or(t.material.density * area(t.thickness) * t.length);
         let xc = t.top + t.length / 2.0;
         if (mt - mg).abs() > 1e-6 {
-            add_difference(cx, &mut masses, &format!("{} (material, wall or override)", t.name), mt, xc, mg, xc, (t.top, t.top + t.length), &mut notes);
+            add_difference(
+                cx,
+                &mut masses,
+                &format!("{} (material, wall or override)", t.name),
+                mt,
+                xc,
+                mg,
+                xc,
+                (t.top, t.top + t.length),
+                &mut notes,
+            );
         }
         if t.material.name != tube0.material.name || (t.thickness - t_b).abs() > 1e-9 {
             cx.diags.push(Diagnostic::warning(
@@ -310,9 +350,49 @@ pub(crate) fn emit(
         let area = 0.5 * (fins.root + fins.tip) * fins.span;
         let mg = f64::from(fins.count) * area * fins.thickness * fins.material.density;
         let xc = fins.root_le + fins.root / 2.0;
-        add_difference(cx, &mut masses, &format!("{} (override)", fins.name), om, xc, mg, xc, (fins.root_le, fins.root_le + fins.root), &mut notes);
+        add_difference(
+            cx,
+            &mut masses,
+            &format!("{} (override)", fins.name),
+            om,
+            xc,
+            mg,
+            xc,
+            (fins.root_le, fins.root_le + fins.root),
+            &mut notes,
+        );
     }
 
+    let mut aft = mount.map_or(length, |m| m.aft + m.overhang);
+    if aft > length + 1e-9 {
+        // The motor must lie inside the generated body (`vdl::motor::geometry`): a motor that
+        // overhangs the body's aft end is moved forward to it.
+        cx.diags.push(Diagnostic::warning(
+            "import::approximation",
+            format!(
+                "the motor overhangs the body's aft end by {}: it is placed with its nozzle at the aft end (the generated body must contain it)",
+                mm(aft - length)
+            ),
+        ));
+        aft = length;
+    }
+    // Masses reaching beyond the generated body (an inner tube or a fin can overhanging the
+    // aft end) are moved inside it: `distributed_mass` and `point_mass` stations lie on it.
+    for m in &mut masses {
+        let (a, b) = (m.s0.clamp(0.0, length), m.s1.clamp(0.0, length));
+        if (a - m.s0).abs() > 1e-9 || (b - m.s1).abs() > 1e-9 {
+            cx.diags.push(Diagnostic::warning(
+                "import::approximation",
+                format!(
+                    "`{}` reaches {} beyond the body: its mass is placed inside the generated body",
+                    m.name,
+                    mm((m.s1 - length).max(-m.s0).max(0.0))
+                ),
+            ));
+            m.note.push_str("; moved inside the generated body");
+            (m.s0, m.s1) = (a, b);
+        }
+    }
     // Dry centre of mass (for the coefficient reference point and the key node).
     let (mut m_sum, mut mx_sum) = (0.0, 0.0);
     let (mg, xg) = NoseShape::Conical.shell_mass(r, ln, t_b, rho_b, false);
@@ -321,18 +401,32 @@ pub(crate) fn emit(
     let mb = rho_b * PI * (r * r - (r - t_b).max(0.0).powi(2)) * (length - ln);
     m_sum += mb;
     mx_sum += mb * (ln + length) / 2.0;
-    let mf = f64::from(fins.count) * 0.5 * (fins.root + fins.tip) * fins.span * fins.thickness * fins.material.density;
+    let mf = f64::from(fins.count)
+        * 0.5
+        * (fins.root + fins.tip)
+        * fins.span
+        * fins.thickness
+        * fins.material.density;
     m_sum += mf;
     mx_sum += mf * (fins.root_le + fins.root / 2.0);
     for m in &masses {
         m_sum += m.mass;
         mx_sum += m.mass * (m.s0 + m.s1) / 2.0;
     }
-    let cg = if m_sum > 0.0 { mx_sum / m_sum } else { length / 2.0 };
+    let cg = if m_sum > 0.0 {
+        mx_sum / m_sum
+    } else {
+        length / 2.0
+    };
 
     let mut o = String::new();
     let vname = ident(&d.name);
-    let _ = writeln!(o, "# {} — imported by `flexflight import` from {}.", comment_safe(&d.name), d.file.display());
+    let _ = writeln!(
+        o,
+        "# {} — imported by `flexflight import` from {}.",
+        comment_safe(&d.name),
+        d.file.display()
+    );
     if let Some(who) = &d.designer {
         let _ = writeln!(o, "# Designed by {}.", comment_safe(who));
     }
@@ -340,11 +434,26 @@ pub(crate) fn emit(
         let _ = writeln!(o, "# {}", comment_safe(n));
     }
     let _ = writeln!(o, "#");
-    let _ = writeln!(o, "# The body is generated: one tube of the first body tube's material and wall with a");
-    let _ = writeln!(o, "# conical nose shell; the masses below are the components it does not contain (and");
-    let _ = writeln!(o, "# the differences of mass where the design differs from it), computed from the");
-    let _ = writeln!(o, "# design's dimensions and densities as OpenRocket does. Not imported: appearance,");
-    let _ = writeln!(o, "# surface finish (the built-in drag model has no roughness), decals.");
+    let _ = writeln!(
+        o,
+        "# The body is generated: one tube of the first body tube's material and wall with a"
+    );
+    let _ = writeln!(
+        o,
+        "# conical nose shell; the masses below are the components it does not contain (and"
+    );
+    let _ = writeln!(
+        o,
+        "# the differences of mass where the design differs from it), computed from the"
+    );
+    let _ = writeln!(
+        o,
+        "# design's dimensions and densities as OpenRocket does. Not imported: appearance,"
+    );
+    let _ = writeln!(
+        o,
+        "# surface finish (the built-in drag model has no roughness), decals."
+    );
     for w in cx.diags.iter().filter(|w| !w.is_error()) {
         let _ = writeln!(o, "# Approximation: {}", comment_safe(&w.message));
     }
@@ -366,12 +475,27 @@ pub(crate) fn emit(
     let _ = writeln!(o);
     let _ = writeln!(o, "  structure {{");
     let _ = writeln!(o, "    generate {{");
-    let _ = writeln!(o, "      # `{}` and {} body tube(s) ({}).", comment_safe(&d.nose.name), d.tubes.len(), d.tubes.iter().map(|t| comment_safe(&t.name)).collect::<Vec<_>>().join(", "));
+    let _ = writeln!(
+        o,
+        "      # `{}` and {} body tube(s) ({}).",
+        comment_safe(&d.nose.name),
+        d.tubes.len(),
+        d.tubes
+            .iter()
+            .map(|t| comment_safe(&t.name))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
     let _ = writeln!(o, "      body {{");
     let _ = writeln!(o, "        length = {}", mm(length));
     let _ = writeln!(o, "        diameter = {}", mm(2.0 * r));
     let _ = writeln!(o, "        wall = {}", mm(t_b));
-    let _ = writeln!(o, "        nose_length = {} # {} in the design", mm(ln), d.nose.shape.describe());
+    let _ = writeln!(
+        o,
+        "        nose_length = {} # {} in the design",
+        mm(ln),
+        d.nose.shape.describe()
+    );
     let _ = writeln!(o, "        elements = {elements}");
     let _ = writeln!(o, "        theory = euler_bernoulli");
     let _ = writeln!(o, "      }}");
@@ -384,7 +508,12 @@ pub(crate) fn emit(
     for m in &masses {
         if m.mass <= 0.0 {
             let _ = writeln!(o);
-            let _ = writeln!(o, "      # `{}` ({}): no mass.", comment_safe(&m.name), comment_safe(&m.note));
+            let _ = writeln!(
+                o,
+                "      # `{}` ({}): no mass.",
+                comment_safe(&m.name),
+                comment_safe(&m.note)
+            );
             continue;
         }
         let mut id = ident(&m.name);
@@ -395,7 +524,12 @@ pub(crate) fn emit(
             k += 1;
         }
         let _ = writeln!(o);
-        let _ = writeln!(o, "      # `{}`: {}.", comment_safe(&m.name), comment_safe(&m.note));
+        let _ = writeln!(
+            o,
+            "      # `{}`: {}.",
+            comment_safe(&m.name),
+            comment_safe(&m.note)
+        );
         if m.s1 - m.s0 > 1e-4 {
             let _ = writeln!(o, "      distributed_mass {id} {{");
             let _ = writeln!(o, "        from = {} m", f(-m.s0, 5));
@@ -411,16 +545,30 @@ pub(crate) fn emit(
     let _ = writeln!(o, "    }}");
     let _ = writeln!(o, "  }}");
     let _ = writeln!(o);
-    let _ = writeln!(o, "  # `{}`: {} trapezoidal fins, leading-edge sweep {} over the span.", comment_safe(&fins.name), fins.count, mm(fins.sweep));
+    let _ = writeln!(
+        o,
+        "  # `{}`: {} trapezoidal fins, leading-edge sweep {} over the span.",
+        comment_safe(&fins.name),
+        fins.count,
+        mm(fins.sweep)
+    );
     let _ = writeln!(o, "  fins {{");
     let _ = writeln!(o, "    count = {}", fins.count);
     let _ = writeln!(o, "    span = {}", mm(fins.span));
     let _ = writeln!(o, "    root_chord = {}", mm(fins.root));
     let _ = writeln!(o, "    tip_chord = {}", mm(fins.tip));
-    let _ = writeln!(o, "    leading_edge_sweep = {} deg", f(fins.sweep.atan2(fins.span).to_degrees(), 4));
+    let _ = writeln!(
+        o,
+        "    leading_edge_sweep = {} deg",
+        f(fins.sweep.atan2(fins.span).to_degrees(), 4)
+    );
     let _ = writeln!(o, "    thickness = {}", mm(fins.thickness));
     let _ = writeln!(o, "    cant = {} deg", f(fins.cant, 4));
-    let _ = writeln!(o, "    root_trailing_edge = {} m", f(-(fins.root_le + fins.root), 5));
+    let _ = writeln!(
+        o,
+        "    root_trailing_edge = {} m",
+        f(-(fins.root_le + fins.root), 5)
+    );
     if let Some(fm) = &fin_mat {
         let _ = writeln!(o, "    material = {}", fm.ident);
     }
@@ -432,15 +580,29 @@ pub(crate) fn emit(
         .and_then(|c| motor_for.iter().find(|(k, _, _)| k == c))
         .or(motor_for.first());
     let mut files: Vec<(String, String)> = Vec::new();
-    let aft = mount.map_or(length, |m| m.aft + m.overhang);
     if let Some((_, e, rf)) = default {
         let _ = writeln!(o);
-        let _ = writeln!(o, "  # {} {} of the default configuration ({}): its nozzle exit {} aft of the mount's end.", rf.manufacturer.as_deref().unwrap_or(""), rf.designation, e.describe(), mm(mount.map_or(0.0, |m| m.overhang)));
+        let _ = writeln!(
+            o,
+            "  # {} {} of the default configuration ({}): its nozzle exit {} aft of the mount's end.",
+            rf.manufacturer.as_deref().unwrap_or(""),
+            rf.designation,
+            e.describe(),
+            mm(mount.map_or(0.0, |m| m.overhang))
+        );
         let _ = writeln!(o, "  motor {} {{", ident(&rf.designation));
         let _ = writeln!(o, "    curve = \"{}\"", e.file);
         let _ = writeln!(o, "    position = ({}, 0, 0) m", f(-aft, 5));
-        let _ = writeln!(o, "    length = {}", mm(e.curve.length.or(rf.length).unwrap_or(0.07)));
-        let _ = writeln!(o, "    diameter = {}", mm(e.curve.diameter.or(rf.diameter).unwrap_or(0.018)));
+        let _ = writeln!(
+            o,
+            "    length = {}",
+            mm(e.curve.length.or(rf.length).unwrap_or(0.07))
+        );
+        let _ = writeln!(
+            o,
+            "    diameter = {}",
+            mm(e.curve.diameter.or(rf.diameter).unwrap_or(0.018))
+        );
         let _ = writeln!(o, "  }}");
     }
     for (_, e, _) in &motor_for {
@@ -450,7 +612,11 @@ pub(crate) fn emit(
     }
     let _ = writeln!(o);
     let _ = writeln!(o, "  key_nodes {{");
-    let _ = writeln!(o, "    body = nearest(({}, 0, 0) m) # the estimated dry centre of mass", f(-cg, 4));
+    let _ = writeln!(
+        o,
+        "    body = nearest(({}, 0, 0) m) # the estimated dry centre of mass",
+        f(-cg, 4)
+    );
     let _ = writeln!(o, "    nozzle = nearest(({}, 0, 0) m)", f(-length, 5));
     let _ = writeln!(o, "    fins = fin_point(span = 0.5, chord = 0.25)");
     let _ = writeln!(o, "  }}");
@@ -460,13 +626,20 @@ pub(crate) fn emit(
     let _ = writeln!(o, "    fin_flap = per_fin");
     let _ = writeln!(o, "    fin_twist = per_fin");
     let _ = writeln!(o, "    fixity = origin");
-    let _ = writeln!(o, "    damping = 0.02 # assumption: 2 % of critical; the design says nothing");
+    let _ = writeln!(
+        o,
+        "    damping = 0.02 # assumption: 2 % of critical; the design says nothing"
+    );
     let _ = writeln!(o, "  }}");
     let _ = writeln!(o);
     let _ = writeln!(o, "  aero {{");
     let _ = writeln!(o, "    source = builtin");
     let _ = writeln!(o, "    reference_length = {}", mm(2.0 * r));
-    let _ = writeln!(o, "    reference_point = ({}, 0, 0) m # the estimated dry centre of mass", f(-cg, 4));
+    let _ = writeln!(
+        o,
+        "    reference_point = ({}, 0, 0) m # the estimated dry centre of mass",
+        f(-cg, 4)
+    );
     let _ = writeln!(o, "  }}");
     let _ = writeln!(o);
     let _ = writeln!(o, "  forces {{");
@@ -523,15 +696,36 @@ pub(crate) fn emit(
             .or(default);
         let Some((_, e, rf)) = motor else { continue };
         let _ = writeln!(o);
-        let _ = writeln!(o, "# OpenRocket simulation `{}` ({}), {} {}.", comment_safe(&s.name), if s.status.is_empty() { "no status" } else { &s.status }, rf.manufacturer.as_deref().unwrap_or(""), rf.designation);
+        let _ = writeln!(
+            o,
+            "# OpenRocket simulation `{}` ({}), {} {}.",
+            comment_safe(&s.name),
+            if s.status.is_empty() {
+                "no status"
+            } else {
+                &s.status
+            },
+            rf.manufacturer.as_deref().unwrap_or(""),
+            rf.designation
+        );
         if let (Some(a), Some(v), Some(t)) = (s.apogee, s.max_velocity, s.time_to_apogee) {
-            let _ = writeln!(o, "# OpenRocket's stored result: apogee {a} m, max velocity {v} m/s, time to apogee {t} s.");
+            let _ = writeln!(
+                o,
+                "# OpenRocket's stored result: apogee {a} m, max velocity {v} m/s, time to apogee {t} s."
+            );
         }
         if s.into_wind {
-            let _ = writeln!(o, "# OpenRocket launched into the wind (`launchintowind`); here the rail points as the file says.");
+            let _ = writeln!(
+                o,
+                "# OpenRocket launched into the wind (`launchintowind`); here the rail points as the file says."
+            );
         }
         if s.wind_turbulence > 0.0 {
-            let _ = writeln!(o, "# The wind's turbulence intensity ({} %) is not imported: a steady wind.", f(100.0 * s.wind_turbulence, 2));
+            let _ = writeln!(
+                o,
+                "# The wind's turbulence intensity ({} %) is not imported: a steady wind.",
+                f(100.0 * s.wind_turbulence, 2)
+            );
         }
         let _ = writeln!(o, "scenario {id} {{");
         let _ = writeln!(o, "  vehicle = {vname}");
@@ -539,8 +733,16 @@ pub(crate) fn emit(
         if !same {
             let _ = writeln!(o, "  with {{");
             let _ = writeln!(o, "    motor.curve = \"{}\"", e.file);
-            let _ = writeln!(o, "    motor.length = {}", mm(e.curve.length.or(rf.length).unwrap_or(0.07)));
-            let _ = writeln!(o, "    motor.diameter = {}", mm(e.curve.diameter.or(rf.diameter).unwrap_or(0.018)));
+            let _ = writeln!(
+                o,
+                "    motor.length = {}",
+                mm(e.curve.length.or(rf.length).unwrap_or(0.07))
+            );
+            let _ = writeln!(
+                o,
+                "    motor.diameter = {}",
+                mm(e.curve.diameter.or(rf.diameter).unwrap_or(0.018))
+            );
             let _ = writeln!(o, "  }}");
         }
         let _ = writeln!(o);
@@ -548,14 +750,26 @@ pub(crate) fn emit(
         let _ = writeln!(o, "    site_altitude = {} m", f(s.site_altitude, 3));
         let _ = writeln!(o, "    rail_length = {} m", f(s.rod_length, 4));
         let _ = writeln!(o, "    elevation = {} deg", f(90.0 - s.rod_angle, 4));
-        let _ = writeln!(o, "    heading = {} deg", f(s.rod_direction.rem_euclid(360.0), 4));
+        let _ = writeln!(
+            o,
+            "    heading = {} deg",
+            f(s.rod_direction.rem_euclid(360.0), 4)
+        );
         let _ = writeln!(o, "  }}");
         if s.wind_speed > 0.0 {
             let _ = writeln!(o);
-            let _ = writeln!(o, "  # OpenRocket's average wind; its direction as the file stores it ({} rad).", f(s.wind_direction, 6));
+            let _ = writeln!(
+                o,
+                "  # OpenRocket's average wind; its direction as the file stores it ({} rad).",
+                f(s.wind_direction, 6)
+            );
             let _ = writeln!(o, "  wind {{");
             let _ = writeln!(o, "    speed = {} m/s", f(s.wind_speed, 4));
-            let _ = writeln!(o, "    direction = {} deg", f(s.wind_direction.to_degrees().rem_euclid(360.0), 3));
+            let _ = writeln!(
+                o,
+                "    direction = {} deg",
+                f(s.wind_direction.to_degrees().rem_euclid(360.0), 3)
+            );
             let _ = writeln!(o, "  }}");
         }
         for rcv in &d.recovery {
@@ -583,7 +797,18 @@ pub(crate) fn emit(
                 ),
                 _ => "as the design says".into(),
             };
-            let _ = writeln!(o, "  # `{}`: CD {}{} x {} m^2; opens {why}.", comment_safe(&rcv.name), f(rcv.cd, 4), if rcv.cd_auto { " (OpenRocket's automatic value)" } else { "" }, f(rcv.area, 6));
+            let _ = writeln!(
+                o,
+                "  # `{}`: CD {}{} x {} m^2; opens {why}.",
+                comment_safe(&rcv.name),
+                f(rcv.cd, 4),
+                if rcv.cd_auto {
+                    " (OpenRocket's automatic value)"
+                } else {
+                    ""
+                },
+                f(rcv.area, 6)
+            );
             let _ = writeln!(o, "  parachute {} {{", ident(&rcv.name));
             let _ = writeln!(o, "    cd_area = {} m^2", f(rcv.cd * rcv.area, 6));
             let _ = writeln!(o, "    trigger = {trigger}");
@@ -594,7 +819,11 @@ pub(crate) fn emit(
         }
         let _ = writeln!(o);
         let _ = writeln!(o, "  run {{");
-        let _ = writeln!(o, "    stop_time = {} s # OpenRocket's maximum simulation time", f(s.max_time, 3));
+        let _ = writeln!(
+            o,
+            "    stop_time = {} s # OpenRocket's maximum simulation time",
+            f(s.max_time, 3)
+        );
         let _ = writeln!(o, "  }}");
         let _ = writeln!(o, "}}");
     }
@@ -655,7 +884,10 @@ mod tests {
     #[test]
     fn identifiers_are_valid_vdl_names() {
         assert_eq!(ident("Nose cone"), "nose_cone");
-        assert_eq!(ident("Elliptical 12-Gore 42\" Parachute"), "elliptical_12_gore_42_parachute");
+        assert_eq!(
+            ident("Elliptical 12-Gore 42\" Parachute"),
+            "elliptical_12_gore_42_parachute"
+        );
         assert_eq!(ident("3D fins"), "c_3d_fins");
         assert_eq!(ident("---"), "c_");
     }

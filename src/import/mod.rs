@@ -123,11 +123,8 @@ pub fn import_design(
         Err(e) => {
             let id = sources.add(path.to_path_buf(), path.display().to_string(), "");
             return Err(vec![
-                Diagnostic::error(
-                    "import::container",
-                    format!("{}: {}", path.display(), e.0),
-                )
-                .label(Span::new(id, 0, 0), "in this file"),
+                Diagnostic::error("import::container", format!("{}: {}", path.display(), e.0))
+                    .label(Span::new(id, 0, 0), "in this file"),
             ]);
         }
     };
@@ -428,7 +425,9 @@ fn comp_name(n: Node) -> String {
 
 fn material(cx: &mut Cx, n: Node, tag: &str) -> Option<OrMaterial> {
     let m = child(n, tag)?;
-    let density = m.attribute("density").and_then(|d| d.trim().parse::<f64>().ok());
+    let density = m
+        .attribute("density")
+        .and_then(|d| d.trim().parse::<f64>().ok());
     let Some(density) = density.filter(|d| d.is_finite() && *d >= 0.0) else {
         cx.error(
             "import::value",
@@ -454,7 +453,9 @@ fn place(n: Node, top: f64, len: f64, own: f64) -> f64 {
                 .or_else(|| p.attribute("type"))
                 .unwrap_or("top")
                 .to_string(),
-            p.text().and_then(|t| t.trim().parse::<f64>().ok()).unwrap_or(0.0),
+            p.text()
+                .and_then(|t| t.trim().parse::<f64>().ok())
+                .unwrap_or(0.0),
         ),
         None => ("top".to_string(), 0.0),
     };
@@ -546,7 +547,12 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
         .find(|c| c.attribute("default") == Some("true"))
         .and_then(|c| c.attribute("configid").map(str::to_string));
     let Some(subs) = child(rocket, "subcomponents") else {
-        cx.error("import::format", rocket, "the rocket has no components".into(), "here");
+        cx.error(
+            "import::format",
+            rocket,
+            "the rocket has no components".into(),
+            "here",
+        );
         return None;
     };
     let stages: Vec<Node> = subs.children().filter(Node::is_element).collect();
@@ -555,7 +561,10 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
             cx.error(
                 "import::component",
                 *s,
-                format!("unknown component `<{}>` at the rocket's top level", s.tag_name().name()),
+                format!(
+                    "unknown component `<{}>` at the rocket's top level",
+                    s.tag_name().name()
+                ),
                 "expected `<stage>`",
             );
         }
@@ -766,7 +775,12 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
     // Radii: `auto` resolves to the neighbour; all must agree (one diameter).
     let r0 = tubes.iter().map(|t| t.radius).find(|r| r.is_finite());
     let Some(r0) = r0.or(nose.radius.is_finite().then_some(nose.radius)) else {
-        cx.error("import::value", stage, "no component gives the body radius".into(), "here");
+        cx.error(
+            "import::value",
+            stage,
+            "no component gives the body radius".into(),
+            "here",
+        );
         return None;
     };
     if !nose.radius.is_finite() {
@@ -777,7 +791,11 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
             t.radius = r0;
         }
     }
-    let tube_nodes: Vec<Node> = ext.iter().copied().filter(|c| c.has_tag_name("bodytube")).collect();
+    let tube_nodes: Vec<Node> = ext
+        .iter()
+        .copied()
+        .filter(|c| c.has_tag_name("bodytube"))
+        .collect();
     for (t, n) in tubes.iter().zip(&tube_nodes) {
         if (t.radius - r0).abs() > 1e-6 || (nose.radius - r0).abs() > 1e-6 {
             cx.error(
@@ -812,7 +830,11 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
                 format!(
                     "the design has {} fin sets ({}): the language has one fin set for now",
                     rd.fins.len(),
-                    rd.fins.iter().map(|f| f.name.as_str()).collect::<Vec<_>>().join(", ")
+                    rd.fins
+                        .iter()
+                        .map(|f| f.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 ),
                 "this stage",
             );
@@ -826,7 +848,11 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
             format!(
                 "the design has {} motor mounts ({}): one motor is represented",
                 rd.mounts.len(),
-                rd.mounts.iter().map(|m| m.name.as_str()).collect::<Vec<_>>().join(", ")
+                rd.mounts
+                    .iter()
+                    .map(|m| m.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ),
             "this stage",
         );
@@ -837,7 +863,10 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
     }
     notes.push(format!(
         "OpenRocket file format {version}{}",
-        creator.as_deref().map(|c| format!(", written by {c}")).unwrap_or_default()
+        creator
+            .as_deref()
+            .map(|c| format!(", written by {c}"))
+            .unwrap_or_default()
     ));
     Some(Design {
         file: path.to_path_buf(),
@@ -863,7 +892,12 @@ fn read_mount(cx: &mut Cx, rd: &mut Reader, mm: Node, name: &str, aft: f64) {
     let mut motors = Vec::new();
     for m in mm.children().filter(|c| c.has_tag_name("motor")) {
         let Some(designation) = text_of(m, "designation") else {
-            cx.error("import::value", m, "a motor without `<designation>`".into(), "here");
+            cx.error(
+                "import::value",
+                m,
+                "a motor without `<designation>`".into(),
+                "here",
+            );
             continue;
         };
         motors.push(MotorRef {
@@ -948,7 +982,11 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                 let cd_text = text_of(c, "cd").unwrap_or("auto");
                 let cd_auto = cd_text.starts_with("auto");
                 // OpenRocket's automatic parachute CD is Parachute.DEFAULT_CD = 0.8.
-                let cd = if cd_auto { 0.8 } else { num(cx, c, "cd").ok().flatten().unwrap_or(0.8) };
+                let cd = if cd_auto {
+                    0.8
+                } else {
+                    num(cx, c, "cd").ok().flatten().unwrap_or(0.8)
+                };
                 let deploy = match text_of(c, "deployevent").unwrap_or("ejection") {
                     "apogee" => Deploy::Apogee,
                     "altitude" => Deploy::Altitude(
@@ -991,7 +1029,10 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
             }
             "innertube" | "tubecoupler" => {
                 let len = req(cx, c, "length", &what).unwrap_or(0.0);
-                let ro = num(cx, c, "outerradius").ok().flatten().unwrap_or(p.inner_radius);
+                let ro = num(cx, c, "outerradius")
+                    .ok()
+                    .flatten()
+                    .unwrap_or(p.inner_radius);
                 let t = req(cx, c, "thickness", &what).unwrap_or(0.0);
                 let rho = material(cx, c, "material").map_or(0.0, |m| m.density);
                 let ri = (ro - t).max(0.0);
@@ -1023,7 +1064,10 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
             }
             "centeringring" | "bulkhead" | "engineblock" => {
                 let len = req(cx, c, "length", &what).unwrap_or(0.0);
-                let ro = num(cx, c, "outerradius").ok().flatten().unwrap_or(p.inner_radius);
+                let ro = num(cx, c, "outerradius")
+                    .ok()
+                    .flatten()
+                    .unwrap_or(p.inner_radius);
                 let ri = match tag {
                     "bulkhead" => 0.0,
                     "engineblock" => {
@@ -1033,7 +1077,11 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                     _ => num(cx, c, "innerradius").ok().flatten().unwrap_or(tube_r),
                 };
                 let rho = material(cx, c, "material").map_or(0.0, |m| m.density);
-                let n = num(cx, c, "instancecount").ok().flatten().unwrap_or(1.0).max(1.0);
+                let n = num(cx, c, "instancecount")
+                    .ok()
+                    .flatten()
+                    .unwrap_or(1.0)
+                    .max(1.0);
                 if n > 1.0 {
                     cx.warn(c, format!("{what}: {n} instances are placed as one mass of all of them at the first one's place"));
                 }
@@ -1046,9 +1094,22 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                 let t = num(cx, c, "thickness").ok().flatten().unwrap_or(0.0);
                 let rho = material(cx, c, "material").map_or(0.0, |m| m.density);
                 let ri = (r - t).max(0.0);
-                let n = num(cx, c, "instancecount").ok().flatten().unwrap_or(1.0).max(1.0);
-                push(cx, rd, n * PI * (r * r - ri * ri) * len * rho, len, "launch lug (off-axis mass placed on the axis)");
-                cx.warn(c, format!("{what}: a launch lug's drag is not represented; its mass is kept"));
+                let n = num(cx, c, "instancecount")
+                    .ok()
+                    .flatten()
+                    .unwrap_or(1.0)
+                    .max(1.0);
+                push(
+                    cx,
+                    rd,
+                    n * PI * (r * r - ri * ri) * len * rho,
+                    len,
+                    "launch lug (off-axis mass placed on the axis)",
+                );
+                cx.warn(
+                    c,
+                    format!("{what}: a launch lug's drag is not represented; its mass is kept"),
+                );
             }
             "railbutton" => {
                 let has = child(c, "overridemass").is_some();
@@ -1082,14 +1143,22 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                 if num(cx, c, "tabheight").ok().flatten().unwrap_or(0.0) > 0.0
                     && num(cx, c, "tablength").ok().flatten().unwrap_or(0.0) > 0.0
                 {
-                    cx.warn(c, format!("{what}: the fin tab (inside the body) is not represented"));
+                    cx.warn(
+                        c,
+                        format!("{what}: the fin tab (inside the body) is not represented"),
+                    );
                 }
                 let om = override_mass(cx, c);
                 if let (Some(root), Some(tip), Some(span), Some(thick), Some(mat)) =
                     (root, tip, span, thick, mat)
                 {
                     let Some(count) = count else {
-                        cx.error("import::value", c, format!("{what} has no `<fincount>`"), "here");
+                        cx.error(
+                            "import::value",
+                            c,
+                            format!("{what} has no `<fincount>`"),
+                            "here",
+                        );
                         continue;
                     };
                     let le = place(c, p.top, p.length, root);
@@ -1126,13 +1195,18 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                     Some((i, j)) => cx.error(
                         "import::fin::crossing",
                         c,
-                        format!("{what}: the fin outline crosses itself (edges {i} and {j} of {})", pts.len()),
+                        format!(
+                            "{what}: the fin outline crosses itself (edges {i} and {j} of {})",
+                            pts.len()
+                        ),
                         "self-crossing outline",
                     ),
                     None => cx.error(
                         "import::unsupported",
                         c,
-                        format!("{what}: freeform fins cannot be represented yet (trapezoidal fins can)"),
+                        format!(
+                            "{what}: freeform fins cannot be represented yet (trapezoidal fins can)"
+                        ),
                         "freeform fins",
                     ),
                 }
@@ -1140,7 +1214,14 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
             "ellipticalfinset" | "tubefinset" => cx.error(
                 "import::unsupported",
                 c,
-                format!("{what}: {} cannot be represented yet (trapezoidal fins can)", if tag == "tubefinset" { "tube fins" } else { "elliptical fins" }),
+                format!(
+                    "{what}: {} cannot be represented yet (trapezoidal fins can)",
+                    if tag == "tubefinset" {
+                        "tube fins"
+                    } else {
+                        "elliptical fins"
+                    }
+                ),
                 "not representable",
             ),
             "podset" | "parallelstage" | "boosterset" | "transition" | "bodytube" | "nosecone" => {
@@ -1198,7 +1279,10 @@ fn read_simulations(cx: &mut Cx, root: Node) -> Vec<Simulation> {
         };
         let g = |cx: &mut Cx, name: &str, d: f64| num(cx, c, name).ok().flatten().unwrap_or(d);
         let fd = child(s, "flightdata");
-        let fa = |k: &str| fd.and_then(|f| f.attribute(k)).and_then(|v| v.parse::<f64>().ok());
+        let fa = |k: &str| {
+            fd.and_then(|f| f.attribute(k))
+                .and_then(|v| v.parse::<f64>().ok())
+        };
         let wind_dir = match num(cx, c, "winddirection").ok().flatten() {
             Some(d) => d,
             None => child(c, "wind")
@@ -1236,7 +1320,10 @@ mod tests {
         let m = GivenMaterial::parse("Plywood (birch)=12.4 GPa,0.3").unwrap();
         assert_eq!(m.name, "Plywood (birch)");
         assert!((m.e - 12.4e9).abs() < 1.0);
-        assert!(GivenMaterial::parse("Cardboard=3,0.3").is_err(), "unit required");
+        assert!(
+            GivenMaterial::parse("Cardboard=3,0.3").is_err(),
+            "unit required"
+        );
         assert!(GivenMaterial::parse("Cardboard=3 GPa,0.6").is_err());
         assert!(GivenMaterial::parse("Cardboard").is_err());
     }
