@@ -618,7 +618,13 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
                 let nm = comp_name(*c);
                 let what = format!("nose cone `{nm}`");
                 let length = req(cx, *c, "length", &what);
-                let thickness = req(cx, *c, "thickness", &what);
+                // `<thickness>filled</thickness>`: a solid nose (OpenRocket's `filled`).
+                let solid = text_of(*c, "thickness") == Some("filled");
+                let thickness = if solid {
+                    Some(0.0)
+                } else {
+                    req(cx, *c, "thickness", &what)
+                };
                 let shape_s = text_of(*c, "shape").unwrap_or("conical");
                 let k = num(cx, *c, "shapeparameter").ok().flatten().unwrap_or(1.0);
                 let shape = NoseShape::from_ork(shape_s, k);
@@ -632,7 +638,7 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
                 }
                 let radius = num(cx, *c, "aftradius").ok().flatten();
                 let mat = material(cx, *c, "material");
-                let filled = text_of(*c, "filled") == Some("true");
+                let filled = solid || text_of(*c, "filled") == Some("true");
                 if text_of(*c, "isflipped") == Some("true") {
                     cx.error(
                         "import::unsupported",
@@ -904,7 +910,12 @@ fn read_mount(cx: &mut Cx, rd: &mut Reader, mm: Node, name: &str, aft: f64) {
             config: m.attribute("configid").unwrap_or("").to_string(),
             designation: designation.to_string(),
             manufacturer: text_of(m, "manufacturer").map(str::to_string),
-            delay: num(cx, m, "delay").ok().flatten(),
+            // `none`: a plugged motor (no ejection charge).
+            delay: if text_of(m, "delay") == Some("none") {
+                None
+            } else {
+                num(cx, m, "delay").ok().flatten()
+            },
             length: num(cx, m, "length").ok().flatten(),
             diameter: num(cx, m, "diameter").ok().flatten(),
             at: cx.span(m),
