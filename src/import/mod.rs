@@ -77,7 +77,7 @@ impl GivenMaterial {
             .trim()
             .parse()
             .map_err(|_| format!("`{nu}` is not a number"))?;
-        if !(e.is_finite() && e > 0.0) || !(nu > 0.0 && nu < 0.5) {
+        if !(e.is_finite() && e > 0.0 && nu > 0.0 && nu < 0.5) {
             return Err(format!("`{s}`: need E > 0 and 0 < nu < 0.5"));
         }
         Ok(GivenMaterial {
