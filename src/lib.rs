@@ -36,6 +36,7 @@ pub mod check;
 pub mod cli;
 pub mod diagnostics;
 pub mod ops;
+pub mod import;
 pub mod plan;
 pub mod report;
 pub mod run;

@@ -813,8 +813,9 @@ fn codes_in_source() -> Vec<(String, PathBuf)> {
 
 /// The codes of [`codes_in_source`] on one line.
 fn codes_in_line(line: &str) -> Vec<String> {
-    const PREFIXES: [&str; 10] = [
+    const PREFIXES: [&str; 11] = [
         "vdl::",
+        "import::",
         "fe::",
         "artifact::",
         "generate::",

@@ -20,6 +20,7 @@ const ORDER: &[&str] = &[
     "structure",
     "aero",
     "runtime",
+    "import",
     "plan",
     "run",
     "analysis",

@@ -21,6 +21,7 @@ pub mod analyze;
 pub mod compile;
 pub mod flutter;
 mod fmt;
+pub mod import;
 pub mod linear;
 pub mod report;
 pub mod run;
@@ -175,6 +176,24 @@ pub enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Import an OpenRocket design (.ork) as a vehicle file with a scenario per stored
+    /// simulation; the thrust curves it names are written beside it.
+    Import {
+        /// The design (.ork: plain XML, gzip or ZIP).
+        design: PathBuf,
+        /// The vehicle file to write (nothing is written on an error).
+        #[arg(short = 'o', long = "out")]
+        out: PathBuf,
+        /// A directory of RASP .eng thrust curves searched before the bundled catalogue.
+        #[arg(long = "motor-dir")]
+        motor_dirs: Vec<PathBuf>,
+        /// The stiffness of a design material the standard library does not map:
+        /// 'NAME=E,nu' with E in GPa or MPa, e.g. 'Cardboard=2.5 GPa,0.3'.
+        #[arg(long = "material", value_name = "NAME=E,nu")]
+        materials: Vec<String>,
+        #[command(flatten)]
+        output: Output,
+    },
     /// Format vehicle files canonically (in place, or report with --check).
     Fmt {
         #[arg(required = true)]
@@ -256,6 +275,13 @@ pub fn write_stdout(args: std::fmt::Arguments<'_>, newline: bool) {
 pub fn run(cli: Cli, term: Terminal) -> ExitCode {
     let code = match cli.command {
         Command::Check { files, common } => cmd_check(&files, &common, term),
+        Command::Import {
+            design,
+            out,
+            motor_dirs,
+            materials,
+            output,
+        } => import::cmd_import(&design, &out, &motor_dirs, &materials, output.format, term),
         Command::Fmt {
             files,
             check,

@@ -1,0 +1,902 @@
+//! The vehicle file an import writes: materials, the vehicle (generated body with the nose,
+//! one fin set, the masses the body does not contain, the motor) and a scenario per stored
+//! simulation, each with a comment saying where its numbers come from.
+//!
+//! The generated body is one tube of the first body tube's material and wall with a conical
+//! nose shell of the same wall (`structure::generate`). Where the design differs (nose shape,
+//! nose or tube material or wall, mass overrides), the difference of mass, true minus
+//! generated, is added back as a point or distributed mass at the place that restores the
+//! centre of mass: for masses (m_t, x_t) true and (m_g, x_g) generated, Delta m = m_t - m_g at
+//! x = (m_t x_t - m_g x_g) / Delta m (first moments add). A negative difference cannot be
+//! added: a warning says by how much the model is heavy there.
+
+use std::f64::consts::PI;
+use std::fmt::Write;
+
+use super::catalogue::{self, Entry, Lookup};
+use super::shapes::NoseShape;
+use super::{Cx, Deploy, Design, MassItem, MotorRef, Options, OrMaterial};
+use crate::diagnostics::Diagnostic;
+
+/// Standard-library materials the names rocketeers use map to (case-insensitive substring,
+/// standard material).
+pub const MATERIAL_MAP: &[(&str, &str)] = &[
+    ("fiberglass", "fibreglass_g10"),
+    ("fibreglass", "fibreglass_g10"),
+    ("g10", "fibreglass_g10"),
+    ("g-10", "fibreglass_g10"),
+    ("fr4", "fibreglass_g10"),
+    ("fr-4", "fibreglass_g10"),
+    ("aluminum", "aluminium_6061_t6"),
+    ("aluminium", "aluminium_6061_t6"),
+];
+
+/// (E, nu) of a standard-library material, read from the embedded `std/materials.vdl`.
+pub fn std_elastic(name: &str) -> Option<(f64, f64)> {
+    let text = crate::check::STDLIB
+        .iter()
+        .find(|(p, _)| *p == "std/materials.vdl")?
+        .1;
+    let start = text.find(&format!("material {name} {{"))?;
+    let body = &text[start..];
+    let body = &body[..body.find('}')?];
+    let mut e = None;
+    let mut nu = None;
+    for line in body.lines() {
+        let l = line.split('#').next().unwrap_or("").trim();
+        if let Some(v) = l.strip_prefix("E =") {
+            let v = v.trim();
+            e = if let Some(g) = v.strip_suffix("GPa") {
+                g.trim().parse::<f64>().ok().map(|x| x * 1e9)
+            } else if let Some(m) = v.strip_suffix("MPa") {
+                m.trim().parse::<f64>().ok().map(|x| x * 1e6)
+            } else {
+                None
+            };
+        } else if let Some(v) = l.strip_prefix("nu =") {
+            nu = v.trim().parse::<f64>().ok();
+        }
+    }
+    Some((e?, nu?))
+}
+
+/// A VDL identifier from an OpenRocket name.
+pub fn ident(s: &str) -> String {
+    let mut out = String::new();
+    for ch in s.chars() {
+        if ch.is_ascii_alphanumeric() {
+            out.push(ch.to_ascii_lowercase());
+        } else if !out.ends_with('_') {
+            out.push('_');
+        }
+    }
+    let out = out.trim_matches('_').to_string();
+    if out.is_empty() || out.starts_with(|c: char| c.is_ascii_digit()) {
+        format!("c_{out}")
+    } else {
+        out
+    }
+}
+
+fn comment_safe(s: &str) -> String {
+    s.replace(['\n', '\r'], " ")
+}
+
+/// Number with at most `d` decimals, trailing zeros dropped.
+fn f(x: f64, d: usize) -> String {
+    let s = format!("{x:.d$}");
+    let s = if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    };
+    if s == "-0" { "0".into() } else { s }
+}
+
+fn mm(x: f64) -> String {
+    format!("{} mm", f(x * 1e3, 4))
+}
+
+struct MatOut {
+    ident: String,
+    block: String,
+}
+
+fn resolve_material(cx: &mut Cx, m: &OrMaterial, opts: &Options) -> Option<MatOut> {
+    let lname = m.name.to_ascii_lowercase();
+    let given = opts
+        .materials
+        .iter()
+        .find(|g| g.name.eq_ignore_ascii_case(m.name.trim()));
+    let (e, nu, source) = if let Some(g) = given {
+        (
+            g.e,
+            g.nu,
+            "E and nu given on the command line (--material)".to_string(),
+        )
+    } else if let Some((_, std)) = MATERIAL_MAP.iter().find(|(k, _)| lname.contains(k)) {
+        let (e, nu) = std_elastic(std)?;
+        (
+            e,
+            nu,
+            format!("E and nu of `{std}` in std/materials.vdl (see its sources)"),
+        )
+    } else {
+        cx.diags.push(
+            Diagnostic::error(
+                "import::material",
+                format!(
+                    "material `{}` ({} kg/m^3) has no known stiffness: flutter depends on E and nu, so they are not guessed",
+                    m.name, m.density
+                ),
+            )
+            .label(m.at, "used here")
+            .with_help(format!(
+                "give them: --material '{}=E GPa,nu' (e.g. from the supplier's data sheet)",
+                m.name
+            )),
+        );
+        return None;
+    };
+    let id = format!("{}_ork", ident(&m.name));
+    let mut block = String::new();
+    let _ = writeln!(
+        block,
+        "# OpenRocket material `{}`: density {} kg/m^3 from the design; {source}.",
+        comment_safe(&m.name),
+        f(m.density, 4)
+    );
+    let _ = writeln!(block, "material {id} {{");
+    let _ = writeln!(block, "  E = {} GPa", f(e / 1e9, 4));
+    let _ = writeln!(block, "  nu = {}", f(nu, 4));
+    let _ = writeln!(block, "  rho = {} kg/m^3", f(m.density, 4));
+    let _ = writeln!(block, "}}");
+    Some(MatOut { ident: id, block })
+}
+
+fn resolve_motor(cx: &mut Cx, r: &MotorRef, cat: &[Entry]) -> Option<Entry> {
+    match catalogue::lookup(cat, &r.designation, r.manufacturer.as_deref()) {
+        Lookup::Found(e) => {
+            if let (Some(l), Some(hl)) = (r.length, e.curve.length) {
+                if (l - hl).abs() > 0.002 {
+                    cx.diags.push(
+                        Diagnostic::warning(
+                            "import::motor::dimensions",
+                            format!(
+                                "motor {}: the design says {} long, the curve's header {}; the header is used",
+                                r.designation,
+                                mm(l),
+                                mm(hl)
+                            ),
+                        )
+                        .label(r.at, "here"),
+                    );
+                }
+            }
+            Some(*e)
+        }
+        Lookup::Ambiguous(v) => {
+            cx.diags.push(
+                Diagnostic::error(
+                    "import::motor::ambiguous",
+                    format!(
+                        "motor {} {} matches {} thrust curves: {}",
+                        r.manufacturer.as_deref().unwrap_or(""),
+                        r.designation,
+                        v.len(),
+                        v.iter().map(Entry::describe).collect::<Vec<_>>().join("; ")
+                    ),
+                )
+                .label(r.at, "this motor")
+                .with_help("keep one of them in the --motor-dir directory"),
+            );
+            None
+        }
+        Lookup::NotFound(near) => {
+            let list = if near.is_empty() {
+                "none of its impulse class either".to_string()
+            } else {
+                format!(
+                    "of its impulse class: {}",
+                    near.iter()
+                        .map(Entry::describe)
+                        .collect::<Vec<_>>()
+                        .join("; ")
+                )
+            };
+            cx.diags.push(
+                Diagnostic::error(
+                    "import::motor::not_found",
+                    format!(
+                        "motor {} {} is not in the catalogue ({list})",
+                        r.manufacturer.as_deref().unwrap_or(""),
+                        r.designation
+                    ),
+                )
+                .label(r.at, "this motor")
+                .with_help(
+                    "put its RASP .eng thrust curve (e.g. from the manufacturer or thrustcurve.org) in a directory and pass --motor-dir DIR",
+                ),
+            );
+            None
+        }
+    }
+}
+
+/// The vehicle file and the thrust curves it names; `None` after an error diagnostic.
+pub(crate) fn emit(
+    cx: &mut Cx,
+    d: &Design,
+    opts: &Options,
+    cat: &[Entry],
+) -> Option<(String, Vec<(String, String)>)> {
+    let tube0 = &d.tubes[0];
+    let body_mat = resolve_material(cx, &tube0.material, opts);
+    let fin_mat = if d.fins.material.name == tube0.material.name
+        && d.fins.material.density == tube0.material.density
+    {
+        None
+    } else {
+        resolve_material(cx, &d.fins.material, opts)
+    };
+    // Motors of every configuration a scenario flies.
+    let mount = d.mount.as_ref();
+    let mut motor_for = Vec::new(); // (config, entry, ref)
+    if let Some(m) = mount {
+        for r in &m.motors {
+            if let Some(e) = resolve_motor(cx, r, cat) {
+                motor_for.push((r.config.clone(), e, r.clone()));
+            }
+        }
+    } else {
+        cx.diags.push(
+            Diagnostic::error(
+                "import::motor::none",
+                "the design has no motor: nothing to fly",
+            )
+            .with_help("add a motor mount with a motor in OpenRocket"),
+        );
+    }
+    if cx.diags.iter().any(Diagnostic::is_error) {
+        return None;
+    }
+    let body_mat = body_mat?;
+    let rho_b = tube0.material.density;
+    let t_b = tube0.thickness;
+    let r = tube0.radius;
+    let length = d.length();
+    let ln = d.nose.length;
+    let mut masses: Vec<MassItem> = d.masses.clone();
+    let mut notes: Vec<String> = d.notes.clone();
+
+    // Nose: true shape and material against the generated cone (module doc).
+    {
+        let n = &d.nose;
+        let (mut mt, mut xt) = n
+            .shape
+            .shell_mass(r, ln, n.thickness, n.material.density, n.filled);
+        if let Some(om) = n.override_mass {
+            mt = om;
+            notes.push(format!(
+                "nose `{}`: mass overridden in the design ({om} kg)",
+                n.name
+            ));
+        }
+        if let Some(cg) = n.override_cg {
+            xt = cg;
+            notes.push(format!(
+                "nose `{}`: CG overridden in the design ({cg} m from the tip)",
+                n.name
+            ));
+        }
+        let (mg, xg) = NoseShape::Conical.shell_mass(r, ln, t_b, rho_b, false);
+        add_difference(
+            cx,
+            &mut masses,
+            &format!("{} (shape and material)", n.name),
+            mt,
+            xt,
+            mg,
+            xg,
+            (0.0, ln),
+            &mut notes,
+        );
+        if n.shape != NoseShape::Conical {
+            cx.diags.push(Diagnostic::warning(
+                "import::approximation",
+                format!(
+                    "nose `{}` is a {} nose: the structure and the built-in aerodynamics take a cone of the same length ({}); its mass and centre of mass are restored",
+                    n.name,
+                    n.shape.describe(),
+                    mm(ln)
+                ),
+            ));
+        }
+    }
+    // Tubes of another material, wall or an overridden mass.
+    for t in &d.tubes {
+        let area = |w: f64| PI * (r * r - (r - w).max(0.0).powi(2));
+        let mg = rho_b * area(t_b) * t.length;
+        let mt = t
+            .override_mass
+            .unwrap_or(t.material.density * area(t.thickness) * t.length);
+        let xc = t.top + t.length / 2.0;
+        if (mt - mg).abs() > 1e-6 {
+            add_difference(
+                cx,
+                &mut masses,
+                &format!("{} (material, wall or override)", t.name),
+                mt,
+                xc,
+                mg,
+                xc,
+                (t.top, t.top + t.length),
+                &mut notes,
+            );
+        }
+        if t.material.name != tube0.material.name || (t.thickness - t_b).abs() > 1e-9 {
+            cx.diags.push(Diagnostic::warning(
+                "import::approximation",
+                format!(
+                    "body tube `{}` ({}, wall {}) is generated in `{}`'s material and wall ({}); its mass is restored, its stiffness is the generated one",
+                    t.name, t.material.name, mm(t.thickness), tube0.name, mm(t_b)
+                ),
+            ));
+        }
+    }
+    // Fin mass override.
+    let fins = &d.fins;
+    if let Some(om) = fins.override_mass {
+        let area = 0.5 * (fins.root + fins.tip) * fins.span;
+        let mg = f64::from(fins.count) * area * fins.thickness * fins.material.density;
+        let xc = fins.root_le + fins.root / 2.0;
+        add_difference(
+            cx,
+            &mut masses,
+            &format!("{} (override)", fins.name),
+            om,
+            xc,
+            mg,
+            xc,
+            (fins.root_le, fins.root_le + fins.root),
+            &mut notes,
+        );
+    }
+
+    let mut aft = mount.map_or(length, |m| m.aft + m.overhang);
+    if aft > length + 1e-9 {
+        // The motor must lie inside the generated body (`vdl::motor::geometry`): a motor that
+        // overhangs the body's aft end is moved forward to it.
+        cx.diags.push(Diagnostic::warning(
+            "import::approximation",
+            format!(
+                "the motor overhangs the body's aft end by {}: it is placed with its nozzle at the aft end (the generated body must contain it)",
+                mm(aft - length)
+            ),
+        ));
+        aft = length;
+    }
+    // Masses reaching beyond the generated body (an inner tube or a fin can overhanging the
+    // aft end) are moved inside it: `distributed_mass` and `point_mass` stations lie on it.
+    for m in &mut masses {
+        let (a, b) = (m.s0.clamp(0.0, length), m.s1.clamp(0.0, length));
+        if (a - m.s0).abs() > 1e-9 || (b - m.s1).abs() > 1e-9 {
+            cx.diags.push(Diagnostic::warning(
+                "import::approximation",
+                format!(
+                    "`{}` reaches {} beyond the body: its mass is placed inside the generated body",
+                    m.name,
+                    mm((m.s1 - length).max(-m.s0).max(0.0))
+                ),
+            ));
+            m.note.push_str("; moved inside the generated body");
+            (m.s0, m.s1) = (a, b);
+        }
+    }
+    // Dry centre of mass (for the coefficient reference point and the key node).
+    let (mut m_sum, mut mx_sum) = (0.0, 0.0);
+    let (mg, xg) = NoseShape::Conical.shell_mass(r, ln, t_b, rho_b, false);
+    m_sum += mg;
+    mx_sum += mg * xg;
+    let mb = rho_b * PI * (r * r - (r - t_b).max(0.0).powi(2)) * (length - ln);
+    m_sum += mb;
+    mx_sum += mb * (ln + length) / 2.0;
+    let mf = f64::from(fins.count)
+        * 0.5
+        * (fins.root + fins.tip)
+        * fins.span
+        * fins.thickness
+        * fins.material.density;
+    m_sum += mf;
+    mx_sum += mf * (fins.root_le + fins.root / 2.0);
+    for m in &masses {
+        m_sum += m.mass;
+        mx_sum += m.mass * (m.s0 + m.s1) / 2.0;
+    }
+    let cg = if m_sum > 0.0 {
+        mx_sum / m_sum
+    } else {
+        length / 2.0
+    };
+
+    let mut o = String::new();
+    let vname = ident(&d.name);
+    let _ = writeln!(
+        o,
+        "# {} — imported by `flexflight import` from {}.",
+        comment_safe(&d.name),
+        d.file.display()
+    );
+    if let Some(who) = &d.designer {
+        let _ = writeln!(o, "# Designed by {}.", comment_safe(who));
+    }
+    for n in &notes {
+        let _ = writeln!(o, "# {}", comment_safe(n));
+    }
+    let _ = writeln!(o, "#");
+    let _ = writeln!(
+        o,
+        "# The body is generated: one tube of the first body tube's material and wall with a"
+    );
+    let _ = writeln!(
+        o,
+        "# conical nose shell; the masses below are the components it does not contain (and"
+    );
+    let _ = writeln!(
+        o,
+        "# the differences of mass where the design differs from it), computed from the"
+    );
+    let _ = writeln!(
+        o,
+        "# design's dimensions and densities as OpenRocket does. Not imported: appearance,"
+    );
+    let _ = writeln!(
+        o,
+        "# surface finish (the built-in drag model has no roughness), decals."
+    );
+    for w in cx.diags.iter().filter(|w| !w.is_error()) {
+        let _ = writeln!(o, "# Approximation: {}", comment_safe(&w.message));
+    }
+    let _ = writeln!(o);
+    let _ = writeln!(o, "import \"std/materials.vdl\"");
+    let _ = writeln!(o);
+    o.push_str(&body_mat.block);
+    let _ = writeln!(o);
+    if let Some(fm) = &fin_mat {
+        if fm.ident != body_mat.ident {
+            o.push_str(&fm.block);
+            let _ = writeln!(o);
+        }
+    }
+    let elements = ((length / (2.0 * r)).round() as i64).clamp(10, 40);
+    let _ = writeln!(o, "vehicle {vname} {{");
+    let _ = writeln!(o, "  material = {}", body_mat.ident);
+    let _ = writeln!(o, "  origin = node(1)");
+    let _ = writeln!(o);
+    let _ = writeln!(o, "  structure {{");
+    let _ = writeln!(o, "    generate {{");
+    let _ = writeln!(
+        o,
+        "      # `{}` and {} body tube(s) ({}).",
+        comment_safe(&d.nose.name),
+        d.tubes.len(),
+        d.tubes
+            .iter()
+            .map(|t| comment_safe(&t.name))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let _ = writeln!(o, "      body {{");
+    let _ = writeln!(o, "        length = {}", mm(length));
+    let _ = writeln!(o, "        diameter = {}", mm(2.0 * r));
+    let _ = writeln!(o, "        wall = {}", mm(t_b));
+    let _ = writeln!(
+        o,
+        "        nose_length = {} # {} in the design",
+        mm(ln),
+        d.nose.shape.describe()
+    );
+    let _ = writeln!(o, "        elements = {elements}");
+    let _ = writeln!(o, "        theory = euler_bernoulli");
+    let _ = writeln!(o, "      }}");
+    let _ = writeln!(o);
+    let _ = writeln!(o, "      fin_mesh {{");
+    let _ = writeln!(o, "        span_elements = 4");
+    let _ = writeln!(o, "        chord_elements = 6");
+    let _ = writeln!(o, "      }}");
+    let mut used = std::collections::BTreeSet::new();
+    for m in &masses {
+        if m.mass <= 0.0 {
+            let _ = writeln!(o);
+            let _ = writeln!(
+                o,
+                "      # `{}` ({}): no mass.",
+                comment_safe(&m.name),
+                comment_safe(&m.note)
+            );
+            continue;
+        }
+        let mut id = ident(&m.name);
+        let base = id.clone();
+        let mut k = 2;
+        while !used.insert(id.clone()) {
+            id = format!("{base}_{k}");
+            k += 1;
+        }
+        let _ = writeln!(o);
+        let _ = writeln!(
+            o,
+            "      # `{}`: {}.",
+            comment_safe(&m.name),
+            comment_safe(&m.note)
+        );
+        if m.s1 - m.s0 > 1e-4 {
+            let _ = writeln!(o, "      distributed_mass {id} {{");
+            let _ = writeln!(o, "        from = {} m", f(-m.s0, 5));
+            let _ = writeln!(o, "        to = {} m", f(-m.s1, 5));
+            let _ = writeln!(o, "        mass = {} kg", f(m.mass, 6));
+        } else {
+            let _ = writeln!(o, "      point_mass {id} {{");
+            let _ = writeln!(o, "        position = ({}, 0, 0) m", f(-m.s0, 5));
+            let _ = writeln!(o, "        mass = {} kg", f(m.mass, 6));
+        }
+        let _ = writeln!(o, "      }}");
+    }
+    let _ = writeln!(o, "    }}");
+    let _ = writeln!(o, "  }}");
+    let _ = writeln!(o);
+    let _ = writeln!(
+        o,
+        "  # `{}`: {} trapezoidal fins, leading-edge sweep {} over the span.",
+        comment_safe(&fins.name),
+        fins.count,
+        mm(fins.sweep)
+    );
+    let _ = writeln!(o, "  fins {{");
+    let _ = writeln!(o, "    count = {}", fins.count);
+    let _ = writeln!(o, "    span = {}", mm(fins.span));
+    let _ = writeln!(o, "    root_chord = {}", mm(fins.root));
+    let _ = writeln!(o, "    tip_chord = {}", mm(fins.tip));
+    let _ = writeln!(
+        o,
+        "    leading_edge_sweep = {} deg",
+        f(fins.sweep.atan2(fins.span).to_degrees(), 4)
+    );
+    let _ = writeln!(o, "    thickness = {}", mm(fins.thickness));
+    let _ = writeln!(o, "    cant = {} deg", f(fins.cant, 4));
+    let _ = writeln!(
+        o,
+        "    root_trailing_edge = {} m",
+        f(-(fins.root_le + fins.root), 5)
+    );
+    if let Some(fm) = &fin_mat {
+        let _ = writeln!(o, "    material = {}", fm.ident);
+    }
+    let _ = writeln!(o, "  }}");
+    // The vehicle flies the default configuration's motor (else the first).
+    let default = d
+        .default_config
+        .as_ref()
+        .and_then(|c| motor_for.iter().find(|(k, _, _)| k == c))
+        .or(motor_for.first());
+    let mut files: Vec<(String, String)> = Vec::new();
+    if let Some((_, e, rf)) = default {
+        let _ = writeln!(o);
+        let _ = writeln!(
+            o,
+            "  # {} {} of the default configuration ({}): its nozzle exit {} aft of the mount's end.",
+            rf.manufacturer.as_deref().unwrap_or(""),
+            rf.designation,
+            e.describe(),
+            mm(mount.map_or(0.0, |m| m.overhang))
+        );
+        let _ = writeln!(o, "  motor {} {{", ident(&rf.designation));
+        let _ = writeln!(o, "    curve = \"{}\"", e.file);
+        let _ = writeln!(o, "    position = ({}, 0, 0) m", f(-aft, 5));
+        let _ = writeln!(
+            o,
+            "    length = {}",
+            mm(e.curve.length.or(rf.length).unwrap_or(0.07))
+        );
+        let _ = writeln!(
+            o,
+            "    diameter = {}",
+            mm(e.curve.diameter.or(rf.diameter).unwrap_or(0.018))
+        );
+        let _ = writeln!(o, "  }}");
+    }
+    for (_, e, _) in &motor_for {
+        if !files.iter().any(|(n, _)| n == &e.file) {
+            files.push((e.file.clone(), e.text.clone()));
+        }
+    }
+    let _ = writeln!(o);
+    let _ = writeln!(o, "  key_nodes {{");
+    let _ = writeln!(
+        o,
+        "    body = nearest(({}, 0, 0) m) # the estimated dry centre of mass",
+        f(-cg, 4)
+    );
+    let _ = writeln!(o, "    nozzle = nearest(({}, 0, 0) m)", f(-length, 5));
+    let _ = writeln!(o, "    fins = fin_point(span = 0.5, chord = 0.25)");
+    let _ = writeln!(o, "  }}");
+    let _ = writeln!(o);
+    let _ = writeln!(o, "  modes {{");
+    let _ = writeln!(o, "    body_bending = 2");
+    let _ = writeln!(o, "    fin_flap = per_fin");
+    let _ = writeln!(o, "    fin_twist = per_fin");
+    let _ = writeln!(o, "    fixity = origin");
+    let _ = writeln!(
+        o,
+        "    damping = 0.02 # assumption: 2 % of critical; the design says nothing"
+    );
+    let _ = writeln!(o, "  }}");
+    let _ = writeln!(o);
+    let _ = writeln!(o, "  aero {{");
+    let _ = writeln!(o, "    source = builtin");
+    let _ = writeln!(o, "    reference_length = {}", mm(2.0 * r));
+    let _ = writeln!(
+        o,
+        "    reference_point = ({}, 0, 0) m # the estimated dry centre of mass",
+        f(-cg, 4)
+    );
+    let _ = writeln!(o, "  }}");
+    let _ = writeln!(o);
+    let _ = writeln!(o, "  forces {{");
+    let _ = writeln!(o, "    gravity {{");
+    let _ = writeln!(o, "      altitude_correction = true");
+    let _ = writeln!(o, "    }}");
+    let _ = writeln!(o);
+    let _ = writeln!(o, "    body_aero {{");
+    let _ = writeln!(o, "      rate_terms = true");
+    let _ = writeln!(o, "    }}");
+    let _ = writeln!(o);
+    let _ = writeln!(o, "    fin_aero {{");
+    let _ = writeln!(o, "      distribution = theory");
+    let _ = writeln!(o, "      leeward_reduction = true");
+    let _ = writeln!(o, "    }}");
+    let _ = writeln!(o, "  }}");
+    let _ = writeln!(o, "}}");
+
+    // Scenarios.
+    let mut snames = std::collections::BTreeSet::new();
+    let sims: Vec<super::Simulation> = if d.simulations.is_empty() {
+        vec![super::Simulation {
+            name: "flight".into(),
+            config: d.default_config.clone(),
+            rod_length: 1.0,
+            rod_angle: 0.0,
+            rod_direction: 90.0,
+            wind_speed: 0.0,
+            wind_turbulence: 0.0,
+            wind_direction: 0.0,
+            into_wind: false,
+            site_altitude: 0.0,
+            max_time: 1200.0,
+            apogee: None,
+            max_velocity: None,
+            time_to_apogee: None,
+            status: String::new(),
+        }]
+    } else {
+        d.simulations.clone()
+    };
+    for s in &sims {
+        let mut id = ident(&s.name);
+        let base = id.clone();
+        let mut k = 2;
+        while !snames.insert(id.clone()) || id == vname {
+            id = format!("{base}_{k}");
+            k += 1;
+        }
+        let motor = s
+            .config
+            .as_ref()
+            .and_then(|c| motor_for.iter().find(|(k, _, _)| k == c))
+            .or(default);
+        let Some((_, e, rf)) = motor else { continue };
+        let _ = writeln!(o);
+        let _ = writeln!(
+            o,
+            "# OpenRocket simulation `{}` ({}), {} {}.",
+            comment_safe(&s.name),
+            if s.status.is_empty() {
+                "no status"
+            } else {
+                &s.status
+            },
+            rf.manufacturer.as_deref().unwrap_or(""),
+            rf.designation
+        );
+        if let (Some(a), Some(v), Some(t)) = (s.apogee, s.max_velocity, s.time_to_apogee) {
+            let _ = writeln!(
+                o,
+                "# OpenRocket's stored result: apogee {a} m, max velocity {v} m/s, time to apogee {t} s."
+            );
+        }
+        if s.into_wind {
+            let _ = writeln!(
+                o,
+                "# OpenRocket launched into the wind (`launchintowind`); here the rail points as the file says."
+            );
+        }
+        if s.wind_turbulence > 0.0 {
+            let _ = writeln!(
+                o,
+                "# The wind's turbulence intensity ({} %) is not imported: a steady wind.",
+                f(100.0 * s.wind_turbulence, 2)
+            );
+        }
+        let _ = writeln!(o, "scenario {id} {{");
+        let _ = writeln!(o, "  vehicle = {vname}");
+        let same = default.is_some_and(|(_, de, _)| de.file == e.file);
+        if !same {
+            let _ = writeln!(o, "  with {{");
+            let _ = writeln!(o, "    motor.curve = \"{}\"", e.file);
+            let _ = writeln!(
+                o,
+                "    motor.length = {}",
+                mm(e.curve.length.or(rf.length).unwrap_or(0.07))
+            );
+            let _ = writeln!(
+                o,
+                "    motor.diameter = {}",
+                mm(e.curve.diameter.or(rf.diameter).unwrap_or(0.018))
+            );
+            let _ = writeln!(o, "  }}");
+        }
+        let _ = writeln!(o);
+        let _ = writeln!(o, "  launch {{");
+        let _ = writeln!(o, "    site_altitude = {} m", f(s.site_altitude, 3));
+        let _ = writeln!(o, "    rail_length = {} m", f(s.rod_length, 4));
+        let _ = writeln!(o, "    elevation = {} deg", f(90.0 - s.rod_angle, 4));
+        let _ = writeln!(
+            o,
+            "    heading = {} deg",
+            f(s.rod_direction.rem_euclid(360.0), 4)
+        );
+        let _ = writeln!(o, "  }}");
+        if s.wind_speed > 0.0 {
+            let _ = writeln!(o);
+            let _ = writeln!(
+                o,
+                "  # OpenRocket's average wind; its direction as the file stores it ({} rad).",
+                f(s.wind_direction, 6)
+            );
+            let _ = writeln!(o, "  wind {{");
+            let _ = writeln!(o, "    speed = {} m/s", f(s.wind_speed, 4));
+            let _ = writeln!(
+                o,
+                "    direction = {} deg",
+                f(s.wind_direction.to_degrees().rem_euclid(360.0), 3)
+            );
+            let _ = writeln!(o, "  }}");
+        }
+        for rcv in &d.recovery {
+            let trigger = match rcv.deploy {
+                Deploy::Apogee => "apogee".to_string(),
+                Deploy::Altitude(h) => format!("altitude({} m)", f(h, 3)),
+                Deploy::Ejection => match rf.delay {
+                    Some(delay) => format!("time({} s)", f(e.curve.burn_time() + delay, 4)),
+                    None => {
+                        cx.diags.push(Diagnostic::warning(
+                            "import::approximation",
+                            format!("parachute `{}` opens at the ejection charge of {}, which is plugged: it never opens in scenario `{id}`", rcv.name, rf.designation),
+                        ));
+                        continue;
+                    }
+                },
+                Deploy::Never => continue,
+            };
+            let _ = writeln!(o);
+            let why = match rcv.deploy {
+                Deploy::Ejection => format!(
+                    "at the ejection charge: burnout {} s + delay {} s",
+                    f(e.curve.burn_time(), 4),
+                    f(rf.delay.unwrap_or(0.0), 3)
+                ),
+                _ => "as the design says".into(),
+            };
+            let _ = writeln!(
+                o,
+                "  # `{}`: CD {}{} x {} m^2; opens {why}.",
+                comment_safe(&rcv.name),
+                f(rcv.cd, 4),
+                if rcv.cd_auto {
+                    " (OpenRocket's automatic value)"
+                } else {
+                    ""
+                },
+                f(rcv.area, 6)
+            );
+            let _ = writeln!(o, "  parachute {} {{", ident(&rcv.name));
+            let _ = writeln!(o, "    cd_area = {} m^2", f(rcv.cd * rcv.area, 6));
+            let _ = writeln!(o, "    trigger = {trigger}");
+            if rcv.delay > 0.0 {
+                let _ = writeln!(o, "    lag = {} s", f(rcv.delay, 4));
+            }
+            let _ = writeln!(o, "  }}");
+        }
+        let _ = writeln!(o);
+        let _ = writeln!(o, "  run {{");
+        let _ = writeln!(
+            o,
+            "    stop_time = {} s # OpenRocket's maximum simulation time",
+            f(s.max_time, 3)
+        );
+        let _ = writeln!(o, "  }}");
+        let _ = writeln!(o, "}}");
+    }
+    Some((o, files))
+}
+
+#[allow(clippy::too_many_arguments)]
+fn add_difference(
+    cx: &mut Cx,
+    masses: &mut Vec<MassItem>,
+    name: &str,
+    mt: f64,
+    xt: f64,
+    mg: f64,
+    xg: f64,
+    range: (f64, f64),
+    notes: &mut Vec<String>,
+) {
+    let dm = mt - mg;
+    if dm.abs() < 1e-7 {
+        return;
+    }
+    if dm < 0.0 {
+        cx.diags.push(Diagnostic::warning(
+            "import::approximation",
+            format!(
+                "`{name}`: the generated structure is {} g heavier than the design here ({} g against {} g); a negative mass cannot be added",
+                f(-dm * 1e3, 3),
+                f(mg * 1e3, 3),
+                f(mt * 1e3, 3)
+            ),
+        ));
+        return;
+    }
+    let x = ((mt * xt - mg * xg) / dm).clamp(range.0, range.1);
+    notes.push(format!(
+        "`{name}`: {} g added at {} m (true {} g at {} m, generated {} g at {} m)",
+        f(dm * 1e3, 3),
+        f(x, 4),
+        f(mt * 1e3, 3),
+        f(xt, 4),
+        f(mg * 1e3, 3),
+        f(xg, 4)
+    ));
+    masses.push(MassItem {
+        name: name.to_string(),
+        mass: dm,
+        s0: x,
+        s1: x,
+        note: "mass difference, true minus generated (restores mass and centre of mass)".into(),
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn identifiers_are_valid_vdl_names() {
+        assert_eq!(ident("Nose cone"), "nose_cone");
+        assert_eq!(
+            ident("Elliptical 12-Gore 42\" Parachute"),
+            "elliptical_12_gore_42_parachute"
+        );
+        assert_eq!(ident("3D fins"), "c_3d_fins");
+        assert_eq!(ident("---"), "c_");
+    }
+
+    #[test]
+    fn the_std_map_reads_the_embedded_library() {
+        for (_, std) in MATERIAL_MAP {
+            let (e, nu) = std_elastic(std).unwrap_or_else(|| panic!("{std} in std/materials.vdl"));
+            assert!(e > 1e9 && nu > 0.0 && nu < 0.5);
+        }
+    }
+}

@@ -1,0 +1,1349 @@
+//! `flexflight import`: an OpenRocket design (`.ork`: plain XML, gzip or ZIP) becomes a
+//! commented vehicle file with a scenario per stored simulation.
+//!
+//! Pipeline: [`container::decode`] -> XML (roxmltree, byte ranges kept so that every
+//! diagnostic points at its element's line and column) -> [`Design`] (the components the
+//! vehicle language can say, in metres from the nose tip) -> text ([`emit`]).
+//!
+//! What the language cannot say is a diagnostic naming the component: an error where the
+//! flight would be a different rocket (a second stage, a transition or a second diameter, a
+//! non-trapezoidal fin set, an assembly mass override, a material without stiffness, a motor
+//! not in the catalogue), a warning where the rocket is kept and one property is approximated
+//! (a nose shape other than a cone generated as a cone with its exact mass restored, a launch
+//! lug's or rail button's drag, a fin cross-section). Nothing is written on an error.
+//!
+//! Masses: OpenRocket stores densities and dimensions and computes masses; so does this
+//! importer, with OpenRocket's formulas (component classes under
+//! core/src/main/java/info/openrocket/core/rocketcomponent/, read at commit 8fa969d8): tubes
+//! and rings pi (r_o^2 - r_i^2) L rho, parachutes canopy area pi d^2/4 times the surface
+//! density plus line count x line length x line density, shock cords length x line density.
+//! A mass override replaces the component's own mass (and a CG override its centre), and the
+//! comment says so.
+
+pub mod catalogue;
+pub mod container;
+pub mod emit;
+pub mod shapes;
+
+use std::path::{Path, PathBuf};
+
+use roxmltree::Node;
+
+use crate::diagnostics::Diagnostic;
+use crate::syntax::{FileId, SourceMap, Span};
+
+use shapes::NoseShape;
+
+/// Import options.
+#[derive(Clone, Debug, Default)]
+pub struct Options {
+    /// Directories searched for `.eng` thrust curves before the bundled catalogue.
+    pub motor_dirs: Vec<PathBuf>,
+    /// Elastic constants for materials the standard library does not map.
+    pub materials: Vec<GivenMaterial>,
+}
+
+/// `--material 'NAME=E,nu'`: the stiffness of an OpenRocket material, by its name.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GivenMaterial {
+    pub name: String,
+    /// Young's modulus, Pa.
+    pub e: f64,
+    pub nu: f64,
+}
+
+impl GivenMaterial {
+    /// Parses `NAME=E,nu` with E in GPa or MPa (`Cardboard=2.5 GPa,0.3`).
+    pub fn parse(s: &str) -> Result<GivenMaterial, String> {
+        let (name, rest) = s
+            .rsplit_once('=')
+            .ok_or_else(|| format!("`{s}`: expected NAME=E,nu (e.g. 'Cardboard=2.5 GPa,0.3')"))?;
+        let (e, nu) = rest
+            .split_once(',')
+            .ok_or_else(|| format!("`{s}`: expected NAME=E,nu (e.g. 'Cardboard=2.5 GPa,0.3')"))?;
+        let e = e.trim();
+        let (num, scale) = if let Some(v) = e.strip_suffix("GPa") {
+            (v, 1e9)
+        } else if let Some(v) = e.strip_suffix("MPa") {
+            (v, 1e6)
+        } else {
+            return Err(format!("`{e}`: give E with its unit, GPa or MPa"));
+        };
+        let e: f64 = num
+            .trim()
+            .parse()
+            .map_err(|_| format!("`{num}` is not a number"))?;
+        let nu: f64 = nu
+            .trim()
+            .parse()
+            .map_err(|_| format!("`{nu}` is not a number"))?;
+        if !(e.is_finite() && e > 0.0 && nu > 0.0 && nu < 0.5) {
+            return Err(format!("`{s}`: need E > 0 and 0 < nu < 0.5"));
+        }
+        Ok(GivenMaterial {
+            name: name.trim().to_string(),
+            e: e * scale,
+            nu,
+        })
+    }
+}
+
+/// A successful import.
+#[derive(Debug)]
+pub struct Imported {
+    /// The vehicle file's text.
+    pub vdl: String,
+    /// Thrust curves to write beside it: (file name, text).
+    pub motors: Vec<(String, String)>,
+    /// Warnings (approximations), also written as comments in the file.
+    pub warnings: Vec<Diagnostic>,
+}
+
+/// Reads `path` and builds the vehicle file. The design text is added to `sources` so that
+/// the diagnostics render with their line and column.
+pub fn import_design(
+    path: &Path,
+    opts: &Options,
+    sources: &mut SourceMap,
+) -> Result<Imported, Vec<Diagnostic>> {
+    let bytes = match std::fs::read(path) {
+        Ok(b) => b,
+        Err(e) => {
+            return Err(vec![
+                Diagnostic::error(
+                    "import::read",
+                    format!("cannot read {}: {e}", path.display()),
+                )
+                .with_help("give the path of an OpenRocket .ork file"),
+            ]);
+        }
+    };
+    let (xml, entry) = match container::decode(&bytes) {
+        Ok(x) => x,
+        Err(e) => {
+            let id = sources.add(path.to_path_buf(), path.display().to_string(), "");
+            return Err(vec![
+                Diagnostic::error("import::container", format!("{}: {}", path.display(), e.0))
+                    .label(Span::new(id, 0, 0), "in this file"),
+            ]);
+        }
+    };
+    let name = match &entry {
+        Some(e) => format!("{} ({e})", path.display()),
+        None => path.display().to_string(),
+    };
+    let file = sources.add(path.to_path_buf(), name, xml.as_str());
+    let doc = match roxmltree::Document::parse(&xml) {
+        Ok(d) => d,
+        Err(e) => {
+            let pos = e.pos();
+            let off = offset_of(&xml, pos.row as usize, pos.col as usize);
+            return Err(vec![
+                Diagnostic::error(
+                    "import::xml",
+                    format!("the design is not well-formed XML: {e}"),
+                )
+                .label(Span::new(file, off, off), "here")
+                .with_help("the file may be truncated or corrupt"),
+            ]);
+        }
+    };
+    let mut cx = Cx {
+        file,
+        text: &xml,
+        diags: Vec::new(),
+    };
+    let design = read_design(&mut cx, &doc, path);
+    if cx.diags.iter().any(Diagnostic::is_error) {
+        return Err(cx.diags);
+    }
+    let Some(design) = design else {
+        return Err(cx.diags);
+    };
+    let catalogue = catalogue::load(&opts.motor_dirs);
+    let out = emit::emit(&mut cx, &design, opts, &catalogue);
+    if cx.diags.iter().any(Diagnostic::is_error) {
+        return Err(cx.diags);
+    }
+    let (vdl, motors) = out.ok_or_else(|| cx.diags.clone())?;
+    Ok(Imported {
+        vdl,
+        motors,
+        warnings: cx.diags,
+    })
+}
+
+fn offset_of(text: &str, row: usize, col: usize) -> usize {
+    let mut off = 0;
+    for (i, line) in text.split_inclusive('\n').enumerate() {
+        if i + 1 == row {
+            let c = line
+                .char_indices()
+                .nth(col.saturating_sub(1))
+                .map_or(line.len(), |(b, _)| b);
+            return (off + c).min(text.len());
+        }
+        off += line.len();
+    }
+    text.len()
+}
+
+pub(crate) struct Cx<'a> {
+    file: FileId,
+    text: &'a str,
+    pub(crate) diags: Vec<Diagnostic>,
+}
+
+impl Cx<'_> {
+    /// The span of an element's start tag.
+    pub(crate) fn span(&self, n: Node) -> Span {
+        let r = n.range();
+        let end = self.text[r.start..r.end]
+            .find('>')
+            .map_or(r.end, |i| r.start + i + 1);
+        Span::new(self.file, r.start, end)
+    }
+
+    pub(crate) fn error(&mut self, code: &'static str, n: Node, msg: String, label: &str) {
+        let d = Diagnostic::error(code, msg).label(self.span(n), label);
+        self.diags.push(d);
+    }
+
+    pub(crate) fn warn(&mut self, n: Node, msg: String) {
+        let d = Diagnostic::warning("import::approximation", msg).label(self.span(n), "here");
+        self.diags.push(d);
+    }
+}
+
+/// A material as OpenRocket stores it: a name and a density (bulk kg/m^3, surface kg/m^2,
+/// line kg/m).
+#[derive(Clone, Debug, PartialEq)]
+pub struct OrMaterial {
+    pub name: String,
+    pub density: f64,
+    /// Where it is first used (for the diagnostic asking for its stiffness).
+    pub at: Span,
+}
+
+/// A mass the generated structure does not contain: point or distributed along [s0, s1]
+/// (metres aft of the nose tip).
+#[derive(Clone, Debug)]
+pub struct MassItem {
+    pub name: String,
+    pub mass: f64,
+    pub s0: f64,
+    pub s1: f64,
+    /// Why it is there (component kind, override, correction), for the comment.
+    pub note: String,
+}
+
+#[derive(Clone, Debug)]
+pub struct Nose {
+    pub name: String,
+    pub shape: NoseShape,
+    pub length: f64,
+    pub radius: f64,
+    pub thickness: f64,
+    pub filled: bool,
+    pub material: OrMaterial,
+    pub override_mass: Option<f64>,
+    pub override_cg: Option<f64>,
+}
+
+#[derive(Clone, Debug)]
+pub struct Tube {
+    pub name: String,
+    pub top: f64,
+    pub length: f64,
+    pub radius: f64,
+    pub thickness: f64,
+    pub material: OrMaterial,
+    pub override_mass: Option<f64>,
+}
+
+#[derive(Clone, Debug)]
+pub struct FinSet {
+    pub name: String,
+    pub count: u32,
+    pub root: f64,
+    pub tip: f64,
+    pub span: f64,
+    /// Leading-edge sweep distance, m.
+    pub sweep: f64,
+    pub thickness: f64,
+    /// Degrees.
+    pub cant: f64,
+    /// Leading edge of the root, metres aft of the tip.
+    pub root_le: f64,
+    pub material: OrMaterial,
+    pub override_mass: Option<f64>,
+}
+
+#[derive(Clone, Debug)]
+pub struct MotorRef {
+    pub config: String,
+    pub designation: String,
+    pub manufacturer: Option<String>,
+    /// Ejection delay, s (`None`: plugged).
+    pub delay: Option<f64>,
+    pub length: Option<f64>,
+    pub diameter: Option<f64>,
+    pub at: Span,
+}
+
+#[derive(Clone, Debug)]
+pub struct Mount {
+    pub name: String,
+    /// Aft end of the mount tube, metres aft of the tip.
+    pub aft: f64,
+    pub overhang: f64,
+    pub motors: Vec<MotorRef>,
+}
+
+#[derive(Clone, Debug)]
+pub enum Deploy {
+    Apogee,
+    /// Altitude on the way down, m.
+    Altitude(f64),
+    /// At the motor's ejection charge (burnout + delay).
+    Ejection,
+    Never,
+}
+
+#[derive(Clone, Debug)]
+pub struct Recovery {
+    pub name: String,
+    pub cd: f64,
+    pub cd_auto: bool,
+    pub area: f64,
+    pub deploy: Deploy,
+    pub delay: f64,
+}
+
+#[derive(Clone, Debug)]
+pub struct Simulation {
+    pub name: String,
+    pub config: Option<String>,
+    pub rod_length: f64,
+    pub rod_angle: f64,
+    pub rod_direction: f64,
+    pub wind_speed: f64,
+    pub wind_turbulence: f64,
+    /// Radians, as OpenRocket stores it.
+    pub wind_direction: f64,
+    pub into_wind: bool,
+    pub site_altitude: f64,
+    pub max_time: f64,
+    pub apogee: Option<f64>,
+    pub max_velocity: Option<f64>,
+    pub time_to_apogee: Option<f64>,
+    pub status: String,
+}
+
+/// Everything the importer read, in metres from the nose tip.
+#[derive(Clone, Debug)]
+pub struct Design {
+    pub file: PathBuf,
+    pub name: String,
+    pub designer: Option<String>,
+    pub version: String,
+    pub creator: Option<String>,
+    pub nose: Nose,
+    pub tubes: Vec<Tube>,
+    pub fins: FinSet,
+    pub masses: Vec<MassItem>,
+    pub mount: Option<Mount>,
+    pub recovery: Vec<Recovery>,
+    pub simulations: Vec<Simulation>,
+    pub default_config: Option<String>,
+    pub configs: Vec<String>,
+    /// Notes for the file's header comment.
+    pub notes: Vec<String>,
+}
+
+impl Design {
+    pub fn length(&self) -> f64 {
+        self.tubes
+            .last()
+            .map_or(self.nose.length, |t| t.top + t.length)
+    }
+}
+
+fn child<'a, 'i>(n: Node<'a, 'i>, name: &str) -> Option<Node<'a, 'i>> {
+    n.children().find(|c| c.has_tag_name(name))
+}
+
+fn text_of<'a>(n: Node<'a, '_>, name: &str) -> Option<&'a str> {
+    child(n, name).and_then(|c| c.text()).map(str::trim)
+}
+
+/// A number field; `auto X` reads X; `auto` alone is `Ok(None)` as a missing field is.
+fn num(cx: &mut Cx, n: Node, name: &str) -> Result<Option<f64>, ()> {
+    let Some(c) = child(n, name) else {
+        return Ok(None);
+    };
+    let t = c.text().unwrap_or("").trim();
+    let t = t.strip_prefix("auto").map_or(t, str::trim);
+    if t.is_empty() {
+        return Ok(None);
+    }
+    match t.parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(Some(v)),
+        _ => {
+            cx.error(
+                "import::value",
+                c,
+                format!("`<{name}>` holds `{t}`, not a number"),
+                "not a number",
+            );
+            Err(())
+        }
+    }
+}
+
+fn req(cx: &mut Cx, n: Node, name: &str, what: &str) -> Option<f64> {
+    match num(cx, n, name) {
+        Ok(Some(v)) => Some(v),
+        Ok(None) => {
+            cx.error(
+                "import::value",
+                n,
+                format!("{what} has no `<{name}>`"),
+                "in this component",
+            );
+            None
+        }
+        Err(()) => None,
+    }
+}
+
+fn comp_name(n: Node) -> String {
+    text_of(n, "name")
+        .map(str::to_string)
+        .unwrap_or_else(|| n.tag_name().name().to_string())
+}
+
+fn material(cx: &mut Cx, n: Node, tag: &str) -> Option<OrMaterial> {
+    let m = child(n, tag)?;
+    let density = m
+        .attribute("density")
+        .and_then(|d| d.trim().parse::<f64>().ok());
+    let Some(density) = density.filter(|d| d.is_finite() && *d >= 0.0) else {
+        cx.error(
+            "import::value",
+            m,
+            format!("the material of `{}` has no valid density", comp_name(n)),
+            "no density",
+        );
+        return None;
+    };
+    Some(OrMaterial {
+        name: m.text().unwrap_or("").trim().to_string(),
+        density,
+        at: cx.span(m),
+    })
+}
+
+/// Placement of a child of length `own` in a parent spanning [top, top + len]: OpenRocket's
+/// `<axialoffset method=...>` (or the older `<position type=...>`).
+fn place(n: Node, top: f64, len: f64, own: f64) -> f64 {
+    let (method, off) = match child(n, "axialoffset").or_else(|| child(n, "position")) {
+        Some(p) => (
+            p.attribute("method")
+                .or_else(|| p.attribute("type"))
+                .unwrap_or("top")
+                .to_string(),
+            p.text()
+                .and_then(|t| t.trim().parse::<f64>().ok())
+                .unwrap_or(0.0),
+        ),
+        None => ("top".to_string(), 0.0),
+    };
+    match method.as_str() {
+        "middle" => top + (len - own) / 2.0 + off,
+        "bottom" => top + len - own + off,
+        "absolute" => off,
+        _ => top + off,
+    }
+}
+
+/// A mass override (own mass only). An override of the subcomponents' mass is an assembly
+/// override the generated structure cannot take: an error.
+fn override_mass(cx: &mut Cx, n: Node) -> Option<f64> {
+    let m = num(cx, n, "overridemass").ok().flatten()?;
+    if text_of(n, "overridesubcomponentsmass") == Some("true") {
+        cx.error(
+            "import::override",
+            n,
+            format!(
+                "`{}` overrides the mass of itself and its subcomponents ({m} kg): an assembly mass cannot be spread over the generated structure",
+                comp_name(n)
+            ),
+            "assembly override",
+        );
+        return None;
+    }
+    Some(m)
+}
+
+struct Parent {
+    top: f64,
+    length: f64,
+    inner_radius: f64,
+}
+
+struct Reader {
+    masses: Vec<MassItem>,
+    fins: Vec<FinSet>,
+    mounts: Vec<Mount>,
+    recovery: Vec<Recovery>,
+}
+
+fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<Design> {
+    let root = doc.root_element();
+    if root.has_tag_name("RockSimDocument") {
+        cx.error(
+            "import::format",
+            root,
+            "this is a RockSim design (.rkt); flexflight reads OpenRocket designs only for now"
+                .into(),
+            "RockSim document",
+        );
+        return None;
+    }
+    if !root.has_tag_name("openrocket") {
+        cx.error(
+            "import::format",
+            root,
+            format!(
+                "not an OpenRocket design: the root element is `<{}>`, expected `<openrocket>`",
+                root.tag_name().name()
+            ),
+            "root element",
+        );
+        return None;
+    }
+    let version = root.attribute("version").unwrap_or("?").to_string();
+    let creator = root.attribute("creator").map(str::to_string);
+    let Some(rocket) = child(root, "rocket") else {
+        cx.error(
+            "import::format",
+            root,
+            "the design has no `<rocket>`".into(),
+            "here",
+        );
+        return None;
+    };
+    let name = text_of(rocket, "name").unwrap_or("rocket").to_string();
+    let designer = text_of(rocket, "designer").map(str::to_string);
+    let configs: Vec<String> = rocket
+        .children()
+        .filter(|c| c.has_tag_name("motorconfiguration"))
+        .filter_map(|c| c.attribute("configid").map(str::to_string))
+        .collect();
+    let default_config = rocket
+        .children()
+        .filter(|c| c.has_tag_name("motorconfiguration"))
+        .find(|c| c.attribute("default") == Some("true"))
+        .and_then(|c| c.attribute("configid").map(str::to_string));
+    let Some(subs) = child(rocket, "subcomponents") else {
+        cx.error(
+            "import::format",
+            rocket,
+            "the rocket has no components".into(),
+            "here",
+        );
+        return None;
+    };
+    let stages: Vec<Node> = subs.children().filter(Node::is_element).collect();
+    for s in &stages {
+        if !s.has_tag_name("stage") {
+            cx.error(
+                "import::component",
+                *s,
+                format!(
+                    "unknown component `<{}>` at the rocket's top level",
+                    s.tag_name().name()
+                ),
+                "expected `<stage>`",
+            );
+        }
+    }
+    if stages.len() > 1 {
+        let names: Vec<String> = stages.iter().map(|s| comp_name(*s)).collect();
+        let mut d = Diagnostic::error(
+            "import::multistage",
+            format!(
+                "the design has {} stages ({}): flexflight flies single-stage vehicles for now",
+                stages.len(),
+                names.join(", ")
+            ),
+        );
+        for s in &stages {
+            d = d.label(cx.span(*s), format!("stage `{}`", comp_name(*s)));
+        }
+        cx.diags.push(d.with_help(
+            "remove the boosters in OpenRocket and import the sustainer alone, or model each stage as its own vehicle",
+        ));
+        return None;
+    }
+    let stage = *stages.first()?;
+    for n in [rocket, stage] {
+        if child(n, "overridemass").is_some() {
+            cx.error(
+                "import::override",
+                n,
+                format!("`{}` overrides the mass of the whole stage: an assembly mass cannot be spread over the generated structure", comp_name(n)),
+                "stage mass override",
+            );
+        }
+    }
+    let ext: Vec<Node> = child(stage, "subcomponents")
+        .map(|s| s.children().filter(Node::is_element).collect())
+        .unwrap_or_default();
+    let mut rd = Reader {
+        masses: Vec::new(),
+        fins: Vec::new(),
+        mounts: Vec::new(),
+        recovery: Vec::new(),
+    };
+    let mut notes = Vec::new();
+    let mut nose: Option<Nose> = None;
+    let mut tubes: Vec<Tube> = Vec::new();
+    let mut s = 0.0;
+    for (i, c) in ext.iter().enumerate() {
+        let tag = c.tag_name().name();
+        match tag {
+            "nosecone" if i == 0 => {
+                let nm = comp_name(*c);
+                let what = format!("nose cone `{nm}`");
+                let length = req(cx, *c, "length", &what);
+                // `<thickness>filled</thickness>`: a solid nose (OpenRocket's `filled`).
+                let solid = text_of(*c, "thickness") == Some("filled");
+                let thickness = if solid {
+                    Some(0.0)
+                } else {
+                    req(cx, *c, "thickness", &what)
+                };
+                let shape_s = text_of(*c, "shape").unwrap_or("conical");
+                let k = num(cx, *c, "shapeparameter").ok().flatten().unwrap_or(1.0);
+                let shape = NoseShape::from_ork(shape_s, k);
+                if shape.is_none() {
+                    cx.error(
+                        "import::value",
+                        *c,
+                        format!("{what}: unknown shape `{shape_s}`"),
+                        "unknown shape",
+                    );
+                }
+                let radius = num(cx, *c, "aftradius").ok().flatten();
+                let mat = material(cx, *c, "material");
+                let filled = solid || text_of(*c, "filled") == Some("true");
+                if text_of(*c, "isflipped") == Some("true") {
+                    cx.error(
+                        "import::unsupported",
+                        *c,
+                        format!("{what} is flipped (a tail cone): only a forward nose can be represented"),
+                        "flipped",
+                    );
+                }
+                let om = override_mass(cx, *c);
+                let ocg = num(cx, *c, "overridecg").ok().flatten();
+                if let (Some(length), Some(thickness), Some(shape), Some(mat)) =
+                    (length, thickness, shape, mat)
+                {
+                    // `auto` without a value: the next tube's radius, resolved below.
+                    nose = Some(Nose {
+                        name: nm,
+                        shape,
+                        length,
+                        radius: radius.unwrap_or(f64::NAN),
+                        thickness,
+                        filled,
+                        material: mat,
+                        override_mass: om,
+                        override_cg: ocg,
+                    });
+                    // Shoulder: a tube (and cap) inside the first body tube.
+                    let sl = num(cx, *c, "aftshoulderlength").ok().flatten().unwrap_or(0.0);
+                    let sr = num(cx, *c, "aftshoulderradius").ok().flatten().unwrap_or(0.0);
+                    let st = num(cx, *c, "aftshoulderthickness").ok().flatten().unwrap_or(0.0);
+                    if sl > 0.0 && sr > 0.0 && st > 0.0 {
+                        let rho = nose.as_ref().map_or(0.0, |n| n.material.density);
+                        let ri = (sr - st).max(0.0);
+                        let mut m = std::f64::consts::PI * (sr * sr - ri * ri) * sl * rho;
+                        if text_of(*c, "aftshouldercapped") == Some("true") {
+                            m += std::f64::consts::PI * ri * ri * st * rho;
+                        }
+                        rd.masses.push(MassItem {
+                            name: format!("{} shoulder", nose.as_ref().map_or("", |n| &n.name)),
+                            mass: m,
+                            s0: length,
+                            s1: length + sl,
+                            note: "nose-cone shoulder, a tube of the nose's material inside the body".into(),
+                        });
+                    }
+                    let nm2 = nose.as_ref().map(|n| n.name.clone()).unwrap_or_default();
+                    if let Some(subs) = child(*c, "subcomponents") {
+                        let p = Parent {
+                            top: 0.0,
+                            length,
+                            inner_radius: radius.unwrap_or(0.0) - thickness,
+                        };
+                        read_internal(cx, &mut rd, subs, &p, &nm2);
+                    }
+                    s = length;
+                }
+            }
+            "bodytube" => {
+                let nm = comp_name(*c);
+                let what = format!("body tube `{nm}`");
+                let length = req(cx, *c, "length", &what);
+                let thickness = req(cx, *c, "thickness", &what);
+                let radius = num(cx, *c, "radius").ok().flatten();
+                let mat = material(cx, *c, "material");
+                let om = override_mass(cx, *c);
+                if child(*c, "overridecg").is_some() {
+                    cx.warn(*c, format!("{what}: its CG override is not representable (the tube is generated uniform); its mass is kept"));
+                }
+                if let (Some(length), Some(thickness), Some(mat)) = (length, thickness, mat) {
+                    let radius = radius.unwrap_or(f64::NAN);
+                    if let Some(subs) = child(*c, "subcomponents") {
+                        let p = Parent {
+                            top: s,
+                            length,
+                            inner_radius: radius - thickness,
+                        };
+                        read_internal(cx, &mut rd, subs, &p, &nm);
+                    }
+                    if let Some(mm) = child(*c, "motormount") {
+                        read_mount(cx, &mut rd, mm, &nm, s + length);
+                    }
+                    tubes.push(Tube {
+                        name: nm,
+                        top: s,
+                        length,
+                        radius,
+                        thickness,
+                        material: mat,
+                        override_mass: om,
+                    });
+                    s += length;
+                }
+            }
+            "nosecone" => cx.error(
+                "import::unsupported",
+                *c,
+                format!("nose cone `{}` is not the first component: a second nose cannot be represented", comp_name(*c)),
+                "not first",
+            ),
+            "transition" => cx.error(
+                "import::unsupported",
+                *c,
+                format!("transition `{}` cannot be represented: the generated body has one diameter (transitions and boat tails are not in the language yet)", comp_name(*c)),
+                "transition",
+            ),
+            "podset" | "parallelstage" | "boosterset" => cx.error(
+                "import::unsupported",
+                *c,
+                format!("`{}` ({tag}) cannot be represented: pods and parallel boosters are not in the language", comp_name(*c)),
+                "not representable",
+            ),
+            _ => cx.error(
+                "import::component",
+                *c,
+                format!("unknown component `<{tag}>` (`{}`) on the stage", comp_name(*c)),
+                "unknown component",
+            ),
+        }
+    }
+    if cx.diags.iter().any(Diagnostic::is_error) {
+        return None;
+    }
+    let Some(mut nose) = nose else {
+        cx.error(
+            "import::unsupported",
+            stage,
+            "the design has no nose cone as its first component: the generated body starts with a nose".into(),
+            "this stage",
+        );
+        return None;
+    };
+    if tubes.is_empty() {
+        cx.error(
+            "import::unsupported",
+            stage,
+            "the design has no body tube".into(),
+            "this stage",
+        );
+        return None;
+    }
+    // Radii: `auto` resolves to the neighbour; all must agree (one diameter).
+    let r0 = tubes.iter().map(|t| t.radius).find(|r| r.is_finite());
+    let Some(r0) = r0.or(nose.radius.is_finite().then_some(nose.radius)) else {
+        cx.error(
+            "import::value",
+            stage,
+            "no component gives the body radius".into(),
+            "here",
+        );
+        return None;
+    };
+    if !nose.radius.is_finite() {
+        nose.radius = r0;
+    }
+    for t in &mut tubes {
+        if !t.radius.is_finite() {
+            t.radius = r0;
+        }
+    }
+    let tube_nodes: Vec<Node> = ext
+        .iter()
+        .copied()
+        .filter(|c| c.has_tag_name("bodytube"))
+        .collect();
+    for (t, n) in tubes.iter().zip(&tube_nodes) {
+        if (t.radius - r0).abs() > 1e-6 || (nose.radius - r0).abs() > 1e-6 {
+            cx.error(
+                "import::diameter",
+                *n,
+                format!(
+                    "body tube `{}` has radius {:.4} mm, the body {:.4} mm (nose {:.4} mm): the generated body has one diameter",
+                    t.name,
+                    t.radius * 1e3,
+                    r0 * 1e3,
+                    nose.radius * 1e3
+                ),
+                "another diameter",
+            );
+        }
+    }
+    let fins = match rd.fins.len() {
+        0 => {
+            cx.error(
+                "import::unsupported",
+                stage,
+                "the design has no trapezoidal fin set: flexflight's vehicles have one".into(),
+                "this stage",
+            );
+            None
+        }
+        1 => rd.fins.pop(),
+        _ => {
+            cx.error(
+                "import::unsupported",
+                stage,
+                format!(
+                    "the design has {} fin sets ({}): the language has one fin set for now",
+                    rd.fins.len(),
+                    rd.fins
+                        .iter()
+                        .map(|f| f.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+                "this stage",
+            );
+            None
+        }
+    };
+    if rd.mounts.len() > 1 {
+        cx.error(
+            "import::unsupported",
+            stage,
+            format!(
+                "the design has {} motor mounts ({}): one motor is represented",
+                rd.mounts.len(),
+                rd.mounts
+                    .iter()
+                    .map(|m| m.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+            "this stage",
+        );
+    }
+    let sims = read_simulations(cx, root);
+    if cx.diags.iter().any(Diagnostic::is_error) {
+        return None;
+    }
+    notes.push(format!(
+        "OpenRocket file format {version}{}",
+        creator
+            .as_deref()
+            .map(|c| format!(", written by {c}"))
+            .unwrap_or_default()
+    ));
+    Some(Design {
+        file: path.to_path_buf(),
+        name,
+        designer,
+        version,
+        creator,
+        nose,
+        tubes,
+        fins: fins?,
+        masses: rd.masses,
+        mount: rd.mounts.pop(),
+        recovery: rd.recovery,
+        simulations: sims,
+        default_config,
+        configs,
+        notes,
+    })
+}
+
+fn read_mount(cx: &mut Cx, rd: &mut Reader, mm: Node, name: &str, aft: f64) {
+    let overhang = num(cx, mm, "overhang").ok().flatten().unwrap_or(0.0);
+    let mut motors = Vec::new();
+    for m in mm.children().filter(|c| c.has_tag_name("motor")) {
+        let Some(designation) = text_of(m, "designation") else {
+            cx.error(
+                "import::value",
+                m,
+                "a motor without `<designation>`".into(),
+                "here",
+            );
+            continue;
+        };
+        motors.push(MotorRef {
+            config: m.attribute("configid").unwrap_or("").to_string(),
+            designation: designation.to_string(),
+            manufacturer: text_of(m, "manufacturer").map(str::to_string),
+            // `none`: a plugged motor (no ejection charge).
+            delay: if text_of(m, "delay") == Some("none") {
+                None
+            } else {
+                num(cx, m, "delay").ok().flatten()
+            },
+            length: num(cx, m, "length").ok().flatten(),
+            diameter: num(cx, m, "diameter").ok().flatten(),
+            at: cx.span(m),
+        });
+    }
+    if motors.is_empty() {
+        return;
+    }
+    rd.mounts.push(Mount {
+        name: name.to_string(),
+        aft,
+        overhang,
+        motors,
+    });
+}
+
+fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_name: &str) {
+    use std::f64::consts::PI;
+    // The largest inner-tube outer radius among the siblings: an `auto` centring ring's hole.
+    let mut tube_r = 0.0f64;
+    for c in subs.children().filter(|c| c.has_tag_name("innertube")) {
+        if let Ok(Some(r)) = num(cx, c, "outerradius") {
+            tube_r = tube_r.max(r);
+        }
+    }
+    for c in subs.children().filter(Node::is_element) {
+        let tag = c.tag_name().name();
+        let nm = comp_name(c);
+        let what = format!("{tag} `{nm}` (in `{parent_name}`)");
+        let push = |cx: &mut Cx, rd: &mut Reader, mass: f64, len: f64, note: &str| {
+            let top = place(c, p.top, p.length, len);
+            let om = override_mass(cx, c);
+            let (mass, note) = match om {
+                Some(m) => (m, format!("{note}; mass overridden in the design ({m} kg)")),
+                None => (mass, note.to_string()),
+            };
+            let (s0, s1) = match num(cx, c, "overridecg").ok().flatten() {
+                Some(cg) => (top + cg, top + cg),
+                None => (top, top + len),
+            };
+            let note = if child(c, "overridecg").is_some() {
+                format!("{note}; CG overridden in the design")
+            } else {
+                note
+            };
+            rd.masses.push(MassItem {
+                name: nm.clone(),
+                mass,
+                s0,
+                s1,
+                note,
+            });
+            top
+        };
+        match tag {
+            "masscomponent" => {
+                let m = req(cx, c, "mass", &what).unwrap_or(0.0);
+                let len = num(cx, c, "packedlength")
+                    .ok()
+                    .flatten()
+                    .or_else(|| num(cx, c, "length").ok().flatten())
+                    .unwrap_or(0.0);
+                push(cx, rd, m, len, "mass component");
+            }
+            "parachute" => {
+                let d = req(cx, c, "diameter", &what).unwrap_or(0.0);
+                let area = PI * d * d / 4.0;
+                let mat = material(cx, c, "material").map_or(0.0, |m| m.density);
+                let lc = num(cx, c, "linecount").ok().flatten().unwrap_or(0.0);
+                let ll = num(cx, c, "linelength").ok().flatten().unwrap_or(0.0);
+                let lm = material(cx, c, "linematerial").map_or(0.0, |m| m.density);
+                let m = area * mat + lc * ll * lm;
+                let len = num(cx, c, "packedlength").ok().flatten().unwrap_or(0.0);
+                push(cx, rd, m, len, "parachute (canopy and lines)");
+                let cd_text = text_of(c, "cd").unwrap_or("auto");
+                let cd_auto = cd_text.starts_with("auto");
+                // OpenRocket's automatic parachute CD is Parachute.DEFAULT_CD = 0.8.
+                let cd = if cd_auto {
+                    0.8
+                } else {
+                    num(cx, c, "cd").ok().flatten().unwrap_or(0.8)
+                };
+                let deploy = match text_of(c, "deployevent").unwrap_or("ejection") {
+                    "apogee" => Deploy::Apogee,
+                    "altitude" => Deploy::Altitude(
+                        num(cx, c, "deployaltitude").ok().flatten().unwrap_or(200.0),
+                    ),
+                    "ejection" => Deploy::Ejection,
+                    "never" => Deploy::Never,
+                    other => {
+                        cx.error(
+                            "import::unsupported",
+                            c,
+                            format!("{what}: deployment event `{other}` cannot be represented (apogee, altitude or the motor's ejection can)"),
+                            "deployment",
+                        );
+                        Deploy::Never
+                    }
+                };
+                rd.recovery.push(Recovery {
+                    name: nm.clone(),
+                    cd,
+                    cd_auto,
+                    area,
+                    deploy,
+                    delay: num(cx, c, "deploydelay").ok().flatten().unwrap_or(0.0),
+                });
+            }
+            "streamer" => {
+                let l = num(cx, c, "striplength").ok().flatten().unwrap_or(0.0);
+                let w = num(cx, c, "stripwidth").ok().flatten().unwrap_or(0.0);
+                let mat = material(cx, c, "material").map_or(0.0, |m| m.density);
+                let len = num(cx, c, "packedlength").ok().flatten().unwrap_or(0.0);
+                push(cx, rd, l * w * mat, len, "streamer");
+                cx.warn(c, format!("{what}: a streamer's drag is not represented (scenarios take parachutes); its mass is kept"));
+            }
+            "shockcord" => {
+                let l = num(cx, c, "cordlength").ok().flatten().unwrap_or(0.0);
+                let mat = material(cx, c, "material").map_or(0.0, |m| m.density);
+                let len = num(cx, c, "packedlength").ok().flatten().unwrap_or(0.0);
+                push(cx, rd, l * mat, len, "shock cord");
+            }
+            "innertube" | "tubecoupler" => {
+                let len = req(cx, c, "length", &what).unwrap_or(0.0);
+                let ro = num(cx, c, "outerradius")
+                    .ok()
+                    .flatten()
+                    .unwrap_or(p.inner_radius);
+                let t = req(cx, c, "thickness", &what).unwrap_or(0.0);
+                let rho = material(cx, c, "material").map_or(0.0, |m| m.density);
+                let ri = (ro - t).max(0.0);
+                let m = PI * (ro * ro - ri * ri) * len * rho;
+                if tag == "innertube" {
+                    if let Some(cl) = text_of(c, "clusterconfiguration") {
+                        if cl != "single" {
+                            cx.error(
+                                "import::unsupported",
+                                c,
+                                format!("{what}: a motor cluster (`{cl}`) cannot be represented: one motor on the axis can"),
+                                "cluster",
+                            );
+                        }
+                    }
+                }
+                let top = push(cx, rd, m, len, tag);
+                if let Some(mm) = child(c, "motormount") {
+                    read_mount(cx, rd, mm, &nm, top + len);
+                }
+                if let Some(s) = child(c, "subcomponents") {
+                    let q = Parent {
+                        top,
+                        length: len,
+                        inner_radius: ri,
+                    };
+                    read_internal(cx, rd, s, &q, &nm);
+                }
+            }
+            "centeringring" | "bulkhead" | "engineblock" => {
+                let len = req(cx, c, "length", &what).unwrap_or(0.0);
+                let ro = num(cx, c, "outerradius")
+                    .ok()
+                    .flatten()
+                    .unwrap_or(p.inner_radius);
+                let ri = match tag {
+                    "bulkhead" => 0.0,
+                    "engineblock" => {
+                        let t = num(cx, c, "thickness").ok().flatten().unwrap_or(ro);
+                        (ro - t).max(0.0)
+                    }
+                    _ => num(cx, c, "innerradius").ok().flatten().unwrap_or(tube_r),
+                };
+                let rho = material(cx, c, "material").map_or(0.0, |m| m.density);
+                let n = num(cx, c, "instancecount")
+                    .ok()
+                    .flatten()
+                    .unwrap_or(1.0)
+                    .max(1.0);
+                if n > 1.0 {
+                    cx.warn(c, format!("{what}: {n} instances are placed as one mass of all of them at the first one's place"));
+                }
+                let m = n * PI * (ro * ro - ri * ri).max(0.0) * len * rho;
+                push(cx, rd, m, len, tag);
+            }
+            "launchlug" => {
+                let len = req(cx, c, "length", &what).unwrap_or(0.0);
+                let r = req(cx, c, "radius", &what).unwrap_or(0.0);
+                let t = num(cx, c, "thickness").ok().flatten().unwrap_or(0.0);
+                let rho = material(cx, c, "material").map_or(0.0, |m| m.density);
+                let ri = (r - t).max(0.0);
+                let n = num(cx, c, "instancecount")
+                    .ok()
+                    .flatten()
+                    .unwrap_or(1.0)
+                    .max(1.0);
+                push(
+                    cx,
+                    rd,
+                    n * PI * (r * r - ri * ri) * len * rho,
+                    len,
+                    "launch lug (off-axis mass placed on the axis)",
+                );
+                cx.warn(
+                    c,
+                    format!("{what}: a launch lug's drag is not represented; its mass is kept"),
+                );
+            }
+            "railbutton" => {
+                let has = child(c, "overridemass").is_some();
+                push(cx, rd, 0.0, 0.0, "rail button");
+                if has {
+                    cx.warn(c, format!("{what}: a rail button's drag is not represented; its (overridden) mass is kept"));
+                } else {
+                    cx.warn(c, format!("{what}: a rail button's drag and mass are not represented (give its mass as an override in OpenRocket to keep it)"));
+                }
+            }
+            "trapezoidfinset" => {
+                let root = req(cx, c, "rootchord", &what);
+                let tip = req(cx, c, "tipchord", &what);
+                let span = req(cx, c, "height", &what);
+                let sweep = num(cx, c, "sweeplength").ok().flatten().unwrap_or(0.0);
+                let thick = req(cx, c, "thickness", &what);
+                let count = num(cx, c, "fincount")
+                    .ok()
+                    .flatten()
+                    .or_else(|| num(cx, c, "instancecount").ok().flatten());
+                let cant = num(cx, c, "cant").ok().flatten().unwrap_or(0.0);
+                let mat = material(cx, c, "material");
+                if let Some(x) = text_of(c, "crosssection") {
+                    if x != "square" {
+                        cx.warn(c, format!("{what}: its `{x}` cross-section is meshed and flown as a flat plate of the same thickness"));
+                    }
+                }
+                if num(cx, c, "filletradius").ok().flatten().unwrap_or(0.0) > 0.0 {
+                    cx.warn(c, format!("{what}: the root fillet is not represented"));
+                }
+                if num(cx, c, "tabheight").ok().flatten().unwrap_or(0.0) > 0.0
+                    && num(cx, c, "tablength").ok().flatten().unwrap_or(0.0) > 0.0
+                {
+                    cx.warn(
+                        c,
+                        format!("{what}: the fin tab (inside the body) is not represented"),
+                    );
+                }
+                let om = override_mass(cx, c);
+                if let (Some(root), Some(tip), Some(span), Some(thick), Some(mat)) =
+                    (root, tip, span, thick, mat)
+                {
+                    let Some(count) = count else {
+                        cx.error(
+                            "import::value",
+                            c,
+                            format!("{what} has no `<fincount>`"),
+                            "here",
+                        );
+                        continue;
+                    };
+                    let le = place(c, p.top, p.length, root);
+                    rd.fins.push(FinSet {
+                        name: nm.clone(),
+                        count: count.round().max(1.0) as u32,
+                        root,
+                        tip,
+                        span,
+                        sweep,
+                        thickness: thick,
+                        cant,
+                        root_le: le,
+                        material: mat,
+                        override_mass: om,
+                    });
+                }
+            }
+            "freeformfinset" => {
+                let pts: Vec<(f64, f64)> = child(c, "finpoints")
+                    .map(|fp| {
+                        fp.children()
+                            .filter(|q| q.has_tag_name("point"))
+                            .filter_map(|q| {
+                                Some((
+                                    q.attribute("x")?.trim().parse().ok()?,
+                                    q.attribute("y")?.trim().parse().ok()?,
+                                ))
+                            })
+                            .collect()
+                    })
+                    .unwrap_or_default();
+                match self_crossing(&pts) {
+                    Some((i, j)) => cx.error(
+                        "import::fin::crossing",
+                        c,
+                        format!(
+                            "{what}: the fin outline crosses itself (edges {i} and {j} of {})",
+                            pts.len()
+                        ),
+                        "self-crossing outline",
+                    ),
+                    None => cx.error(
+                        "import::unsupported",
+                        c,
+                        format!(
+                            "{what}: freeform fins cannot be represented yet (trapezoidal fins can)"
+                        ),
+                        "freeform fins",
+                    ),
+                }
+            }
+            "ellipticalfinset" | "tubefinset" => cx.error(
+                "import::unsupported",
+                c,
+                format!(
+                    "{what}: {} cannot be represented yet (trapezoidal fins can)",
+                    if tag == "tubefinset" {
+                        "tube fins"
+                    } else {
+                        "elliptical fins"
+                    }
+                ),
+                "not representable",
+            ),
+            "podset" | "parallelstage" | "boosterset" | "transition" | "bodytube" | "nosecone" => {
+                cx.error(
+                    "import::unsupported",
+                    c,
+                    format!("{what} cannot be represented inside another component"),
+                    "not representable",
+                )
+            }
+            _ => cx.error(
+                "import::component",
+                c,
+                format!("unknown component `<{tag}>` (`{nm}`) in `{parent_name}`"),
+                "unknown component",
+            ),
+        }
+    }
+}
+
+/// The first pair of non-adjacent edges of the closed polygon `pts` that intersect.
+pub fn self_crossing(pts: &[(f64, f64)]) -> Option<(usize, usize)> {
+    let n = pts.len();
+    if n < 4 {
+        return None;
+    }
+    let cross = |a: (f64, f64), b: (f64, f64), c: (f64, f64)| {
+        (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0)
+    };
+    for i in 0..n {
+        let (a, b) = (pts[i], pts[(i + 1) % n]);
+        for j in i + 2..n {
+            if i == 0 && j == n - 1 {
+                continue; // adjacent through the closing edge
+            }
+            let (c, d) = (pts[j], pts[(j + 1) % n]);
+            let (d1, d2) = (cross(a, b, c), cross(a, b, d));
+            let (d3, d4) = (cross(c, d, a), cross(c, d, b));
+            if d1 * d2 < 0.0 && d3 * d4 < 0.0 {
+                return Some((i + 1, j + 1));
+            }
+        }
+    }
+    None
+}
+
+fn read_simulations(cx: &mut Cx, root: Node) -> Vec<Simulation> {
+    let Some(sims) = child(root, "simulations") else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for s in sims.children().filter(|c| c.has_tag_name("simulation")) {
+        let Some(c) = child(s, "conditions") else {
+            continue;
+        };
+        let g = |cx: &mut Cx, name: &str, d: f64| num(cx, c, name).ok().flatten().unwrap_or(d);
+        let fd = child(s, "flightdata");
+        let fa = |k: &str| {
+            fd.and_then(|f| f.attribute(k))
+                .and_then(|v| v.parse::<f64>().ok())
+        };
+        let wind_dir = match num(cx, c, "winddirection").ok().flatten() {
+            Some(d) => d,
+            None => child(c, "wind")
+                .and_then(|w| text_of(w, "direction"))
+                .and_then(|t| t.parse().ok())
+                .unwrap_or(0.0),
+        };
+        out.push(Simulation {
+            name: text_of(s, "name").unwrap_or("simulation").to_string(),
+            config: text_of(c, "configid").map(str::to_string),
+            rod_length: g(cx, "launchrodlength", 1.0),
+            rod_angle: g(cx, "launchrodangle", 0.0),
+            rod_direction: g(cx, "launchroddirection", 90.0),
+            wind_speed: g(cx, "windaverage", 0.0),
+            wind_turbulence: g(cx, "windturbulence", 0.0),
+            wind_direction: wind_dir,
+            into_wind: text_of(c, "launchintowind") == Some("true"),
+            site_altitude: g(cx, "launchaltitude", 0.0),
+            max_time: g(cx, "maxtime", 1200.0),
+            apogee: fa("maxaltitude"),
+            max_velocity: fa("maxvelocity"),
+            time_to_apogee: fa("timetoapogee"),
+            status: s.attribute("status").unwrap_or("").to_string(),
+        });
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn given_materials_parse_and_refuse_nonsense() {
+        let m = GivenMaterial::parse("Plywood (birch)=12.4 GPa,0.3").unwrap();
+        assert_eq!(m.name, "Plywood (birch)");
+        assert!((m.e - 12.4e9).abs() < 1.0);
+        assert!(
+            GivenMaterial::parse("Cardboard=3,0.3").is_err(),
+            "unit required"
+        );
+        assert!(GivenMaterial::parse("Cardboard=3 GPa,0.6").is_err());
+        assert!(GivenMaterial::parse("Cardboard").is_err());
+    }
+
+    #[test]
+    fn a_bow_tie_outline_crosses_itself_and_a_trapezoid_does_not() {
+        let trap = [(0.0, 0.0), (0.02, 0.05), (0.06, 0.05), (0.08, 0.0)];
+        assert_eq!(self_crossing(&trap), None);
+        let bow = [(0.0, 0.0), (0.08, 0.05), (0.08, 0.0), (0.0, 0.05)];
+        assert!(self_crossing(&bow).is_some());
+    }
+}

@@ -1,0 +1,306 @@
+//! `flexflight import` end to end through the binary, on OpenRocket's own example designs
+//! (tests/import_designs/, provenance in its README): a design imports, the vehicle file it
+//! writes checks and flies; designs the language cannot say, and broken files, are
+//! diagnostics with a location, a non-zero exit and nothing written.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_flexflight"))
+}
+
+fn design(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/import_designs")
+        .join(name)
+}
+
+fn cache() -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join("import-test-cache")
+}
+
+/// The stiffness of the simple model rocket's materials. Test inputs, not reference values:
+/// the design says only densities, and the import must be told E and nu.
+const SIMPLE_MATERIALS: &[&str] = &["Cardboard=3 GPa,0.3", "Polystyrene=3 GPa,0.35"];
+
+fn import(design: &Path, out: &Path, extra: &[&str]) -> Output {
+    let mut c = bin();
+    c.arg("import").arg(design).arg("-o").arg(out);
+    for e in extra {
+        c.arg(e);
+    }
+    c.output().unwrap()
+}
+
+fn with_materials(m: &[&str]) -> Vec<String> {
+    m.iter()
+        .flat_map(|s| ["--material".to_string(), s.to_string()])
+        .collect()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn files_in(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn the_simple_model_rocket_imports_checks_and_flies() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("simple.vdl");
+    let args = with_materials(SIMPLE_MATERIALS);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = import(&design("simple_model_rocket.ork"), &out, &args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    // The ogive nose is said, and its mass restored; the motors are written beside.
+    assert!(stderr(&o).contains("tangent ogive"), "{}", stderr(&o));
+    assert!(text.contains("nose_cone_shape_and_material"), "{text}");
+    assert!(dir.path().join("Estes_C6.eng").exists());
+    assert!(dir.path().join("Estes_A8.eng").exists());
+    // One scenario per stored simulation, each with OpenRocket's result in a comment.
+    assert_eq!(text.matches("\nscenario ").count(), 5, "{text}");
+    assert!(
+        text.contains("OpenRocket's stored result: apogee 50.59 m"),
+        "{text}"
+    );
+
+    let c = bin().arg("check").arg(&out).output().unwrap();
+    assert!(c.status.success(), "check: {}\n{text}", stderr(&c));
+
+    let run_dir = dir.path().join("run");
+    let r = bin()
+        .args(["run"])
+        .arg(&out)
+        .args(["--scenario", "simulation_1", "--no-flutter-margin", "--out"])
+        .arg(&run_dir)
+        .arg("--cache-dir")
+        .arg(cache())
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "run: {}", stderr(&r));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run_dir.join("summary.json")).unwrap())
+            .unwrap();
+    let apogee = s["flight"]["apogee"]["altitude"].as_f64().unwrap();
+    eprintln!("simple model rocket, Estes A8: apogee {apogee} m (OpenRocket 50.59 m)");
+    // A flight, not a number: an A8 lifts this 40 g rocket tens of metres.
+    assert!(apogee > 20.0 && apogee < 120.0, "apogee {apogee}");
+}
+
+#[test]
+fn the_import_is_deterministic() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = with_materials(SIMPLE_MATERIALS);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let a = dir.path().join("a.vdl");
+    let b = dir.path().join("b.vdl");
+    assert!(
+        import(&design("simple_model_rocket.ork"), &a, &args)
+            .status
+            .success()
+    );
+    assert!(
+        import(&design("simple_model_rocket.ork"), &b, &args)
+            .status
+            .success()
+    );
+    let ta = std::fs::read_to_string(&a).unwrap();
+    let tb = std::fs::read_to_string(&b).unwrap();
+    assert_eq!(ta.replace("a.vdl", ""), tb.replace("b.vdl", ""));
+}
+
+#[test]
+fn a_material_without_stiffness_is_asked_for_and_nothing_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("simple.vdl");
+    let o = import(&design("simple_model_rocket.ork"), &out, &[]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("import::material") && e.contains("Cardboard"),
+        "{e}"
+    );
+    assert!(e.contains("--material"), "{e}");
+    assert!(
+        files_in(dir.path()).is_empty(),
+        "{:?}",
+        files_in(dir.path())
+    );
+}
+
+#[test]
+fn a_motor_not_in_the_catalogue_lists_candidates() {
+    // The chute-release design flies an AeroTech G40W in one of its simulations.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("chute.vdl");
+    let args = with_materials(&[
+        "Paper, spiral kraft glassine, Estes avg, bulk=3 GPa,0.3",
+        "Plywood (birch)=10 GPa,0.3",
+    ]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = import(&design("chute_release.ork"), &out, &args);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("import::motor::not_found") && e.contains("G40W"),
+        "{e}"
+    );
+    assert!(
+        e.contains("G80") && e.contains("G64"),
+        "lists the G class: {e}"
+    );
+    assert!(files_in(dir.path()).is_empty());
+}
+
+#[test]
+fn a_user_motor_directory_resolves_the_missing_motor() {
+    // The same design with a G40W curve in --motor-dir: the import goes through. The curve is
+    // a stand-in made for this test (the bundled G80 renamed), not motor data.
+    let dir = tempfile::tempdir().unwrap();
+    let motors = dir.path().join("motors");
+    std::fs::create_dir(&motors).unwrap();
+    let g80 = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("motors/AeroTech_G80.eng"),
+    )
+    .unwrap();
+    std::fs::write(motors.join("G40W.eng"), g80.replace("\nG80 ", "\nG40W ")).unwrap();
+    let out = dir.path().join("chute.vdl");
+    let mut args = with_materials(&[
+        "Paper, spiral kraft glassine, Estes avg, bulk=3 GPa,0.3",
+        "Plywood (birch)=10 GPa,0.3",
+        "Polystyrene, cast, bulk=3 GPa,0.35",
+    ]);
+    args.push("--motor-dir".into());
+    args.push(motors.display().to_string());
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = import(&design("chute_release.ork"), &out, &args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let c = bin().arg("check").arg(&out).output().unwrap();
+    assert!(
+        c.status.success(),
+        "check: {}\n{}",
+        stderr(&c),
+        std::fs::read_to_string(&out).unwrap()
+    );
+}
+
+#[test]
+fn designs_the_language_cannot_say_are_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.vdl");
+    let o = import(&design("two_stage_high_power_rocket.ork"), &out, &[]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = stderr(&o);
+    assert!(
+        e.contains("import::multistage") && e.contains("Booster"),
+        "{e}"
+    );
+    let o = import(&design("tube_fin_rocket.ork"), &out, &[]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = stderr(&o);
+    assert!(
+        e.contains("import::unsupported") && e.contains("tube fins"),
+        "{e}"
+    );
+    // The diagnostic points into the design: file and line.
+    assert!(e.contains("tube_fin_rocket.ork:"), "{e}");
+    assert!(files_in(dir.path()).is_empty());
+}
+
+/// A design XML with `body` as the stage's components (the simple rocket's structure,
+/// trimmed by hand), for the bad-input cases below.
+fn write_design(dir: &Path, name: &str, body: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(
+        &p,
+        format!(
+            "<?xml version='1.0' encoding='utf-8'?>\n<openrocket version=\"1.10\" creator=\"test\">\n<rocket><name>t</name>\n<subcomponents><stage><name>Sustainer</name>\n<subcomponents>\n{body}\n</subcomponents></stage></subcomponents></rocket>\n</openrocket>\n"
+        ),
+    )
+    .unwrap();
+    p
+}
+
+#[test]
+fn broken_designs_are_diagnostics_with_a_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out").join("x.vdl");
+    std::fs::create_dir(dir.path().join("out")).unwrap();
+    // Truncated ZIP and gzip containers.
+    for (name, src) in [
+        ("cut.ork", "simple_model_rocket.ork"),
+        ("cut_gz.ork", "chute_release.ork"),
+    ] {
+        let b = std::fs::read(design(src)).unwrap();
+        let p = dir.path().join(name);
+        std::fs::write(&p, &b[..b.len() / 2]).unwrap();
+        let o = import(&p, &out, &[]);
+        assert_eq!(o.status.code(), Some(1), "{name}");
+        assert!(
+            stderr(&o).contains("import::container"),
+            "{name}: {}",
+            stderr(&o)
+        );
+    }
+    // Truncated XML: the parser's line and column.
+    let p = dir.path().join("cut.xml");
+    std::fs::write(
+        &p,
+        "<?xml version='1.0'?>\n<openrocket version=\"1.10\">\n<rocket>\n",
+    )
+    .unwrap();
+    let o = import(&p, &out, &[]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("import::xml"), "{}", stderr(&o));
+    // An unknown component, named, on its line.
+    let p = write_design(
+        dir.path(),
+        "unknown.ork",
+        "<nosecone><name>N</name></nosecone>\n<warpdrive><name>Drive</name></warpdrive>",
+    );
+    let o = import(&p, &out, &[]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = stderr(&o);
+    assert!(
+        e.contains("import::component") && e.contains("warpdrive"),
+        "{e}"
+    );
+    assert!(e.contains("unknown.ork:6:"), "line 6: {e}");
+    // A freeform fin whose outline crosses itself.
+    let p = write_design(
+        dir.path(),
+        "bowtie.ork",
+        "<bodytube><name>B</name><length>0.3</length><thickness>0.001</thickness><radius>0.0125</radius>\
+         <material type=\"bulk\" density=\"680\">Cardboard</material><subcomponents>\
+         <freeformfinset><name>Bow tie</name><fincount>3</fincount><thickness>0.002</thickness>\
+         <finpoints><point x=\"0\" y=\"0\"/><point x=\"0.08\" y=\"0.05\"/><point x=\"0.08\" y=\"0\"/><point x=\"0\" y=\"0.05\"/></finpoints>\
+         </freeformfinset></subcomponents></bodytube>",
+    );
+    let o = import(&p, &out, &[]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = stderr(&o);
+    assert!(
+        e.contains("import::fin::crossing") && e.contains("Bow tie"),
+        "{e}"
+    );
+    // A RockSim design is named as such.
+    let p = dir.path().join("r.rkt");
+    std::fs::write(
+        &p,
+        "<RockSimDocument><FileVersion>4</FileVersion></RockSimDocument>",
+    )
+    .unwrap();
+    let o = import(&p, &out, &[]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("import::format"), "{}", stderr(&o));
+    assert!(files_in(&dir.path().join("out")).is_empty());
+}
