@@ -151,7 +151,11 @@ fn same_bits_whatever_jobs_or_shards() {
         .arg(dir.path().join("s0"))
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     for f in ["samples.csv", "statistics.json", "statistics.txt"] {
         assert_eq!(
             read(&dir.path().join("merged").join(f)),
@@ -235,7 +239,7 @@ fn bad_dispersions_are_diagnosed_at_check() {
             "initial.altitude = gaussian(mean = 5 km, sd = 0.2 km)",
             "",
             "vdl::dispersion::distribution",
-            "did you mean `normal`",
+            "normal, uniform, truncated_normal, triangular",
         ),
         (
             "stimuli.air.intensity = uniform(min = -1 m/s, max = 2 m/s)",
@@ -292,7 +296,11 @@ fn bad_dispersions_are_diagnosed_at_check() {
     // The good file checks clean, and an unknown dispersion name exits with 2.
     let file = write(dir.path(), GOOD_VARY, GOOD_CORR);
     let out = bin().args(["check"]).arg(&file).output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let out = bin()
         .args(["montecarlo", "--dispersion", "nope", "--out"])
         .arg(dir.path().join("o"))
@@ -379,13 +387,23 @@ fn correlated_draws_have_the_written_correlation() {
     // Entry c is in no correlation: the same bits as without correlations.
     for i in 0..100 {
         assert_eq!(draw(&d, i)[2].to_bits(), draw(&free, i)[2].to_bits());
-        assert_eq!(draw(&free, i)[0], inverse_cdf(&free.entries[0].distribution, uniform(11, i, 0)));
+        assert_eq!(
+            draw(&free, i)[0],
+            inverse_cdf(&free.entries[0].distribution, uniform(11, i, 0))
+        );
     }
     // A triangular entry correlated with a normal: Spearman close to (6/π) asin(ρ/2).
     let t = dispersion(
         vec![
             entry("a", e(0.0, 1.0)),
-            entry("t", DispersionLaw::Triangular { min: 0.0, mode: 1.0, max: 4.0 }),
+            entry(
+                "t",
+                DispersionLaw::Triangular {
+                    min: 0.0,
+                    mode: 1.0,
+                    max: 4.0,
+                },
+            ),
         ],
         &[(0, 1, rho)],
     );
@@ -396,7 +414,10 @@ fn correlated_draws_have_the_written_correlation() {
     let rs = spearman(&x, &y).unwrap();
     let expected = 6.0 / std::f64::consts::PI * (rho / 2.0).asin();
     // The rank correlation's standard error is about (1 - r²)/√n as well.
-    assert!((rs - expected).abs() < 4.0 * (1.0 - expected * expected) / (n as f64).sqrt(), "{rs} vs {expected}");
+    assert!(
+        (rs - expected).abs() < 4.0 * (1.0 - expected * expected) / (n as f64).sqrt(),
+        "{rs} vs {expected}"
+    );
 }
 
 /// The Wilson 95 % interval covers the true proportion in about 95 % of experiments: over
@@ -417,7 +438,10 @@ fn the_wilson_interval_covers_at_its_level() {
             }
         }
         let c = covered as f64 / experiments as f64;
-        assert!((c - 0.95).abs() < 0.01 + 3.0 * 0.0034, "p = {p}: coverage {c}");
+        assert!(
+            (c - 0.95).abs() < 0.01 + 3.0 * 0.0034,
+            "p = {p}: coverage {c}"
+        );
     }
 }
 
@@ -445,7 +469,12 @@ fn the_ellipses_hold_their_chi_square_share() {
         let p = 1.0 - (-0.5 * el.k * el.k).exp();
         assert_eq!(el.expected_share, p);
         let se = (p * (1.0 - p) / n as f64).sqrt();
-        assert!((el.observed_share - p).abs() < 4.0 * se, "k = {}: {}", el.k, el.observed_share);
+        assert!(
+            (el.observed_share - p).abs() < 4.0 * se,
+            "k = {}: {}",
+            el.k,
+            el.observed_share
+        );
         assert!((el.semi_major / el.k - s1).abs() < 0.05 * s1);
         assert!((el.semi_minor / el.k - s2).abs() < 0.05 * s2);
         assert!((el.angle - th).abs() < 0.02, "{}", el.angle);

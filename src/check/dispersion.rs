@@ -46,12 +46,7 @@ pub(crate) fn check_dispersion(
     sets: &[SetOverride],
 ) -> Option<Dispersion> {
     let name = b.name.as_ref()?;
-    let mut fl = Fields::new(
-        cx,
-        format!("dispersion `{}`", name.name),
-        b.header,
-        &b.body,
-    );
+    let mut fl = Fields::new(cx, format!("dispersion `{}`", name.name), b.header, &b.body);
     let scen_v = fl.required(cx, "scenario", "k1000");
     let samples_v = fl.required(cx, "samples", "1000");
     let seed_v = fl.required(cx, "seed", "2026");
@@ -253,9 +248,10 @@ fn distribution<'v>(cx: &mut Cx, v: &'v Value) -> Option<(DispersionLaw, String,
             format!("unknown distribution `{}`", name.name),
         )
         .label(name.span, "not a distribution");
-        if let Some(s) = did_you_mean(&name.name, kinds.iter().map(|(k, _)| *k)) {
-            d = d.with_help(format!("did you mean `{s}`?"));
-        }
+        d = match did_you_mean(&name.name, kinds.iter().map(|(k, _)| *k)) {
+            Some(s) => d.with_help(format!("did you mean `{s}`?")),
+            None => d.with_help("the distributions: normal, uniform, truncated_normal, triangular"),
+        };
         cx.push(d);
         return None;
     };
@@ -297,7 +293,10 @@ fn distribution<'v>(cx: &mut Cx, v: &'v Value) -> Option<(DispersionLaw, String,
             usage(
                 cx,
                 a.value.span,
-                format!("`{k}` is a number or a quantity, found {}", a.value.describe()),
+                format!(
+                    "`{k}` is a number or a quantity, found {}",
+                    a.value.describe()
+                ),
             );
             return None;
         };
@@ -339,19 +338,13 @@ fn distribution<'v>(cx: &mut Cx, v: &'v Value) -> Option<(DispersionLaw, String,
     let need = |cx: &mut Cx, k: &str| -> Option<f64> {
         let x = num(k);
         if x.is_none() {
-            usage(
-                cx,
-                v.span,
-                format!("`{}` needs `{k}`", name.name),
-            );
+            usage(cx, v.span, format!("`{}` needs `{k}`", name.name));
         }
         x
     };
     let bad = |cx: &mut Cx, k: &str, msg: String| {
         let span = arg(k).map_or(v.span, |a| a.span);
-        cx.push(
-            Diagnostic::error("vdl::dispersion::parameter", msg).label(span, "here"),
-        );
+        cx.push(Diagnostic::error("vdl::dispersion::parameter", msg).label(span, "here"));
     };
     // sd from `sd` or `rel`, exactly one of them.
     let spread = |cx: &mut Cx, mean: f64| -> Option<f64> {
@@ -370,21 +363,13 @@ fn distribution<'v>(cx: &mut Cx, v: &'v Value) -> Option<(DispersionLaw, String,
                 return None;
             }
             (None, None) => {
-                usage(
-                    cx,
-                    v.span,
-                    format!("`{}` needs `sd` or `rel`", name.name),
-                );
+                usage(cx, v.span, format!("`{}` needs `sd` or `rel`", name.name));
                 return None;
             }
         };
         if !(s > 0.0) || !s.is_finite() {
             let k = if sd.is_some() { "sd" } else { "rel" };
-            bad(
-                cx,
-                k,
-                format!("the spread must be positive, found {s}"),
-            );
+            bad(cx, k, format!("the spread must be positive, found {s}"));
             return None;
         }
         Some(s)
@@ -423,7 +408,11 @@ fn distribution<'v>(cx: &mut Cx, v: &'v Value) -> Option<(DispersionLaw, String,
                 }
                 let h = r * m.abs();
                 if !(h > 0.0) {
-                    bad(cx, "mean", "a relative width around a zero mean is empty".into());
+                    bad(
+                        cx,
+                        "mean",
+                        "a relative width around a zero mean is empty".into(),
+                    );
                     return None;
                 }
                 DispersionLaw::Uniform {
@@ -499,19 +488,34 @@ fn correlations(cx: &mut Cx, v: &Value, entries: &[DispersionEntry]) -> Option<V
         );
     };
     let ValueKind::List(items) = &v.kind else {
-        usage(cx, v.span, format!("expected a list of `correlate(...)`, found {}", v.describe()));
+        usage(
+            cx,
+            v.span,
+            format!(
+                "expected a list of `correlate(...)`, found {}",
+                v.describe()
+            ),
+        );
         return None;
     };
     let mut out: Vec<Correlation> = Vec::new();
     let mut ok = true;
     for it in items {
         let ValueKind::Call { name, args } = &it.kind else {
-            usage(cx, it.span, "expected `correlate(\"PATH\", \"PATH\", RHO)`".into());
+            usage(
+                cx,
+                it.span,
+                "expected `correlate(\"PATH\", \"PATH\", RHO)`".into(),
+            );
             ok = false;
             continue;
         };
         if name.name != "correlate" || args.len() != 3 || args.iter().any(|a| a.name.is_some()) {
-            usage(cx, it.span, "expected `correlate(\"PATH\", \"PATH\", RHO)`".into());
+            usage(
+                cx,
+                it.span,
+                "expected `correlate(\"PATH\", \"PATH\", RHO)`".into(),
+            );
             ok = false;
             continue;
         }
@@ -519,7 +523,11 @@ fn correlations(cx: &mut Cx, v: &Value, entries: &[DispersionEntry]) -> Option<V
         let mut found = true;
         for (k, a) in args[..2].iter().enumerate() {
             let ValueKind::Str(p) = &a.value.kind else {
-                usage(cx, a.value.span, "the paths of a correlation are strings".into());
+                usage(
+                    cx,
+                    a.value.span,
+                    "the paths of a correlation are strings".into(),
+                );
                 found = false;
                 continue;
             };
@@ -542,7 +550,11 @@ fn correlations(cx: &mut Cx, v: &Value, entries: &[DispersionEntry]) -> Option<V
         let rho = match &args[2].value.kind {
             ValueKind::Quantity { number, unit: None } => number.value,
             _ => {
-                usage(cx, args[2].value.span, "the correlation is a plain number".into());
+                usage(
+                    cx,
+                    args[2].value.span,
+                    "the correlation is a plain number".into(),
+                );
                 ok = false;
                 continue;
             }
@@ -552,7 +564,11 @@ fn correlations(cx: &mut Cx, v: &Value, entries: &[DispersionEntry]) -> Option<V
             continue;
         }
         if idx[0] == idx[1] {
-            usage(cx, it.span, "a correlation joins two different entries".into());
+            usage(
+                cx,
+                it.span,
+                "a correlation joins two different entries".into(),
+            );
             ok = false;
             continue;
         }
@@ -563,7 +579,9 @@ fn correlations(cx: &mut Cx, v: &Value, entries: &[DispersionEntry]) -> Option<V
                     format!("a correlation is strictly between -1 and 1, found {rho}"),
                 )
                 .label(args[2].value.span, "out of range")
-                .with_help("a correlation of ±1 is one input, not two: vary one and derive the other"),
+                .with_help(
+                    "a correlation of ±1 is one input, not two: vary one and derive the other",
+                ),
             );
             ok = false;
             continue;

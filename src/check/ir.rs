@@ -796,10 +796,25 @@ pub struct DispersionEntry {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", tag = "kind")]
 pub enum DispersionLaw {
-    Normal { mean: f64, sd: f64 },
-    Uniform { min: f64, max: f64 },
-    TruncatedNormal { mean: f64, sd: f64, min: f64, max: f64 },
-    Triangular { min: f64, mode: f64, max: f64 },
+    Normal {
+        mean: f64,
+        sd: f64,
+    },
+    Uniform {
+        min: f64,
+        max: f64,
+    },
+    TruncatedNormal {
+        mean: f64,
+        sd: f64,
+        min: f64,
+        max: f64,
+    },
+    Triangular {
+        min: f64,
+        mode: f64,
+        max: f64,
+    },
 }
 
 /// A correlation between two entries (indices into `Dispersion::entries`).

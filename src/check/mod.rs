@@ -6,6 +6,7 @@
 //! [`Loader`] trait (the real disk, or memory in tests and the fuzzer).
 
 pub mod cli_values;
+mod dispersion;
 pub mod fields;
 mod fixture;
 pub mod ir;
@@ -13,7 +14,6 @@ mod motor;
 pub mod overrides;
 pub mod plausible;
 mod scenario;
-mod dispersion;
 pub use dispersion::cholesky as dispersion_cholesky;
 mod sweep;
 mod vehicle;

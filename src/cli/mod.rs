@@ -440,7 +440,9 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
             cache.cache_dir.as_deref(),
             term,
         ),
-        Command::Merge { dirs, out } if dirs.iter().any(|d| d.join("montecarlo.json").is_file()) => {
+        Command::Merge { dirs, out }
+            if dirs.iter().any(|d| d.join("montecarlo.json").is_file()) =>
+        {
             montecarlo::cmd_merge_montecarlo(&dirs, &out)
         }
         Command::Merge { dirs, out } => sweep::cmd_merge(&dirs, &out),

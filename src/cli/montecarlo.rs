@@ -4,9 +4,7 @@
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
-use crate::analysis::montecarlo::runner::{
-    MonteCarloOptions, merge, run_dispersion, write_tables,
-};
+use crate::analysis::montecarlo::runner::{MonteCarloOptions, merge, run_dispersion, write_tables};
 use crate::analysis::sweep::{Shard, ranges};
 
 use super::{Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, load_program};
@@ -30,7 +28,10 @@ pub fn cmd_montecarlo(
     cache_dir: Option<&Path>,
     term: Terminal,
 ) -> u8 {
-    let shard = match req.shard.map(|s| Shard::parse(s, |k| std::env::var(k).ok())) {
+    let shard = match req
+        .shard
+        .map(|s| Shard::parse(s, |k| std::env::var(k).ok()))
+    {
         None => Shard::ALL,
         Some(Ok(s)) => s,
         Some(Err(e)) => {
@@ -52,7 +53,10 @@ pub fn cmd_montecarlo(
         return super::unknown_name("dispersion", req.dispersion, declared);
     };
     let Some(scenario) = program.scenarios.get(d.scenario) else {
-        eprintln!("error: dispersion `{}` names a scenario that did not check", req.dispersion);
+        eprintln!(
+            "error: dispersion `{}` names a scenario that did not check",
+            req.dispersion
+        );
         return EXIT_DIAGNOSTICS;
     };
     let opts = MonteCarloOptions {
@@ -140,7 +144,11 @@ pub fn cmd_merge_montecarlo(dirs: &[PathBuf], out: &Path) -> u8 {
     if missing.is_empty() {
         EXIT_OK
     } else {
-        eprintln!("error: {} sample(s) missing: {}", missing.len(), ranges(&missing));
+        eprintln!(
+            "error: {} sample(s) missing: {}",
+            missing.len(),
+            ranges(&missing)
+        );
         EXIT_DIAGNOSTICS
     }
 }

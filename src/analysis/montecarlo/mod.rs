@@ -146,7 +146,10 @@ impl SampleOutputs {
         let num = |v: &serde_json::Value| v.as_f64();
         SampleOutputs {
             stop_reason: s["stop_reason"].as_str().unwrap_or_default().to_string(),
-            verdict: s["verdict"]["kind"].as_str().unwrap_or_default().to_string(),
+            verdict: s["verdict"]["kind"]
+                .as_str()
+                .unwrap_or_default()
+                .to_string(),
             apogee_m: num(&f["apogee"]["height"]),
             t_apogee_s: num(&f["apogee"]["t"]),
             max_mach: num(&f["max_mach"]["value"]),
@@ -180,7 +183,12 @@ pub fn table_header(d: &Dispersion) -> Vec<String> {
 }
 
 /// One row of `samples.csv`.
-pub fn table_row(index: usize, id: &str, inputs: &[f64], r: &Result<SampleOutputs, String>) -> Vec<String> {
+pub fn table_row(
+    index: usize,
+    id: &str,
+    inputs: &[f64],
+    r: &Result<SampleOutputs, String>,
+) -> Vec<String> {
     let mut row = vec![index.to_string(), id.to_string()];
     row.extend(inputs.iter().map(|x| format!("{x}")));
     match r {
@@ -229,11 +237,20 @@ mod tests {
         let n = DispersionLaw::Normal { mean: 2.0, sd: 0.1 };
         assert_eq!(inverse_cdf(&n, 0.5), 2.0);
         assert!((inverse_cdf(&n, normal_cdf(1.0)) - 2.1).abs() < 1e-12);
-        let t = DispersionLaw::Triangular { min: 1.0, mode: 2.0, max: 4.0 };
+        let t = DispersionLaw::Triangular {
+            min: 1.0,
+            mode: 2.0,
+            max: 4.0,
+        };
         // F(c) = 1/3: the mode.
         assert!((inverse_cdf(&t, 1.0 / 3.0) - 2.0).abs() < 1e-12);
         assert!(inverse_cdf(&t, 1e-12) > 1.0 && inverse_cdf(&t, 1.0 - 1e-12) < 4.0);
-        let tn = DispersionLaw::TruncatedNormal { mean: 0.0, sd: 1.0, min: -0.5, max: 2.0 };
+        let tn = DispersionLaw::TruncatedNormal {
+            mean: 0.0,
+            sd: 1.0,
+            min: -0.5,
+            max: 2.0,
+        };
         for k in 1..100 {
             let x = inverse_cdf(&tn, k as f64 / 100.0);
             assert!((-0.5..=2.0).contains(&x));

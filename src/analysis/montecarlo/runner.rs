@@ -306,9 +306,7 @@ pub fn run_dispersion(
     )
     .map_err(io_err(&mpath))?;
 
-    let indices: Vec<usize> = (0..opts.samples)
-        .filter(|&i| opts.shard.takes(i))
-        .collect();
+    let indices: Vec<usize> = (0..opts.samples).filter(|&i| opts.shard.takes(i)).collect();
     let inputs: Vec<Vec<f64>> = indices.iter().map(|&i| draw(d, i as u64)).collect();
     let prepared: Vec<Result<Prepared, String>> = pool.install(|| {
         indices
@@ -531,6 +529,8 @@ pub fn merge(dirs: &[PathBuf]) -> Result<(Manifest, Vec<Vec<String>>, Vec<usize>
     }
     let mut m = first.ok_or("no shard directories")?;
     m.shard = Shard::ALL;
-    let missing: Vec<usize> = (0..m.samples).filter(|i| !by_index.contains_key(i)).collect();
+    let missing: Vec<usize> = (0..m.samples)
+        .filter(|i| !by_index.contains_key(i))
+        .collect();
     Ok((m, by_index.into_values().collect(), missing))
 }

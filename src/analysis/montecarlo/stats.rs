@@ -204,7 +204,9 @@ pub fn ellipses(points: &[(f64, f64)]) -> Option<Ellipses> {
         .iter()
         .map(|&k| {
             let inside = if det > 0.0 {
-                p.iter().filter(|(x, y)| mahalanobis2(*x, *y) <= k * k).count()
+                p.iter()
+                    .filter(|(x, y)| mahalanobis2(*x, *y) <= k * k)
+                    .count()
             } else {
                 0
             };
@@ -296,6 +298,9 @@ mod tests {
         assert_eq!(percentile(&v, 0.0), 1.0);
         assert_eq!(percentile(&v, 1.0), 4.0);
         assert_eq!(ranks(&[3.0, 1.0, 3.0, 2.0]), vec![3.5, 1.0, 3.5, 2.0]);
-        assert_eq!(spearman(&[1.0, 2.0, 3.0, 4.0], &[10.0, 20.0, 25.0, 100.0]), Some(1.0));
+        assert_eq!(
+            spearman(&[1.0, 2.0, 3.0, 4.0], &[10.0, 20.0, 25.0, 100.0]),
+            Some(1.0)
+        );
     }
 }

@@ -172,10 +172,17 @@ mod tests {
         assert_eq!(normal_cdf(0.0), 0.5);
         for k in -80..=80 {
             let x = k as f64 * 0.1;
-            assert!((normal_cdf(-x) - (1.0 - normal_cdf(x))).abs() < 2e-16, "x = {x}");
+            assert!(
+                (normal_cdf(-x) - (1.0 - normal_cdf(x))).abs() < 2e-16,
+                "x = {x}"
+            );
             let h = 1e-4;
             let d = (normal_cdf(x + h) - normal_cdf(x - h)) / (2.0 * h);
-            assert!((d - normal_pdf(x)).abs() < 2e-11, "x = {x}: {d} vs {}", normal_pdf(x));
+            assert!(
+                (d - normal_pdf(x)).abs() < 2e-11,
+                "x = {x}: {d} vs {}",
+                normal_pdf(x)
+            );
         }
     }
 

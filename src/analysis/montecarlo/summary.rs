@@ -64,7 +64,10 @@ pub fn statistics(manifest: &Manifest, rows: &[Vec<String>]) -> serde_json::Valu
     let points: Vec<(f64, f64)> = lx.iter().copied().zip(ly.iter().copied()).collect();
     let margin = column(manifest, &ok_rows, "flutter_margin_min");
     let with_margin = margin.iter().filter(|m| m.is_finite()).count();
-    let below = margin.iter().filter(|m| m.is_finite() && **m < CRITERION).count();
+    let below = margin
+        .iter()
+        .filter(|m| m.is_finite() && **m < CRITERION)
+        .count();
     let flutter = verdicts.iter().filter(|v| **v == "flutter").count();
     let any_verdict: Vec<&str> = ok
         .iter()
@@ -194,12 +197,22 @@ pub fn text(manifest: &Manifest, s: &serde_json::Value) -> String {
         "P(flutter margin < {CRITERION}): {} (Wilson 95 %)",
         pr(&fl["p_margin_below_criterion"])
     );
-    let _ = writeln!(t, "P(flutter verdict): {} (Wilson 95 %)", pr(&fl["p_flutter"]));
+    let _ = writeln!(
+        t,
+        "P(flutter verdict): {} (Wilson 95 %)",
+        pr(&fl["p_flutter"])
+    );
     let vs = s["verdict_samples"].as_array().map_or(0, Vec::len);
     if vs > 0 {
-        let _ = writeln!(t, "{vs} sample(s) ended in a verdict (statistics.json: verdict_samples)");
+        let _ = writeln!(
+            t,
+            "{vs} sample(s) ended in a verdict (statistics.json: verdict_samples)"
+        );
     }
-    let _ = writeln!(t, "sensitivity (Spearman rank correlation with the min flutter margin):");
+    let _ = writeln!(
+        t,
+        "sensitivity (Spearman rank correlation with the min flutter margin):"
+    );
     for i in s["sensitivity"]["inputs"].as_array().into_iter().flatten() {
         let r = i["spearman_flutter_margin"].as_f64();
         let _ = writeln!(
