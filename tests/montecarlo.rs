@@ -173,7 +173,7 @@ fn same_bits_whatever_jobs_or_shards() {
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("4 sample(s) missing: 1, 3, 5, 7"));
     // The drawn inputs in the table are the stream's: column 2 of sample 3.
-    let checked = check_files(&[file.clone()], &[], &DiskLoader);
+    let checked = check_files(std::slice::from_ref(&file), &[], &DiskLoader);
     let d = checked.program.dispersion("mc").unwrap();
     let x = draw(d, 3);
     assert_eq!(one.rows[3][2], format!("{}", x[0]));

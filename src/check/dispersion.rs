@@ -367,7 +367,7 @@ fn distribution<'v>(cx: &mut Cx, v: &'v Value) -> Option<(DispersionLaw, String,
                 return None;
             }
         };
-        if !(s > 0.0) || !s.is_finite() {
+        if s.is_nan() || s <= 0.0 || !s.is_finite() {
             let k = if sd.is_some() { "sd" } else { "rel" };
             bad(cx, k, format!("the spread must be positive, found {s}"));
             return None;
@@ -402,12 +402,12 @@ fn distribution<'v>(cx: &mut Cx, v: &'v Value) -> Option<(DispersionLaw, String,
                 DispersionLaw::Uniform { min: lo, max: hi }
             }
             (None, None, Some(m), Some(r)) => {
-                if !(r > 0.0) {
+                if r.is_nan() || r <= 0.0 {
                     bad(cx, "rel", format!("`rel` must be positive, found {r}"));
                     return None;
                 }
                 let h = r * m.abs();
-                if !(h > 0.0) {
+                if h.is_nan() || h <= 0.0 {
                     bad(
                         cx,
                         "mean",
@@ -615,7 +615,7 @@ pub fn cholesky(a: &[f64], n: usize) -> Option<Vec<f64>> {
                 s -= l[i * n + k] * l[j * n + k];
             }
             if i == j {
-                if !(s > 1e-12) {
+                if s.is_nan() || s <= 1e-12 {
                     return None;
                 }
                 l[i * n + i] = s.sqrt();

@@ -182,14 +182,17 @@ impl From<&OutputsRecord> for SampleOutputs {
     }
 }
 
+/// The samples still to use a shared value, and the value.
+type Cell<T> = (usize, Arc<OnceLock<T>>);
+
 /// A value shared by the samples of one key, dropped when the last of them is done.
 struct Shared<T> {
-    cells: Mutex<BTreeMap<CacheKey, (usize, Arc<OnceLock<T>>)>>,
+    cells: Mutex<BTreeMap<CacheKey, Cell<T>>>,
 }
 
 impl<T> Shared<T> {
     fn new(keys: impl Iterator<Item = CacheKey>) -> Self {
-        let mut cells: BTreeMap<CacheKey, (usize, Arc<OnceLock<T>>)> = BTreeMap::new();
+        let mut cells: BTreeMap<CacheKey, Cell<T>> = BTreeMap::new();
         for k in keys {
             cells.entry(k).or_insert((0, Arc::new(OnceLock::new()))).0 += 1;
         }
@@ -482,10 +485,13 @@ fn run_sample(
     Ok(SampleOutputs::from_summary(&summary))
 }
 
+/// A merge: the manifest (shard 0/1), the rows in index order, the missing indices.
+pub type Merged = (Manifest, Vec<Vec<String>>, Vec<usize>);
+
 /// Merge shard directories: the same dispersion, seed, sample count and columns; rows by
 /// index, each once. Returns the merged manifest (shard 0/1), its rows and the missing
 /// indices.
-pub fn merge(dirs: &[PathBuf]) -> Result<(Manifest, Vec<Vec<String>>, Vec<usize>), String> {
+pub fn merge(dirs: &[PathBuf]) -> Result<Merged, String> {
     let mut first: Option<Manifest> = None;
     let mut by_index: BTreeMap<usize, Vec<String>> = BTreeMap::new();
     for dir in dirs {
