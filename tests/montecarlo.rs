@@ -481,3 +481,18 @@ fn the_ellipses_hold_their_chi_square_share() {
     }
     assert!((e.mean[0] - 100.0).abs() < 4.0 * s1 / (n as f64).sqrt());
 }
+
+/// `motor_scale`: the scaled curve delivers `impulse` times the total impulse over
+/// `burn_time` times the burn time (trapezoid rule, exact), the shape kept.
+#[test]
+fn a_scaled_motor_delivers_the_scaled_impulse_and_burn_time() {
+    use flexflight::runtime::thrust::ThrustCurve;
+    let c = ThrustCurve::from_points("t", &[(0.0, 0.0), (0.1, 1000.0), (2.0, 900.0), (2.5, 0.0)])
+        .unwrap();
+    for (a, b) in [(1.02, 0.97), (0.95, 1.1), (1.0, 1.0)] {
+        let s = c.scaled(a, b);
+        assert!((s.total_impulse() - a * c.total_impulse()).abs() < 1e-12 * c.total_impulse());
+        assert!((s.burn_time() - b * c.burn_time()).abs() < 1e-15);
+        assert!((s.thrust_at(1.0 * b) - a / b * c.thrust_at(1.0)).abs() < 1e-9);
+    }
+}
