@@ -166,7 +166,7 @@ mod tests {
     use super::*;
 
     /// `Φ(0) = 1/2`, symmetry `Φ(-x) = 1 - Φ(x)`, and the derivative of `Φ` is the density
-    /// (central differences, h = 1e-4: the truncation h² φ''' / 6, φ''' = (3x - x³) φ, plus 10 %).
+    /// (central differences, h = 1e-4: the truncation h² φ''' / 6, φ''' = (3x - x³) φ, plus 10 %, and 5e-11 for Φ's own error of about 1e-15 divided by 2h).
     #[test]
     fn the_cdf_is_the_integral_of_the_density() {
         assert_eq!(normal_cdf(0.0), 0.5);
