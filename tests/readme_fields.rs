@@ -368,6 +368,7 @@ fn checker_fields() -> (BTreeMap<String, Read>, BTreeSet<String>) {
         "examples/free_tumble.vdl",
         "examples/tube_from_nastran.vdl",
         "examples/agard445/agard445.vdl",
+        "examples/hpr_k1000/hpr_k1000.vdl",
     ] {
         let (checked, rec) = record_schema(|| check_files(&[repo(f)], &[], &DiskLoader));
         add(&checked, rec);

@@ -11,6 +11,8 @@
 //! - [`identify`]: time-domain identification of a damped sinusoid (matrix pencil and
 //!   nonlinear least squares), eq. (6.30);
 //! - [`gust_response`]: that fit after each stimulus of a run (Tables 6.1-6.2);
+//! - [`montecarlo`]: Monte Carlo dispersions: the random stream, drawing, running,
+//!   statistics;
 //! - [`sweep`]: variant sweeps: case expansion, parallel runs, tables, shards and merging.
 
 pub mod flutter;
@@ -20,6 +22,7 @@ pub mod linear;
 pub mod linear_grid;
 pub mod linearise;
 pub mod map;
+pub mod montecarlo;
 pub mod planar;
 pub mod roots;
 pub mod sweep;

@@ -27,6 +27,8 @@ pub struct Program {
     pub fixtures: Vec<Fixture>,
     /// Scenarios that test a fixture in a wind tunnel (`scenario NAME { fixture = ... }`).
     pub tunnel_tests: Vec<TunnelTest>,
+    /// Monte Carlo dispersions of a scenario.
+    pub dispersions: Vec<Dispersion>,
 }
 
 impl Program {
@@ -38,6 +40,9 @@ impl Program {
     }
     pub fn sweep(&self, name: &str) -> Option<&Sweep> {
         self.sweeps.iter().find(|s| s.name.value == name)
+    }
+    pub fn dispersion(&self, name: &str) -> Option<&Dispersion> {
+        self.dispersions.iter().find(|s| s.name.value == name)
     }
     pub fn tunnel_test(&self, name: &str) -> Option<&TunnelTest> {
         self.tunnel_tests.iter().find(|s| s.name.value == name)
@@ -479,6 +484,19 @@ pub struct Scenario {
     pub wind: Option<Wind>,
     /// Recovery devices (`parachute NAME { ... }`), in the order written.
     pub parachutes: Vec<Parachute>,
+    /// The scatter of this flight's motor (`motor_scale { impulse, burn_time }`), if written.
+    pub motor_scale: Option<MotorScale>,
+}
+
+/// `motor_scale { impulse = 1.02; burn_time = 0.98 }`: the motor of this flight delivers
+/// `impulse` times the curve's total impulse over `burn_time` times its burn time, the
+/// curve's shape kept (`runtime::thrust::ThrustCurve::scaled`). A scenario field, so a
+/// dispersion of it shares the vehicle's compiled structure.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MotorScale {
+    pub span: Span,
+    pub impulse: Q,
+    pub burn_time: Q,
 }
 
 /// A launch from a rail: the vehicle slides along the rail (1-DOF) until it has travelled
@@ -739,4 +757,71 @@ impl Sweep {
             Combine::Zip => self.axes.first().map_or(0, |a| a.values.len()),
         }
     }
+}
+
+// ------------------------------------------------------------------------------------------
+// Dispersions (Monte Carlo)
+
+/// A `dispersion NAME { ... }` block: the scenario, how many samples, the seed and the
+/// inputs drawn per sample (`analysis::montecarlo`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Dispersion {
+    pub name: Spanned<String>,
+    pub span: Span,
+    /// Index into `Program::scenarios`.
+    pub scenario: usize,
+    /// Samples drawn when `--samples` does not say.
+    pub samples: usize,
+    pub seed: u64,
+    pub entries: Vec<DispersionEntry>,
+    pub correlations: Vec<Correlation>,
+    /// Lower-triangular Cholesky factor `L` of the entries' correlation matrix (row-major,
+    /// `entries.len()` squared); empty when there are no correlations.
+    pub cholesky: Vec<f64>,
+}
+
+/// One drawn input: an override path and its distribution, in the unit written.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DispersionEntry {
+    /// Override path (`fins.thickness`, `wind.speed`).
+    pub path: String,
+    pub span: Span,
+    /// The unit the parameters are written in (`mm`), empty for a plain number; a drawn
+    /// value is applied as the override `PATH=VALUE UNIT`.
+    pub unit: String,
+    pub distribution: DispersionLaw,
+}
+
+/// The distributions of a dispersion entry (parameters in the entry's unit).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "kind")]
+pub enum DispersionLaw {
+    Normal {
+        mean: f64,
+        sd: f64,
+    },
+    Uniform {
+        min: f64,
+        max: f64,
+    },
+    TruncatedNormal {
+        mean: f64,
+        sd: f64,
+        min: f64,
+        max: f64,
+    },
+    Triangular {
+        min: f64,
+        mode: f64,
+        max: f64,
+    },
+}
+
+/// A correlation between two entries (indices into `Dispersion::entries`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Correlation {
+    pub a: usize,
+    pub b: usize,
+    pub rho: f64,
+    pub span: Span,
 }

@@ -6,6 +6,7 @@
 //! [`Loader`] trait (the real disk, or memory in tests and the fuzzer).
 
 pub mod cli_values;
+mod dispersion;
 pub mod fields;
 mod fixture;
 pub mod ir;
@@ -13,6 +14,7 @@ mod motor;
 pub mod overrides;
 pub mod plausible;
 mod scenario;
+pub use dispersion::cholesky as dispersion_cholesky;
 mod sweep;
 mod vehicle;
 
@@ -175,9 +177,17 @@ pub(crate) struct Decls<'t> {
     pub scenarios: Vec<&'t Block>,
     pub sweeps: Vec<&'t Block>,
     pub fixtures: Vec<&'t Block>,
+    pub dispersions: Vec<&'t Block>,
 }
 
-pub const TOP_LEVEL_KINDS: &[&str] = &["material", "vehicle", "scenario", "sweep", "fixture"];
+pub const TOP_LEVEL_KINDS: &[&str] = &[
+    "material",
+    "vehicle",
+    "scenario",
+    "sweep",
+    "fixture",
+    "dispersion",
+];
 
 /// Check the given root files with `--set` overrides (each `PATH=VALUE`).
 pub fn check_files(roots: &[PathBuf], sets: &[String], loader: &dyn Loader) -> Checked {
@@ -492,6 +502,7 @@ fn check_trees(
                         "vehicle" => decls.vehicles.push(b),
                         "scenario" => decls.scenarios.push(b),
                         "fixture" => decls.fixtures.push(b),
+                        "dispersion" => decls.dispersions.push(b),
                         _ => decls.sweeps.push(b),
                     }
                 }
@@ -535,6 +546,11 @@ fn check_trees(
             program.sweeps.push(s);
         }
     }
+    for b in decls.dispersions.iter().filter(|_| only_scenario.is_none()) {
+        if let Some(d) = dispersion::check_dispersion(cx, b, &decls, &program, sets) {
+            program.dispersions.push(d);
+        }
+    }
     program
 }
 
@@ -545,7 +561,7 @@ fn unknown_top(b: &Block) -> Diagnostic {
     )
     .label(
         b.kind.span,
-        "expected `material`, `vehicle`, `scenario`, `sweep` or `fixture`",
+        "expected `material`, `vehicle`, `scenario`, `sweep`, `fixture` or `dispersion`",
     );
     if let Some(s) = did_you_mean(&b.kind.name, TOP_LEVEL_KINDS.iter().copied()) {
         d = d.with_help(format!("did you mean `{s}`?"));

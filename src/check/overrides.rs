@@ -10,7 +10,16 @@ use crate::syntax::ast::{
 };
 
 /// First path segments that address the scenario rather than its vehicle.
-pub const SCENARIO_ROOTS: &[&str] = &["initial", "run", "stimuli", "launch", "wind", "tunnel"];
+pub const SCENARIO_ROOTS: &[&str] = &[
+    "initial",
+    "run",
+    "stimuli",
+    "launch",
+    "wind",
+    "tunnel",
+    "parachute",
+    "motor_scale",
+];
 
 /// Does this path address a scenario field (rather than the vehicle)?
 pub fn is_scenario_path(path: &[Ident]) -> bool {
@@ -27,6 +36,16 @@ pub fn apply(body: &mut Body, path: &[Ident], value: &Value) -> Result<(), Diagn
     let span = path.first().map_or(value.span, |f| f.span.to(value.span));
     let mut cur = body;
     for (depth, seg) in parents.iter().enumerate() {
+        // `KIND.NAME`: the kind before the name of a block of that kind says nothing more
+        // (`parachute.main.cd_area` is the block `parachute main`).
+        let next = parents.get(depth + 1).unwrap_or(last);
+        let kind_of_next = cur.entries.iter().any(|e| {
+            matches!(&e.kind, EntryKind::Block(b) if b.kind.name == seg.name
+                && b.name.as_ref().is_some_and(|n| n.name == next.name))
+        });
+        if kind_of_next && depth + 1 < parents.len() {
+            continue;
+        }
         // Is the segment a plain field? Then the path goes through a value: an error.
         let is_field = cur.entries.iter().any(|e| {
             matches!(&e.kind, EntryKind::Assign(a) if a.path.len() == 1 && a.path[0].name == seg.name)

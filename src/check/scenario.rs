@@ -49,6 +49,7 @@ pub(crate) fn check_scenario(
     let stimuli_b = fl.block("stimuli");
     let wind_b = fl.block("wind");
     let parachute_bs = fl.blocks("parachute");
+    let motor_scale_b = fl.block("motor_scale");
     let run_b = fl.required_block(cx, "run");
     fl.finish(cx);
 
@@ -180,6 +181,21 @@ pub(crate) fn check_scenario(
         None => Some(Vec::new()),
     };
     let run = run_b.and_then(|rb| check_run(cx, rb));
+    let motor_scale = motor_scale_b.map(|mb| {
+        let m = check_motor_scale(cx, mb)?;
+        if variant.as_ref().is_some_and(|v| v.motor.is_none()) {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::motor_scale::no_motor",
+                    "`motor_scale` scales the vehicle's motor, and this vehicle has none",
+                )
+                .label(mb.header, "no `motor` to scale")
+                .with_help("give the vehicle a `motor NAME { ... }` block, or remove this one"),
+            );
+            return None;
+        }
+        Some(m)
+    });
     Some(Scenario {
         name: Spanned::new(name.name.clone(), name.span),
         span: b.header,
@@ -197,6 +213,33 @@ pub(crate) fn check_scenario(
             None => None,
         },
         parachutes: parachutes.into_iter().collect::<Option<Vec<_>>>()?,
+        motor_scale: match motor_scale {
+            Some(m) => Some(m?),
+            None => None,
+        },
+    })
+}
+
+/// `motor_scale { impulse (1), burn_time (1) }`: positive factors from 0.5 to 2 (a motor
+/// lot scatters by a few per cent; a factor outside this range is a typo, not a motor).
+fn check_motor_scale(cx: &mut Cx, b: &Block) -> Option<MotorScale> {
+    let mut fl = Fields::new(cx, "the `motor_scale` block", b.header, &b.body);
+    let mut factor = |cx: &mut Cx, name: &'static str| match fl.value(name) {
+        Some(v) => f::check_range(
+            f::number(cx, v),
+            cx,
+            |x| (0.5..=2.0).contains(&x),
+            "a factor from 0.5 to 2",
+        ),
+        None => Some(Q::new(1.0, b.header)),
+    };
+    let impulse = factor(cx, "impulse");
+    let burn_time = factor(cx, "burn_time");
+    fl.finish(cx);
+    Some(MotorScale {
+        span: b.header,
+        impulse: impulse?,
+        burn_time: burn_time?,
     })
 }
 

@@ -23,6 +23,7 @@ pub mod flutter;
 mod fmt;
 pub mod import;
 pub mod linear;
+pub mod montecarlo;
 pub mod report;
 pub mod run;
 pub mod sweep;
@@ -168,7 +169,35 @@ pub enum Command {
         #[command(flatten)]
         cache: CacheArgs,
     },
-    /// Join the tables of sweep shards (DIR/sweep.csv) into one, in case order.
+    /// Monte Carlo: fly the samples of a `dispersion` in parallel; DIR/samples.csv,
+    /// DIR/statistics.json and .txt. Finished samples are skipped on a re-run.
+    Montecarlo {
+        file: PathBuf,
+        /// The dispersion to run.
+        #[arg(long)]
+        dispersion: String,
+        /// Samples (default: the dispersion's `samples`).
+        #[arg(long)]
+        samples: Option<usize>,
+        /// Worker threads (default: the number of cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Run only samples with index % N == I: `I/N`, or `env` (Slurm job arrays).
+        #[arg(long, value_name = "I/N|env")]
+        shard: Option<String>,
+        /// Output directory.
+        #[arg(long)]
+        out: PathBuf,
+        /// Skip the flutter margin of each sample (on by default for a launch from a rail).
+        #[arg(long)]
+        no_flutter_margin: bool,
+        #[command(flatten)]
+        common: Common,
+        #[command(flatten)]
+        cache: CacheArgs,
+    },
+    /// Join the tables of sweep or Monte Carlo shards (DIR/sweep.csv or DIR/samples.csv)
+    /// into one, in index order.
     Merge {
         #[arg(required = true)]
         dirs: Vec<PathBuf>,
@@ -364,6 +393,35 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
             cache.cache_dir.as_deref(),
             term,
         ),
+        Command::Montecarlo {
+            file,
+            dispersion,
+            samples,
+            jobs,
+            shard,
+            out,
+            no_flutter_margin,
+            common,
+            cache,
+        } => montecarlo::cmd_montecarlo(
+            montecarlo::MonteCarloRequest {
+                file: &file,
+                dispersion: &dispersion,
+                samples,
+                jobs,
+                shard: shard.as_deref(),
+                out: &out,
+                flutter_margin: no_flutter_margin.then_some(false),
+            },
+            &common,
+            cache.cache_dir.as_deref(),
+            term,
+        ),
+        Command::Merge { dirs, out }
+            if dirs.iter().any(|d| d.join("montecarlo.json").is_file()) =>
+        {
+            montecarlo::cmd_merge_montecarlo(&dirs, &out)
+        }
         Command::Merge { dirs, out } => sweep::cmd_merge(&dirs, &out),
         Command::Inspect { artifact, output } => compile::cmd_inspect(&artifact, output.format),
         Command::Modes {

@@ -16,6 +16,7 @@ pub mod flutter;
 pub mod gaf_cache;
 pub mod inspect;
 pub mod linear;
+pub mod montecarlo;
 pub mod planar;
 pub mod report;
 pub mod run;

@@ -318,7 +318,7 @@ pub fn case_fingerprints(
 }
 
 /// Compile one structural variant through the cache (built once, then memory-mapped).
-fn compile_variant(
+pub(crate) fn compile_variant(
     cache: &Cache,
     key: &CacheKey,
     vehicle: &CompiledVehicleInput,

@@ -478,6 +478,12 @@ pub fn build_with_aero(
                 )));
             }
             let curve = ThrustCurve::read(&m.curve.value)?;
+            // The scenario's motor scatter (`motor_scale`): the same propellant delivers
+            // a scaled impulse (its exhaust velocity below scales with it).
+            let curve = match &scenario.motor_scale {
+                Some(s) => curve.scaled(s.impulse.value, s.burn_time.value),
+                None => curve,
+            };
             let (offset, misalignment) = match &vehicle.forces.thrust {
                 Some(t) => (t.offset.value, t.misalignment.value),
                 None => ([0.0; 3], [0.0; 3]),

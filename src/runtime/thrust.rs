@@ -313,6 +313,22 @@ impl ThrustCurve {
     pub fn points(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
         self.times.iter().copied().zip(self.thrust.iter().copied())
     }
+
+    /// The curve of a motor whose total impulse is `impulse` times and whose burn time is
+    /// `burn_time` times this one's, the shape kept: `F'(t) = (impulse / burn_time)
+    /// F(t / burn_time)` (times stretched by `burn_time`, thrust scaled by `impulse /
+    /// burn_time`, so `∫F' dt = impulse ∫F dt` exactly for the trapezoid rule of
+    /// [`Self::total_impulse`]). The scatter of a motor lot, as RocketPy's stochastic
+    /// motor varies `total_impulse` and `burn_out_time`. Both factors must be positive
+    /// and finite (the checker's `motor_scale` range).
+    pub fn scaled(&self, impulse: f64, burn_time: f64) -> ThrustCurve {
+        let k = impulse / burn_time;
+        ThrustCurve {
+            times: self.times.iter().map(|t| t * burn_time).collect(),
+            thrust: self.thrust.iter().map(|f| f * k).collect(),
+            ..self.clone()
+        }
+    }
 }
 
 struct RaspHeader {

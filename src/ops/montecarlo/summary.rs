@@ -1,0 +1,226 @@
+//! `statistics.json` and `statistics.txt` from the rows of `samples.csv` (so a merge of
+//! shards gives the same statistics as one run of all the samples).
+
+use std::fmt::Write as _;
+
+use serde_json::json;
+
+use super::runner::Manifest;
+use crate::analysis::montecarlo::stats::{distribution, ellipses, proportion, spearman};
+
+/// The speed-margin criterion of the flutter margin (`analysis::flutter::margin`).
+pub const CRITERION: f64 = crate::analysis::flutter::margin::CRITERION;
+
+/// The outputs whose distributions are reported: column, label, unit.
+pub const REPORTED: &[(&str, &str, &str)] = &[
+    ("apogee_m", "apogee", "m"),
+    ("max_mach", "max Mach", ""),
+    ("max_q_pa", "max q", "Pa"),
+    ("off_rail_speed_m_s", "off-rail speed", "m/s"),
+    ("min_static_margin_cal", "min static margin", "cal"),
+    ("flutter_margin_min", "min flutter margin V_F/V", ""),
+];
+
+fn column(manifest: &Manifest, rows: &[Vec<String>], name: &str) -> Vec<f64> {
+    let Some(c) = manifest.columns.iter().position(|h| h == name) else {
+        return vec![f64::NAN; rows.len()];
+    };
+    rows.iter()
+        .map(|r| {
+            r.get(c)
+                .and_then(|s| s.parse::<f64>().ok())
+                .unwrap_or(f64::NAN)
+        })
+        .collect()
+}
+
+fn text_column<'r>(manifest: &Manifest, rows: &'r [Vec<String>], name: &str) -> Vec<&'r str> {
+    let c = manifest.columns.iter().position(|h| h == name);
+    rows.iter()
+        .map(|r| c.and_then(|c| r.get(c)).map_or("", String::as_str))
+        .collect()
+}
+
+/// The statistics of the rows (module [`crate::analysis::montecarlo::stats`] for the methods).
+pub fn statistics(manifest: &Manifest, rows: &[Vec<String>]) -> serde_json::Value {
+    let status = text_column(manifest, rows, "status");
+    let ok: Vec<usize> = (0..rows.len()).filter(|&k| status[k] == "ok").collect();
+    let ok_rows: Vec<Vec<String>> = ok.iter().map(|&k| rows[k].clone()).collect();
+    let verdicts = text_column(manifest, &ok_rows, "verdict");
+    let failed: Vec<&str> = (0..rows.len())
+        .filter(|&k| status[k] != "ok")
+        .filter_map(|k| rows[k].get(1).map(String::as_str))
+        .collect();
+    let mut outputs = serde_json::Map::new();
+    for (col, _, unit) in REPORTED {
+        let v = column(manifest, &ok_rows, col);
+        outputs.insert(
+            (*col).to_string(),
+            json!({ "unit": unit, "distribution": distribution(&v) }),
+        );
+    }
+    let lx = column(manifest, &ok_rows, "landing_x_m");
+    let ly = column(manifest, &ok_rows, "landing_y_m");
+    let points: Vec<(f64, f64)> = lx.iter().copied().zip(ly.iter().copied()).collect();
+    let margin = column(manifest, &ok_rows, "flutter_margin_min");
+    let with_margin = margin.iter().filter(|m| m.is_finite()).count();
+    let below = margin
+        .iter()
+        .filter(|m| m.is_finite() && **m < CRITERION)
+        .count();
+    let flutter = verdicts.iter().filter(|v| **v == "flutter").count();
+    let any_verdict: Vec<&str> = ok
+        .iter()
+        .zip(&verdicts)
+        .filter(|(_, v)| !v.is_empty())
+        .filter_map(|(&k, _)| rows[k].get(1).map(String::as_str))
+        .collect();
+    let sensitivity: Vec<serde_json::Value> = manifest
+        .entries
+        .iter()
+        .enumerate()
+        .map(|(j, e)| {
+            let x = column(manifest, &ok_rows, &manifest.columns[2 + j]);
+            json!({
+                "input": e.path,
+                "spearman_flutter_margin": spearman(&x, &margin),
+                "spearman_apogee": spearman(&x, &column(manifest, &ok_rows, "apogee_m")),
+            })
+        })
+        .collect();
+    json!({
+        "dispersion": manifest.dispersion,
+        "scenario": manifest.scenario,
+        "seed": manifest.seed,
+        "samples": rows.len(),
+        "succeeded": ok.len(),
+        "failed": failed.len(),
+        "failed_samples": failed,
+        "outputs": outputs,
+        "landing": {
+            "frame": "inertial x and y of the landing point from the pad, m",
+            "ellipses": ellipses(&points),
+            "scaling": "k-sigma ellipse = Mahalanobis radius k of the sample covariance; holds 1 - exp(-k^2/2) of a bivariate normal (chi-square, 2 degrees of freedom)",
+        },
+        "flutter": {
+            "criterion_speed_margin": CRITERION,
+            "samples_with_margin": with_margin,
+            "p_margin_below_criterion": proportion(below, with_margin),
+            "p_flutter": proportion(flutter, ok.len()),
+        },
+        "verdict_samples": any_verdict,
+        "sensitivity": {
+            "method": "Spearman rank correlation of each drawn input with the output, over the samples that succeeded",
+            "inputs": sensitivity,
+        },
+    })
+}
+
+/// The short text summary (`statistics.txt`).
+pub fn text(manifest: &Manifest, s: &serde_json::Value) -> String {
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "dispersion {} of scenario {}: {} samples (seed {}), {} succeeded, {} failed",
+        manifest.dispersion,
+        manifest.scenario,
+        s["samples"],
+        manifest.seed,
+        s["succeeded"],
+        s["failed"]
+    );
+    let _ = writeln!(
+        t,
+        "{:<26} {:>12} {:>12} {:>12} {:>12} {:>12}   (95 % interval of the mean)",
+        "output", "mean", "std", "p5", "p50", "p95"
+    );
+    for (col, label, unit) in REPORTED {
+        let d = &s["outputs"][*col]["distribution"];
+        if d.is_null() {
+            let _ = writeln!(t, "{:<26} (no values)", label);
+            continue;
+        }
+        let p = |q: usize| d["percentiles"][q]["value"].as_f64().unwrap_or(f64::NAN);
+        let f = |x: f64| format!("{x:.4}");
+        let name = if unit.is_empty() {
+            (*label).to_string()
+        } else {
+            format!("{label} [{unit}]")
+        };
+        let _ = writeln!(
+            t,
+            "{:<26} {:>12} {:>12} {:>12} {:>12} {:>12}   [{}, {}]",
+            name,
+            f(d["mean"].as_f64().unwrap_or(f64::NAN)),
+            f(d["std"].as_f64().unwrap_or(f64::NAN)),
+            f(p(1)),
+            f(p(3)),
+            f(p(5)),
+            f(d["mean_ci95"][0].as_f64().unwrap_or(f64::NAN)),
+            f(d["mean_ci95"][1].as_f64().unwrap_or(f64::NAN)),
+        );
+    }
+    let e = &s["landing"]["ellipses"];
+    if !e.is_null() {
+        let _ = writeln!(
+            t,
+            "landing: mean ({:.1}, {:.1}) m from the pad",
+            e["mean"][0].as_f64().unwrap_or(f64::NAN),
+            e["mean"][1].as_f64().unwrap_or(f64::NAN)
+        );
+        for el in e["ellipses"].as_array().into_iter().flatten() {
+            let _ = writeln!(
+                t,
+                "  {}-sigma ellipse: semi-axes {:.1} m x {:.1} m at {:.1} deg, holds {:.1} % of the samples ({:.1} % expected of a normal)",
+                el["k"],
+                el["semi_major"].as_f64().unwrap_or(f64::NAN),
+                el["semi_minor"].as_f64().unwrap_or(f64::NAN),
+                el["angle"].as_f64().unwrap_or(f64::NAN).to_degrees(),
+                100.0 * el["observed_share"].as_f64().unwrap_or(f64::NAN),
+                100.0 * el["expected_share"].as_f64().unwrap_or(f64::NAN),
+            );
+        }
+    }
+    let fl = &s["flutter"];
+    let pr = |p: &serde_json::Value| {
+        format!(
+            "{}/{} = {:.4} [{:.4}, {:.4}]",
+            p["count"],
+            p["of"],
+            p["p"].as_f64().unwrap_or(f64::NAN),
+            p["ci95"][0].as_f64().unwrap_or(f64::NAN),
+            p["ci95"][1].as_f64().unwrap_or(f64::NAN)
+        )
+    };
+    let _ = writeln!(
+        t,
+        "P(flutter margin < {CRITERION}): {} (Wilson 95 %)",
+        pr(&fl["p_margin_below_criterion"])
+    );
+    let _ = writeln!(
+        t,
+        "P(flutter verdict): {} (Wilson 95 %)",
+        pr(&fl["p_flutter"])
+    );
+    let vs = s["verdict_samples"].as_array().map_or(0, Vec::len);
+    if vs > 0 {
+        let _ = writeln!(
+            t,
+            "{vs} sample(s) ended in a verdict (statistics.json: verdict_samples)"
+        );
+    }
+    let _ = writeln!(
+        t,
+        "sensitivity (Spearman rank correlation with the min flutter margin):"
+    );
+    for i in s["sensitivity"]["inputs"].as_array().into_iter().flatten() {
+        let r = i["spearman_flutter_margin"].as_f64();
+        let _ = writeln!(
+            t,
+            "  {:<32} {}",
+            i["input"].as_str().unwrap_or_default(),
+            r.map_or("-".to_string(), |r| format!("{r:+.3}"))
+        );
+    }
+    t
+}

@@ -1,0 +1,498 @@
+//! Monte Carlo dispersion (issue 35): the same bits whatever `--jobs` or `--shard`, merged
+//! shards equal to one run, resumption, check-time diagnostics of bad dispersions, and the
+//! statistics' properties (binomial interval coverage, ellipse content, the written
+//! correlation of correlated draws).
+//!
+//! The flights are the cheap 0.2 s free tumble of SPHADS-1 of tests/sweep.rs (no loads),
+//! its altitude and turbulence intensity drawn: every sample shares one artifact.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use flexflight::ops::montecarlo::runner::{MonteCarloOptions, run_dispersion};
+use flexflight::analysis::montecarlo::stats::{Z95, ellipses, spearman, wilson};
+use flexflight::analysis::montecarlo::stream::{normal_quantile, uniform};
+use flexflight::analysis::montecarlo::{draw, inverse_cdf};
+use flexflight::analysis::sweep::Shard;
+use flexflight::check::ir::{Correlation, Dispersion, DispersionEntry, DispersionLaw};
+use flexflight::check::{DiskLoader, check_files};
+use flexflight::syntax::{Span, Spanned};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_flexflight"))
+}
+
+fn cache() -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join("montecarlo-test-cache")
+}
+
+const FILE: &str = r#"
+import "VEHICLE"
+
+scenario tumble {
+  vehicle = sphads1
+  with {
+    forces.gravity.enabled = false
+    forces.body_aero.enabled = false
+    forces.fin_aero.enabled = false
+  }
+  initial {
+    velocity = (20, 10, 6) m/s
+    angular_velocity = (6, 6, 6) rad/s
+    attitude = euler(0 deg, 0 deg, 0 deg)
+    altitude = 5 km
+  }
+  stimuli {
+    turbulence air {
+      model = dryden
+      intensity = 1 m/s
+      scale_length = 533 m
+      seed = 3
+      start = 0.05 s
+      duration = 0.05 s
+    }
+  }
+  run {
+    stop_time = 0.1 s
+    integrator = dopri5
+    rtol = 1e-6
+    atol = 1e-9
+    output_interval = 1 ms
+    stop_on_ground = false
+  }
+}
+
+dispersion mc {
+  scenario = tumble
+  samples = 8
+  seed = 2026
+  vary {
+    VARY
+  }
+  CORR
+}
+"#;
+
+const GOOD_VARY: &str = "initial.altitude = normal(mean = 5 km, sd = 0.2 km)\n    stimuli.air.intensity = uniform(min = 0.5 m/s, max = 2 m/s)";
+const GOOD_CORR: &str =
+    "correlations = [correlate(\"initial.altitude\", \"stimuli.air.intensity\", 0.5)]";
+
+fn write(dir: &Path, vary: &str, corr: &str) -> PathBuf {
+    let vehicle = Path::new(env!("CARGO_MANIFEST_DIR")).join("vehicles/sphads1.vdl");
+    let text = FILE
+        .replace("VEHICLE", &vehicle.display().to_string())
+        .replace("VARY", vary)
+        .replace("CORR", corr);
+    let path = dir.join("mc.vdl");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn opts(jobs: usize, shard: Shard) -> MonteCarloOptions {
+    MonteCarloOptions {
+        samples: 8,
+        jobs,
+        shard,
+        cache_dir: Some(cache()),
+        sets: Vec::new(),
+        progress: false,
+        flutter_margin: None,
+    }
+}
+
+fn run_in(
+    file: &Path,
+    out: &Path,
+    o: &MonteCarloOptions,
+) -> flexflight::ops::montecarlo::runner::MonteCarloReport {
+    let checked = check_files(&[file.to_path_buf()], &[], &DiskLoader);
+    assert!(!checked.has_errors(), "{:?}", checked.diagnostics);
+    let d = checked.program.dispersion("mc").unwrap();
+    let scenario = &checked.program.scenarios[d.scenario].name.value;
+    run_dispersion(file, d, scenario, out, o).unwrap()
+}
+
+fn read(p: &Path) -> String {
+    std::fs::read_to_string(p).unwrap()
+}
+
+/// `samples.csv`, `statistics.json` and `statistics.txt` are byte-identical with 1 or 2
+/// threads and for two shards merged by the binary's `merge`; every sample ran.
+#[test]
+fn same_bits_whatever_jobs_or_shards() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = write(dir.path(), GOOD_VARY, GOOD_CORR);
+    let one = run_in(&file, &dir.path().join("j1"), &opts(1, Shard::ALL));
+    let two = run_in(&file, &dir.path().join("j2"), &opts(2, Shard::ALL));
+    assert_eq!((one.ran, one.failed, one.artifacts), (8, 0, 1));
+    for f in ["samples.csv", "statistics.json", "statistics.txt"] {
+        assert_eq!(
+            read(&dir.path().join("j1").join(f)),
+            read(&dir.path().join("j2").join(f)),
+            "{f} differs between 1 and 2 threads"
+        );
+    }
+    assert_eq!(two.rows, one.rows);
+    let s0 = run_in(
+        &file,
+        &dir.path().join("s0"),
+        &opts(1, Shard { index: 0, count: 2 }),
+    );
+    run_in(
+        &file,
+        &dir.path().join("s1"),
+        &opts(2, Shard { index: 1, count: 2 }),
+    );
+    assert_eq!(s0.rows.len(), 4);
+    let out = bin()
+        .args(["merge", "--out"])
+        .arg(dir.path().join("merged"))
+        .arg(dir.path().join("s1"))
+        .arg(dir.path().join("s0"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for f in ["samples.csv", "statistics.json", "statistics.txt"] {
+        assert_eq!(
+            read(&dir.path().join("merged").join(f)),
+            read(&dir.path().join("j1").join(f)),
+            "merged {f} differs from the unsharded run"
+        );
+    }
+    // One shard alone: the merge writes what it has and says what is missing (exit 1).
+    let out = bin()
+        .args(["merge", "--out"])
+        .arg(dir.path().join("m1"))
+        .arg(dir.path().join("s0"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("4 sample(s) missing: 1, 3, 5, 7"));
+    // The drawn inputs in the table are the stream's: column 2 of sample 3.
+    let checked = check_files(std::slice::from_ref(&file), &[], &DiskLoader);
+    let d = checked.program.dispersion("mc").unwrap();
+    let x = draw(d, 3);
+    assert_eq!(one.rows[3][2], format!("{}", x[0]));
+    assert_eq!(one.rows[3][3], format!("{}", x[1]));
+}
+
+/// A re-run skips the finished samples and runs again only a missing one, with the same
+/// table; `--set` that changes the variant runs them all again.
+#[test]
+fn a_rerun_resumes() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = write(dir.path(), GOOD_VARY, "");
+    let out = dir.path().join("r");
+    let first = run_in(&file, &out, &opts(2, Shard::ALL));
+    let table = read(&out.join("samples.csv"));
+    std::fs::remove_file(out.join("samples/sample_0005.json")).unwrap();
+    let again = run_in(&file, &out, &opts(2, Shard::ALL));
+    assert_eq!((again.ran, again.skipped), (1, 7));
+    assert_eq!(read(&out.join("samples.csv")), table);
+    assert_eq!(again.rows, first.rows);
+    let mut changed = opts(2, Shard::ALL);
+    changed.sets = vec!["run.stop_time=0.08 s".into()];
+    let third = run_in(&file, &out, &changed);
+    assert_eq!((third.ran, third.skipped), (8, 0));
+}
+
+/// Bad dispersions fail `check` with a code, the file and a line and column.
+#[test]
+fn bad_dispersions_are_diagnosed_at_check() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases: &[(&str, &str, &str, &str)] = &[
+        (
+            "initial.altitud = normal(mean = 5 km, sd = 0.2 km)",
+            "",
+            "vdl::field::unknown",
+            "did you mean `altitude`",
+        ),
+        (
+            "initial.altitude = normal(mean = 5 km, sd = -0.2 km)",
+            "",
+            "vdl::dispersion::parameter",
+            "spread must be positive",
+        ),
+        (
+            "stimuli.air.intensity = uniform(min = 2 m/s, max = 0.5 m/s)",
+            "",
+            "vdl::dispersion::parameter",
+            "inverted",
+        ),
+        (
+            "initial.altitude = truncated_normal(mean = 5 km, sd = 0.1 km, min = 5.2 km, max = 4.8 km)",
+            "",
+            "vdl::dispersion::parameter",
+            "inverted",
+        ),
+        (
+            "initial.altitude = normal(mean = 5 km, sd = 200 m)",
+            "",
+            "vdl::dispersion::unit",
+            "one unit",
+        ),
+        (
+            "initial.altitude = gaussian(mean = 5 km, sd = 0.2 km)",
+            "",
+            "vdl::dispersion::distribution",
+            "normal, uniform, truncated_normal, triangular",
+        ),
+        (
+            "stimuli.air.intensity = uniform(min = -1 m/s, max = 2 m/s)",
+            "",
+            "vdl::value::range",
+            "",
+        ),
+        (
+            "initial.altitude = normal(mean = 5 km, sd = 0.2 km)\n    stimuli.air.intensity = uniform(min = 0.5 m/s, max = 2 m/s)\n    stimuli.air.scale_length = uniform(min = 400 m, max = 600 m)",
+            "correlations = [correlate(\"initial.altitude\", \"stimuli.air.intensity\", 0.9), correlate(\"initial.altitude\", \"stimuli.air.scale_length\", 0.9), correlate(\"stimuli.air.intensity\", \"stimuli.air.scale_length\", -0.9)]",
+            "vdl::dispersion::correlation",
+            "not positive definite",
+        ),
+        (
+            GOOD_VARY,
+            "correlations = [correlate(\"initial.altitude\", \"stimuli.air.intensty\", 0.5)]",
+            "vdl::dispersion::correlation",
+            "did you mean `stimuli.air.intensity`",
+        ),
+        (
+            GOOD_VARY,
+            "correlations = [correlate(\"initial.altitude\", \"stimuli.air.intensity\", 1)]",
+            "vdl::dispersion::correlation",
+            "strictly between -1 and 1",
+        ),
+    ];
+    for (vary, corr, code, text) in cases {
+        let file = write(dir.path(), vary, corr);
+        let out = bin()
+            .args(["check"])
+            .arg(&file)
+            .env("NO_COLOR", "1")
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr).to_string()
+            + &String::from_utf8_lossy(&out.stdout);
+        assert_eq!(out.status.code(), Some(1), "{vary}: {err}");
+        assert!(err.contains(code), "{vary}: expected {code}: {err}");
+        assert!(err.contains(text), "{vary}: expected `{text}`: {err}");
+        // file:line:column of the offending text (the dispersion is below line 40).
+        assert!(
+            err.lines().any(|l| l.contains("mc.vdl:") && {
+                let tail = l.rsplit("mc.vdl:").next().unwrap_or("");
+                let line: usize = tail
+                    .split(':')
+                    .next()
+                    .and_then(|s| s.parse().ok())
+                    .unwrap_or(0);
+                line >= 40
+            }),
+            "{vary}: no file:line:column in the dispersion: {err}"
+        );
+    }
+    // The good file checks clean, and an unknown dispersion name exits with 2.
+    let file = write(dir.path(), GOOD_VARY, GOOD_CORR);
+    let out = bin().args(["check"]).arg(&file).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = bin()
+        .args(["montecarlo", "--dispersion", "nope", "--out"])
+        .arg(dir.path().join("o"))
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+}
+
+fn entry(path: &str, distribution: DispersionLaw) -> DispersionEntry {
+    DispersionEntry {
+        path: path.into(),
+        span: Span::default(),
+        unit: String::new(),
+        distribution,
+    }
+}
+
+fn dispersion(entries: Vec<DispersionEntry>, corr: &[(usize, usize, f64)]) -> Dispersion {
+    let n = entries.len();
+    let mut r = vec![0.0; n * n];
+    for i in 0..n {
+        r[i * n + i] = 1.0;
+    }
+    for &(a, b, rho) in corr {
+        r[a * n + b] = rho;
+        r[b * n + a] = rho;
+    }
+    let cholesky = if corr.is_empty() {
+        Vec::new()
+    } else {
+        flexflight::check::dispersion_cholesky(&r, n).unwrap()
+    };
+    Dispersion {
+        name: Spanned::new("d".into(), Span::default()),
+        span: Span::default(),
+        scenario: 0,
+        samples: 0,
+        seed: 11,
+        entries,
+        correlations: corr
+            .iter()
+            .map(|&(a, b, rho)| Correlation {
+                a,
+                b,
+                rho,
+                span: Span::default(),
+            })
+            .collect(),
+        cholesky,
+    }
+}
+
+/// Two correlated normal entries have the written correlation (Pearson within 4 of its
+/// standard errors, (1 - ρ²)/√n), an uncorrelated third keeps its own draws exactly, and
+/// each has its mean and standard deviation.
+#[test]
+fn correlated_draws_have_the_written_correlation() {
+    let n = 20_000;
+    let rho = 0.6;
+    let e = |m, s| DispersionLaw::Normal { mean: m, sd: s };
+    let d = dispersion(
+        vec![
+            entry("a", e(10.0, 2.0)),
+            entry("b", e(-3.0, 0.5)),
+            entry("c", DispersionLaw::Uniform { min: 0.0, max: 1.0 }),
+        ],
+        &[(0, 1, rho)],
+    );
+    let free = dispersion(d.entries.clone(), &[]);
+    let draws: Vec<Vec<f64>> = (0..n).map(|i| draw(&d, i)).collect();
+    let col = |j: usize| draws.iter().map(|x| x[j]).collect::<Vec<f64>>();
+    let (a, b) = (col(0), col(1));
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let sd = |v: &[f64]| {
+        let m = mean(v);
+        (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (v.len() - 1) as f64).sqrt()
+    };
+    let r = flexflight::analysis::montecarlo::stats::pearson(&a, &b);
+    let se = (1.0 - rho * rho) / (n as f64).sqrt();
+    assert!((r - rho).abs() < 4.0 * se, "r = {r}");
+    assert!((mean(&a) - 10.0).abs() < 4.0 * 2.0 / (n as f64).sqrt());
+    assert!((sd(&b) - 0.5).abs() < 4.0 * 0.5 / (2.0 * n as f64).sqrt());
+    // Entry c is in no correlation: the same bits as without correlations.
+    for i in 0..100 {
+        assert_eq!(draw(&d, i)[2].to_bits(), draw(&free, i)[2].to_bits());
+        assert_eq!(
+            draw(&free, i)[0],
+            inverse_cdf(&free.entries[0].distribution, uniform(11, i, 0))
+        );
+    }
+    // A triangular entry correlated with a normal: Spearman close to (6/π) asin(ρ/2).
+    let t = dispersion(
+        vec![
+            entry("a", e(0.0, 1.0)),
+            entry(
+                "t",
+                DispersionLaw::Triangular {
+                    min: 0.0,
+                    mode: 1.0,
+                    max: 4.0,
+                },
+            ),
+        ],
+        &[(0, 1, rho)],
+    );
+    let draws: Vec<Vec<f64>> = (0..n).map(|i| draw(&t, i)).collect();
+    let x: Vec<f64> = draws.iter().map(|v| v[0]).collect();
+    let y: Vec<f64> = draws.iter().map(|v| v[1]).collect();
+    assert!(y.iter().all(|v| (0.0..=4.0).contains(v)));
+    let rs = spearman(&x, &y).unwrap();
+    let expected = 6.0 / std::f64::consts::PI * (rho / 2.0).asin();
+    // The rank correlation's standard error is about (1 - r²)/√n as well.
+    assert!(
+        (rs - expected).abs() < 4.0 * (1.0 - expected * expected) / (n as f64).sqrt(),
+        "{rs} vs {expected}"
+    );
+}
+
+/// The Wilson 95 % interval covers the true proportion in about 95 % of experiments: over
+/// 4 000 experiments of n = 200 at p = 0.1, 0.3 and 0.5, the coverage is within 3 binomial
+/// standard errors (0.0034 each) of 0.95 minus the interval's known deviation at these n
+/// and p (Brown, Cai & DasGupta 2001, Fig. 4: within ±0.01 of 0.95).
+#[test]
+fn the_wilson_interval_covers_at_its_level() {
+    let experiments = 4000u64;
+    let n = 200u64;
+    for (s, p) in [(1u64, 0.1), (2, 0.3), (3, 0.5)] {
+        let mut covered = 0;
+        for e in 0..experiments {
+            let k = (0..n).filter(|&t| uniform(100 + s, e, t) < p).count();
+            let (lo, hi) = wilson(k, n as usize, Z95);
+            if lo <= p && p <= hi {
+                covered += 1;
+            }
+        }
+        let c = covered as f64 / experiments as f64;
+        assert!(
+            (c - 0.95).abs() < 0.01 + 3.0 * 0.0034,
+            "p = {p}: coverage {c}"
+        );
+    }
+}
+
+/// The k-sigma ellipses of a correlated Gaussian sample hold 1 - exp(-k²/2) of it (within 4
+/// binomial standard errors), their axes are the covariance's (σ² = 9 and 1 rotated by
+/// 30°), and their centre the mean.
+#[test]
+fn the_ellipses_hold_their_chi_square_share() {
+    let n = 20_000u64;
+    let (s1, s2, th) = (3.0f64, 1.0f64, 30f64.to_radians());
+    let pts: Vec<(f64, f64)> = (0..n)
+        .map(|i| {
+            let (a, b) = (
+                s1 * normal_quantile(uniform(5, i, 0)),
+                s2 * normal_quantile(uniform(5, i, 1)),
+            );
+            (
+                100.0 + a * th.cos() - b * th.sin(),
+                -50.0 + a * th.sin() + b * th.cos(),
+            )
+        })
+        .collect();
+    let e = ellipses(&pts).unwrap();
+    for el in &e.ellipses {
+        let p = 1.0 - (-0.5 * el.k * el.k).exp();
+        assert_eq!(el.expected_share, p);
+        let se = (p * (1.0 - p) / n as f64).sqrt();
+        assert!(
+            (el.observed_share - p).abs() < 4.0 * se,
+            "k = {}: {}",
+            el.k,
+            el.observed_share
+        );
+        assert!((el.semi_major / el.k - s1).abs() < 0.05 * s1);
+        assert!((el.semi_minor / el.k - s2).abs() < 0.05 * s2);
+        assert!((el.angle - th).abs() < 0.02, "{}", el.angle);
+    }
+    assert!((e.mean[0] - 100.0).abs() < 4.0 * s1 / (n as f64).sqrt());
+}
+
+/// `motor_scale`: the scaled curve delivers `impulse` times the total impulse over
+/// `burn_time` times the burn time (trapezoid rule, exact), the shape kept.
+#[test]
+fn a_scaled_motor_delivers_the_scaled_impulse_and_burn_time() {
+    use flexflight::runtime::thrust::ThrustCurve;
+    let c = ThrustCurve::from_points("t", &[(0.0, 0.0), (0.1, 1000.0), (2.0, 900.0), (2.5, 0.0)])
+        .unwrap();
+    for (a, b) in [(1.02, 0.97), (0.95, 1.1), (1.0, 1.0)] {
+        let s = c.scaled(a, b);
+        assert!((s.total_impulse() - a * c.total_impulse()).abs() < 1e-12 * c.total_impulse());
+        assert!((s.burn_time() - b * c.burn_time()).abs() < 1e-15);
+        assert!((s.thrust_at(1.0 * b) - a / b * c.thrust_at(1.0)).abs() < 1e-9);
+    }
+}
