@@ -10,7 +10,7 @@ use crate::ops::OpsError;
 use crate::ops::compile::{CachedAero, CompileOutcome, summary_json, summary_text};
 use crate::ops::inspect::{Inspected, human_tree, inspect};
 
-use super::{EXIT_DIAGNOSTICS, EXIT_USAGE, Format, Terminal, emit};
+use super::{Common, EXIT_DIAGNOSTICS, EXIT_USAGE, Format, Terminal, emit};
 
 /// [`crate::ops::compile::compile_cached`] for a command: on failure the diagnostics or the
 /// message are printed and the exit code returned; a rebuilt artifact is a warning.
@@ -134,5 +134,53 @@ pub fn cmd_inspect(path: &Path, format: Format) -> u8 {
             );
             EXIT_DIAGNOSTICS
         }
+    }
+}
+
+/// `flexflight compile` (and `modes --export DIR`).
+pub fn cmd_compile(
+    file: &std::path::Path,
+    vehicle: Option<&str>,
+    common: &Common,
+    cache_dir: Option<&std::path::Path>,
+    export: Option<&std::path::Path>,
+    term: Terminal,
+) -> u8 {
+    let mut checked = match super::load_program(&[file.to_path_buf()], common, term) {
+        Ok(c) => c,
+        Err(code) => return code,
+    };
+    let v = match crate::ops::compile::pick_vehicle(&checked, vehicle) {
+        Ok(v) => v.clone(),
+        Err(msg) => {
+            eprintln!("error: {msg}");
+            return EXIT_USAGE;
+        }
+    };
+    let format = common.output.format;
+    let outcome = match compile_cached(&mut checked, &v, cache_dir, format, term) {
+        Ok(o) => o,
+        Err(code) => return code,
+    };
+    match export {
+        None => {
+            print_outcome(&outcome, format);
+            super::EXIT_OK
+        }
+        Some(dir) => match crate::ops::compile::export_modes(&outcome.compiled, dir) {
+            Ok(files) => {
+                for f in files {
+                    outln!("{}", f.display());
+                }
+                super::EXIT_OK
+            }
+            Err(e) => {
+                eprintln!(
+                    "error: cannot write mode shapes to `{}`: {e}",
+                    dir.display()
+                );
+                EXIT_USAGE
+            }
+        },
     }
 }

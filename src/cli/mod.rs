@@ -321,7 +321,7 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
             vehicle,
             common,
             cache,
-        } => cmd_compile(
+        } => compile::cmd_compile(
             &file,
             vehicle.as_deref(),
             &common,
@@ -430,7 +430,7 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
             export,
             common,
             cache,
-        } => cmd_compile(
+        } => compile::cmd_compile(
             &file,
             vehicle.as_deref(),
             &common,
@@ -532,53 +532,6 @@ fn cmd_check(files: &[PathBuf], common: &Common, term: Terminal) -> u8 {
             }
             EXIT_OK
         }
-    }
-}
-
-fn cmd_compile(
-    file: &std::path::Path,
-    vehicle: Option<&str>,
-    common: &Common,
-    cache_dir: Option<&std::path::Path>,
-    export: Option<&std::path::Path>,
-    term: Terminal,
-) -> u8 {
-    let mut checked = match load_program(&[file.to_path_buf()], common, term) {
-        Ok(c) => c,
-        Err(code) => return code,
-    };
-    let v = match crate::ops::compile::pick_vehicle(&checked, vehicle) {
-        Ok(v) => v.clone(),
-        Err(msg) => {
-            eprintln!("error: {msg}");
-            return EXIT_USAGE;
-        }
-    };
-    let format = common.output.format;
-    let outcome = match compile::compile_cached(&mut checked, &v, cache_dir, format, term) {
-        Ok(o) => o,
-        Err(code) => return code,
-    };
-    match export {
-        None => {
-            compile::print_outcome(&outcome, format);
-            EXIT_OK
-        }
-        Some(dir) => match crate::ops::compile::export_modes(&outcome.compiled, dir) {
-            Ok(files) => {
-                for f in files {
-                    outln!("{}", f.display());
-                }
-                EXIT_OK
-            }
-            Err(e) => {
-                eprintln!(
-                    "error: cannot write mode shapes to `{}`: {e}",
-                    dir.display()
-                );
-                EXIT_USAGE
-            }
-        },
     }
 }
 
