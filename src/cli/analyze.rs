@@ -14,9 +14,7 @@ use std::path::{Path, PathBuf};
 use clap::{ArgGroup, Args, Subcommand};
 
 use crate::analysis::map::{BoundaryMach, CriticalThickness, planar_map};
-use crate::analysis::planar::{
-    Altitude, PlanarAnalysis, PlanarError, PlanarKind, PlanarVehicle,
-};
+use crate::analysis::planar::{Altitude, PlanarAnalysis, PlanarError, PlanarKind, PlanarVehicle};
 use crate::check::cli_values::{self, CliValueError, QuantityRange};
 use crate::check::ir::Scenario;
 use crate::diagnostics::Diagnostic;
@@ -24,11 +22,11 @@ use crate::syntax::SourceMap;
 use crate::units::Dim;
 
 use super::compile::compile_cached;
-use crate::ops::planar::{
-    analyse_at_initial_condition, analysis_text, initial_condition, planar_diagnostic, tn4197_json,
-};
 use super::{
     CacheArgs, Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, emit, load_program,
+};
+use crate::ops::planar::{
+    analyse_at_initial_condition, analysis_text, initial_condition, planar_diagnostic, tn4197_json,
 };
 
 /// The analyses.

@@ -63,9 +63,7 @@ pub fn plan_cached(
     structural: &crate::artifact::CacheKey,
     cache: &crate::artifact::Cache,
 ) -> Result<(crate::plan::Plan, Option<CachedAero>), crate::plan::PlanError> {
-    crate::ops::compile::plan_cached(sc, c, structural, cache, &mut |w| {
-        eprintln!("warning: {w}")
-    })
+    crate::ops::compile::plan_cached(sc, c, structural, cache, &mut |w| eprintln!("warning: {w}"))
 }
 
 pub fn print_outcome(o: &CompileOutcome, format: Format) {
@@ -90,7 +88,6 @@ pub fn print_outcome(o: &CompileOutcome, format: Format) {
         ),
     }
 }
-
 
 /// `inspect`: every coefficient of an artifact file.
 pub fn cmd_inspect(path: &Path, format: Format) -> u8 {
@@ -128,10 +125,13 @@ pub fn cmd_inspect(path: &Path, format: Format) -> u8 {
             EXIT_USAGE
         }
         Err(e) => {
-            eprintln!("error{}", match &e {
-                OpsError::Coded { code, message, .. } => format!("[{code}]: {message}"),
-                other => format!(": {other}"),
-            });
+            eprintln!(
+                "error{}",
+                match &e {
+                    OpsError::Coded { code, message, .. } => format!("[{code}]: {message}"),
+                    other => format!(": {other}"),
+                }
+            );
             EXIT_DIAGNOSTICS
         }
     }

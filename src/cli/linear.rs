@@ -193,7 +193,9 @@ pub fn cmd_linear_map(
         let mut sets = common.sets.clone();
         // Rust's shortest round-trip form: the override is the grid value to the last bit.
         sets.push(format!("fins.thickness={t} m"));
-        load_variant(file, scenario, &sets, cache_dir, &mut |w| eprintln!("warning: {w}"))
+        load_variant(file, scenario, &sets, cache_dir, &mut |w| {
+            eprintln!("warning: {w}")
+        })
     };
     let options = LineariseOptions {
         gravity_follows_attitude: !frozen_gravity,

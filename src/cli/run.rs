@@ -28,7 +28,12 @@ fn prepare_with_scenario(
         eprintln!("warning: {w}")
     }) {
         Ok(p) => Ok((p, checked)),
-        Err(e) => Err(super::compile::fail(&e, &checked, common.output.format, term)),
+        Err(e) => Err(super::compile::fail(
+            &e,
+            &checked,
+            common.output.format,
+            term,
+        )),
     }
 }
 

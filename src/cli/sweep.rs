@@ -18,7 +18,10 @@ pub struct Bar(ProgressBar);
 
 impl Bar {
     pub fn new() -> Bar {
-        Bar(ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr()))
+        Bar(ProgressBar::with_draw_target(
+            None,
+            ProgressDrawTarget::stderr(),
+        ))
     }
 }
 

@@ -7,13 +7,12 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::artifact::{self, Cache, CacheKey, CacheKeyBuilder, CacheOutcome, GetOrBuildError};
-use crate::ops::OpsError;
 use crate::check::Checked;
 use crate::check::ir::Vehicle;
 use crate::diagnostics::Diagnostic;
+use crate::ops::OpsError;
 use crate::structure::compile::{CompiledVehicle, StructureError, compile, referenced_files};
 use crate::syntax::{SourceMap, Span};
-
 
 /// Pick the vehicle to compile: by name, or the only one declared in the root files.
 pub fn pick_vehicle<'a>(checked: &'a Checked, name: Option<&str>) -> Result<&'a Vehicle, String> {

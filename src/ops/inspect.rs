@@ -231,4 +231,3 @@ pub fn human_tree(v: &serde_json::Value, depth: usize) -> String {
     }
     out
 }
-

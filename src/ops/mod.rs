@@ -135,7 +135,11 @@ pub fn unknown_scenario(program: &crate::check::ir::Program, name: &str) -> OpsE
 }
 
 /// A name the program does not declare, with the names it does declare.
-pub fn unknown_name<'a>(kind: &str, name: &str, declared: impl Iterator<Item = &'a str>) -> OpsError {
+pub fn unknown_name<'a>(
+    kind: &str,
+    name: &str,
+    declared: impl Iterator<Item = &'a str>,
+) -> OpsError {
     let names: Vec<&str> = declared.collect();
     OpsError::Usage(format!(
         "no {kind} named `{name}`; declared: {}",

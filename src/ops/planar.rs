@@ -273,4 +273,3 @@ pub fn analysis_text(v: &PlanarVehicle, r: &PlanarAnalysis) -> String {
     }
     s
 }
-

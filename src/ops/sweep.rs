@@ -31,10 +31,9 @@ use crate::check::{DiskLoader, check_scenario_files};
 use crate::run;
 use crate::structure::compile::{CompiledVehicle, compile};
 
-use super::compile::{CachedAero, CompileOutcome, aero_cache_key, cache_key, vehicle_aero_cached};
 use super::Progress;
+use super::compile::{CachedAero, CompileOutcome, aero_cache_key, cache_key, vehicle_aero_cached};
 use super::files::write_atomic;
-
 
 /// How to run a sweep.
 #[derive(Clone)]
@@ -188,7 +187,14 @@ pub fn run_sweep(
                         .cloned()
                         .unwrap_or_else(|| Err("the structural variant was not compiled".into()))?;
                     let aero = p.aero_key.and_then(|k| aero_blocks.get(&k));
-                    run_case(p, &c, sweep, case, aero.map(|cell| (cell, &cache)), progress)
+                    run_case(
+                        p,
+                        &c,
+                        sweep,
+                        case,
+                        aero.map(|cell| (cell, &cache)),
+                        progress,
+                    )
                 });
                 let written = write_case(&cases_dir, case, &result);
                 if let Some(p) = progress {

@@ -17,7 +17,6 @@ use crate::check::ir;
 
 use super::flutter::{AeroChoice, MAX_CHORDWISE, vg_table};
 
-
 /// Reduced frequencies of the unsteady table (`k_i = k_max (i/24)²`; the AGARD 445.6 tests
 /// converge with it: 49 give the same flutter speed to 0.1 %, docs/validation.md).
 pub const K_COUNT: usize = 25;
