@@ -30,7 +30,8 @@ fn variant(model: &str, thickness: &str, extra: &[&str]) -> Variant {
         &repo("examples/thesis/section_6_5.vdl"),
         "supersonic_t10",
         &sets,
-        Some(&cache()), &mut |_| {},
+        Some(&cache()),
+        &mut |_| {},
     )
     .unwrap()
 }

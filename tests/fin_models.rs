@@ -411,7 +411,8 @@ fn panel_matrices_are_cached_with_the_aerodynamics() {
     }
     let key = aero_cache_key(&v.scenario.vehicle, &structural).unwrap();
     flexflight::artifact::write_atomic(dir.path(), &key, &AeroArtifact::new(&doctored)).unwrap();
-    let (plan, _) = plan_cached(&v.scenario, &v.compiled, &structural, &cache, &mut |_| {}).unwrap();
+    let (plan, _) =
+        plan_cached(&v.scenario, &v.compiled, &structural, &cache, &mut |_| {}).unwrap();
     let flown = plan
         .aero
         .as_ref()

@@ -30,7 +30,8 @@ fn variant(sets: &[&str]) -> Variant {
         &common::root().join("examples/thesis/section_6_5.vdl"),
         "subsonic_t06",
         &sets,
-        Some(&cache), &mut |_| {},
+        Some(&cache),
+        &mut |_| {},
     )
     .unwrap()
 }

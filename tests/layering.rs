@@ -121,7 +121,11 @@ fn test_modules(files: &BTreeMap<String, String>) -> BTreeSet<String> {
                         m.pop();
                     }
                     let base = m.join("/");
-                    let prefix = if base.is_empty() { String::new() } else { base + "/" };
+                    let prefix = if base.is_empty() {
+                        String::new()
+                    } else {
+                        base + "/"
+                    };
                     out.insert(format!("{prefix}{name}.rs"));
                     out.insert(format!("{prefix}{name}/mod.rs"));
                 }
@@ -329,7 +333,19 @@ fn the_command_line_stays_thin() {
 #[test]
 fn the_import_graph_is_not_empty() {
     let g = graph();
-    assert!(g["run/mod.rs"].contains("plan/mod.rs"), "{:?}", g["run/mod.rs"]);
-    assert!(g["cli/run.rs"].contains("ops/run.rs"), "{:?}", g["cli/run.rs"]);
-    assert!(g["ops/run.rs"].contains("ops/compile.rs"), "{:?}", g["ops/run.rs"]);
+    assert!(
+        g["run/mod.rs"].contains("plan/mod.rs"),
+        "{:?}",
+        g["run/mod.rs"]
+    );
+    assert!(
+        g["cli/run.rs"].contains("ops/run.rs"),
+        "{:?}",
+        g["cli/run.rs"]
+    );
+    assert!(
+        g["ops/run.rs"].contains("ops/compile.rs"),
+        "{:?}",
+        g["ops/run.rs"]
+    );
 }

@@ -19,7 +19,13 @@ fn thickness_changes_the_fe_model_and_the_map_is_complete() {
     let load = |t: f64| {
         loads.push(t);
         let sets = vec![format!("fins.thickness={} mm", t * 1e3)];
-        load_variant(&file(), "subsonic_t06", &sets, Some(cache.path()), &mut |_| {})
+        load_variant(
+            &file(),
+            "subsonic_t06",
+            &sets,
+            Some(cache.path()),
+            &mut |_| {},
+        )
     };
     let ts = [0.4e-3, 0.8e-3];
     let ms = [0.5, 0.6, 0.7];
@@ -35,7 +41,14 @@ fn thickness_changes_the_fe_model_and_the_map_is_complete() {
     // override must reach the FE model, not only the aerodynamics.
     let flap = |t: f64| {
         let sets = vec![format!("fins.thickness={} mm", t * 1e3)];
-        let v = load_variant(&file(), "subsonic_t06", &sets, Some(cache.path()), &mut |_| {}).unwrap();
+        let v = load_variant(
+            &file(),
+            "subsonic_t06",
+            &sets,
+            Some(cache.path()),
+            &mut |_| {},
+        )
+        .unwrap();
         v.compiled
             .modes
             .iter()
@@ -56,7 +69,13 @@ fn thickness_changes_the_fe_model_and_the_map_is_complete() {
         &ms,
         |t: f64| {
             let sets = vec![format!("fins.thickness={} mm", t * 1e3)];
-            load_variant(&file(), "subsonic_t06", &sets, Some(cache.path()), &mut |_| {})
+            load_variant(
+                &file(),
+                "subsonic_t06",
+                &sets,
+                Some(cache.path()),
+                &mut |_| {},
+            )
         },
         LineariseOptions::default(),
     )
