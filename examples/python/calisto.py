@@ -94,7 +94,7 @@ def main():
     apogee = s["flight"].get("apogee") or {}
     print(f"flexflight: {s['stop_reason']} at t = {s['t_end']:.2f} s; apogee {apogee}")
     margin = s.get("flutter_margin") or {}
-    print(f"flexflight flutter margin: {margin.get('minimum', margin)}")
+    print(f"flexflight flutter margin, minimum: {margin.get('minimum')}")
 
     drag_csv = os.path.join(a.out, "flexflight_drag.csv")
     curve = run.drag_curve()
@@ -119,11 +119,11 @@ def main():
         return
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.5))
     # flexflight: inertial position, z down; altitude above the pad from the altitude channel.
-    t = column(h, "time")
+    # history.csv's columns (docs/outputs.md): inertial position of the nose tip, z down.
     alt = column(h, "altitude")
     site = alt[0]
-    north = column(h, "position_x") if "position_x" in h else [0.0] * len(t)
-    east = column(h, "position_y") if "position_y" in h else [0.0] * len(t)
+    north = column(h, "p_inertial_x")
+    east = column(h, "p_inertial_y")
     downrange = [math.hypot(n - north[0], e - east[0]) for n, e in zip(north, east)]
     ax1.plot(downrange, [x - site for x in alt], label="flexflight")
     if rp is not None:
@@ -137,13 +137,11 @@ def main():
     ax1.legend()
     fm = run.flutter_margin
     if fm is not None:
-        cols = list(fm.keys() if isinstance(fm, dict) else fm.columns)
-        tcol = next((c for c in cols if c.startswith("t")), cols[0])
-        mcol = next((c for c in cols if "margin" in c or "ratio" in c), cols[-1])
-        ax2.plot(column(fm, tcol), column(fm, mcol))
+        # flutter_margin.csv (docs/outputs.md): `speed_margin` = V_F / V at each row `t`.
+        ax2.plot(column(fm, "t"), column(fm, "speed_margin"))
         ax2.axhline(1.0, color="k", lw=0.8)
-        ax2.set_xlabel(tcol)
-        ax2.set_ylabel(mcol)
+        ax2.set_xlabel("t (s)")
+        ax2.set_ylabel("flutter speed / airspeed")
     ax2.set_title("flexflight flutter margin over the flight")
     fig.tight_layout()
     png = os.path.join(a.out, "calisto.png")

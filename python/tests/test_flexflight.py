@@ -40,13 +40,15 @@ def _path(root, rel):
 def test_run_gives_the_same_bits_as_the_cli(root, cache_dir, binary, tmp_path):
     """`Project.run` + `Run.write` and `flexflight run` on hpr_k1000 / k1000: the same
     history.csv bytes, the same summary.json but for the wall-clock fields, and the
-    in-memory history is history.csv's numbers bit for bit."""
+    in-memory history is history.csv's numbers bit for bit. A first run warms the cache, so
+    that both compared runs find the same artifacts (`summary.json` says hit or miss)."""
     cli_out, py_out = tmp_path / "cli", tmp_path / "py"
-    subprocess.run(
-        [binary, "run", _path(root, K1000), "--scenario", "k1000", "--out", str(cli_out),
-         "--cache-dir", cache_dir],
-        check=True, capture_output=True,
-    )
+    for out in (tmp_path / "warm", cli_out):
+        subprocess.run(
+            [binary, "run", _path(root, K1000), "--scenario", "k1000", "--out", str(out),
+             "--cache-dir", cache_dir],
+            check=True, capture_output=True,
+        )
     run = flexflight.open(_path(root, K1000), cache_dir=cache_dir).run("k1000")
     run.write(py_out)
     cli_hist = (cli_out / "history.csv").read_bytes()
@@ -119,9 +121,9 @@ def test_sets_override_like_the_command_line(root, cache_dir):
     assert p.check() == []
     r = p.run("k1000", flutter_margin=False)
     assert r.summary["t_end"] == pytest.approx(1.5, abs=1e-12)
-    assert r.summary["stop_reason"] == "stop_time"
+    assert r.summary["stop_reason"] == "completed"
     assert r.flutter_margin is None
-    t = r.columns["time"]
+    t = r.columns["t"]
     assert t[-1] == r.summary["t_end"]
 
 

@@ -14,10 +14,9 @@ use crate::check::cli_values;
 use crate::check::ir;
 use crate::diagnostics::Diagnostic;
 use crate::ops::flutter::{
-    AeroChoice, CLAMPED_MODES, Condition, FREE_SPEEDS, FinFlutter, MATCH_MAX, MatchError,
-    critical_thickness, flutter_code, flutter_diagnostic, flutter_speed_of, match_point,
-    report_text, scenario_altitude, scenario_speed, solve_clamped, solve_free, summary_json,
-    write_outputs,
+    AeroChoice, CLAMPED_MODES, Condition, FinFlutter, MATCH_MAX, MatchError, critical_thickness,
+    flutter_code, flutter_diagnostic, flutter_speed_of, match_point, report_text,
+    scenario_altitude, scenario_speed, solve_clamped, solve_free, summary_json, write_outputs,
 };
 use crate::units::Dim;
 
