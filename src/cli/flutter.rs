@@ -14,10 +14,9 @@ use crate::check::cli_values;
 use crate::check::ir;
 use crate::diagnostics::Diagnostic;
 use crate::ops::flutter::{
-    AeroChoice, CLAMPED_MODES, Condition, FREE_SPEEDS, FinFlutter, MATCH_MAX, MatchError,
-    critical_thickness, flutter_code, flutter_diagnostic, flutter_speed_of, match_point,
-    report_text, scenario_altitude, scenario_speed, solve_clamped, solve_free, summary_json,
-    write_outputs,
+    AeroChoice, CLAMPED_MODES, Condition, FinFlutter, MATCH_MAX, MatchError, critical_thickness,
+    flutter_code, flutter_diagnostic, flutter_speed_of, match_point, report_text,
+    scenario_altitude, scenario_speed, solve_clamped, solve_free, summary_json, write_outputs,
 };
 use crate::units::Dim;
 
@@ -127,22 +126,7 @@ pub fn cmd_flutter(a: &FlutterArgs, term: Terminal) -> u8 {
     };
     let speeds = match v.flatten() {
         Some(r) => r.values(),
-        None => {
-            // The unsteady lattice must resolve the highest mode's reduced frequency at the
-            // lowest speed (box-size rule): start higher than the quasi-steady map needs.
-            let lo = match a.aero {
-                AeroChoice::Unsteady | AeroChoice::DoubletLattice => 0.3,
-                AeroChoice::QuasiSteady => 0.1,
-            } * air.speed_of_sound;
-            let hi = 3.0 * air.speed_of_sound;
-            // The free vehicle's branches cross in frequency (fin twist through body
-            // bending) and come in near-identical sets (one per fin): continuation needs a
-            // finer step than the clamped fin's.
-            let count = if a.clamped { 40 } else { FREE_SPEEDS };
-            (0..count)
-                .map(|i| lo + (hi - lo) * i as f64 / (count - 1) as f64)
-                .collect()
-        }
+        None => crate::ops::flutter::default_speeds(a.aero, a.clamped, air.speed_of_sound),
     };
     let condition = Condition {
         altitude,

@@ -1419,3 +1419,130 @@ mod tests {
         }
     }
 }
+
+/// The default speeds of `analyze flutter` without `--speeds` at speed of sound `a`: from
+/// 0.3 a (the harmonic lattices, which must resolve the highest mode's reduced frequency at
+/// the lowest speed: box-size rule) or 0.1 a (the quasi-steady map) to 3 a, 40 speeds for
+/// the clamped fin and [`FREE_SPEEDS`] for the free vehicle (whose branches cross in
+/// frequency and come in near-identical sets, one per fin: continuation needs a finer step).
+pub fn default_speeds(aero: AeroChoice, clamped: bool, a: f64) -> Vec<f64> {
+    let lo = match aero {
+        AeroChoice::Unsteady | AeroChoice::DoubletLattice => 0.3,
+        AeroChoice::QuasiSteady => 0.1,
+    } * a;
+    let hi = 3.0 * a;
+    let count = if clamped { 40 } else { FREE_SPEEDS };
+    (0..count)
+        .map(|i| lo + (hi - lo) * i as f64 / (count - 1) as f64)
+        .collect()
+}
+
+/// A flutter analysis of a flown scenario as `analyze flutter` asks it (without
+/// `--critical-thickness` and `--match-point`): the front ends' request.
+#[derive(Clone, Debug)]
+pub struct FlutterRequest {
+    /// The fin alone clamped at its root (`true`) or the free flexible vehicle.
+    pub clamped: bool,
+    /// Altitude of the air, m (default: the scenario's initial altitude).
+    pub altitude: Option<f64>,
+    /// Mach number of the aerodynamics (default: the scenario's initial Mach).
+    pub mach: Option<f64>,
+    /// The speeds of the sweep, m/s (default: [`default_speeds`]).
+    pub speeds: Option<Vec<f64>>,
+    /// Clamped-fin modes (default [`CLAMPED_MODES`]; the free vehicle uses its compiled
+    /// modes and refuses this).
+    pub modes: Option<usize>,
+    pub aero: AeroChoice,
+}
+
+/// Solves `req` for scenario `scenario` of `checked` (the Python package's `flutter`): the
+/// condition and speeds defaulted as `analyze flutter` does, the clamped fin's GAF tables
+/// and the free vehicle's structure through the cache in `cache_dir`. Cache warnings go to
+/// `warn`.
+pub fn solve_request(
+    checked: &mut crate::check::Checked,
+    scenario: &str,
+    req: &FlutterRequest,
+    cache_dir: Option<&Path>,
+    warn: &mut dyn FnMut(String),
+) -> Result<FinFlutter, super::OpsError> {
+    use super::OpsError;
+    let Some(sc) = checked.program.scenario(scenario).cloned() else {
+        return Err(super::unknown_scenario(&checked.program, scenario));
+    };
+    if req.modes == Some(0) {
+        return Err(OpsError::Usage("modes must be at least 1".into()));
+    }
+    if !req.clamped && req.modes.is_some() {
+        return Err(OpsError::Usage(
+            "modes chooses the modes of the clamped fin (clamped=True); the free vehicle uses its compiled modes (the vehicle's `modes` block)".into(),
+        ));
+    }
+    if let Some(s) = &req.speeds {
+        if s.is_empty() || s.iter().any(|v| !v.is_finite() || *v <= 0.0) {
+            return Err(OpsError::Usage(
+                "speeds must be a non-empty list of finite positive speeds (m/s)".into(),
+            ));
+        }
+    }
+    let altitude = req.altitude.unwrap_or_else(|| scenario_altitude(&sc));
+    let air = Standard1976::new()
+        .at(altitude)
+        .map_err(|e| OpsError::Usage(format!("altitude: {e}")))?;
+    let mach = req
+        .mach
+        .unwrap_or_else(|| scenario_speed(&sc, air.speed_of_sound) / air.speed_of_sound);
+    if !mach.is_finite() || mach < 0.0 {
+        return Err(OpsError::Usage(format!(
+            "mach must be finite and not negative, not {mach}"
+        )));
+    }
+    let speeds = req
+        .speeds
+        .clone()
+        .unwrap_or_else(|| default_speeds(req.aero, req.clamped, air.speed_of_sound));
+    let condition = Condition {
+        altitude,
+        mach,
+        density: air.density,
+        speed_of_sound: air.speed_of_sound,
+        pressure: air.pressure,
+    };
+    let refuse = |e: &FinFlutterError| OpsError::Diagnostics(vec![flutter_diagnostic(e, &sc, "")]);
+    if req.clamped {
+        let cache = Cache::resolve(cache_dir);
+        let n_modes = req.modes.unwrap_or(CLAMPED_MODES);
+        let r = solve_clamped(
+            &sc.vehicle,
+            condition,
+            &speeds,
+            n_modes,
+            req.aero.model(),
+            Some(&cache),
+        )
+        .map_err(|e| {
+            OpsError::Diagnostics(vec![flutter_diagnostic(&e, &sc, ", use fewer modes")])
+        })?;
+        if let Some(w) = r.gaf_cache.as_ref().and_then(|g| g.warning.clone()) {
+            warn(w);
+        }
+        return Ok(r);
+    }
+    if sc.vehicle.fins.is_none() {
+        return Err(refuse(&FinFlutterError::NoFins));
+    }
+    if let Ok(crate::aero::panel::Regime::Transonic { .. }) = crate::aero::panel::regime(mach) {
+        return Err(refuse(&FinFlutterError::Transonic { mach }));
+    }
+    let outcome = super::compile::compile_cached(checked, &sc.vehicle, cache_dir)?;
+    let cache = Cache::resolve(cache_dir);
+    let (plan, _) = super::compile::plan_cached(&sc, &outcome.compiled, &outcome.key, &cache, warn)
+        .map_err(|e| OpsError::Diagnostics(vec![super::run::plan_diagnostic(&e, &sc)]))?;
+    let variant = Variant {
+        plan,
+        scenario: sc.clone(),
+        compiled: outcome.compiled,
+    };
+    let v0 = scenario_speed(&sc, air.speed_of_sound);
+    solve_free(&variant, condition, &speeds, req.aero.model(), v0).map_err(|e| refuse(&e))
+}

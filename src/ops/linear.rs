@@ -162,3 +162,47 @@ pub fn report_text(variant: &Variant, r: &LinearAnalysis) -> String {
     }
     s
 }
+
+/// `analyze linear --format json` of scenario `scenario` of `checked`: the vehicle compiled
+/// and the scenario planned through the cache in `cache_dir`, trimmed and linearised
+/// ([`crate::analysis::linear::analyse`]); gravity rotates with the attitude unless
+/// `frozen_gravity`. The front ends' (the Python package's) operation.
+pub fn linear_json(
+    checked: &mut crate::check::Checked,
+    scenario: &str,
+    frozen_gravity: bool,
+    cache_dir: Option<&Path>,
+    warn: &mut dyn FnMut(String),
+) -> Result<serde_json::Value, super::OpsError> {
+    use crate::analysis::linearise::LineariseOptions;
+    let Some(sc) = checked.program.scenario(scenario).cloned() else {
+        return Err(super::unknown_scenario(&checked.program, scenario));
+    };
+    let outcome = super::compile::compile_cached(checked, &sc.vehicle, cache_dir)?;
+    let cache = Cache::resolve(cache_dir);
+    let (plan, _) = super::compile::plan_cached(&sc, &outcome.compiled, &outcome.key, &cache, warn)
+        .map_err(|e| super::OpsError::Diagnostics(vec![super::run::plan_diagnostic(&e, &sc)]))?;
+    let variant = Variant {
+        plan,
+        scenario: sc,
+        compiled: outcome.compiled,
+    };
+    let options = LineariseOptions {
+        gravity_follows_attitude: !frozen_gravity,
+        ..LineariseOptions::default()
+    };
+    let result = crate::analysis::linear::analyse(&variant, options).map_err(|e| {
+        super::OpsError::Coded {
+            code: "analysis::linear::failed",
+            message: format!("linearisation failed: {e}"),
+            input: true,
+        }
+    })?;
+    Ok(serde_json::json!({
+        "scenario": scenario,
+        "vehicle": variant.plan.vehicle,
+        "mode_names": variant.plan.mode_names,
+        "options": options,
+        "analysis": result,
+    }))
+}

@@ -90,6 +90,9 @@ impl Project {
     /// Checks `files` with the `--set`-style overrides `sets` (`PATH=VALUE`). A missing file
     /// is [`OpsError::Usage`]; errors in the files are [`OpsError::Diagnostics`] (with the
     /// checked sources, to render them). Warnings stay in `checked.diagnostics`.
+    // The checked sources travel with the error so that the caller can locate its
+    // diagnostics; opening a project is once per front-end call, the size costs nothing.
+    #[allow(clippy::result_large_err)]
     pub fn open(
         files: &[PathBuf],
         sets: &[String],

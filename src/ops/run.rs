@@ -751,3 +751,38 @@ pub fn with_aero_cache(
     }
     summary
 }
+
+/// The vehicle's zero-lift drag curve `(Mach, C_D)` on the coefficient tables' Mach grid
+/// (the body table's), at altitude `altitude_m`: at zero angle of attack the drag is the
+/// axial force, so `C_D(M) = C_A,body(M, 0, h) + n C_A,fin(M, 0, h)` with `n` the number of
+/// fins (the fin table holds ONE fin's coefficients at its own angle of attack, on the same
+/// reference area: module doc of [`crate::aero::tables`]); every fin is at `alpha_f = 0`
+/// (fin cant, which gives each fin an angle of attack of its own, is not in the curve). This
+/// is the drag curve RocketPy takes (`power_off_drag`, a CSV of Mach and C_D on the
+/// reference area `pi r^2`). `None` for a plan without coefficient tables; `Err` when a
+/// table lookup fails (the altitude outside a `stop` table).
+pub fn drag_curve(
+    p: &Plan,
+    n_fins: usize,
+    altitude_m: f64,
+) -> Option<Result<Vec<(f64, f64)>, String>> {
+    use crate::aero::tables::Axis;
+    let t = &p.aero.as_ref()?.tables;
+    let curve = t
+        .body
+        .axis(Axis::Mach)
+        .iter()
+        .map(|&m| {
+            let body = t
+                .body
+                .lookup(m, 0.0, altitude_m)
+                .map_err(|e| e.to_string())?;
+            let fin = t
+                .fin
+                .lookup(m, 0.0, altitude_m)
+                .map_err(|e| e.to_string())?;
+            Ok((m, body[1] + n_fins as f64 * fin[1]))
+        })
+        .collect();
+    Some(curve)
+}
