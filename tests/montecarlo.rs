@@ -9,13 +9,13 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use flexflight::ops::montecarlo::runner::{MonteCarloOptions, run_dispersion};
 use flexflight::analysis::montecarlo::stats::{Z95, ellipses, spearman, wilson};
 use flexflight::analysis::montecarlo::stream::{normal_quantile, uniform};
 use flexflight::analysis::montecarlo::{draw, inverse_cdf};
 use flexflight::analysis::sweep::Shard;
 use flexflight::check::ir::{Correlation, Dispersion, DispersionEntry, DispersionLaw};
 use flexflight::check::{DiskLoader, check_files};
+use flexflight::ops::montecarlo::runner::{MonteCarloOptions, run_dispersion};
 use flexflight::syntax::{Span, Spanned};
 
 fn bin() -> Command {

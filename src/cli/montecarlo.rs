@@ -4,8 +4,8 @@
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
-use crate::ops::montecarlo::runner::{MonteCarloOptions, merge, run_dispersion, write_tables};
 use crate::analysis::sweep::{Shard, ranges};
+use crate::ops::montecarlo::runner::{MonteCarloOptions, merge, run_dispersion, write_tables};
 
 use super::{Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, load_program};
 

@@ -40,7 +40,9 @@ use crate::check::ir::{Dispersion, DispersionEntry, Scenario};
 use crate::check::{DiskLoader, check_scenario_files};
 use crate::ops::compile::{CachedAero, CompileOutcome, aero_cache_key, vehicle_aero_cached};
 
-use crate::analysis::montecarlo::{SampleOutputs, draw, sample_id, set_strings, table_csv, table_header, table_row};
+use crate::analysis::montecarlo::{
+    SampleOutputs, draw, sample_id, set_strings, table_csv, table_header, table_row,
+};
 
 /// How to run a dispersion.
 #[derive(Clone, Debug)]
@@ -470,12 +472,7 @@ fn run_sample(
     if flutter_margin.unwrap_or(sc.launch.is_some()) {
         let table_machs = plan.aero.as_ref().map_or_else(
             || crate::aero::estimator::ESTIMATOR_MACH.to_vec(),
-            |a| {
-                a.tables
-                    .fin
-                    .axis(crate::aero::tables::Axis::Mach)
-                    .to_vec()
-            },
+            |a| a.tables.fin.axis(crate::aero::tables::Axis::Mach).to_vec(),
         );
         let m = crate::ops::flutter::flight_margin(sc, &output, &table_machs, cache);
         if let Some(map) = summary.as_object_mut() {
