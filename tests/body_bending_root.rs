@@ -215,7 +215,10 @@ fn fin_jacobian(v: &Variant, trim: &[f64], n: usize) -> Vec<Vec<f64>> {
 /// lifting-surface fins the rigid-motion side comes from the tables, which multiply the fin's
 /// normal force by Barrowman's body-fin interference `K_T(B) = 1 + r/(s + r)`, and the
 /// elastic side from the isolated fin's panels, which do not: the ratio is `K_T(B)` exactly
-/// (SPHADS-1: r = 63.5 mm, s = 127.23 mm, 1.3329). That non-reciprocal coupling is what
+/// (SPHADS-1: r = 63.5 mm, s = 127.23 mm, 1.3329) while the tables' fin slope was
+/// Ackeret's. Since issue 33's supersonic lifting surface gives the tables the 3-D slope
+/// (below Ackeret's 2-D one, which the panels' piston theory keeps), the ratio is
+/// `K_T(B) a_3D / a_Ackeret`, 1.113 measured: still not 1. That non-reciprocal coupling is what
 /// drives the 87 Hz pair unstable (+0.26 1/s at 2.5 mm, `modes { damping = 0 }`): making
 /// the panels' increments carry the same factor restores reciprocity and the pair's
 /// damping (-1.8 1/s; measured with a temporary scale on the increments, not in the code).
@@ -224,7 +227,9 @@ fn fin_jacobian(v: &Variant, trim: &[f64], n: usize) -> Vec<Vec<f64>> {
 fn lifting_surface_damping_coupling_is_not_reciprocal_by_the_interference_factor() {
     let ktb = 1.0 + 0.0635 / (0.127_23 + 0.0635);
     for (model, lo, hi) in [
-        ("lifting_surface", ktb - 2e-3, ktb + 2e-3),
+        // Above 1 by more than the key node's 2.5 %, below K_T(B): the tables' 3-D slope
+        // is below the panels' 2-D one (1.113 measured).
+        ("lifting_surface", 1.05, ktb - 0.1),
         ("key_node", 0.99, 1.04),
     ] {
         let v = variant(model, "2.5 mm", &[]);
