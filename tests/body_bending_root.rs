@@ -251,8 +251,8 @@ fn lifting_surface_damping_coupling_is_not_reciprocal_by_the_interference_factor
             "{model}: dQ_b/dw_y {q_from_pitch_rate:.4} dM_y/deta_dot_b {pitch_moment_from_rate:.4} ratio {ratio:.5}"
         );
         assert!(ratio > lo && ratio < hi, "{model}: {ratio}");
-        // The pair itself: unstable only with the lifting surface, by a damping ratio of
-        // about -5e-4 (which 0.1 % structural damping absorbs).
+        // The pair itself (with the Ackeret tables it was unstable only with the lifting
+        // surface, by a damping ratio of about -5e-4).
         let pair = an
             .eigen
             .roots
@@ -264,7 +264,11 @@ fn lifting_surface_damping_coupling_is_not_reciprocal_by_the_interference_factor
             pair.real, pair.damping_ratio
         );
         if model == "lifting_surface" {
-            assert!(pair.real > 0.2 && pair.damping_ratio > -1e-3, "{pair:?}");
+            // Since the tables' slope is the 3-D lifting surface's (issue 33), the mismatch
+            // is 1.113 instead of 1.333 and the pair is damped (-0.914 1/s, zeta +1.7e-3;
+            // it was +0.26 1/s): the coupling is still not reciprocal (above), so the root's
+            // damping still depends on the inconsistency, not on a physical mechanism.
+            assert!((-1.0..-0.8).contains(&pair.real), "{pair:?}");
         } else {
             assert!(pair.real < -1.0, "{pair:?}");
         }

@@ -125,7 +125,7 @@ fn key_node_history_is_unchanged() {
     );
     assert_eq!(
         d,
-        "f43deee4bdfe0f04bfa4cc792e5b3ae8b0de22109502a0166eacd99cf54e6afa"
+        "abfff936d18f4cb59863d8229f2801ee39825960a0113aee782a30c09f6545a1"
     );
 }
 
