@@ -118,10 +118,12 @@ fn primitive(x0: f64, e1: f64, beta: f64, t: f64) -> f64 {
     let b = 2.0 * e1 * x0;
     let j1 = -((2.0 * a + b * t + 2.0 * ax * sq) / t).abs().ln() / ax;
     let cj2 = if c < 0.0 {
-        (-c).sqrt()
-            * ((2.0 * c * t + b) / (2.0 * beta * ax))
-                .clamp(-1.0, 1.0)
-                .asin()
+        // asin((2ct + b) / (2 β |X_0|)) written as an arctangent: with Q = a + b t + c t²
+        // and b² - 4ac = 4 β² X_0², (2ct + b)² = 4cQ + 4β²X_0², so the cosine of that angle
+        // is sqrt(-cQ) / (β |X_0|) and asin(z) = atan2(2ct + b, 2 sqrt(-cQ)). The asin form
+        // loses half the digits where its argument is near ±1 (the edge of the Mach cone,
+        // Q -> 0: 3e-9 relative on a 2-D strip); this one is exact there.
+        (-c).sqrt() * (2.0 * c * t + b).atan2(2.0 * (-c * q).sqrt())
     } else if c > 0.0 {
         c.sqrt() * (2.0 * (c * q).sqrt() + 2.0 * c * t + b).abs().ln()
     } else {
