@@ -53,8 +53,9 @@ fn two_dimensional_limit_is_ackeret() {
     // panel acts on its own point only; on points downstream its leading- and
     // trailing-edge contributions cancel). Span 10 chords: the tip's Mach cone reaches
     // 1/β = 0.58 chord inboard at the trailing edge, far from the strip's collocation points
-    // (5 chords out; the root is the reflection plane), and coordinates of order 10 keep the
-    // closed-form integrals at roundoff (a 1e6-chord strip left 3e-9 of cancellation error).
+    // (5 chords out; the root is the reflection plane). (The 3e-9 this part once failed by
+    // came from an asin at the Mach cone, now an atan2 in `supersonic::primitive`, not from
+    // the strip's width.)
     let p = trapezoid(10.0, 1.0, 1.0, 0.0);
     let l = Lattice::new(&p, 3, 1, Spacing::Uniform).unwrap();
     let d = supersonic::influence_matrix(&l, 2.0).unwrap();
