@@ -302,6 +302,7 @@ pub fn write_stdout(args: std::fmt::Arguments<'_>, newline: bool) {
 
 /// Run a parsed command line.
 pub fn run(cli: Cli, term: Terminal) -> ExitCode {
+    crate::ops::sequential_linear_algebra();
     let code = match cli.command {
         Command::Check { files, common } => cmd_check(&files, &common, term),
         Command::Import {

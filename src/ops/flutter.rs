@@ -349,6 +349,7 @@ pub fn solve_free(
     aero: FinAero,
     scenario_speed: f64,
 ) -> Result<FinFlutter, FinFlutterError> {
+    super::sequential_linear_algebra();
     let coords = crate::analysis::flutter::vehicle::vehicle_coordinates(variant)?;
     let w_max = coords.omega_elastic.iter().copied().fold(0.0, f64::max);
     let settings = sweep_settings(aero, speeds, w_max, coords.b_ref(), &coords.fins[0]);
@@ -438,6 +439,7 @@ pub fn solve_clamped(
     aero: FinAero,
     cache: Option<&Cache>,
 ) -> Result<FinFlutter, FinFlutterError> {
+    super::sequential_linear_algebra();
     let modes = clamped_fin_modes(v, n_modes)?;
     let w_max = modes.omega.iter().copied().fold(0.0, f64::max);
     let settings = sweep_settings(aero, speeds, w_max, modes.b_ref(), &modes);

@@ -76,6 +76,18 @@ pub trait Progress: Send + Sync {
     fn warning(&self, text: &str);
 }
 
+/// Makes faer's dense linear algebra (LU, Cholesky, eigen-solves, products) run on one
+/// thread in this process. faer reads a process-wide setting whose default is all of rayon's
+/// threads, and its parallel kernels split the work by thread count, which changes the last
+/// bits of a result: the same analysis then differed between machines, and within one
+/// process before and after a flight. Determinism (the same inputs, the same bits) comes
+/// first; the operations parallelise over independent cases (sweep points, samples, Mach
+/// nodes) instead. Called when a project opens, by the CLI before any command, and by the
+/// operations that take checked inputs directly (`tests/parallelism.rs`).
+pub fn sequential_linear_algebra() {
+    faer::set_global_parallelism(faer::Par::Seq);
+}
+
 /// A checked set of vehicle files and where compiled artifacts are cached: what every
 /// operation on a model starts from.
 pub struct Project {
@@ -98,6 +110,7 @@ impl Project {
         sets: &[String],
         cache_dir: Option<&Path>,
     ) -> Result<Project, (OpsError, Option<Checked>)> {
+        sequential_linear_algebra();
         for f in files {
             if !f.is_file() {
                 return Err((

@@ -171,7 +171,7 @@ pub fn fly(
     // The post-processing is small dense algebra (the identification's 201 x 201
     // eigen-solves, the margin's p-k solutions): faer's own threads only cost their start-up
     // and spinning here, and sequential kernels give the same bits whatever the machine.
-    faer::set_global_parallelism(faer::Par::Seq);
+    crate::ops::sequential_linear_algebra();
     let history = match streamed {
         Some(h) if h.rows() == output.rows.len() => h.finish(),
         _ => history_csv(&output),

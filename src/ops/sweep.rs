@@ -97,7 +97,7 @@ pub fn run_sweep(
     let started = Instant::now();
     // Parallelism is across cases; inside a case faer works sequentially, so results do
     // not depend on the thread count and two levels of threads do not fight for 2 cores.
-    faer::set_global_parallelism(faer::Par::Seq);
+    crate::ops::sequential_linear_algebra();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.jobs.max(1))
         .build()

@@ -281,7 +281,7 @@ pub fn run_dispersion(
     opts: &MonteCarloOptions,
 ) -> Result<MonteCarloReport, MonteCarloError> {
     let started = Instant::now();
-    faer::set_global_parallelism(faer::Par::Seq);
+    crate::ops::sequential_linear_algebra();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.jobs.max(1))
         .build()
