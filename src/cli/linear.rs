@@ -4,12 +4,10 @@
 
 use std::path::Path;
 
-use crate::analysis::linear::{Variant, analyse, linear_map};
+use crate::analysis::linear::linear_map;
 use crate::analysis::linearise::LineariseOptions;
-use crate::artifact::Cache;
 use crate::ops::linear::{load_variant, report_text};
 
-use super::compile::compile_cached;
 use clap::Subcommand;
 use std::path::PathBuf;
 
@@ -116,54 +114,23 @@ pub fn cmd_linear(
         Ok(c) => c,
         Err(code) => return code,
     };
-    let Some(sc) = checked.program.scenario(scenario).cloned() else {
-        eprintln!("error: no scenario named `{scenario}`");
-        return EXIT_USAGE;
-    };
     let format = common.output.format;
-    let outcome = match compile_cached(&mut checked, &sc.vehicle, cache_dir, format, term) {
-        Ok(o) => o,
-        Err(code) => return code,
-    };
-    let cache = Cache::resolve(cache_dir);
-    let plan = match super::compile::plan_cached(&sc, &outcome.compiled, &outcome.key, &cache) {
-        Ok((p, _)) => p,
-        Err(e) => {
-            eprintln!("error: cannot plan scenario `{scenario}`: {e}");
-            return EXIT_DIAGNOSTICS;
-        }
-    };
-    let variant = Variant {
-        plan,
-        scenario: sc,
-        compiled: outcome.compiled,
-    };
-    let options = LineariseOptions {
-        gravity_follows_attitude: !frozen_gravity,
-        ..LineariseOptions::default()
-    };
-    let result = match analyse(&variant, options) {
+    let r = match crate::ops::linear::linearise(
+        &mut checked,
+        scenario,
+        frozen_gravity,
+        cache_dir,
+        &mut |w| eprintln!("warning: {w}"),
+    ) {
         Ok(r) => r,
-        Err(e) => {
-            eprintln!("error: linearisation failed: {e}");
-            return EXIT_DIAGNOSTICS;
-        }
+        Err(e) => return super::compile::fail(&e, &checked, format, term),
     };
     match format {
-        Format::Human => out!("{}", report_text(&variant, &result)),
-        Format::Json => {
-            let json = serde_json::json!({
-                "scenario": scenario,
-                "vehicle": variant.plan.vehicle,
-                "mode_names": variant.plan.mode_names,
-                "options": options,
-                "analysis": result,
-            });
-            outln!(
-                "{}",
-                serde_json::to_string_pretty(&json).unwrap_or_default()
-            );
-        }
+        Format::Human => out!("{}", report_text(&r.variant, &r.analysis)),
+        Format::Json => outln!(
+            "{}",
+            serde_json::to_string_pretty(&crate::ops::linear::to_json(&r)).unwrap_or_default()
+        ),
     }
     EXIT_OK
 }

@@ -163,17 +163,25 @@ pub fn report_text(variant: &Variant, r: &LinearAnalysis) -> String {
     s
 }
 
-/// `analyze linear --format json` of scenario `scenario` of `checked`: the vehicle compiled
-/// and the scenario planned through the cache in `cache_dir`, trimmed and linearised
-/// ([`crate::analysis::linear::analyse`]); gravity rotates with the attitude unless
-/// `frozen_gravity`. The front ends' (the Python package's) operation.
-pub fn linear_json(
+/// A scenario trimmed and linearised: the variant (compiled vehicle, plan), the options and
+/// the analysis.
+pub struct Linearised {
+    pub variant: Variant,
+    pub options: crate::analysis::linearise::LineariseOptions,
+    pub analysis: LinearAnalysis,
+}
+
+/// `analyze linear` of scenario `scenario` of `checked`: the vehicle compiled and the
+/// scenario planned through the cache in `cache_dir` (cache warnings to `warn`), trimmed and
+/// linearised ([`crate::analysis::linear::analyse`]); gravity rotates with the attitude
+/// unless `frozen_gravity`. The operation of the command line and the Python package.
+pub fn linearise(
     checked: &mut crate::check::Checked,
     scenario: &str,
     frozen_gravity: bool,
     cache_dir: Option<&Path>,
     warn: &mut dyn FnMut(String),
-) -> Result<serde_json::Value, super::OpsError> {
+) -> Result<Linearised, super::OpsError> {
     use crate::analysis::linearise::LineariseOptions;
     let Some(sc) = checked.program.scenario(scenario).cloned() else {
         return Err(super::unknown_scenario(&checked.program, scenario));
@@ -191,18 +199,38 @@ pub fn linear_json(
         gravity_follows_attitude: !frozen_gravity,
         ..LineariseOptions::default()
     };
-    let result = crate::analysis::linear::analyse(&variant, options).map_err(|e| {
+    let analysis = crate::analysis::linear::analyse(&variant, options).map_err(|e| {
         super::OpsError::Coded {
             code: "analysis::linear::failed",
             message: format!("linearisation failed: {e}"),
             input: true,
         }
     })?;
-    Ok(serde_json::json!({
-        "scenario": scenario,
-        "vehicle": variant.plan.vehicle,
-        "mode_names": variant.plan.mode_names,
-        "options": options,
-        "analysis": result,
-    }))
+    Ok(Linearised {
+        variant,
+        options,
+        analysis,
+    })
+}
+
+/// `analyze linear --format json`: the scenario, vehicle, mode names, options and analysis.
+pub fn to_json(r: &Linearised) -> serde_json::Value {
+    serde_json::json!({
+        "scenario": r.variant.scenario.name.value,
+        "vehicle": r.variant.plan.vehicle,
+        "mode_names": r.variant.plan.mode_names,
+        "options": r.options,
+        "analysis": r.analysis,
+    })
+}
+
+/// [`linearise`] as `analyze linear --format json` prints it.
+pub fn linear_json(
+    checked: &mut crate::check::Checked,
+    scenario: &str,
+    frozen_gravity: bool,
+    cache_dir: Option<&Path>,
+    warn: &mut dyn FnMut(String),
+) -> Result<serde_json::Value, super::OpsError> {
+    linearise(checked, scenario, frozen_gravity, cache_dir, warn).map(|r| to_json(&r))
 }
