@@ -41,6 +41,7 @@ __all__ = [
     "FlutterResult",
     "Project",
     "Run",
+    "SweepResult",
     "check",
     "open",
     "write_rocketpy_drag_curve",
@@ -122,7 +123,7 @@ class _ProgressAdapter:
     """A ``progress(t, t_end)`` callable from ``True`` (a tqdm bar when tqdm is installed),
     a callable, or a tqdm bar."""
 
-    def __init__(self, progress: Progress, label: str) -> None:
+    def __init__(self, progress: Progress, label: str, unit: str = "s") -> None:
         self.bar = None
         self.fn: Optional[Callable[[float, float], Any]] = None
         if progress is True:
@@ -130,7 +131,10 @@ class _ProgressAdapter:
                 from tqdm.auto import tqdm
             except ImportError:
                 return
-            self.bar = tqdm(total=1.0, desc=label, unit="s", bar_format="{l_bar}{bar}| t = {n:.3f} of {total:.3f} s")
+            if unit == "s":
+                self.bar = tqdm(total=1.0, desc=label, unit="s", bar_format="{l_bar}{bar}| t = {n:.3f} of {total:.3f} s")
+            else:
+                self.bar = tqdm(total=0, desc=label, unit=unit)
         elif callable(progress):
             self.fn = progress
         elif progress is not None and progress is not False and hasattr(progress, "update"):
@@ -324,6 +328,46 @@ class Project:
         )
         return FlutterResult(summary, vg, list(warnings))
 
+    def sweep(
+        self,
+        name: str,
+        out: PathLike,
+        jobs: Optional[int] = None,
+        shard: Optional[str] = None,
+        progress: Progress = None,
+    ) -> "SweepResult":
+        """Runs a declared sweep (``flexflight sweep FILE --sweep NAME --out DIR``).
+
+        Args:
+            name: the sweep block's name.
+            out: the output directory (``sweep.json``, ``cases/``, ``sweep.csv``); cases
+                already finished there are not run again.
+            jobs: worker threads (default: the machine's cores); the results are the same
+                bits whatever the number.
+            shard: ``"I/N"`` (this shard of N) or ``"env"`` (Slurm's array variables), as
+                ``--shard``; merge shards with ``flexflight merge``.
+            progress: ``True`` for a tqdm bar (when tqdm is installed), a tqdm bar, or a
+                callable ``progress(done, total)`` in cases (called from worker threads with
+                the GIL held, at most ten times a second; an exception it raises is raised
+                when the sweep ends).
+
+        Returns:
+            The :class:`SweepResult`: ``summary`` (cases run, resumed, failed) and
+            ``table`` (``sweep.csv`` as a DataFrame, or a dict of columns).
+
+        Raises:
+            Error: an unknown sweep, a project opened from several files, a bad shard, an
+                output that cannot be written.
+        """
+        adapter = _ProgressAdapter(progress, f"sweep {name}", unit="case")
+        try:
+            summary, warnings = self._p.sweep(
+                name, os.fspath(out), jobs, shard, adapter if adapter.active() else None
+            )
+        finally:
+            adapter.close()
+        return SweepResult(summary, os.fspath(out), list(warnings))
+
     def linear(self, scenario: str, frozen_gravity: bool = False) -> Dict[str, Any]:
         """Trim and linearise a scenario's 3-D model (``flexflight analyze linear
         --format json``): a dict with ``scenario``, ``vehicle``, ``mode_names``,
@@ -446,6 +490,33 @@ class FlutterResult:
         largest speed)."""
         pts = [p["speed_m_s"] for p in self.flutter_points if p.get("speed_m_s") is not None]
         return min(pts) if pts else None
+
+
+class SweepResult:
+    """A sweep's outcome (``flexflight sweep``).
+
+    Attributes:
+        summary: ``sweep``, ``scenario``, ``shard``, ``cases``, ``ran``, ``resumed``,
+            ``failed``, ``artifacts`` (structural variants compiled), ``wall_time_s``.
+        out: the output directory.
+        warnings: the warnings of the run.
+    """
+
+    def __init__(self, summary: Dict[str, Any], out: str, warnings: List[str]) -> None:
+        self.summary = summary
+        self.out = out
+        self.warnings = warnings
+
+    def __repr__(self) -> str:
+        s = self.summary
+        return f"<SweepResult {s['sweep']}: {s['cases']} cases, {s['failed']} failed, {self.out}>"
+
+    @property
+    def table(self) -> Any:
+        """``sweep.csv``: one row per case, its parameters and its outputs (a pandas
+        DataFrame when pandas is installed, else a dict of numpy arrays or lists)."""
+        with builtins.open(os.path.join(self.out, "sweep.csv"), newline="") as f:
+            return _table(_csv_columns(f.read()))
 
 
 def write_rocketpy_drag_curve(curve: Iterable[Tuple[float, float]], path: PathLike) -> None:

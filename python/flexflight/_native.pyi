@@ -30,6 +30,14 @@ class NativeProject:
         aero: str = "unsteady",
     ) -> Tuple[Dict[str, Any], str, List[str]]: ...
     def linear(self, scenario: str, frozen_gravity: bool = False) -> Tuple[Dict[str, Any], List[str]]: ...
+    def sweep(
+        self,
+        name: str,
+        out: str,
+        jobs: Optional[int] = None,
+        shard: Optional[str] = None,
+        progress: Optional[Callable[[int, int], Any]] = None,
+    ) -> Tuple[Dict[str, Any], List[str]]: ...
 
 class NativeRun:
     def summary(self) -> Dict[str, Any]: ...

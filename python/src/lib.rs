@@ -90,6 +90,9 @@ fn check(py: Python<'_>, files: Vec<PathBuf>, sets: Vec<String>) -> PyResult<PyO
 #[pyclass(module = "flexflight._native")]
 struct NativeProject {
     inner: Mutex<Project>,
+    /// The files and overrides it was opened with (a sweep re-checks each case from them).
+    files: Vec<PathBuf>,
+    sets: Vec<String>,
 }
 
 /// The mutex's project even after a panic elsewhere (the project is only read or extended).
@@ -124,6 +127,70 @@ impl PyProgress {
     }
 }
 
+/// [`flexflight::ops::Progress`] for Python: `progress(done, total)` at most ten times a
+/// second (and at the start and the end), from whichever worker thread finished a unit,
+/// with the GIL taken for the call; warnings are collected. The first exception the
+/// callback raises stops the calls and is raised after the work.
+struct PyCountProgress {
+    callback: Option<Py<PyAny>>,
+    state: Mutex<CountState>,
+}
+
+#[derive(Default)]
+struct CountState {
+    done: u64,
+    total: u64,
+    last: Option<Instant>,
+    failed: Option<PyErr>,
+    warnings: Vec<String>,
+}
+
+impl PyCountProgress {
+    fn report(&self, force: bool) {
+        let Some(cb) = &self.callback else { return };
+        let mut s = self.state.lock().unwrap_or_else(|p| p.into_inner());
+        if s.failed.is_some() || (!force && s.last.is_some_and(|l| l.elapsed().as_secs_f64() < 0.1)) {
+            return;
+        }
+        s.last = Some(Instant::now());
+        let (done, total) = (s.done, s.total);
+        // The state's lock is held through the call: calls never overlap, in order.
+        let r = Python::with_gil(|py| cb.call1(py, (done, total)).and_then(|_| py.check_signals()).err());
+        if let Some(e) = r {
+            s.failed = Some(e);
+        }
+    }
+
+    fn into_parts(self) -> (Option<PyErr>, Vec<String>) {
+        let s = self.state.into_inner().unwrap_or_else(|p| p.into_inner());
+        (s.failed, s.warnings)
+    }
+}
+
+impl flexflight::ops::Progress for PyCountProgress {
+    fn start(&self, _label: &str, total: u64) {
+        if let Ok(mut s) = self.state.lock() {
+            s.total = total;
+            s.done = 0;
+        }
+        self.report(true);
+    }
+    fn inc(&self, n: u64) {
+        if let Ok(mut s) = self.state.lock() {
+            s.done += n;
+        }
+        self.report(false);
+    }
+    fn finish(&self) {
+        self.report(true);
+    }
+    fn warning(&self, text: &str) {
+        if let Ok(mut s) = self.state.lock() {
+            s.warnings.push(text.to_string());
+        }
+    }
+}
+
 #[pymethods]
 impl NativeProject {
     /// Checks `files` with the `--set` overrides `sets`; raises on errors.
@@ -138,6 +205,8 @@ impl NativeProject {
         match py.allow_threads(|| Project::open(&files, &sets, cache_dir.as_deref())) {
             Ok(p) => Ok(NativeProject {
                 inner: Mutex::new(p),
+                files,
+                sets,
             }),
             Err((e, checked)) => Err(ops_error(py, e, checked.as_ref().map(|c| &c.sources))),
         }
@@ -254,6 +323,83 @@ impl NativeProject {
                 warnings,
             )),
             Err(e) => Err(ops_error(py, e, Some(&p.checked.sources))),
+        }
+    }
+
+    /// `flexflight sweep` of the sweep `name` into `out` (`ops::sweep::run_sweep`): the
+    /// summary as JSON and the warnings; the table is `out/sweep.csv`. Cases run on `jobs`
+    /// threads with the GIL released; a finished case in `out` is not run again.
+    #[pyo3(signature = (name, out, jobs=None, shard=None, progress=None))]
+    fn sweep(
+        &self,
+        py: Python<'_>,
+        name: String,
+        out: PathBuf,
+        jobs: Option<usize>,
+        shard: Option<String>,
+        progress: Option<Py<PyAny>>,
+    ) -> PyResult<(PyObject, Vec<String>)> {
+        use flexflight::analysis::sweep::Shard;
+        let usage = |py: Python<'_>, m: String| error(py, m, Some("usage"), serde_json::json!([]));
+        let [file] = self.files.as_slice() else {
+            return Err(usage(py, "a sweep runs on a project opened from one file".into()));
+        };
+        let shard = match shard.map(|s| Shard::parse(&s, |k| std::env::var(k).ok())) {
+            None => Shard::ALL,
+            Some(Ok(s)) => s,
+            Some(Err(e)) => return Err(usage(py, e.to_string())),
+        };
+        if jobs == Some(0) {
+            return Err(usage(py, "jobs must be at least 1".into()));
+        }
+        let p = lock(&self.inner);
+        let program = &p.checked.program;
+        let Some(sweep) = program.sweep(&name).cloned() else {
+            let e = flexflight::ops::unknown_name(
+                "sweep",
+                &name,
+                program.sweeps.iter().map(|s| s.name.value.as_str()),
+            );
+            return Err(ops_error(py, e, Some(&p.checked.sources)));
+        };
+        let Some(scenario) = program.scenarios.get(sweep.scenario).map(|s| s.name.value.clone()) else {
+            return Err(usage(py, format!("sweep `{name}` names a scenario that did not check")));
+        };
+        let cache_dir = p.cache_dir.clone();
+        drop(p);
+        let prog = std::sync::Arc::new(PyCountProgress {
+            callback: progress,
+            state: Mutex::new(CountState::default()),
+        });
+        let opts = flexflight::ops::sweep::SweepOptions {
+            jobs: jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from)),
+            shard,
+            cache_dir,
+            sets: self.sets.clone(),
+            progress: Some(prog.clone() as std::sync::Arc<dyn flexflight::ops::Progress>),
+        };
+        let r = py.allow_threads(|| {
+            flexflight::ops::sweep::run_sweep(file, &sweep, &scenario, &out, &opts)
+        });
+        drop(opts);
+        let (failed, warnings) = match std::sync::Arc::try_unwrap(prog) {
+            Ok(p) => p.into_parts(),
+            Err(_) => (None, Vec::new()),
+        };
+        if let Some(e) = failed {
+            return Err(e);
+        }
+        match r {
+            Ok(r) => {
+                let j = serde_json::json!({
+                    "sweep": r.manifest.sweep, "scenario": r.manifest.scenario,
+                    "shard": r.manifest.shard, "cases": r.rows.len(), "ran": r.ran,
+                    "resumed": r.skipped, "failed": r.failed, "artifacts": r.artifacts,
+                    "wall_time_s": r.wall_seconds,
+                });
+                Ok((json_to_py(py, &j)?, warnings))
+            }
+            Err(e) => Err(error(py, e.to_string(), Some("io"), serde_json::json!([]))),
         }
     }
 

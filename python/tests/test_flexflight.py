@@ -14,6 +14,7 @@ import flexflight
 
 K1000 = os.path.join("examples", "hpr_k1000", "hpr_k1000.vdl")
 CALISTO = os.path.join("examples", "calisto", "calisto.vdl")
+THESIS = os.path.join("examples", "thesis", "section_6_5.vdl")
 
 # Wall-clock fields of summary.json: the only ones that may differ between two runs of the
 # same inputs (`wall_time_s`, the flight's; `seconds` of the flutter margin's solve).
@@ -193,13 +194,6 @@ def test_compile_gives_mass_properties_and_modes(root, cache_dir):
     assert len(c["mode_table"]["frequency_hz"]) == len(freqs)
 
 
-@pytest.mark.xfail(
-    strict=False,
-    reason="known defect, open: the clamped fin's eigen-solve and p-k give different last bits "
-    "with faer's default (parallel) and sequential settings; `fly` sets the process "
-    "sequential, so after a run() in this session the package differs from the CLI's "
-    "`analyze flutter` (parallel) by about 1e-12 in the mode frequencies. It passes alone.",
-)
 def test_flutter_is_the_clis(root, cache_dir, binary):
     """`Project.flutter(clamped=True)` and `analyze flutter --clamped --format json`: the
     same flutter.json (but the GAF cache's hit or miss); the V-g table's flutter branch
@@ -227,6 +221,33 @@ def test_flutter_is_the_clis(root, cache_dir, binary):
         below = [g for s, g in rows if s < v]
         above = [g for s, g in rows if s > v]
         assert below and above and below[-1] <= 0.0 <= above[0]
+
+
+def test_sweep_is_the_clis(root, cache_dir, binary, tmp_path):
+    """`Project.sweep` writes the same `sweep.csv` as `flexflight sweep`, bit for bit,
+    whatever the number of jobs; progress counts the cases up to the total."""
+    p = flexflight.open(_path(root, THESIS), cache_dir=cache_dir)
+    calls = []
+    r = p.sweep("subsonic_thickness_planar", tmp_path / "py", jobs=2,
+                progress=lambda done, total: calls.append((done, total)))
+    subprocess.run(
+        [binary, "sweep", _path(root, THESIS), "--sweep", "subsonic_thickness_planar",
+         "--jobs", "1", "--out", str(tmp_path / "cli"), "--cache-dir", cache_dir],
+        check=True, capture_output=True,
+    )
+    with open(tmp_path / "py" / "sweep.csv", "rb") as a, open(tmp_path / "cli" / "sweep.csv", "rb") as b:
+        assert a.read() == b.read()
+    assert r.summary["cases"] == 8 and r.summary["failed"] == 0 and r.summary["ran"] == 8
+    assert calls and calls[-1] == (8, 8)
+    assert all(x[0] <= y[0] for x, y in zip(calls, calls[1:]))
+    t = r.table
+    assert len(t[list(t.keys() if isinstance(t, dict) else t.columns)[0]]) == 8
+    # A second call resumes: every case is found finished.
+    again = p.sweep("subsonic_thickness_planar", tmp_path / "py", jobs=1)
+    assert again.summary["resumed"] == 8 and again.summary["ran"] == 0
+    with pytest.raises(flexflight.Error) as e:
+        p.sweep("no_such_sweep", tmp_path / "x")
+    assert "subsonic_thickness_planar" in str(e.value)
 
 
 def test_linear_roots(root, cache_dir):
