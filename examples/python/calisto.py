@@ -138,8 +138,15 @@ def main():
     fm = run.flutter_margin
     if fm is not None:
         # flutter_margin.csv (docs/outputs.md): `speed_margin` = V_F / V at each row `t`.
-        ax2.plot(column(fm, "t"), column(fm, "speed_margin"))
-        ax2.axhline(1.0, color="k", lw=0.8)
+        t, m = column(fm, "t"), column(fm, "speed_margin")
+        ax2.plot(t, m)
+        # Near the pad the airspeed is small and the margin huge: scale to the minimum.
+        k = min(range(len(m)), key=lambda i: m[i])
+        ax2.set_ylim(0.0, max(4.0, 2.0 * m[k]))
+        ax2.axhline(1.0, color="k", lw=0.8, label="flutter (1.0)")
+        ax2.axhline(1.15, color="k", lw=0.8, ls=":", label="1.15")
+        ax2.plot([t[k]], [m[k]], "o", label=f"minimum {m[k]:.2f} at t = {t[k]:.2f} s")
+        ax2.legend()
         ax2.set_xlabel("t (s)")
         ax2.set_ylabel("flutter speed / airspeed")
     ax2.set_title("flexflight flutter margin over the flight")
