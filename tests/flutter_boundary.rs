@@ -431,6 +431,9 @@ fn inspect_shows_the_cached_boundary_and_panel_matrices(cache: &Path, cold: &ser
         .iter()
         .map(|x| x.as_f64().unwrap())
         .collect();
+    // The command line runs faer sequentially (`ops::sequential_linear_algebra`): the
+    // matrices rebuilt here must be too, or their last bits follow this process's threads.
+    flexflight::ops::sequential_linear_algebra();
     let sc = hpr();
     let (c, _) = compile(&sc.vehicle).unwrap();
     let model = panels(&c, &sc.vehicle, &machs, PanelSettings::default()).unwrap();
