@@ -48,6 +48,24 @@ impl NoseShape {
         })
     }
 
+    /// The language's `nose_shape` for this profile (`check::nose`, the same formulas), if it
+    /// has one: OpenRocket's power series with k = 0 (a blunt cylinder) and Haack parameters
+    /// above 2/3 (a bulging profile) have none.
+    pub fn to_language(self) -> Option<crate::check::ir::NoseShape> {
+        use crate::check::ir::NoseShape as L;
+        Some(match self {
+            NoseShape::Conical => L::Conical,
+            NoseShape::Ogive(k) if k < 1e-6 => L::Conical,
+            NoseShape::Ogive(k) => L::Ogive { k },
+            NoseShape::Ellipsoid => L::Elliptical,
+            NoseShape::Power(k) if k > 0.0 => L::Power { n: k },
+            NoseShape::Power(_) => return None,
+            NoseShape::Parabolic(k) => L::Parabolic { k },
+            NoseShape::Haack(k) if k <= 2.0 / 3.0 => L::Haack { c: k },
+            NoseShape::Haack(_) => return None,
+        })
+    }
+
     pub fn describe(self) -> String {
         match self {
             NoseShape::Conical => "conical".into(),
