@@ -280,7 +280,11 @@ fn conical_nose_tables_are_bit_identical_to_before_nose_shapes() {
     let v = &c.program.vehicles[0];
     let flown = flexflight::runtime::forces::aero_tables(v).unwrap();
     let [(_, body), _] = flown.files();
-    assert_eq!(fnv1a(&body), 0xa296_01bf_40f6_9590, "the conical body table changed");
+    assert_eq!(
+        fnv1a(&body),
+        0xa296_01bf_40f6_9590,
+        "the conical body table changed"
+    );
     // The same planform as a flat plate: the old fin table.
     let r = 0.5 * 0.127;
     let plate = EstimatedTables::estimate(
@@ -296,7 +300,11 @@ fn conical_nose_tables_are_bit_identical_to_before_nose_shapes() {
     .unwrap();
     let [(_, body2), (_, fins)] = plate.files();
     assert_eq!(body2, body);
-    assert_eq!(fnv1a(&fins), 0x0568_29ce_1d50_91c7, "the flat-plate fin table changed");
+    assert_eq!(
+        fnv1a(&fins),
+        0x0568_29ce_1d50_91c7,
+        "the flat-plate fin table changed"
+    );
     // With the fin's 0.6 mm square edges the fin table is another (more drag).
     let [_, (_, fins_flown)] = flown.files();
     assert_ne!(fins_flown, fins);
@@ -322,13 +330,7 @@ fn nose_centre_of_pressure_follows_the_volume() {
         (Shape::Power { n: 0.75 }, 0.6),
         (Shape::Haack { c: 0.0 }, 0.5),
     ] {
-        let (len, x) = nose_centre_of_pressure(
-            NoseShape::Profile {
-                length: l,
-                shape,
-            },
-            d,
-        );
+        let (len, x) = nose_centre_of_pressure(NoseShape::Profile { length: l, shape }, d);
         assert_eq!(len, l);
         assert!(
             (-x / l - xcp).abs() < 1e-12,

@@ -585,7 +585,10 @@ fn nose_shapes_check_and_bad_ones_are_errors_at_the_value() {
         assert!(e.contains(code), "{bad}: {e}");
         // The error points at line 38 of the file (the `nose_shape` line), at the value.
         let col = 22 + bad.find(at).unwrap();
-        assert!(e.contains(&format!("nose.vdl:38:{col}")), "{bad} at {col}: {e}");
+        assert!(
+            e.contains(&format!("nose.vdl:38:{col}")),
+            "{bad} at {col}: {e}"
+        );
     }
     let t = text.replacen(
         "        nose_length = 450 mm",

@@ -534,5 +534,8 @@ fn every_nose_shape_has_the_mass_and_inertia_of_its_profile() {
         assert_rigid_projection_matches(&model, &spec);
         assert!((analytic.mass - m).abs() / m < 3e-10, "{shape:?}");
     }
-    eprintln!("nose shapes: worst mass {:e}, first moment {:e}", worst.0, worst.1);
+    eprintln!(
+        "nose shapes: worst mass {:e}, first moment {:e}",
+        worst.0, worst.1
+    );
 }

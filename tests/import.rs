@@ -70,10 +70,7 @@ fn the_simple_model_rocket_imports_checks_and_flies() {
     assert!(!stderr(&o).contains("taken as a cone"), "{}", stderr(&o));
     assert!(text.contains("nose_cone_shape_and_material"), "{text}");
     assert!(text.contains("designation = \"Estes "), "{text}");
-    assert!(
-        text.contains("motor.designation = \"Estes A8\""),
-        "{text}"
-    );
+    assert!(text.contains("motor.designation = \"Estes A8\""), "{text}");
     assert!(!text.contains("curve = "), "{text}");
     assert_eq!(files_in(dir.path()), ["simple.vdl"]);
     // One scenario per stored simulation, each with OpenRocket's result in a comment.

@@ -476,7 +476,11 @@ fn check_motor_body(
     let v = common::burner_vehicle("", "");
     let start = v.find("  motor grain {").unwrap();
     let end = start + v[start..].find("  }\n").unwrap() + 4;
-    let text = format!("{}  motor grain {{\n{motor_body}\n  }}\n{}", &v[..start], &v[end..]);
+    let text = format!(
+        "{}  motor grain {{\n{motor_body}\n  }}\n{}",
+        &v[..start],
+        &v[end..]
+    );
     let c = check_source("m.vdl", &text, &MemoryLoader::default());
     let diags = c
         .diagnostics
@@ -510,7 +514,10 @@ fn a_motor_by_designation_takes_the_catalogue_headers_dimensions_and_masses() {
         assert_eq!(m.propellant_mass.value, 3.101, "{name}");
         assert_eq!(m.total_mass.value, 5.231, "{name}");
         assert!(
-            m.curve.value.to_string_lossy().ends_with("Cesaroni_M1670.eng"),
+            m.curve
+                .value
+                .to_string_lossy()
+                .ends_with("Cesaroni_M1670.eng"),
             "{:?}",
             m.curve.value
         );

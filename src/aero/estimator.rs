@@ -567,8 +567,8 @@ pub fn fin_axial(
     };
     let friction = skin_friction(re, mach) * (1.0 + 2.0 * p.thickness / mac) * 2.0 * f.area();
     let cos_le = (f.span / f.span.hypot(f.tip_le_offset)).min(1.0);
-    let pressure = leading_edge_drag(p.section, mach) * cos_le * cos_le
-        + trailing_edge_drag(p.section, mach);
+    let pressure =
+        leading_edge_drag(p.section, mach) * cos_le * cos_le + trailing_edge_drag(p.section, mach);
     (friction + pressure * p.thickness * f.span) / s_ref
 }
 

@@ -68,7 +68,11 @@ pub(crate) fn read_curve(cx: &mut Cx, path: &Path, named_at: Span) -> Option<Thr
 /// Resolves a motor `designation` (`"Cesaroni M1670"`) in the bundled catalogue to the
 /// virtual path of its curve; not-found (`vdl::motor::designation`, with the nearest curves)
 /// and ambiguous (`vdl::motor::ambiguous`, with the candidates) are errors at the string.
-fn resolve_designation(cx: &mut Cx, written: &str, span: Span) -> Option<Spanned<std::path::PathBuf>> {
+fn resolve_designation(
+    cx: &mut Cx,
+    written: &str,
+    span: Span,
+) -> Option<Spanned<std::path::PathBuf>> {
     let entries = catalogue::bundled();
     let makers = || {
         let mut m: Vec<&str> = entries
@@ -256,7 +260,10 @@ pub(crate) fn check_motor(cx: &mut Cx, b: &Block, structure: Option<&Structure>)
                         code,
                         format!("the thrust curve has no header: give the motor's `{what}`"),
                     )
-                    .label(curve_path.span, "a CSV curve carries no dimensions or masses")
+                    .label(
+                        curve_path.span,
+                        "a CSV curve carries no dimensions or masses",
+                    )
                     .label(b.header, format!("add `{what} = ... {unit}` here")),
                 );
                 None

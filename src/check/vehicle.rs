@@ -1607,8 +1607,7 @@ fn nose_shape(cx: &mut Cx, v: &Value) -> Option<Spanned<NoseShape>> {
     use super::nose::{NAMED, WITH_PARAMETER};
     if let ValueKind::Call { name, args } = &v.kind {
         f::record_keywords(WITH_PARAMETER.iter().map(|(n, _, _)| *n));
-        let Some((_, what, range)) = WITH_PARAMETER.iter().find(|(n, _, _)| *n == name.name)
-        else {
+        let Some((_, what, range)) = WITH_PARAMETER.iter().find(|(n, _, _)| *n == name.name) else {
             let names = WITH_PARAMETER.iter().map(|(n, _, _)| *n);
             let mut d = Diagnostic::error(
                 "vdl::value::keyword",

@@ -1152,7 +1152,12 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                     Some("rounded") => "rounded",
                     Some("airfoil") => "airfoil",
                     Some(x) => {
-                        cx.warn(c, format!("{what}: its unknown `{x}` cross-section is flown as square edges"));
+                        cx.warn(
+                            c,
+                            format!(
+                                "{what}: its unknown `{x}` cross-section is flown as square edges"
+                            ),
+                        );
                         "square"
                     }
                 };

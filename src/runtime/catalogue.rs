@@ -137,9 +137,7 @@ pub fn maker_name(code: &str) -> &str {
     match norm(code).as_str() {
         "ES" | "ESTES" => "Estes",
         "AT" | "AEROTECH" | "AEROTECHRCS" | "RCS" => "AeroTech",
-        "CTI" | "CESARONI" | "CESARONITECHNOLOGY" | "CESARONITECHNOLOGYINC" | "PRO" => {
-            "Cesaroni"
-        }
+        "CTI" | "CESARONI" | "CESARONITECHNOLOGY" | "CESARONITECHNOLOGYINC" | "PRO" => "Cesaroni",
         "AP" | "APOGEE" => "Apogee",
         "QU" | "QUEST" => "Quest",
         "KL" | "KLIMA" => "Klima",
@@ -201,11 +199,9 @@ pub fn maker_matches(curve_maker: Option<&str>, manufacturer: Option<&str>) -> b
 /// Whether `words` names a manufacturer the catalogue knows.
 fn is_maker(words: &str) -> bool {
     maker_name(words) != words
-        || BUNDLED.iter().any(|(f, _)| {
-            f.split('_')
-                .next()
-                .is_some_and(|m| norm(m) == norm(words))
-        })
+        || BUNDLED
+            .iter()
+            .any(|(f, _)| f.split('_').next().is_some_and(|m| norm(m) == norm(words)))
 }
 
 /// A designation string split into manufacturer and motor name.
@@ -320,7 +316,10 @@ fn class_and_thrust(name: &str) -> Option<(u32, f64)> {
     Some((u32::from(letter) - u32::from('A'), thrust.max(1.0)))
 }
 
-fn nearest<'a>(curves: impl Iterator<Item = (&'a str, Option<&'a str>)>, d: &Designation) -> Vec<usize> {
+fn nearest<'a>(
+    curves: impl Iterator<Item = (&'a str, Option<&'a str>)>,
+    d: &Designation,
+) -> Vec<usize> {
     let Some((class, thrust)) = class_and_thrust(&d.name) else {
         return Vec::new();
     };
@@ -334,7 +333,11 @@ fn nearest<'a>(curves: impl Iterator<Item = (&'a str, Option<&'a str>)>, d: &Des
         .filter(|(dc, _, _)| *dc <= 1)
         .collect();
     scored.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
-    scored.into_iter().take(NEAREST).map(|(_, _, k)| k).collect()
+    scored
+        .into_iter()
+        .take(NEAREST)
+        .map(|(_, _, k)| k)
+        .collect()
 }
 
 #[cfg(test)]
@@ -345,7 +348,8 @@ mod tests {
         let c = bundled();
         let d = parse_designation(s).unwrap();
         lookup(
-            c.iter().map(|e| (e.curve.name.as_str(), e.curve.maker.as_deref())),
+            c.iter()
+                .map(|e| (e.curve.name.as_str(), e.curve.maker.as_deref())),
             &d,
         )
     }
@@ -363,12 +367,21 @@ mod tests {
         let c = bundled();
         assert_eq!(c.len(), BUNDLED.len());
         for e in &c {
-            assert!(e.curve.length.is_some() && e.curve.diameter.is_some(), "{}", e.file);
-            assert!(e.curve.total_mass.is_some() && e.curve.maker.is_some(), "{}", e.file);
+            assert!(
+                e.curve.length.is_some() && e.curve.diameter.is_some(),
+                "{}",
+                e.file
+            );
+            assert!(
+                e.curve.total_mass.is_some() && e.curve.maker.is_some(),
+                "{}",
+                e.file
+            );
             assert!(e.curve.total_impulse() > 0.0, "{}", e.file);
-            assert_eq!(bundled_text(&bundled_path(e.file)).map(str::len), Some(
-                BUNDLED.iter().find(|(f, _)| *f == e.file).unwrap().1.len()
-            ));
+            assert_eq!(
+                bundled_text(&bundled_path(e.file)).map(str::len),
+                Some(BUNDLED.iter().find(|(f, _)| *f == e.file).unwrap().1.len())
+            );
         }
     }
 
@@ -398,7 +411,10 @@ mod tests {
                 let c = bundled();
                 let mut files: Vec<_> = v.iter().map(|k| c[*k].file).collect();
                 files.sort_unstable();
-                assert_eq!(files, ["AeroTech_H125W-29mm.eng", "AeroTech_H125W-38mm.eng"]);
+                assert_eq!(
+                    files,
+                    ["AeroTech_H125W-29mm.eng", "AeroTech_H125W-38mm.eng"]
+                );
             }
             other => panic!("{other:?}"),
         }
