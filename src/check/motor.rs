@@ -405,6 +405,9 @@ pub(crate) fn check_motor(cx: &mut Cx, b: &Block, structure: Option<&Structure>)
 /// leaves room for a value written in inches.
 pub const HEADER_DIMENSION_TOL: f64 = 1e-3;
 
+/// A motor field checked against the header: (name, the value written, the header's).
+type HeaderValue<'a> = (&'a str, Option<Spanned<f64>>, Option<f64>);
+
 /// How far a motor's `propellant_mass` or `total_mass` may differ from the RASP header's
 /// before `check` questions it, relative. RASP headers give the masses in kg to three or more
 /// significant figures (the M1670's 3.101 and 5.231 kg, the C6's 0.0108 kg), so the header's
@@ -419,7 +422,7 @@ fn header_values(
     cx: &mut Cx,
     curve: &ThrustCurve,
     curve_path: &Spanned<std::path::PathBuf>,
-    given: [(&str, Option<Spanned<f64>>, Option<f64>); 4],
+    given: [HeaderValue; 4],
 ) {
     let is_catalogue = crate::runtime::catalogue::bundled_text(&curve_path.value).is_some();
     let source = if is_catalogue {

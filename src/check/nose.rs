@@ -101,12 +101,12 @@ impl NoseShape {
     pub fn describe(self) -> String {
         match self {
             NoseShape::Conical => "conical".into(),
-            NoseShape::Ogive { k } if k == 1.0 => "tangent ogive".into(),
+            NoseShape::Ogive { k: 1.0 } => "tangent ogive".into(),
             NoseShape::Ogive { k } => format!("secant ogive (k = {k})"),
             NoseShape::Elliptical => "elliptical".into(),
             NoseShape::Parabolic { k } => format!("parabolic series (K = {k})"),
             NoseShape::Power { n } => format!("power series (n = {n})"),
-            NoseShape::Haack { c } if c == 0.0 => "von Karman (Haack, C = 0)".into(),
+            NoseShape::Haack { c: 0.0 } => "von Karman (Haack, C = 0)".into(),
             NoseShape::Haack { c } if c == 1.0 / 3.0 => "LV-Haack (Haack, C = 1/3)".into(),
             NoseShape::Haack { c } => format!("Haack series (C = {c})"),
         }
@@ -116,13 +116,13 @@ impl NoseShape {
     pub fn source_text(self) -> String {
         match self {
             NoseShape::Conical => "conical".into(),
-            NoseShape::Ogive { k } if k == 1.0 => "ogive".into(),
+            NoseShape::Ogive { k: 1.0 } => "ogive".into(),
             NoseShape::Ogive { k } => format!("ogive({k})"),
             NoseShape::Elliptical => "elliptical".into(),
-            NoseShape::Parabolic { k } if k == 1.0 => "parabolic".into(),
+            NoseShape::Parabolic { k: 1.0 } => "parabolic".into(),
             NoseShape::Parabolic { k } => format!("parabolic({k})"),
             NoseShape::Power { n } => format!("power({n})"),
-            NoseShape::Haack { c } if c == 0.0 => "von_karman".into(),
+            NoseShape::Haack { c: 0.0 } => "von_karman".into(),
             NoseShape::Haack { c } if c == 1.0 / 3.0 => "lv_haack".into(),
             NoseShape::Haack { c } => format!("haack({c})"),
         }
