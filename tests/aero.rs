@@ -310,7 +310,7 @@ fn conical_nose_tables_are_bit_identical_to_before_nose_shapes() {
     assert_ne!(fins_flown, fins);
 }
 
-/// Barrowman's nose centre of pressure x_cp = L - V/A_base (Niskanen 2009, sec. 3.2) for the
+/// Barrowman's nose centre of pressure x_cp = L - V/A_base (Niskanen 2009, sec. 3.2.1) for the
 /// nose shapes whose volume has a closed form (derived in `check::nose`'s tests): the cone
 /// 2L/3, the half-ellipsoid L/3 (V = 2/3 pi R^2 L), the full parabola 7L/15 (V = 8/15 pi R^2
 /// L), the power series 2nL/(2n + 1) (V = pi R^2 L/(2n + 1)), the von Karman nose L/2

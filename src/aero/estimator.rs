@@ -12,8 +12,8 @@
 //! - potential term at the nose centre of pressure: for any nose closed at the tip whose base
 //!   is the body's, slender-body theory gives C_Nalpha = 2 (A_base/S) = 2 /rad and the
 //!   centre of pressure x_cp = L - V/A_base aft of the tip (V the nose volume; Barrowman
-//!   1967; Niskanen 2009, sec. 3.2, eqs. 3.18-3.19 as the OpenRocket technical documentation
-//!   writes them): 2/3 of the nose length for the cone, the profile's volume by quadrature
+//!   1967; Niskanen 2009, sec. 3.2.1: X_B = (l A(l) - V)/(A(l) - A(0)) with A(0) = 0 for a
+//!   closed tip): 2/3 of the nose length for the cone, the profile's volume by quadrature
 //!   for the other shapes of `check::nose`; crossflow term at the planform centroid (the
 //!   nose's side view by quadrature).
 //! - C_M = sum C_N,part (x_part - x_ref)/b_b about the reference point (5.3.3), positive
@@ -56,7 +56,7 @@
 //!   quarter point of the mean aerodynamic chord; supersonic the lifting surface's centre of
 //!   pressure; blended linearly on 0.9..1.1 like C_Nalpha;
 //! - C_A: skin friction on both faces (2 A_f / S) with the body's C_f law on the mean chord,
-//!   corrected for the fin's thickness t by (1 + 2 t / c_mac) (Niskanen 2009, eq. 3.84,
+//!   corrected for the fin's thickness t by (1 + 2 t / c_mac) (Niskanen 2009, sec. 3.4.2,
 //!   OpenRocket's `FinSetCalc`); plus the pressure drag of its edges on the frontal area t s
 //!   (Niskanen 2009, sec. 3.4.4, after Barrowman 1967 pp. 48-57 and Hoerner, *Fluid-Dynamic
 //!   Drag*, 1965): the leading edge, `0.85 q_stag/q` for a square edge (the blunt cylinder,
