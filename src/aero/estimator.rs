@@ -27,9 +27,13 @@
 //!     0.25/M above;
 //!   - cone nose wave drag above Mach 1 (Fleeman, "Tactical Missile Design", 2nd ed., 2006,
 //!     sharp-cone fit): (1.59 + 1.83/M^2) [atan(0.5/(L_n/d))]^1.69 (angle in rad); ramped
-//!     linearly from 0 at M = 0.9 to its M = 1.2 value (our transonic blend). The same fit
-//!     of the cone of equal length and base is taken for every nose shape: shape-specific
-//!     pressure drag is not modelled yet;
+//!     linearly from 0 at M = 0.9 to its M = 1.2 value (our transonic blend). An ogive
+//!     takes the cone's of equal length and base times (0.72 (k - 0.5)^2 + 0.82) (Niskanen
+//!     2009, App. B.4 and B.5, after the Handbook of Supersonic Aerodynamics, p. 239: the
+//!     tangent ogive k = 1 about the cone's, the secant ogive k = 0.5 18 % below it, at Mach
+//!     1.6-2.5 and nose fineness 2-3.5); the other shapes (elliptical, parabolic, power,
+//!     Haack) take the cone's as well: their shape-specific wave drag (Niskanen's
+//!     interpolation of Stoney's data at fineness 3) is not modelled yet;
 //!   - skin friction's wetted area: the nose's true surface (`NoseShape::wetted_area`).
 //!
 //! Fins (per fin, on S, alpha = the fin's own angle of attack):
@@ -390,7 +394,17 @@ pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f
     let wave = if nose_len > 0.0 {
         let half_angle = (0.5 / (nose_len / d)).atan();
         let fit = |m: f64| (1.59 + 1.83 / (m * m)) * half_angle.powf(1.69);
-        transonic_blend(mach, |_| 0.0, fit)
+        match b.nose {
+            // Ogives: the cone's wave drag times Niskanen's shape factor (module doc).
+            NoseShape::Profile {
+                shape: crate::check::ir::NoseShape::Ogive { k },
+                ..
+            } => {
+                let factor = 0.72 * (k - 0.5) * (k - 0.5) + 0.82;
+                transonic_blend(mach, |_| 0.0, |m| factor * fit(m))
+            }
+            _ => transonic_blend(mach, |_| 0.0, fit),
+        }
     } else {
         0.0
     };

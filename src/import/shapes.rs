@@ -175,6 +175,37 @@ mod tests {
         }
     }
 
+    /// Every OpenRocket shape the language can say maps to the same profile (the importer
+    /// writes `nose_shape` instead of a cone): the two radius functions agree everywhere; the
+    /// two it cannot say (power k = 0, Haack above 2/3) map to none.
+    #[test]
+    fn openrocket_shapes_map_to_the_languages_same_profiles() {
+        let (r, l) = (0.0508, 0.4);
+        for (shape, k) in [
+            ("conical", 0.0),
+            ("ogive", 1.0),
+            ("ogive", 0.5),
+            ("ogive", 0.0),
+            ("ellipsoid", 0.0),
+            ("power", 0.5),
+            ("power", 1.0),
+            ("parabolic", 0.75),
+            ("parabolic", 1.0),
+            ("haack", 0.0),
+            ("haack", 1.0 / 3.0),
+        ] {
+            let or = NoseShape::from_ork(shape, k).unwrap();
+            let lang = or.to_language().unwrap_or_else(|| panic!("{shape} {k}"));
+            for i in 0..=400 {
+                let x = l * i as f64 / 400.0;
+                let (a, b) = (or.radius(x, r, l), lang.radius(x, r, l));
+                assert!((a - b).abs() <= 1e-15, "{shape}({k}) at {x}: {a} vs {b}");
+            }
+        }
+        assert!(NoseShape::Power(0.0).to_language().is_none());
+        assert!(NoseShape::Haack(1.0).to_language().is_none());
+    }
+
     #[test]
     fn tangent_ogive_meets_the_body_tangentially() {
         let (r, l) = (0.05, 0.3);
