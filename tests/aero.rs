@@ -253,3 +253,169 @@ fn fin_rate_derivatives_hand_values() {
     assert!((cn / 153.30885 - 1.0).abs() < 1e-7, "{cn}");
     assert!((cm / -1184.0285 - 1.0).abs() < 1e-7, "{cm}");
 }
+
+/// FNV-1a of a text (a stable digest without dependencies).
+fn fnv1a(text: &str) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in text.bytes() {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    h
+}
+
+/// The built-in tables of SPHADS-1 (a conical nose) are those the estimator gave before
+/// nose shapes and fin profiles existed (issue 34), bit for bit: the body table as the
+/// vehicle flies it, and the fin table of the flat plate (`EstimatedTables::estimate`, no
+/// profile), against the FNV-1a digests of `aero_tables/body.csv` and `fins.csv` written by
+/// the debug binary of main at commit cbf2126 (`flexflight run examples/thesis/section_6_5.vdl
+/// --scenario subsonic_t04 --set run.stop_time=0.002s`). So the conical nose needs no
+/// aerodynamics cache revision; the fin table with the fin's thickness does (revision 4).
+#[test]
+fn conical_nose_tables_are_bit_identical_to_before_nose_shapes() {
+    use flexflight::check::{DiskLoader, check_files};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("vehicles/sphads1.vdl");
+    let c = check_files(&[path], &[], &DiskLoader);
+    assert!(!c.has_errors());
+    let v = &c.program.vehicles[0];
+    let flown = flexflight::runtime::forces::aero_tables(v).unwrap();
+    let [(_, body), _] = flown.files();
+    assert_eq!(
+        fnv1a(&body),
+        0xa296_01bf_40f6_9590,
+        "the conical body table changed"
+    );
+    // The same planform as a flat plate: the old fin table.
+    let r = 0.5 * 0.127;
+    let plate = EstimatedTables::estimate(
+        &BodyShape {
+            length: 2.75,
+            diameter: 0.127,
+            nose: NoseShape::Cone { length: 0.45 },
+            reference_x: -1.59,
+        },
+        &flexflight::aero::estimator::planform(v.fins.as_ref().unwrap(), r),
+        OutOfRange::Clamp,
+    )
+    .unwrap();
+    let [(_, body2), (_, fins)] = plate.files();
+    assert_eq!(body2, body);
+    assert_eq!(
+        fnv1a(&fins),
+        0x0568_29ce_1d50_91c7,
+        "the flat-plate fin table changed"
+    );
+    // With the fin's 0.6 mm square edges the fin table is another (more drag).
+    let [_, (_, fins_flown)] = flown.files();
+    assert_ne!(fins_flown, fins);
+}
+
+/// Barrowman's nose centre of pressure x_cp = L - V/A_base (Niskanen 2009, sec. 3.2.1) for the
+/// nose shapes whose volume has a closed form (derived in `check::nose`'s tests): the cone
+/// 2L/3, the half-ellipsoid L/3 (V = 2/3 pi R^2 L), the full parabola 7L/15 (V = 8/15 pi R^2
+/// L), the power series 2nL/(2n + 1) (V = pi R^2 L/(2n + 1)), the von Karman nose L/2
+/// (V = pi R^2 L/2). The normal-force slope is 2 /rad for each (the potential term does not
+/// depend on the shape: checked on the tables at Mach 0.5, where the tables of two shapes
+/// differ in C_N only by the crossflow term of their side views).
+#[test]
+fn nose_centre_of_pressure_follows_the_volume() {
+    use flexflight::aero::estimator::nose_centre_of_pressure;
+    use flexflight::check::ir::NoseShape as Shape;
+    let (l, d) = (0.4, 0.102);
+    for (shape, xcp) in [
+        (Shape::Conical, 2.0 / 3.0),
+        (Shape::Elliptical, 1.0 / 3.0),
+        (Shape::Parabolic { k: 1.0 }, 7.0 / 15.0),
+        (Shape::Power { n: 0.5 }, 0.5),
+        (Shape::Power { n: 0.75 }, 0.6),
+        (Shape::Haack { c: 0.0 }, 0.5),
+    ] {
+        let (len, x) = nose_centre_of_pressure(NoseShape::Profile { length: l, shape }, d);
+        assert_eq!(len, l);
+        assert!(
+            (-x / l - xcp).abs() < 1e-12,
+            "{shape:?}: {} L against {xcp} L",
+            -x / l
+        );
+    }
+    // The profile path agrees with the cone's own.
+    let (_, cone) = nose_centre_of_pressure(NoseShape::Cone { length: l }, d);
+    assert!((cone + 2.0 / 3.0 * l).abs() < 1e-15);
+}
+
+/// Fin drag sees thickness (issue 34): the 3.2 mm fin has more axial force than the 1.6 mm
+/// fin of the same planform at every Mach of the grid, for every cross-section; square edges
+/// more than rounded, rounded more than an airfoil's; and without a profile the estimator's
+/// flat plate of the old tables.
+#[test]
+fn the_thicker_fin_has_more_axial_force() {
+    use flexflight::aero::estimator::{ESTIMATOR_MACH, FinProfile, fin_axial};
+    use flexflight::check::ir::FinSection;
+    let f = sphads_fin();
+    let p = |t: f64, section| {
+        Some(FinProfile {
+            thickness: t,
+            section,
+        })
+    };
+    for &m in &ESTIMATOR_MACH {
+        for section in [FinSection::Square, FinSection::Rounded, FinSection::Airfoil] {
+            let thin = fin_axial(&f, p(1.6e-3, section), S_REF, m, 1000.0);
+            let thick = fin_axial(&f, p(3.2e-3, section), S_REF, m, 1000.0);
+            assert!(thick > thin, "M {m} {section:?}: {thick} vs {thin}");
+            let flat = fin_axial(&f, None, S_REF, m, 1000.0);
+            assert!(thin > flat, "M {m} {section:?}");
+        }
+        let sq = fin_axial(&f, p(3.2e-3, FinSection::Square), S_REF, m, 1000.0);
+        let ro = fin_axial(&f, p(3.2e-3, FinSection::Rounded), S_REF, m, 1000.0);
+        let af = fin_axial(&f, p(3.2e-3, FinSection::Airfoil), S_REF, m, 1000.0);
+        assert!(sq > ro && ro >= af, "M {m}: {sq} {ro} {af}");
+    }
+}
+
+/// The edge drags against the formulas of Niskanen 2009 (sec. 3.4.4, App. B.1, eq. 3.94),
+/// evaluated by hand: the square leading edge 0.85 q_stag/q, 0.85 at rest and 0.85 * 1.275
+/// = 1.08375 at Mach 1- (1 + 1/4 + 1/40); at Mach 2, q_stag/q = 1.84 - 0.19 + 0.010375 +
+/// 0.000546875 = 1.660921875. Barrowman's rounded edge: 0 at rest, (0.75)^-0.417 - 1 =
+/// 0.127456 at Mach 0.5, continuous at Mach 0.9 (0.998 and 1) and at Mach 1 (0.8215 from
+/// both sides: 1 - 0.1785, 1.214 - 0.502 + 0.1095). The base drag 0.12 at rest, 0.25 at
+/// Mach 1 from both sides. One fin's pressure term on S is (LE cos^2 Gamma + TE) t s / S.
+#[test]
+fn fin_edge_drags_follow_the_cited_formulas() {
+    use flexflight::aero::estimator::{
+        FinProfile, base_drag, fin_axial, leading_edge_drag, stagnation_pressure_ratio,
+        trailing_edge_drag,
+    };
+    use flexflight::check::ir::FinSection::{Airfoil, Rounded, Square};
+    assert_eq!(leading_edge_drag(Square, 0.0), 0.85);
+    assert!((leading_edge_drag(Square, 0.999_999_999) - 1.083_75).abs() < 1e-8);
+    assert!((stagnation_pressure_ratio(2.0) - 1.660_921_875).abs() < 1e-15);
+    assert_eq!(leading_edge_drag(Rounded, 0.0), 0.0);
+    assert!((leading_edge_drag(Rounded, 0.5) - 0.127_456).abs() < 1e-6);
+    assert!((leading_edge_drag(Rounded, 0.899_999_999) - 0.998_8).abs() < 1e-3);
+    assert!((leading_edge_drag(Rounded, 0.9) - 1.0).abs() < 1e-15);
+    let below = leading_edge_drag(Rounded, 1.0 - 1e-12);
+    let above = leading_edge_drag(Airfoil, 1.0);
+    assert!((below - 0.8215).abs() < 1e-9 && (above - 0.8215).abs() < 1e-12);
+    assert_eq!(base_drag(0.0), 0.12);
+    assert!((base_drag(1.0 - 1e-12) - 0.25).abs() < 1e-9 && base_drag(1.0) == 0.25);
+    assert_eq!(trailing_edge_drag(Rounded, 0.0), 0.06);
+    assert_eq!(trailing_edge_drag(Airfoil, 2.0), 0.0);
+    // The pressure term of a square 3.2 mm SPHADS fin at Mach 2 on S, by hand: Gamma_L =
+    // atan(x_t/s) with x_t = c_r - c_t = 0.20201 m, s = 0.12723 m: cos^2 = s^2/(s^2 + x_t^2)
+    // = 0.0161875/(0.0161875 + 0.0408080) = 0.284013; (0.85 * 1.660921875 * 0.284013 +
+    // 0.125) * 0.0032 * 0.12723 / 0.0126677 = 0.0169044.
+    let f = sphads_fin();
+    let p = |t| {
+        Some(FinProfile {
+            thickness: t,
+            section: Square,
+        })
+    };
+    // The friction part scales with (1 + 2t/c_mac); remove it with the zero-thickness profile.
+    let with = fin_axial(&f, p(3.2e-3), S_REF, 2.0, 1000.0);
+    let (mac, _) = f.mean_aerodynamic_chord();
+    let friction0 = fin_axial(&f, None, S_REF, 2.0, 1000.0);
+    let pressure = with - friction0 * (1.0 + 2.0 * 3.2e-3 / mac);
+    assert!((pressure - 0.016_904_4).abs() < 1e-7, "{pressure}");
+}

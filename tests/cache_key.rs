@@ -320,6 +320,7 @@ fn at<'a>(v: &'a mut Value, path: &[Seg]) -> &'a mut Value {
 /// Every unit-variant name of the IR's enums (as serialised): the alternatives tried when a
 /// string leaf is an enum tag.
 const VARIANTS: &[&str] = &[
+    "rounded",
     "euler_bernoulli",
     "timoshenko",
     "matrix_market",
@@ -387,6 +388,7 @@ fn perturbations(leaf: &Value, scratch: &Path) -> Vec<Value> {
             // Tags of enums whose other variants carry data.
             out.push(serde_json::json!({ "count": 1 }));
             out.push(serde_json::json!({ "PerFin": [] }));
+            out.push(serde_json::json!({ "power": { "n": 0.5 } }));
             out
         }
         _ => unreachable!(),

@@ -526,3 +526,78 @@ fn a_body_of_4000_elements_is_refused_at_check_for_conditioning_not_as_mechanism
         assert_eq!(o.status.code() == Some(0), ok, "{n}: {}", stderr(&o));
     }
 }
+
+/// Nose shapes at `check` (issue 34): every named and parameterised shape checks; an unknown
+/// shape, a parameter out of range (power series n outside (0, 1], Haack C < 0 or above
+/// 2/3) and a shape without a nose are errors with the file, line and column of the value,
+/// and a non-zero exit.
+#[test]
+fn nose_shapes_check_and_bad_ones_are_errors_at_the_value() {
+    let text = std::fs::read_to_string(repo(HPR)).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    // The example's motor curve sits beside it: keep relative paths working.
+    for e in std::fs::read_dir(repo("examples/hpr_k1000")).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_file() {
+            std::fs::copy(&p, dir.path().join(p.file_name().unwrap())).unwrap();
+        }
+    }
+    let with = |shape: &str| {
+        let t = text.replacen(
+            "        nose_length = 450 mm",
+            &format!("        nose_length = 450 mm\n        nose_shape = {shape}"),
+            1,
+        );
+        assert_ne!(t, text);
+        let p = dir.path().join("nose.vdl");
+        std::fs::write(&p, t).unwrap();
+        check(&p, &[])
+    };
+    for ok in [
+        "conical",
+        "ogive",
+        "ogive(0.5)",
+        "elliptical",
+        "parabolic",
+        "parabolic(0.75)",
+        "power(0.5)",
+        "power(1)",
+        "haack(0.2)",
+        "von_karman",
+        "lv_haack",
+    ] {
+        let o = with(ok);
+        assert_eq!(o.status.code(), Some(0), "{ok}: {}", stderr(&o));
+    }
+    for (bad, code, at) in [
+        ("power(1.5)", "vdl::nose::parameter", "1.5"),
+        ("power(0)", "vdl::nose::parameter", "0"),
+        ("haack(-0.1)", "vdl::nose::parameter", "-0.1"),
+        ("haack(0.7)", "vdl::nose::parameter", "0.7"),
+        ("ogive(0)", "vdl::nose::parameter", "0"),
+        ("power(0.5, 2)", "vdl::nose::parameter", "power(0.5, 2)"),
+        ("ogiv", "vdl::value::keyword", "ogiv"),
+        ("sears(0.5)", "vdl::value::keyword", "sears(0.5)"),
+    ] {
+        let o = with(bad);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "{bad}: {e}");
+        assert!(e.contains(code), "{bad}: {e}");
+        // The error points at line 38 of the file (the `nose_shape` line), at the value.
+        let col = 22 + bad.find(at).unwrap();
+        assert!(
+            e.contains(&format!("nose.vdl:38:{col}")),
+            "{bad} at {col}: {e}"
+        );
+    }
+    let t = text.replacen(
+        "        nose_length = 450 mm",
+        "        nose_shape = ogive",
+        1,
+    );
+    let p = dir.path().join("nose.vdl");
+    std::fs::write(&p, t).unwrap();
+    let o = check(&p, &[]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("vdl::nose::no_nose"), "{}", stderr(&o));
+}

@@ -61,11 +61,18 @@ fn the_simple_model_rocket_imports_checks_and_flies() {
     let o = import(&design("simple_model_rocket.ork"), &out, &args);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = std::fs::read_to_string(&out).unwrap();
-    // The ogive nose is said, and its mass restored; the motors are written beside.
-    assert!(stderr(&o).contains("tangent ogive"), "{}", stderr(&o));
+    // The ogive nose is said as an ogive (issue 34); the motors, all in the bundled
+    // catalogue, are named by designation (issue 34), not copied beside.
+    assert!(
+        text.contains("nose_shape = ogive # tangent ogive in the design"),
+        "{text}"
+    );
+    assert!(!stderr(&o).contains("taken as a cone"), "{}", stderr(&o));
     assert!(text.contains("nose_cone_shape_and_material"), "{text}");
-    assert!(dir.path().join("Estes_C6.eng").exists());
-    assert!(dir.path().join("Estes_A8.eng").exists());
+    assert!(text.contains("designation = \"Estes "), "{text}");
+    assert!(text.contains("motor.designation = \"Estes A8\""), "{text}");
+    assert!(!text.contains("curve = "), "{text}");
+    assert_eq!(files_in(dir.path()), ["simple.vdl"]);
     // One scenario per stored simulation, each with OpenRocket's result in a comment.
     assert_eq!(text.matches("\nscenario ").count(), 5, "{text}");
     assert!(

@@ -461,3 +461,174 @@ fn compiled_motor_adds_its_cylinders_mass_properties() {
         ) < 1e-12
     );
 }
+
+/// The burner vehicle with its `motor` block's body replaced by `motor_body`, checked from
+/// memory: (the checked program's motor if any, its diagnostics as (code, is error, message,
+/// the text under the first label)).
+#[allow(clippy::type_complexity)]
+fn check_motor_body(
+    motor_body: &str,
+) -> (
+    Option<flexflight::check::ir::Motor>,
+    Vec<(&'static str, bool, String, String)>,
+) {
+    use flexflight::check::{MemoryLoader, check_source};
+    let v = common::burner_vehicle("", "");
+    let start = v.find("  motor grain {").unwrap();
+    let end = start + v[start..].find("  }\n").unwrap() + 4;
+    let text = format!(
+        "{}  motor grain {{\n{motor_body}\n  }}\n{}",
+        &v[..start],
+        &v[end..]
+    );
+    let c = check_source("m.vdl", &text, &MemoryLoader::default());
+    let diags = c
+        .diagnostics
+        .iter()
+        .map(|d| {
+            let under = d
+                .labels
+                .first()
+                .map(|l| text[l.span.start as usize..l.span.end as usize].to_string())
+                .unwrap_or_default();
+            (d.code, d.is_error(), d.message.clone(), under)
+        })
+        .collect();
+    let motor = c.program.vehicles.first().and_then(|v| v.motor.clone());
+    (motor, diags)
+}
+
+/// `motor { designation = ... }` (issue 34): the bundled curve is found however the
+/// rocketeer writes the name, and the header's dimensions and masses are the motor's.
+#[test]
+fn a_motor_by_designation_takes_the_catalogue_headers_dimensions_and_masses() {
+    for name in ["Cesaroni M1670", "CTI M1670", "M1670", "cesaroni m1670-bs"] {
+        let (m, d) = check_motor_body(&format!(
+            "    designation = \"{name}\"\n    position = (-2, 0, 0) m"
+        ));
+        assert!(d.is_empty(), "{name}: {d:?}");
+        let m = m.unwrap_or_else(|| panic!("{name}: no motor"));
+        // The RASP header of motors/Cesaroni_M1670.eng: `M1670-BS 75 757 0 3.101 5.231 CTI`.
+        assert_eq!(m.length.value, 0.757, "{name}");
+        assert_eq!(m.diameter.value, 0.075, "{name}");
+        assert_eq!(m.propellant_mass.value, 3.101, "{name}");
+        assert_eq!(m.total_mass.value, 5.231, "{name}");
+        assert!(
+            m.curve
+                .value
+                .to_string_lossy()
+                .ends_with("Cesaroni_M1670.eng"),
+            "{:?}",
+            m.curve.value
+        );
+        // The curve the plan reads is the bundled one.
+        let curve = flexflight::runtime::thrust::ThrustCurve::read(&m.curve.value).unwrap();
+        assert_eq!(curve.name, "M1670-BS");
+    }
+}
+
+/// The file form keeps working and now also takes its dimensions from the header.
+#[test]
+fn a_motor_curve_file_without_dimensions_takes_the_headers() {
+    let eng = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("motors/AeroTech_K1000T.eng"),
+    )
+    .unwrap();
+    let v = common::burner_vehicle("", "")
+        .replace("curve = \"constant.csv\"", "curve = \"k.eng\"")
+        .replace("length = 600 mm", "")
+        .replace("diameter = 75 mm", "")
+        .replace("propellant_mass = 3 kg", "")
+        .replace("total_mass = 4.5 kg", "");
+    let mut loader = flexflight::check::MemoryLoader::default();
+    loader.files.insert(PathBuf::from("k.eng"), eng);
+    let c = flexflight::check::check_source("m.vdl", &v, &loader);
+    assert!(c.diagnostics.is_empty(), "{:?}", c.diagnostics);
+    let m = c.program.vehicles[0].motor.clone().unwrap();
+    // `K1000T-P 75 396 P 1.182 2.575 AT`.
+    assert_eq!((m.length.value, m.diameter.value), (0.396, 0.075));
+    // A CSV curve has no header: its dimensions are still required.
+    let v = common::burner_vehicle("", "").replace("length = 600 mm", "");
+    let mut loader = flexflight::check::MemoryLoader::default();
+    loader.files.insert(
+        PathBuf::from("constant.csv"),
+        "time_s,thrust_N\n0,2000\n3,2000\n".into(),
+    );
+    let c = flexflight::check::check_source("m.vdl", &v, &loader);
+    assert!(
+        c.diagnostics
+            .iter()
+            .any(|d| d.code == "vdl::field::missing" && d.message.contains("length")),
+        "{:?}",
+        c.diagnostics
+    );
+}
+
+/// An override that contradicts the header is a warning at the value (the issue: `length`
+/// silently overrode the header); a value that agrees with it, or `expect_unusual`, is quiet.
+#[test]
+fn an_override_contradicting_the_header_is_a_warning() {
+    let base = "    designation = \"Cesaroni M1670\"\n    position = (-2, 0, 0) m\n";
+    for (field, value) in [
+        ("length", "600 mm"),
+        ("diameter", "54 mm"),
+        ("propellant_mass", "2.9 kg"),
+        ("total_mass", "5.4 kg"),
+    ] {
+        let (m, d) = check_motor_body(&format!("{base}    {field} = {value}"));
+        assert!(m.is_some(), "a warning only: {d:?}");
+        assert_eq!(d.len(), 1, "{field}: {d:?}");
+        assert_eq!(d[0].0, "vdl::motor::header");
+        assert!(!d[0].1, "a warning");
+        assert!(d[0].2.contains(field), "{d:?}");
+        assert_eq!(d[0].3, value, "labelled at the value");
+        let (_, d) = check_motor_body(&format!(
+            "{base}    {field} = {value}\n    expect_unusual = true"
+        ));
+        assert!(d.is_empty(), "{d:?}");
+    }
+    // The header's own values, written out (3.10 kg is 3.101 to three figures).
+    let (_, d) = check_motor_body(&format!(
+        "{base}    length = 757 mm\n    diameter = 75 mm\n    propellant_mass = 3.10 kg\n    total_mass = 5231 g"
+    ));
+    assert!(d.is_empty(), "{d:?}");
+}
+
+/// Unknown, ambiguous and contradictory motors are errors at `check`, at the string, listing
+/// the nearest curves or the candidates.
+#[test]
+fn unknown_and_ambiguous_designations_are_errors_at_the_string() {
+    let one = |body: &str| {
+        let (m, d) = check_motor_body(body);
+        assert!(m.is_none(), "{body}");
+        assert_eq!(d.len(), 1, "{body}: {d:?}");
+        assert!(d[0].1, "an error: {d:?}");
+        d.into_iter().next().unwrap()
+    };
+    let at = "\n    position = (-2, 0, 0) m";
+    let d = one(&format!("    designation = \"Cesaroni M1600\"{at}"));
+    assert_eq!(d.0, "vdl::motor::designation");
+    assert_eq!(d.3, "\"Cesaroni M1600\"");
+    assert!(
+        d.2.contains("the nearest: `Cesaroni M1670-BS`, `Cesaroni M1400`"),
+        "{}",
+        d.2
+    );
+    let d = one(&format!("    designation = \"AeroTech H125W\"{at}"));
+    assert_eq!(d.0, "vdl::motor::ambiguous");
+    assert_eq!(d.3, "\"AeroTech H125W\"");
+    assert!(
+        d.2.contains("`AeroTech H125W-29mm`") && d.2.contains("`AeroTech H125W-38mm`"),
+        "{}",
+        d.2
+    );
+    let d = one(&format!("    designation = \"Acme M1670\"{at}"));
+    assert_eq!(d.0, "vdl::motor::designation");
+    assert!(d.2.contains("`Acme`"), "{}", d.2);
+    let d = one(&format!(
+        "    designation = \"M1670\"\n    curve = \"constant.csv\"{at}"
+    ));
+    assert_eq!(d.0, "vdl::motor::source");
+    let d = one(&format!("    length = 757 mm{at}"));
+    assert_eq!(d.0, "vdl::motor::source");
+}

@@ -253,13 +253,13 @@ vehicle gen {
   origin = node(1)
   structure {
     generate {
-      body { length = 1 m; diameter = 0.1 m; wall = 2 mm; nose_length = 0.2 m; elements = 10; theory = timoshenko }
+      body { length = 1 m; diameter = 0.1 m; wall = 2 mm; nose_length = 0.2 m; nose_shape = ogive; elements = 10; theory = timoshenko }
       fin_mesh { span_elements = 2; chord_elements = 2 }
       point_mass p { position = (-0.5, 0, 0) m; mass = 1 kg; inertia = (0.1, 0.1, 0.1) kg*m^2 }
       distributed_mass d { from = -0.1 m; to = -0.5 m; mass = 1 kg }
     }
   }
-  fins { count = 3; span = 0.1 m; root_chord = 0.2 m; tip_chord = 0.1 m; leading_edge_sweep = 30 deg; thickness = 1 mm; cant = 1 deg; angles = [0 deg, 120 deg, 240 deg]; root_trailing_edge = -1 m; material = m }
+  fins { count = 3; span = 0.1 m; root_chord = 0.2 m; tip_chord = 0.1 m; leading_edge_sweep = 30 deg; thickness = 1 mm; cross_section = rounded; cant = 1 deg; angles = [0 deg, 120 deg, 240 deg]; root_trailing_edge = -1 m; material = m }
   key_nodes { body = node(1); fins = [node(1), node(2), node(3)] }
   modes { fin_flap = 1; fin_twist = 1; body_bending = 1 }
   aero { source = builtin; reference_point = (0, 0, 0) m }
@@ -300,8 +300,9 @@ material m { E = 70 GPa; nu = 0.3; rho = 2700 kg/m^3 }
 vehicle gen {
   material = m
   origin = node(1)
-  structure { generate { body { length = 1 m; diameter = 0.1 m; wall = 2 mm; elements = 10; theory = euler_bernoulli } } }
+  structure { generate { body { length = 1 m; diameter = 0.1 m; wall = 2 mm; nose_length = 0.2 m; nose_shape = power(0.5); elements = 10; theory = euler_bernoulli } } }
   fins { count = 3; span = 0.1 m; root_chord = 0.2 m; tip_chord = 0.1 m; trailing_edge_sweep = 0 deg; thickness = 1 mm }
+  motor mo { designation = "Cesaroni M1670"; position = (-1, 0, 0) m; expect_unusual = true }
   key_nodes { body = node(1); fins = fin_point(span = 0.5, chord = 0.25) }
   modes { fin_flap = per_fin; fin_twist = per_fin; fixity = origin }
   aero { source = builtin; out_of_range = stop; reference_point = (0, 0, 0) m }

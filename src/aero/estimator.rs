@@ -9,8 +9,13 @@
 //!   circular cylinder), eta = 1 (Allen's crossflow analogy without Jorgensen's finite-length
 //!   factor, which he tabulates as about 0.6-0.75; replace the table for better values).
 //!   A tube (no nose) has no potential term.
-//! - potential term at the nose centre of pressure: cone 2/3 of the nose length from the tip
-//!   (slender-body theory); crossflow term at the planform centroid.
+//! - potential term at the nose centre of pressure: for any nose closed at the tip whose base
+//!   is the body's, slender-body theory gives C_Nalpha = 2 (A_base/S) = 2 /rad and the
+//!   centre of pressure x_cp = L - V/A_base aft of the tip (V the nose volume; Barrowman
+//!   1967; Niskanen 2009, sec. 3.2.1: X_B = (l A(l) - V)/(A(l) - A(0)) with A(0) = 0 for a
+//!   closed tip): 2/3 of the nose length for the cone, the profile's volume by quadrature
+//!   for the other shapes of `check::nose`; crossflow term at the planform centroid (the
+//!   nose's side view by quadrature).
 //! - C_M = sum C_N,part (x_part - x_ref)/b_b about the reference point (5.3.3), positive
 //!   nose up (x forward, so a force ahead of the c.g. pitches the nose up).
 //! - axial force C_A (independent of alpha here):
@@ -22,7 +27,14 @@
 //!     0.25/M above;
 //!   - cone nose wave drag above Mach 1 (Fleeman, "Tactical Missile Design", 2nd ed., 2006,
 //!     sharp-cone fit): (1.59 + 1.83/M^2) [atan(0.5/(L_n/d))]^1.69 (angle in rad); ramped
-//!     linearly from 0 at M = 0.9 to its M = 1.2 value (our transonic blend).
+//!     linearly from 0 at M = 0.9 to its M = 1.2 value (our transonic blend). An ogive
+//!     takes the cone's of equal length and base times (0.72 (k - 0.5)^2 + 0.82) (Niskanen
+//!     2009, App. B.4 and B.5, after the Handbook of Supersonic Aerodynamics, p. 239: the
+//!     tangent ogive k = 1 about the cone's, the secant ogive k = 0.5 18 % below it, at Mach
+//!     1.6-2.5 and nose fineness 2-3.5); the other shapes (elliptical, parabolic, power,
+//!     Haack) take the cone's as well: their shape-specific wave drag (Niskanen's
+//!     interpolation of Stoney's data at fineness 3) is not modelled yet;
+//!   - skin friction's wetted area: the nose's true surface (`NoseShape::wetted_area`).
 //!
 //! Fins (per fin, on S, alpha = the fin's own angle of attack):
 //! - subsonic, Barrowman (1967) / Diederich: C_Nalpha = 2 pi A (A_f/S) / (2 + sqrt(4 +
@@ -47,8 +59,20 @@
 //!   x_f = x_t/3 (c_r + 2 c_t)/(c_r + c_t) + (c_r + c_t - c_r c_t/(c_r + c_t))/6, i.e. the
 //!   quarter point of the mean aerodynamic chord; supersonic the lifting surface's centre of
 //!   pressure; blended linearly on 0.9..1.1 like C_Nalpha;
-//! - C_A: skin friction on both faces (2 A_f / S) with the body's C_f law on the mean chord.
-//!   Fin thickness wave drag and trailing-edge base drag are not modelled.
+//! - C_A: skin friction on both faces (2 A_f / S) with the body's C_f law on the mean chord,
+//!   corrected for the fin's thickness t by (1 + 2 t / c_mac) (Niskanen 2009, sec. 3.4.2,
+//!   OpenRocket's `FinSetCalc`); plus the pressure drag of its edges on the frontal area t s
+//!   (Niskanen 2009, sec. 3.4.4, after Barrowman 1967 pp. 48-57 and Hoerner, *Fluid-Dynamic
+//!   Drag*, 1965): the leading edge, `0.85 q_stag/q` for a square edge (the blunt cylinder,
+//!   Niskanen App. B.1: q_stag/q = 1 + M^2/4 + M^4/40 below Mach 1, 1.84 - 0.76/M^2 +
+//!   0.166/M^4 + 0.035/M^6 above) or Barrowman's rounded edge ((1 - M^2)^-0.417 - 1 below
+//!   Mach 0.9, 1 - 1.785 (M - 0.9) to Mach 1, 1.214 - 0.502/M^2 + 0.1095/M^4 above), times
+//!   cos^2 Gamma_L (Gamma_L the leading-edge sweep; Hoerner's cross-flow principle); the
+//!   trailing edge, the body's base drag for a square edge, half of it for a rounded one,
+//!   zero for an airfoil's tapering edge. The supersonic thickness wave drag of the fin's
+//!   faces beyond these edge terms is not modelled (Niskanen leaves it open as well, sec.
+//!   3.4.4). Without a profile (`EstimatedTables::estimate`) the fin is a flat plate of no
+//!   thickness: friction only.
 //!
 //! Rate derivatives (the optional `cn_q`, `cm_q` columns of the body table, used by
 //! `body_aero { rate_terms = true }`; see [`body_rate_derivatives`] for the derivation):
@@ -88,6 +112,12 @@ pub enum NoseShape {
     Tube,
     /// A sharp cone of the given length, m.
     Cone { length: f64 },
+    /// A nose of another profile (`check::nose`: ogive, elliptical, parabolic, power, Haack)
+    /// of the given length, m, closed at the tip, its base the body's diameter.
+    Profile {
+        length: f64,
+        shape: crate::check::ir::NoseShape,
+    },
 }
 
 /// Body of revolution for the estimator.
@@ -304,25 +334,41 @@ pub fn skin_friction(re: f64, mach: f64) -> f64 {
     }
 }
 
+/// The nose's length and the body x of its centre of pressure (<= 0) on a body of diameter
+/// `d`: Barrowman's x_cp = L - V/A_base aft of the tip (module doc), A_base = pi d^2/4 (the
+/// nose's base is the body's); 2L/3 for the cone. A tube: (0, 0).
+pub fn nose_centre_of_pressure(nose: NoseShape, d: f64) -> (f64, f64) {
+    match nose {
+        NoseShape::Tube => (0.0, 0.0),
+        NoseShape::Cone { length } => (length, -2.0 / 3.0 * length),
+        NoseShape::Profile { length, shape } => {
+            let a_base = std::f64::consts::PI * d * d / 4.0;
+            let v = shape.volume(0.5 * d, length);
+            (length, -(length - v / a_base))
+        }
+    }
+}
+
 /// Body coefficients (C_N, C_A, C_M) at one condition; see the module doc.
 pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f64) -> [f64; 3] {
     let d = b.diameter;
     let s_ref = std::f64::consts::PI * d * d / 4.0;
     let a = alpha_deg.to_radians();
-    let (nose_len, x_nose_cp) = match b.nose {
-        NoseShape::Tube => (0.0, 0.0),
-        NoseShape::Cone { length } => (length, -2.0 / 3.0 * length),
-    };
+    let (nose_len, x_nose_cp) = nose_centre_of_pressure(b.nose, d);
     let cn_pot = if nose_len > 0.0 {
         (2.0 * a).sin() * (0.5 * a).cos()
     } else {
         0.0
     };
-    // Planform area: triangle of the cone plus the rectangle of the cylinder.
-    let a_nose = 0.5 * d * nose_len;
+    // Planform area: the nose's side view (the cone's triangle) plus the rectangle of the
+    // cylinder, and the nose's planform centroid aft of the tip.
+    let (a_nose, nose_centroid) = match b.nose {
+        NoseShape::Profile { length, shape } => shape.planform(0.5 * d, length),
+        _ => (0.5 * d * nose_len, 2.0 / 3.0 * nose_len),
+    };
     let a_cyl = d * (b.length - nose_len);
     let a_p = a_nose + a_cyl;
-    let x_p = (a_nose * (-2.0 / 3.0 * nose_len) + a_cyl * (-(nose_len + b.length) / 2.0)) / a_p;
+    let x_p = (a_nose * (-nose_centroid) + a_cyl * (-(nose_len + b.length) / 2.0)) / a_p;
     const C_DC: f64 = 1.2;
     let cn_cross = C_DC * (a_p / s_ref) * a.sin() * a.sin().abs();
     let cn = cn_pot + cn_cross;
@@ -331,9 +377,14 @@ pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f
     let (_, rho, sound, mu) = atmosphere(altitude_m);
     let v = mach.max(FRICTION_REYNOLDS_MIN_MACH) * sound;
     let re = rho * v * b.length / mu;
-    let slant = (0.25 * d * d + nose_len * nose_len).sqrt();
-    let wetted =
-        std::f64::consts::PI * 0.5 * d * slant + std::f64::consts::PI * d * (b.length - nose_len);
+    let nose_wetted = match b.nose {
+        NoseShape::Profile { length, shape } => shape.wetted_area(0.5 * d, length),
+        _ => {
+            let slant = (0.25 * d * d + nose_len * nose_len).sqrt();
+            std::f64::consts::PI * 0.5 * d * slant
+        }
+    };
+    let wetted = nose_wetted + std::f64::consts::PI * d * (b.length - nose_len);
     let friction = skin_friction(re, mach) * wetted / s_ref;
     let base = if mach < 1.0 {
         0.12 + 0.13 * mach * mach
@@ -343,7 +394,17 @@ pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f
     let wave = if nose_len > 0.0 {
         let half_angle = (0.5 / (nose_len / d)).atan();
         let fit = |m: f64| (1.59 + 1.83 / (m * m)) * half_angle.powf(1.69);
-        transonic_blend(mach, |_| 0.0, fit)
+        match b.nose {
+            // Ogives: the cone's wave drag times Niskanen's shape factor (module doc).
+            NoseShape::Profile {
+                shape: crate::check::ir::NoseShape::Ogive { k },
+                ..
+            } => {
+                let factor = 0.72 * (k - 0.5) * (k - 0.5) + 0.82;
+                transonic_blend(mach, |_| 0.0, |m| factor * fit(m))
+            }
+            _ => transonic_blend(mach, |_| 0.0, fit),
+        }
     } else {
         0.0
     };
@@ -384,16 +445,27 @@ pub fn body_rate_derivatives(b: &BodyShape, alpha_deg: f64) -> [f64; 2] {
     let s_ref = std::f64::consts::PI * d * d / 4.0;
     let l = b.length;
     let s_r = -b.reference_x;
-    let ln = match b.nose {
-        NoseShape::Tube => 0.0,
-        NoseShape::Cone { length } => length,
+    let (ln, profile) = match b.nose {
+        NoseShape::Tube => (0.0, None),
+        NoseShape::Cone { length } => (length, None),
+        NoseShape::Profile { length, shape } => (length, Some(shape)),
     };
     // Potential (base area = S for the cylindrical afterbody).
-    let vol = s_ref * (ln / 3.0 + (l - ln));
+    let vol = match profile {
+        Some(shape) => shape.volume(0.5 * d, ln) + s_ref * (l - ln),
+        None => s_ref * (ln / 3.0 + (l - ln)),
+    };
     let cn_pot = 4.0 * (s_ref * (l - s_r) + vol) / (s_ref * d);
     let cm_pot = -4.0 * s_ref * (l - s_r).powi(2) / (s_ref * d * d);
-    // Crossflow: planform moments about s_r (cone triangle, then cylinder rectangle).
-    let (i1_cone, i2_cone) = if ln > 0.0 {
+    // Crossflow: planform moments about s_r (the nose's side view, by the profile's
+    // quadrature, or the cone's triangle; then the cylinder's rectangle).
+    let (i1_cone, i2_cone) = if let Some(shape) = profile {
+        let r = 0.5 * d;
+        (
+            shape.integrate(r, ln, 0.0, ln, 64, |s, ro| 2.0 * ro * (s - s_r)),
+            shape.integrate(r, ln, 0.0, ln, 64, |s, ro| 2.0 * ro * (s - s_r).powi(2)),
+        )
+    } else if ln > 0.0 {
         (
             d * (ln * ln / 3.0 - s_r * ln / 2.0),
             d * (ln.powi(3) / 4.0 - 2.0 * s_r * ln * ln / 3.0 + s_r * s_r * ln / 2.0),
@@ -433,6 +505,87 @@ pub fn fin_rate_derivatives(
     [2.0 * slope * arm / d, -2.0 * slope * (arm / d).powi(2)]
 }
 
+/// The fin's thickness and cross-section, for its drag (module doc).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FinProfile {
+    /// Thickness t, m.
+    pub thickness: f64,
+    pub section: crate::check::ir::FinSection,
+}
+
+/// Stagnation pressure over dynamic pressure, `q_stag/q` (Hoerner, pp. 15-2 and 16-3, as
+/// Niskanen 2009, App. B.1, writes it).
+pub fn stagnation_pressure_ratio(mach: f64) -> f64 {
+    let m2 = mach * mach;
+    if mach < 1.0 {
+        1.0 + m2 / 4.0 + m2 * m2 / 40.0
+    } else {
+        1.84 - 0.76 / m2 + 0.166 / (m2 * m2) + 0.035 / (m2 * m2 * m2)
+    }
+}
+
+/// Base drag coefficient on the base area (Niskanen 2009, eq. 3.94, after Fleeman):
+/// 0.12 + 0.13 M^2 below Mach 1, 0.25/M above.
+pub fn base_drag(mach: f64) -> f64 {
+    if mach < 1.0 {
+        0.12 + 0.13 * mach * mach
+    } else {
+        0.25 / mach
+    }
+}
+
+/// Pressure drag of a leading edge perpendicular to the flow, on its frontal area: square
+/// `0.85 q_stag/q`; rounded (and an airfoil's) Barrowman's fit (module doc).
+pub fn leading_edge_drag(section: crate::check::ir::FinSection, mach: f64) -> f64 {
+    use crate::check::ir::FinSection;
+    match section {
+        FinSection::Square => 0.85 * stagnation_pressure_ratio(mach),
+        FinSection::Rounded | FinSection::Airfoil => {
+            if mach < 0.9 {
+                (1.0 - mach * mach).powf(-0.417) - 1.0
+            } else if mach < 1.0 {
+                1.0 - 1.785 * (mach - 0.9)
+            } else {
+                1.214 - 0.502 / (mach * mach) + 0.1095 / mach.powi(4)
+            }
+        }
+    }
+}
+
+/// Pressure drag of a trailing edge on its frontal area: the base drag for a square edge,
+/// half of it for a rounded one, none for an airfoil's tapering edge (module doc).
+pub fn trailing_edge_drag(section: crate::check::ir::FinSection, mach: f64) -> f64 {
+    use crate::check::ir::FinSection;
+    match section {
+        FinSection::Square => base_drag(mach),
+        FinSection::Rounded => 0.5 * base_drag(mach),
+        FinSection::Airfoil => 0.0,
+    }
+}
+
+/// The axial coefficient of one fin on reference area `s_ref` (module doc): skin friction
+/// (thickness-corrected with a profile) plus, with a profile, the pressure drag of the
+/// leading edge (times cos^2 of its sweep) and the trailing edge on the frontal area t s.
+pub fn fin_axial(
+    f: &FinPlanform,
+    profile: Option<FinProfile>,
+    s_ref: f64,
+    mach: f64,
+    altitude_m: f64,
+) -> f64 {
+    let (_, rho, sound, mu) = atmosphere(altitude_m);
+    let (mac, _) = f.mean_aerodynamic_chord();
+    let re = rho * mach.max(FRICTION_REYNOLDS_MIN_MACH) * sound * mac / mu;
+    let Some(p) = profile else {
+        return skin_friction(re, mach) * 2.0 * f.area() / s_ref;
+    };
+    let friction = skin_friction(re, mach) * (1.0 + 2.0 * p.thickness / mac) * 2.0 * f.area();
+    let cos_le = (f.span / f.span.hypot(f.tip_le_offset)).min(1.0);
+    let pressure =
+        leading_edge_drag(p.section, mach) * cos_le * cos_le + trailing_edge_drag(p.section, mach);
+    (friction + pressure * p.thickness * f.span) / s_ref
+}
+
 /// Coefficients of one fin (C_N, C_A, x_cp) at one condition on reference area `s_ref`.
 pub fn fin_coefficients(
     f: &FinPlanform,
@@ -441,12 +594,13 @@ pub fn fin_coefficients(
     alpha_deg: f64,
     altitude_m: f64,
 ) -> [f64; 3] {
-    fin_coefficients_with(f, f.linear(mach), s_ref, mach, alpha_deg, altitude_m)
+    fin_coefficients_with(f, None, f.linear(mach), s_ref, mach, alpha_deg, altitude_m)
 }
 
 /// [`fin_coefficients`] with the Mach's (slope on A_f, x_cp) computed once by the caller.
 fn fin_coefficients_with(
     f: &FinPlanform,
+    profile: Option<FinProfile>,
     (slope, x_cp): (f64, f64),
     s_ref: f64,
     mach: f64,
@@ -454,10 +608,7 @@ fn fin_coefficients_with(
     altitude_m: f64,
 ) -> [f64; 3] {
     let cn = f.interference() * slope * f.area() / s_ref * alpha_deg.to_radians();
-    let (_, rho, sound, mu) = atmosphere(altitude_m);
-    let (mac, _) = f.mean_aerodynamic_chord();
-    let re = rho * mach.max(FRICTION_REYNOLDS_MIN_MACH) * sound * mac / mu;
-    let ca = skin_friction(re, mach) * 2.0 * f.area() / s_ref;
+    let ca = fin_axial(f, profile, s_ref, mach, altitude_m);
     [cn, ca, x_cp]
 }
 
@@ -477,10 +628,21 @@ pub struct EstimatedTables {
 }
 
 impl EstimatedTables {
-    /// Estimates both tables (reference area pi d^2/4 of the body) with the given policy.
+    /// Estimates both tables (reference area pi d^2/4 of the body) with the given policy, the
+    /// fin a flat plate of no thickness (friction only; [`Self::estimate_with_profile`]).
     pub fn estimate(
         body: &BodyShape,
         fin: &FinPlanform,
+        policy: OutOfRange,
+    ) -> Result<Self, TableError> {
+        Self::estimate_with_profile(body, fin, None, policy)
+    }
+
+    /// [`Self::estimate`] with the fin's thickness and cross-section in its drag.
+    pub fn estimate_with_profile(
+        body: &BodyShape,
+        fin: &FinPlanform,
+        profile: Option<FinProfile>,
         policy: OutOfRange,
     ) -> Result<Self, TableError> {
         let alpha: Vec<f64> = (-10..=10).map(|k| 2.0 * f64::from(k)).collect();
@@ -499,7 +661,7 @@ impl EstimatedTables {
                 for &h in &ESTIMATOR_ALTITUDE {
                     bp.push(body_coefficients(body, m, a, h));
                     br.push(body_rate_derivatives(body, a));
-                    fp.push(fin_coefficients_with(fin, lin, s_ref, m, a, h));
+                    fp.push(fin_coefficients_with(fin, profile, lin, s_ref, m, a, h));
                 }
             }
         }

@@ -507,6 +507,12 @@ pub fn string(cx: &mut Cx, v: &Value) -> Option<String> {
     None
 }
 
+/// Records keyword values a checker function accepts in a form `keyword` does not see (the
+/// names of calls such as `power(0.5)`), for the documentation test's schema.
+pub fn record_keywords(names: impl Iterator<Item = &'static str>) {
+    record(|r| r.keywords.extend(names));
+}
+
 /// A keyword from a fixed set.
 pub fn keyword<T: Copy>(cx: &mut Cx, v: &Value, options: &[(&'static str, T)]) -> Option<T> {
     record(|r| r.keywords.extend(options.iter().map(|(n, _)| *n)));

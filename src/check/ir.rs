@@ -11,6 +11,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::syntax::{Span, Spanned};
 
+pub use super::nose::NoseShape;
+
 /// A scalar in SI with its span.
 pub type Q = Spanned<f64>;
 /// A 3-vector in SI with its span.
@@ -205,8 +207,10 @@ pub struct BodyGeometry {
     pub length: Q,
     pub diameter: Q,
     pub wall: Q,
-    /// Conical nose length (0: a plain tube).
+    /// Nose length (0: a plain tube).
     pub nose_length: Q,
+    /// Nose profile (`conical` unless given; `check::nose`).
+    pub nose_shape: Spanned<NoseShape>,
     pub elements: Spanned<usize>,
     pub theory: Spanned<BeamTheory>,
 }
@@ -343,12 +347,25 @@ pub struct Fins {
     /// Leading-edge sweep angle, rad (derived when the trailing-edge sweep was given).
     pub leading_edge_sweep: Q,
     pub thickness: Q,
+    /// The fin's cross-section (its edges), for the built-in estimator's fin drag.
+    pub cross_section: Spanned<FinSection>,
     pub cant: Q,
     /// Angular positions delta_i about body x, rad; default 2 pi (i-1)/n.
     pub angles: Vec<Q>,
     /// Body-x station of the root trailing edge (<= 0).
     pub root_trailing_edge_x: Q,
     pub material: Material,
+}
+
+/// A fin's cross-section, as OpenRocket offers them (Niskanen 2009, sec. 3.4.4): square
+/// edges, rounded leading and trailing edges, or an airfoil (rounded leading edge, tapering
+/// trailing edge).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FinSection {
+    Square,
+    Rounded,
+    Airfoil,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

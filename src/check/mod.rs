@@ -11,6 +11,7 @@ pub mod fields;
 mod fixture;
 pub mod ir;
 mod motor;
+pub mod nose;
 pub mod overrides;
 pub mod plausible;
 mod scenario;

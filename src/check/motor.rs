@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use crate::diagnostics::Diagnostic;
+use crate::runtime::catalogue::{self, Lookup};
 use crate::runtime::thrust::{ThrustCurve, ThrustCurveError};
 use crate::syntax::ast::Block;
 use crate::syntax::{Span, Spanned};
@@ -20,7 +21,8 @@ const MAX_MEAN_DENSITY: f64 = 7850.0;
 /// Reads and checks a thrust curve (RASP `.eng` or CSV) named at `named_at`; a reader error
 /// is reported on the curve file's line (code `vdl::motor::curve`).
 pub(crate) fn read_curve(cx: &mut Cx, path: &Path, named_at: Span) -> Option<ThrustCurve> {
-    let text = match cx.loader.read(path) {
+    let bundled = catalogue::bundled_text(path).map(|t| Ok(t.to_string()));
+    let text = match bundled.unwrap_or_else(|| cx.loader.read(path)) {
         Ok(t) => t,
         Err(e) => {
             cx.push(
@@ -63,6 +65,92 @@ pub(crate) fn read_curve(cx: &mut Cx, path: &Path, named_at: Span) -> Option<Thr
     }
 }
 
+/// Resolves a motor `designation` (`"Cesaroni M1670"`) in the bundled catalogue to the
+/// virtual path of its curve; not-found (`vdl::motor::designation`, with the nearest curves)
+/// and ambiguous (`vdl::motor::ambiguous`, with the candidates) are errors at the string.
+fn resolve_designation(
+    cx: &mut Cx,
+    written: &str,
+    span: Span,
+) -> Option<Spanned<std::path::PathBuf>> {
+    let entries = catalogue::bundled();
+    let makers = || {
+        let mut m: Vec<&str> = entries
+            .iter()
+            .filter_map(|e| e.curve.maker.as_deref().map(catalogue::maker_name))
+            .collect();
+        m.sort_unstable();
+        m.dedup();
+        m.join(", ")
+    };
+    let d = match catalogue::parse_designation(written) {
+        Ok(d) => d,
+        Err(maker) => {
+            let msg = if maker.is_empty() {
+                "an empty motor designation".to_string()
+            } else {
+                format!("`{maker}` is not a motor manufacturer of the catalogue")
+            };
+            cx.push(
+                Diagnostic::error("vdl::motor::designation", msg)
+                    .label(span, "the designation")
+                    .with_help(format!(
+                        "write the motor's designation (`M1670`), optionally after its manufacturer ({})",
+                        makers()
+                    )),
+            );
+            return None;
+        }
+    };
+    let list = |ks: &[usize]| {
+        ks.iter()
+            .map(|k| format!("`{}`", entries[*k].describe()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    match catalogue::lookup(
+        entries
+            .iter()
+            .map(|e| (e.curve.name.as_str(), e.curve.maker.as_deref())),
+        &d,
+    ) {
+        Lookup::Found(k) => Some(Spanned::new(catalogue::bundled_path(entries[k].file), span)),
+        Lookup::Ambiguous(ks) => {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::motor::ambiguous",
+                    format!(
+                        "motor `{written}` matches {} curves of the catalogue: {}",
+                        ks.len(),
+                        list(&ks)
+                    ),
+                )
+                .label(span, "which one?")
+                .with_help("write the full designation of one of them"),
+            );
+            None
+        }
+        Lookup::NotFound(near) => {
+            let nearest = if near.is_empty() {
+                String::new()
+            } else {
+                format!("; the nearest: {}", list(&near))
+            };
+            cx.push(
+                Diagnostic::error(
+                    "vdl::motor::designation",
+                    format!("motor `{written}` is not in the bundled catalogue{nearest}"),
+                )
+                .label(span, "not found")
+                .with_help(
+                    "the catalogue is listed in motors/README.md; for another motor give its RASP `.eng` curve (the manufacturer's or thrustcurve.org's) as `curve = \"FILE.eng\"`",
+                ),
+            );
+            None
+        }
+    }
+}
+
 /// Byte range of 1-based line `line` (without its line break).
 fn line_range(text: &str, line: usize) -> Option<(usize, usize)> {
     let mut start = 0;
@@ -76,29 +164,56 @@ fn line_range(text: &str, line: usize) -> Option<(usize, usize)> {
     None
 }
 
-/// `motor NAME { curve, position, length, diameter, propellant_mass?, total_mass? }`.
-/// The masses default to the RASP header's; a CSV curve (no header) needs both.
+/// `motor NAME { curve | designation, position, length?, diameter?, propellant_mass?,
+/// total_mass? }`. The dimensions and masses default to the RASP header's; a CSV curve (no
+/// header) needs all four. A `designation` is resolved in the bundled catalogue
+/// ([`crate::runtime::catalogue`]) and names its curve by the catalogue's virtual path.
 pub(crate) fn check_motor(cx: &mut Cx, b: &Block, structure: Option<&Structure>) -> Option<Motor> {
     let name = super::vehicle::block_name(cx, b)?;
     let mut fl = Fields::new(cx, format!("motor `{}`", name.value), b.header, &b.body);
-    let curve_path = fl
-        .required(cx, "curve", "\"motors/AeroTech_K1000T.eng\"")
-        .and_then(|v| {
-            let s = f::string(cx, v)?;
-            cx.resolve_file(&s, v.span, "thrust curve")
-                .map(|p| Spanned::new(p, v.span))
-        });
+    let curve_v = fl.value("curve");
+    let designation_v = fl.value("designation");
+    let curve_path = match (curve_v, designation_v) {
+        (Some(c), Some(d)) => {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::motor::source",
+                    "a motor takes its thrust curve from a `curve` file or a catalogue `designation`, not both",
+                )
+                .label(c.span, "a curve file")
+                .label(d.span, "a designation")
+                .with_help("remove one of them"),
+            );
+            None
+        }
+        (None, None) => {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::motor::source",
+                    format!("motor `{}` has no thrust curve", name.value),
+                )
+                .label(b.header, "this motor")
+                .with_help(
+                    "name a motor of the bundled catalogue (`designation = \"Cesaroni M1670\"`) or a curve file (`curve = \"motors/AeroTech_K1000T.eng\"`)",
+                ),
+            );
+            None
+        }
+        (Some(c), None) => f::string(cx, c).and_then(|s| {
+            cx.resolve_file(&s, c.span, "thrust curve")
+                .map(|p| Spanned::new(p, c.span))
+        }),
+        (None, Some(d)) => f::string(cx, d).and_then(|s| resolve_designation(cx, &s, d.span)),
+    };
     let position = fl
         .required(cx, "position", "(-2.0, 0, 0) m")
         .and_then(|v| f::vector3(cx, v, Dim::LENGTH));
     let length = fl
-        .required(cx, "length", "396 mm")
-        .and_then(|v| f::quantity(cx, v, Dim::LENGTH));
-    let length = f::positive(length, cx);
+        .value("length")
+        .map(|v| f::positive(f::quantity(cx, v, Dim::LENGTH), cx));
     let diameter = fl
-        .required(cx, "diameter", "75 mm")
-        .and_then(|v| f::quantity(cx, v, Dim::LENGTH));
-    let diameter = f::positive(diameter, cx);
+        .value("diameter")
+        .map(|v| f::positive(f::quantity(cx, v, Dim::LENGTH), cx));
     let prop = fl
         .value("propellant_mass")
         .map(|v| f::positive(f::quantity(cx, v, Dim::MASS), cx));
@@ -113,31 +228,52 @@ pub(crate) fn check_motor(cx: &mut Cx, b: &Block, structure: Option<&Structure>)
     let curve_path = curve_path?;
     let curve = read_curve(cx, &curve_path.value, curve_path.span)?;
     if !expect_unusual {
-        header_dimensions(cx, &curve, &curve_path, length, diameter);
+        header_values(
+            cx,
+            &curve,
+            &curve_path,
+            [
+                ("length", length.flatten(), curve.length),
+                ("diameter", diameter.flatten(), curve.diameter),
+                ("propellant_mass", prop.flatten(), curve.propellant_mass),
+                ("total_mass", total.flatten(), curve.total_mass),
+            ],
+        );
     }
     let from_header = |given: Option<Option<Spanned<f64>>>,
                        header: Option<f64>,
                        cx: &mut Cx,
-                       what: &str|
+                       what: &str,
+                       unit: &str|
      -> Option<Spanned<f64>> {
+        let code = if unit == "kg" {
+            "vdl::motor::mass"
+        } else {
+            "vdl::field::missing"
+        };
         match (given, header) {
             (Some(g), _) => g,
             (None, Some(h)) => Some(Spanned::new(h, curve_path.span)),
             (None, None) => {
                 cx.push(
                     Diagnostic::error(
-                        "vdl::motor::mass",
+                        code,
                         format!("the thrust curve has no header: give the motor's `{what}`"),
                     )
-                    .label(curve_path.span, "a CSV curve carries no masses")
-                    .label(b.header, format!("add `{what} = ... kg` here")),
+                    .label(
+                        curve_path.span,
+                        "a CSV curve carries no dimensions or masses",
+                    )
+                    .label(b.header, format!("add `{what} = ... {unit}` here")),
                 );
                 None
             }
         }
     };
-    let propellant_mass = from_header(prop, curve.propellant_mass, cx, "propellant_mass");
-    let total_mass = from_header(total, curve.total_mass, cx, "total_mass");
+    let length = from_header(length, curve.length, cx, "length", "mm");
+    let diameter = from_header(diameter, curve.diameter, cx, "diameter", "mm");
+    let propellant_mass = from_header(prop, curve.propellant_mass, cx, "propellant_mass", "kg");
+    let total_mass = from_header(total, curve.total_mass, cx, "total_mass", "kg");
     let (position, length, diameter) = (position?, length?, diameter?);
     let (propellant_mass, total_mass) = (propellant_mass?, total_mass?);
     let mut ok = true;
@@ -269,42 +405,67 @@ pub(crate) fn check_motor(cx: &mut Cx, b: &Block, structure: Option<&Structure>)
 /// leaves room for a value written in inches.
 pub const HEADER_DIMENSION_TOL: f64 = 1e-3;
 
-/// Warns (`vdl::motor::header`) where the motor's `length` or `diameter` contradicts the
-/// `.eng` header's: the motor's cylinder sets its mass distribution and so the static margin
-/// (the 0.30 m for the M1670's 757 mm moved it by 0.5 calibre).
-fn header_dimensions(
+/// A motor field checked against the header: (name, the value written, the header's).
+type HeaderValue<'a> = (&'a str, Option<Spanned<f64>>, Option<f64>);
+
+/// How far a motor's `propellant_mass` or `total_mass` may differ from the RASP header's
+/// before `check` questions it, relative. RASP headers give the masses in kg to three or more
+/// significant figures (the M1670's 3.101 and 5.231 kg, the C6's 0.0108 kg), so the header's
+/// value rewritten to three significant figures (in g or kg) is within 0.5 % of it.
+pub const HEADER_MASS_REL_TOL: f64 = 5e-3;
+
+/// Warns (`vdl::motor::header`) where the motor's `length`, `diameter`, `propellant_mass` or
+/// `total_mass` contradicts the `.eng` header's: the motor's cylinder and masses set its mass
+/// distribution and so the static margin (the 0.30 m for the M1670's 757 mm moved it
+/// by 0.5 calibre), and the propellant mass the exhaust velocity.
+fn header_values(
     cx: &mut Cx,
     curve: &ThrustCurve,
     curve_path: &Spanned<std::path::PathBuf>,
-    length: Option<Spanned<f64>>,
-    diameter: Option<Spanned<f64>>,
+    given: [HeaderValue; 4],
 ) {
-    for (what, given, header) in [
-        ("length", length, curve.length),
-        ("diameter", diameter, curve.diameter),
-    ] {
+    let is_catalogue = crate::runtime::catalogue::bundled_text(&curve_path.value).is_some();
+    let source = if is_catalogue {
+        format!("the catalogue's `{}` header", curve.name)
+    } else {
+        "the `.eng` header".to_string()
+    };
+    for (what, given, header) in given {
         let (Some(g), Some(h)) = (given, header) else {
             continue;
         };
+        let is_mass = what.ends_with("mass");
         // (1e-9 m: a value written 1 mm off is within the tolerance despite rounding.)
-        if (g.value - h).abs() > HEADER_DIMENSION_TOL + 1e-9 {
-            let mm = |x: f64| super::plausible::short(x * 1e3);
-            cx.push(
-                Diagnostic::warning(
-                    "vdl::motor::header",
-                    format!(
-                        "the motor's {what} ({} mm) differs from its thrust curve's header ({} mm)",
-                        mm(g.value),
-                        mm(h)
-                    ),
-                )
-                .label(g.span, format!("{what} {} mm", mm(g.value)))
-                .label(curve_path.span, format!("the `.eng` header says {} mm", mm(h)))
-                .with_help(format!(
-                    "the motor's cylinder places its mass, and so the centre of mass and the static margin: write the header's {what}, or `expect_unusual = true` in the motor if the difference is meant"
-                )),
-            );
+        let off = if is_mass {
+            (g.value - h).abs() > HEADER_MASS_REL_TOL * h
+        } else {
+            (g.value - h).abs() > HEADER_DIMENSION_TOL + 1e-9
+        };
+        if !off {
+            continue;
         }
+        let show = |x: f64| {
+            if is_mass {
+                format!("{} kg", super::plausible::short(x))
+            } else {
+                format!("{} mm", super::plausible::short(x * 1e3))
+            }
+        };
+        cx.push(
+            Diagnostic::warning(
+                "vdl::motor::header",
+                format!(
+                    "the motor's {what} ({}) differs from its thrust curve's header ({})",
+                    show(g.value),
+                    show(h)
+                ),
+            )
+            .label(g.span, format!("{what} {}", show(g.value)))
+            .label(curve_path.span, format!("{source} says {}", show(h)))
+            .with_help(format!(
+                "the motor's cylinder and masses place its mass, and so the centre of mass and the static margin: leave `{what}` out to use the header's, or write `expect_unusual = true` in the motor if the difference is meant"
+            )),
+        );
     }
 }
 

@@ -429,6 +429,10 @@ fn check_generate(cx: &mut Cx, b: &Block) -> Option<Generate> {
             Some(v) => f::non_negative(f::quantity(cx, v, Dim::LENGTH), cx),
             None => Some(Spanned::new(0.0, bb.header)),
         };
+        let nose_shape = match fl.value("nose_shape") {
+            Some(v) => nose_shape(cx, v),
+            None => Some(Spanned::new(NoseShape::Conical, bb.header)),
+        };
         let elements_v = fl.required(cx, "elements", "40");
         let elements = elements_v.and_then(|v| f::count(cx, v, 1, 100_000));
         if let (Some(n), Some(v)) = (elements, elements_v) {
@@ -474,6 +478,22 @@ fn check_generate(cx: &mut Cx, b: &Block) -> Option<Generate> {
                 return None;
             }
         }
+        if let (Some(n), Some(shape)) = (nose, nose_shape) {
+            if n.value == 0.0 && shape.span != bb.header {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::nose::no_nose",
+                        format!(
+                            "a {} nose shape on a body without a nose",
+                            shape.value.describe()
+                        ),
+                    )
+                    .label(shape.span, "nose shape")
+                    .with_help("give the nose's length: `nose_length = 400 mm`"),
+                );
+                return None;
+            }
+        }
         if let (Some(l), Some(n)) = (length, nose) {
             if n.value >= l.value {
                 cx.push(
@@ -492,6 +512,7 @@ fn check_generate(cx: &mut Cx, b: &Block) -> Option<Generate> {
             diameter: diameter?,
             wall: wall?,
             nose_length: nose?,
+            nose_shape: nose_shape?,
             elements: Spanned::new(elements?, bb.header),
             theory: theory?,
         })
@@ -849,6 +870,19 @@ fn check_fins(
         .and_then(|v| f::quantity(cx, v, Dim::LENGTH));
     let tip = f::non_negative(tip, cx);
     let thickness = len(cx, &mut fl, "thickness", "0.6 mm");
+    let cross_section = match fl.value("cross_section") {
+        Some(v) => f::keyword(
+            cx,
+            v,
+            &[
+                ("square", FinSection::Square),
+                ("rounded", FinSection::Rounded),
+                ("airfoil", FinSection::Airfoil),
+            ],
+        )
+        .map(|s| Spanned::new(s, v.span)),
+        None => Some(Spanned::new(FinSection::Square, b.header)),
+    };
     let le = fl
         .value("leading_edge_sweep")
         .map(|v| (v, f::quantity(cx, v, Dim::ANGLE)));
@@ -1017,6 +1051,7 @@ fn check_fins(
         tip_chord: tip_q,
         leading_edge_sweep: sweep?,
         thickness: thickness?,
+        cross_section: cross_section?,
         cant: cant?,
         angles,
         root_trailing_edge_x: station,
@@ -1562,4 +1597,67 @@ fn check_forces(cx: &mut Cx, b: &Block) -> Option<Forces> {
         }
     }
     ok.then_some(forces)
+}
+
+/// `nose_shape = conical | ogive | elliptical | parabolic | von_karman | lv_haack` or
+/// `ogive(k) | parabolic(K) | power(n) | haack(C)` (`check::nose`); an unknown shape
+/// (`vdl::value::keyword`) or a parameter outside its range (`vdl::nose::parameter`) is an
+/// error at its span.
+fn nose_shape(cx: &mut Cx, v: &Value) -> Option<Spanned<NoseShape>> {
+    use super::nose::{NAMED, WITH_PARAMETER};
+    if let ValueKind::Call { name, args } = &v.kind {
+        f::record_keywords(WITH_PARAMETER.iter().map(|(n, _, _)| *n));
+        let Some((_, what, range)) = WITH_PARAMETER.iter().find(|(n, _, _)| *n == name.name) else {
+            let names = WITH_PARAMETER.iter().map(|(n, _, _)| *n);
+            let mut d = Diagnostic::error(
+                "vdl::value::keyword",
+                format!(
+                    "`{}(...)` is not a nose shape with a parameter: {}",
+                    name.name,
+                    WITH_PARAMETER
+                        .iter()
+                        .map(|(n, w, _)| format!("`{n}({w})`"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            )
+            .label(v.span, "unknown nose shape");
+            if let Some(s) = did_you_mean(&name.name, names) {
+                d = d.with_help(format!("did you mean `{s}`?"));
+            }
+            cx.push(d);
+            return None;
+        };
+        let [arg] = args.as_slice() else {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::nose::parameter",
+                    format!("`{}` takes one parameter, its {what} ({range})", name.name),
+                )
+                .label(v.span, format!("{} given", args.len())),
+            );
+            return None;
+        };
+        let p = f::number(cx, &arg.value)?;
+        return match NoseShape::with_parameter(&name.name, p.value) {
+            Ok(s) => Some(Spanned::new(s, v.span)),
+            Err(range) => {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::nose::parameter",
+                        format!(
+                            "the {} nose's {what} = {} is outside {range}",
+                            name.name, p.value
+                        ),
+                    )
+                    .label(arg.value.span, format!("must be {range}"))
+                    .with_help(
+                        "outside this range the profile would not rise from the tip to the base (docs/language.md, nose shapes)",
+                    ),
+                );
+                None
+            }
+        };
+    }
+    f::keyword(cx, v, NAMED).map(|s| Spanned::new(s, v.span))
 }

@@ -1,39 +1,17 @@
-//! Motors by name: the bundled catalogue of published RASP thrust curves (`motors/`, with
-//! provenance per file in `motors/README.md`) and the `.eng` files of a user's directory.
-//!
-//! A designation as OpenRocket stores it (`C6`, `G80T`, `K1000T`) is matched against each
-//! curve's RASP name (`C6`, `G80`, `K1000T-P`): equal after upper-casing, or equal to the
-//! name's common part (before a `-`), or equal once the designation's trailing propellant
-//! letters are dropped (`G80T` -> `G80`, the RASAero files' naming). The manufacturer, where
-//! given, must agree (RASP maker codes `ES`, `AT`, `CTI`, ... are expanded).
+//! Motors by name for the importer: the `.eng` files of a user's `--motor-dir` directories,
+//! searched first, then the bundled catalogue of published RASP thrust curves
+//! ([`crate::runtime::catalogue`], the `motors/` folder with provenance per file in
+//! `motors/README.md`). Designations match as `motor { designation = ... }` does at `check`
+//! (the tiers of [`crate::runtime::catalogue`]): a designation as OpenRocket stores it (`C6`,
+//! `G80T`, `K1000T`) against each curve's RASP name (`C6`, `G80`, `K1000T-P`), the
+//! manufacturer, where given, agreeing (RASP maker codes `ES`, `AT`, `CTI`, ... expanded).
 
 use std::path::{Path, PathBuf};
 
+use crate::runtime::catalogue as bundled;
 use crate::runtime::thrust::ThrustCurve;
 
-/// The bundled curves: (file name, text).
-pub const BUNDLED: &[(&str, &str)] = &[
-    (
-        "AeroTech_G64.eng",
-        include_str!("../../motors/AeroTech_G64.eng"),
-    ),
-    (
-        "AeroTech_G80.eng",
-        include_str!("../../motors/AeroTech_G80.eng"),
-    ),
-    (
-        "AeroTech_K1000T.eng",
-        include_str!("../../motors/AeroTech_K1000T.eng"),
-    ),
-    (
-        "Cesaroni_M1670.eng",
-        include_str!("../../motors/Cesaroni_M1670.eng"),
-    ),
-    ("Estes_A8.eng", include_str!("../../motors/Estes_A8.eng")),
-    ("Estes_B4.eng", include_str!("../../motors/Estes_B4.eng")),
-    ("Estes_C6.eng", include_str!("../../motors/Estes_C6.eng")),
-    ("Estes_D12.eng", include_str!("../../motors/Estes_D12.eng")),
-];
+pub use crate::runtime::catalogue::{BUNDLED, maker_name, name_matches};
 
 /// One curve of the catalogue.
 #[derive(Clone, Debug)]
@@ -53,6 +31,13 @@ pub enum Origin {
 }
 
 impl Entry {
+    /// `Maker NAME` as `motor { designation = ... }` takes it (an exact match of a bundled
+    /// curve).
+    pub fn designation(&self) -> String {
+        let maker = self.curve.maker.as_deref().map(maker_name).unwrap_or("");
+        format!("{maker} {}", self.curve.name).trim().to_string()
+    }
+
     /// `Maker NAME (file)` for candidate lists.
     pub fn describe(&self) -> String {
         let maker = self.curve.maker.as_deref().map(maker_name).unwrap_or("?");
@@ -72,58 +57,6 @@ pub enum Lookup {
     Ambiguous(Vec<Entry>),
     /// None matches; the closest by impulse class are listed.
     NotFound(Vec<Entry>),
-}
-
-/// Full manufacturer names for RASP maker codes (thrustcurve.org's abbreviations).
-pub fn maker_name(code: &str) -> &str {
-    match code.trim().to_ascii_uppercase().as_str() {
-        "ES" | "ESTES" => "Estes",
-        "AT" | "AEROTECH" => "AeroTech",
-        "CTI" | "CESARONI" => "Cesaroni",
-        "AP" | "APOGEE" => "Apogee",
-        "QU" | "QUEST" => "Quest",
-        "KL" | "KLIMA" => "Klima",
-        "LOKI" => "Loki",
-        "HT" | "HYPERTEK" => "Hypertek",
-        _ => code,
-    }
-}
-
-fn norm(s: &str) -> String {
-    s.chars()
-        .filter(|c| !c.is_whitespace())
-        .flat_map(char::to_uppercase)
-        .collect()
-}
-
-/// Whether a RASP curve name matches a designation (module doc).
-pub fn name_matches(rasp: &str, designation: &str) -> bool {
-    let (r, d) = (norm(rasp), norm(designation));
-    if r == d {
-        return true;
-    }
-    let common = r.split('-').next().unwrap_or(&r).to_string();
-    if common == d {
-        return true;
-    }
-    let d_common = d.split('-').next().unwrap_or(&d).to_string();
-    if common == d_common {
-        return true;
-    }
-    // `G80T` -> `G80`: drop trailing letters after the average-thrust digits.
-    let stripped = d_common.trim_end_matches(|c: char| c.is_ascii_alphabetic());
-    stripped.len() >= 2 && stripped != d_common && common == stripped
-}
-
-fn maker_matches(entry: &ThrustCurve, manufacturer: Option<&str>) -> bool {
-    match (manufacturer, entry.maker.as_deref()) {
-        (Some(m), Some(e)) => {
-            // OpenRocket writes `Cesaroni Technology`, RASP `CTI`: a prefix suffices.
-            let (m, e) = (norm(maker_name(m)), norm(maker_name(e)));
-            m.starts_with(&e) || e.starts_with(&m)
-        }
-        _ => true,
-    }
 }
 
 /// The catalogue: the user's directories first (`.eng` files, one motor each), then the
@@ -170,38 +103,46 @@ pub fn load(dirs: &[PathBuf]) -> Vec<Entry> {
     out
 }
 
-/// Finds `designation` (of `manufacturer`, if known). A user's file shadows a bundled curve of
-/// the same name and maker, so only ties within one origin are ambiguous.
+/// Finds `designation` (of `manufacturer`, if known): in the user's files first (a user's
+/// file shadows a bundled curve of the same name), then in the bundled curves; the nearest
+/// of a not-found designation come from the whole catalogue.
 pub fn lookup(catalogue: &[Entry], designation: &str, manufacturer: Option<&str>) -> Lookup {
-    let hits: Vec<&Entry> = catalogue
-        .iter()
-        .filter(|e| {
-            name_matches(&e.curve.name, designation) && maker_matches(&e.curve, manufacturer)
-        })
-        .collect();
-    match hits.as_slice() {
-        [] => {
-            let class = norm(designation).chars().next();
-            let near = catalogue
-                .iter()
-                .filter(|e| norm(&e.curve.name).chars().next() == class)
-                .cloned()
-                .collect();
-            Lookup::NotFound(near)
-        }
-        [one] => Lookup::Found(Box::new((*one).clone())),
-        [first, ..] => {
-            let same_origin: Vec<Entry> = hits
-                .iter()
-                .filter(|e| e.origin.is_user() == first.origin.is_user())
-                .map(|e| (*e).clone())
-                .collect();
-            if same_origin.len() == 1 {
-                Lookup::Found(Box::new(same_origin[0].clone()))
-            } else {
-                Lookup::Ambiguous(same_origin)
+    let d = bundled::Designation {
+        manufacturer: manufacturer.map(str::to_string),
+        name: designation.to_string(),
+    };
+    let search = |user: bool| {
+        let part: Vec<&Entry> = catalogue
+            .iter()
+            .filter(|e| e.origin.is_user() == user)
+            .collect();
+        let found = bundled::lookup(
+            part.iter()
+                .map(|e| (e.curve.name.as_str(), e.curve.maker.as_deref())),
+            &d,
+        );
+        (part, found)
+    };
+    for user in [true, false] {
+        let (part, found) = search(user);
+        match found {
+            bundled::Lookup::Found(k) => return Lookup::Found(Box::new(part[k].clone())),
+            bundled::Lookup::Ambiguous(v) => {
+                return Lookup::Ambiguous(v.into_iter().map(|k| part[k].clone()).collect());
             }
+            bundled::Lookup::NotFound(_) => {}
         }
+    }
+    match bundled::lookup(
+        catalogue
+            .iter()
+            .map(|e| (e.curve.name.as_str(), e.curve.maker.as_deref())),
+        &d,
+    ) {
+        bundled::Lookup::NotFound(near) => {
+            Lookup::NotFound(near.into_iter().map(|k| catalogue[k].clone()).collect())
+        }
+        _ => Lookup::NotFound(Vec::new()),
     }
 }
 

@@ -289,7 +289,13 @@ pub(crate) fn emit(
                 n.name
             ));
         }
-        let (mg, xg) = NoseShape::Conical.shell_mass(r, ln, t_b, rho_b, false);
+        // The generated nose: the design's profile where the language has it, else a cone.
+        let generated = if n.shape.to_language().is_some() {
+            n.shape
+        } else {
+            NoseShape::Conical
+        };
+        let (mg, xg) = generated.shell_mass(r, ln, t_b, rho_b, false);
         add_difference(
             cx,
             &mut masses,
@@ -301,11 +307,11 @@ pub(crate) fn emit(
             (0.0, ln),
             &mut notes,
         );
-        if n.shape != NoseShape::Conical {
+        if n.shape.to_language().is_none() {
             cx.diags.push(Diagnostic::warning(
                 "import::approximation",
                 format!(
-                    "nose `{}` is a {} nose: the structure and the built-in aerodynamics take a cone of the same length ({}); its mass and centre of mass are restored",
+                    "nose `{}` is a {} nose, which the language cannot say: the structure and the built-in aerodynamics take a cone of the same length ({}); its mass and centre of mass are restored",
                     n.name,
                     n.shape.describe(),
                     mm(ln)
@@ -440,7 +446,7 @@ pub(crate) fn emit(
     );
     let _ = writeln!(
         o,
-        "# conical nose shell; the masses below are the components it does not contain (and"
+        "# nose shell of the design's profile; the masses below are the components it does not contain (and"
     );
     let _ = writeln!(
         o,
@@ -490,12 +496,25 @@ pub(crate) fn emit(
     let _ = writeln!(o, "        length = {}", mm(length));
     let _ = writeln!(o, "        diameter = {}", mm(2.0 * r));
     let _ = writeln!(o, "        wall = {}", mm(t_b));
-    let _ = writeln!(
-        o,
-        "        nose_length = {} # {} in the design",
-        mm(ln),
-        d.nose.shape.describe()
-    );
+    match d.nose.shape.to_language() {
+        Some(shape) => {
+            let _ = writeln!(o, "        nose_length = {}", mm(ln));
+            let _ = writeln!(
+                o,
+                "        nose_shape = {} # {} in the design",
+                shape.source_text(),
+                d.nose.shape.describe()
+            );
+        }
+        None => {
+            let _ = writeln!(
+                o,
+                "        nose_length = {} # {} in the design: taken as a cone",
+                mm(ln),
+                d.nose.shape.describe()
+            );
+        }
+    }
     let _ = writeln!(o, "        elements = {elements}");
     let _ = writeln!(o, "        theory = euler_bernoulli");
     let _ = writeln!(o, "      }}");
@@ -563,6 +582,7 @@ pub(crate) fn emit(
         f(fins.sweep.atan2(fins.span).to_degrees(), 4)
     );
     let _ = writeln!(o, "    thickness = {}", mm(fins.thickness));
+    let _ = writeln!(o, "    cross_section = {}", fins.cross_section);
     let _ = writeln!(o, "    cant = {} deg", f(fins.cant, 4));
     let _ = writeln!(
         o,
@@ -580,6 +600,12 @@ pub(crate) fn emit(
         .and_then(|c| motor_for.iter().find(|(k, _, _)| k == c))
         .or(motor_for.first());
     let mut files: Vec<(String, String)> = Vec::new();
+    // Every motor in the bundled catalogue: named by designation (`check` finds the curve and
+    // takes the header's dimensions and masses); else every curve is written beside the file,
+    // so that a scenario's `motor.curve` override can swap it.
+    let by_name = motor_for
+        .iter()
+        .all(|(_, e, _)| e.origin == super::catalogue::Origin::Bundled);
     if let Some((_, e, rf)) = default {
         let _ = writeln!(o);
         let _ = writeln!(
@@ -591,23 +617,30 @@ pub(crate) fn emit(
             mm(mount.map_or(0.0, |m| m.overhang))
         );
         let _ = writeln!(o, "  motor {} {{", ident(&rf.designation));
-        let _ = writeln!(o, "    curve = \"{}\"", e.file);
-        let _ = writeln!(o, "    position = ({}, 0, 0) m", f(-aft, 5));
-        let _ = writeln!(
-            o,
-            "    length = {}",
-            mm(e.curve.length.or(rf.length).unwrap_or(0.07))
-        );
-        let _ = writeln!(
-            o,
-            "    diameter = {}",
-            mm(e.curve.diameter.or(rf.diameter).unwrap_or(0.018))
-        );
+        if by_name {
+            let _ = writeln!(o, "    designation = \"{}\"", e.designation());
+            let _ = writeln!(o, "    position = ({}, 0, 0) m", f(-aft, 5));
+        } else {
+            let _ = writeln!(o, "    curve = \"{}\"", e.file);
+            let _ = writeln!(o, "    position = ({}, 0, 0) m", f(-aft, 5));
+            let _ = writeln!(
+                o,
+                "    length = {}",
+                mm(e.curve.length.or(rf.length).unwrap_or(0.07))
+            );
+            let _ = writeln!(
+                o,
+                "    diameter = {}",
+                mm(e.curve.diameter.or(rf.diameter).unwrap_or(0.018))
+            );
+        }
         let _ = writeln!(o, "  }}");
     }
-    for (_, e, _) in &motor_for {
-        if !files.iter().any(|(n, _)| n == &e.file) {
-            files.push((e.file.clone(), e.text.clone()));
+    if !by_name {
+        for (_, e, _) in &motor_for {
+            if !files.iter().any(|(n, _)| n == &e.file) {
+                files.push((e.file.clone(), e.text.clone()));
+            }
         }
     }
     let _ = writeln!(o);
@@ -730,7 +763,11 @@ pub(crate) fn emit(
         let _ = writeln!(o, "scenario {id} {{");
         let _ = writeln!(o, "  vehicle = {vname}");
         let same = default.is_some_and(|(_, de, _)| de.file == e.file);
-        if !same {
+        if !same && by_name {
+            let _ = writeln!(o, "  with {{");
+            let _ = writeln!(o, "    motor.designation = \"{}\"", e.designation());
+            let _ = writeln!(o, "  }}");
+        } else if !same {
             let _ = writeln!(o, "  with {{");
             let _ = writeln!(o, "    motor.curve = \"{}\"", e.file);
             let _ = writeln!(

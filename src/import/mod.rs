@@ -10,7 +10,7 @@
 //! non-trapezoidal fin set, an assembly mass override, a material without stiffness, a motor
 //! not in the catalogue), a warning where the rocket is kept and one property is approximated
 //! (a nose shape other than a cone generated as a cone with its exact mass restored, a launch
-//! lug's or rail button's drag, a fin cross-section). Nothing is written on an error.
+//! lug's or rail button's drag). Nothing is written on an error.
 //!
 //! Masses: OpenRocket stores densities and dimensions and computes masses; so does this
 //! importer, with OpenRocket's formulas (component classes under
@@ -271,6 +271,8 @@ pub struct FinSet {
     /// Leading-edge sweep distance, m.
     pub sweep: f64,
     pub thickness: f64,
+    /// The language's `cross_section` keyword.
+    pub cross_section: &'static str,
     /// Degrees.
     pub cant: f64,
     /// Leading edge of the root, metres aft of the tip.
@@ -1143,11 +1145,22 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                     .or_else(|| num(cx, c, "instancecount").ok().flatten());
                 let cant = num(cx, c, "cant").ok().flatten().unwrap_or(0.0);
                 let mat = material(cx, c, "material");
-                if let Some(x) = text_of(c, "crosssection") {
-                    if x != "square" {
-                        cx.warn(c, format!("{what}: its `{x}` cross-section is meshed and flown as a flat plate of the same thickness"));
+                // OpenRocket's `square`, `rounded` and `airfoil` are the language's
+                // `cross_section` (its fin drag); the mesh stays a flat plate of the thickness.
+                let cross_section = match text_of(c, "crosssection") {
+                    None | Some("square") => "square",
+                    Some("rounded") => "rounded",
+                    Some("airfoil") => "airfoil",
+                    Some(x) => {
+                        cx.warn(
+                            c,
+                            format!(
+                                "{what}: its unknown `{x}` cross-section is flown as square edges"
+                            ),
+                        );
+                        "square"
                     }
-                }
+                };
                 if num(cx, c, "filletradius").ok().flatten().unwrap_or(0.0) > 0.0 {
                     cx.warn(c, format!("{what}: the root fillet is not represented"));
                 }
@@ -1181,6 +1194,7 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                         span,
                         sweep,
                         thickness: thick,
+                        cross_section,
                         cant,
                         root_le: le,
                         material: mat,

@@ -48,6 +48,24 @@ impl NoseShape {
         })
     }
 
+    /// The language's `nose_shape` for this profile (`check::nose`, the same formulas), if it
+    /// has one: OpenRocket's power series with k = 0 (a blunt cylinder) and Haack parameters
+    /// above 2/3 (a bulging profile) have none.
+    pub fn to_language(self) -> Option<crate::check::ir::NoseShape> {
+        use crate::check::ir::NoseShape as L;
+        Some(match self {
+            NoseShape::Conical => L::Conical,
+            NoseShape::Ogive(k) if k < 1e-6 => L::Conical,
+            NoseShape::Ogive(k) => L::Ogive { k },
+            NoseShape::Ellipsoid => L::Elliptical,
+            NoseShape::Power(k) if k > 0.0 => L::Power { n: k },
+            NoseShape::Power(_) => return None,
+            NoseShape::Parabolic(k) => L::Parabolic { k },
+            NoseShape::Haack(k) if k <= 2.0 / 3.0 => L::Haack { c: k },
+            NoseShape::Haack(_) => return None,
+        })
+    }
+
     pub fn describe(self) -> String {
         match self {
             NoseShape::Conical => "conical".into(),
@@ -155,6 +173,37 @@ mod tests {
                 last = y;
             }
         }
+    }
+
+    /// Every OpenRocket shape the language can say maps to the same profile (the importer
+    /// writes `nose_shape` instead of a cone): the two radius functions agree everywhere; the
+    /// two it cannot say (power k = 0, Haack above 2/3) map to none.
+    #[test]
+    fn openrocket_shapes_map_to_the_languages_same_profiles() {
+        let (r, l) = (0.0508, 0.4);
+        for (shape, k) in [
+            ("conical", 0.0),
+            ("ogive", 1.0),
+            ("ogive", 0.5),
+            ("ogive", 0.0),
+            ("ellipsoid", 0.0),
+            ("power", 0.5),
+            ("power", 1.0),
+            ("parabolic", 0.75),
+            ("parabolic", 1.0),
+            ("haack", 0.0),
+            ("haack", 1.0 / 3.0),
+        ] {
+            let or = NoseShape::from_ork(shape, k).unwrap();
+            let lang = or.to_language().unwrap_or_else(|| panic!("{shape} {k}"));
+            for i in 0..=400 {
+                let x = l * i as f64 / 400.0;
+                let (a, b) = (or.radius(x, r, l), lang.radius(x, r, l));
+                assert!((a - b).abs() <= 1e-15, "{shape}({k}) at {x}: {a} vs {b}");
+            }
+        }
+        assert!(NoseShape::Power(0.0).to_language().is_none());
+        assert!(NoseShape::Haack(1.0).to_language().is_none());
     }
 
     #[test]

@@ -32,8 +32,10 @@ use crate::structure::compile::CompiledVehicle;
 /// Revision of the vehicle-only aerodynamics (estimator, fin load weights). It is part of
 /// the aero cache key: bump it whenever a change makes the same vehicle give different
 /// tables or weights, so that no stale artifact is served. 3: the fin tables' supersonic slope
-/// and centre of pressure from the steady supersonic lifting surface (issue 33).
-pub const AERO_REVISION: u32 = 3;
+/// and centre of pressure from the steady supersonic lifting surface (issue 33). 4: the fin
+/// axial coefficient sees the fin's thickness and cross-section (issue 34; conical noses'
+/// body tables are unchanged).
+pub const AERO_REVISION: u32 = 4;
 
 /// Source label of the estimated body table (as [`EstimatedTables::estimate`] names it).
 const BUILTIN_BODY: &str = "builtin-body.csv";

@@ -11,12 +11,14 @@
 //!   and the leeward reduction (5.4.24-5.4.31);
 //! - [`atmosphere`]: U.S. Standard Atmosphere 1976 and user tables (4.5.1);
 //! - [`thrust`]: RASP `.eng` and CSV thrust curves (5.2);
+//! - [`catalogue`]: the bundled thrust curves and motors by designation;
 //! - [`stimuli`]: gusts, sinusoids and seeded turbulence (4.5.2).
 //!
 //! Architecture invariant: the right-hand side never allocates, does IO or looks up names;
 //! every buffer lives in a [`eom::Workspace`] created once per run, and everything the
 //! environment models need (files, turbulence series) is prepared before the run.
 
+pub mod catalogue;
 pub mod deformation;
 pub mod eom;
 pub mod expint;

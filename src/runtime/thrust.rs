@@ -117,6 +117,10 @@ pub struct ThrustCurve {
 impl ThrustCurve {
     /// Reads a `.eng` file (RASP) or, for any other extension, a CSV file.
     pub fn read(path: &Path) -> Result<ThrustCurve, ThrustCurveError> {
+        // A bundled curve (`motor { designation = ... }`) is named by a virtual path.
+        if let Some(text) = super::catalogue::bundled_text(path) {
+            return Self::parse_eng(text, path);
+        }
         let text = std::fs::read_to_string(path).map_err(|source| ThrustCurveError::Io {
             file: path.to_path_buf(),
             source,

@@ -135,6 +135,7 @@ pub fn generator_spec(v: &Vehicle, g: &ir::Generate) -> GeneratorSpec {
             outer_diameter: g.body.diameter.value,
             wall_thickness: g.body.wall.value,
             nose_length: g.body.nose_length.value,
+            nose_shape: g.body.nose_shape.value,
             elements: g.body.elements.value,
             theory: match g.body.theory.value {
                 ir::BeamTheory::EulerBernoulli => generate::BeamTheory::EulerBernoulli,

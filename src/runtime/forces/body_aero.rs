@@ -66,7 +66,9 @@
 
 use crate::aero::FinLoadError;
 use crate::aero::atmosphere::{AirMemo, Standard1976};
-use crate::aero::estimator::{BodyShape, EstimatedTables, FinPlanform, NoseShape, planform};
+use crate::aero::estimator::{
+    BodyShape, EstimatedTables, FinPlanform, FinProfile, NoseShape, planform,
+};
 use crate::aero::tables::{Axis, CoefficientTable, TableError, TableHint};
 use crate::check::ir::{self, AeroSource, OutOfRange, Structure};
 use crate::runtime::eom::{ForceModel, StateView};
@@ -168,9 +170,14 @@ pub fn aero_tables(v: &ir::Vehicle) -> Result<EstimatedTables, AeroForceError> {
             let body = BodyShape {
                 length: b.length.value,
                 diameter: b.diameter.value,
-                nose: if b.nose_length.value > 0.0 {
+                nose: if b.nose_length.value > 0.0 && b.nose_shape.value.is_conical() {
                     NoseShape::Cone {
                         length: b.nose_length.value,
+                    }
+                } else if b.nose_length.value > 0.0 {
+                    NoseShape::Profile {
+                        length: b.nose_length.value,
+                        shape: b.nose_shape.value,
                     }
                 } else {
                     NoseShape::Tube
@@ -182,7 +189,16 @@ pub fn aero_tables(v: &ir::Vehicle) -> Result<EstimatedTables, AeroForceError> {
                 // No fins: a placeholder planform; the fin table is then never used.
                 None => FinPlanform::unswept_trailing_edge(0.1, 0.1, 0.1, 0.5 * b.diameter.value),
             };
-            Ok(EstimatedTables::estimate(&body, &fin, out_of_range.value)?)
+            let profile = v.fins.as_ref().map(|f| FinProfile {
+                thickness: f.thickness.value,
+                section: f.cross_section.value,
+            });
+            Ok(EstimatedTables::estimate_with_profile(
+                &body,
+                &fin,
+                profile,
+                out_of_range.value,
+            )?)
         }
     }
 }

@@ -30,6 +30,11 @@
 //! the quadrature is exact and the rigid-body projection of M equals the continuum's mass,
 //! first moment and inertia tensor exactly (this is what `mass_properties` checks). The
 //! thesis (2.5.9)-(2.5.12) takes the rigid-body inertia from these nodal blocks.
+//! On a curved nose (ogive, elliptical, parabolic, power, Haack: `check::nose`) A(s) and I(s)
+//! are no polynomials; each element there is integrated with `NoseShape::rule` (composite
+//! Gauss after the substitution that makes the profile smooth at the tip and the base), so
+//! the rigid-body projection equals the profile's integrals to rounding-level accuracy
+//! rather than exactly (`tests/generator.rs` measures it).
 //! For Timoshenko elements phi uses the element means of EI and kGA (exact for uniform
 //! elements, which is every element outside the nose).
 //!
@@ -54,6 +59,10 @@ pub(crate) const GAUSS5: [(f64, f64); 5] = [
     (0.769_234_655_052_841_55, 0.239_314_335_249_683_25),
     (0.953_089_922_969_332_0, 0.118_463_442_528_094_55),
 ];
+
+/// Panels of [`crate::check::ir::NoseShape::rule`] per beam element of a curved nose (20
+/// points per element, 40 where it crosses the nose's mid-length).
+pub const NOSE_PANELS: usize = 4;
 
 /// Tube cross-section at one station.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -82,13 +91,18 @@ impl TubeSection {
     }
 }
 
-/// Section of the body at station x (x <= 0): the cone r_o = R s / l_n on the nose
-/// (s = -x), inner radius max(r_o - t, 0) (same wall, solid where r_o < t); the tube beyond.
+/// Section of the body at station x (x <= 0): the nose profile r_o(s) on the nose (s = -x;
+/// the cone r_o = R s / l_n, or `check::nose`'s profile), inner radius max(r_o - t, 0) (same
+/// wall, solid where r_o < t); the tube beyond.
 pub fn section_at(body: &BodySpec, x: f64) -> TubeSection {
     let r = 0.5 * body.outer_diameter;
     let s = -x;
     let outer = if body.nose_length > 0.0 && s < body.nose_length {
-        r * s.max(0.0) / body.nose_length
+        if body.nose_shape.is_conical() {
+            r * s.max(0.0) / body.nose_length
+        } else {
+            body.nose_shape.radius(s, r, body.nose_length)
+        }
     } else {
         r
     };
@@ -143,9 +157,23 @@ pub fn beam_element(body: &BodySpec, x_aft: f64, x_fore: f64, line_mass: f64) ->
     } = body.material;
     let g = body.material.shear_modulus();
 
+    // The quadrature rule on [0, 1]: 5-point Gauss, exact for the cone and the tube (module
+    // doc); on an element of a curved nose, `NoseShape::rule`'s substituted composite Gauss
+    // on the element (its integrands are not polynomials there).
+    let curved = body.nose_length > 0.0
+        && !body.nose_shape.is_conical()
+        && x_aft >= -body.nose_length * (1.0 + 1e-12);
+    let rule: Vec<(f64, f64)> = if curved {
+        crate::check::ir::NoseShape::rule(body.nose_length, -x_fore, -x_aft, NOSE_PANELS)
+            .into_iter()
+            .map(|(s, w)| ((-s - x_aft) / l, w / l))
+            .collect()
+    } else {
+        GAUSS5.to_vec()
+    };
     // Element means for the Timoshenko shear parameter.
     let (mut ei_mean, mut kga_mean) = (0.0, 0.0);
-    for &(xi, wq) in &GAUSS5 {
+    for &(xi, wq) in &rule {
         let sec = section_at(body, x_aft + xi * l);
         ei_mean += wq * e * sec.second_moment();
         kga_mean += wq * sec.shear_coefficient(nu) * g * sec.area();
@@ -158,7 +186,7 @@ pub fn beam_element(body: &BodySpec, x_aft: f64, x_fore: f64, line_mass: f64) ->
     let mut kb = SMatrix::<f64, 4, 4>::zeros(); // planar bending stiffness
     let mut mb = SMatrix::<f64, 4, 4>::zeros(); // planar bending mass
     let (mut ea, mut gj, mut mu_ax, mut rho_jp) = ([0.0; 3], [0.0; 3], [0.0; 3], [0.0; 3]);
-    for &(xi, wq) in &GAUSS5 {
+    for &(xi, wq) in &rule {
         let sec = section_at(body, x_aft + xi * l);
         let (a, i) = (sec.area(), sec.second_moment());
         let w = wq * l;
@@ -227,6 +255,7 @@ mod tests {
             outer_diameter: 0.127,
             wall_thickness: 0.003,
             nose_length: 0.0,
+            nose_shape: crate::check::ir::NoseShape::Conical,
             elements: 10,
             theory,
             material: MaterialProps {

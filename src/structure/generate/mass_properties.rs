@@ -127,7 +127,9 @@ fn add_body(out: &mut MassProperties, b: &BodySpec) {
     let r = 0.5 * b.outer_diameter;
     let t = b.wall_thickness;
     let ln = b.nose_length;
-    if ln > 0.0 {
+    if ln > 0.0 && !b.nose_shape.is_conical() {
+        add_curved_nose(out, b);
+    } else if ln > 0.0 {
         let kappa = r / ln;
         let s_solid = t / kappa; // r_o = t here; t < r so s_solid < l_n
         add_revolution(
@@ -148,6 +150,44 @@ fn add_body(out: &mut MassProperties, b: &BodySpec) {
         );
     }
     add_revolution(out, rho, &Poly(vec![r]), &Poly(vec![r - t]), ln, b.length);
+}
+
+/// A curved nose (`check::nose`): the same integrals as [`add_revolution`] of the annulus
+/// between r(s) and max(r(s) - t, 0), by the profile's quadrature on the solid tip and on the
+/// hollow shell separately (the section has a kink where r = t), 64 panels each.
+fn add_curved_nose(out: &mut MassProperties, b: &BodySpec) {
+    let pi = std::f64::consts::PI;
+    let (rho, r, t, ln) = (
+        b.material.density,
+        0.5 * b.outer_diameter,
+        b.wall_thickness,
+        b.nose_length,
+    );
+    let shape = b.nose_shape;
+    let s_solid = shape.solid_tip_end(t, r, ln);
+    let area = |ro: f64| {
+        let ri = (ro - t).max(0.0);
+        pi * (ro * ro - ri * ri)
+    };
+    let inertia = |ro: f64| {
+        let ri = (ro - t).max(0.0);
+        0.25 * pi * (ro.powi(4) - ri.powi(4))
+    };
+    let mut m = 0.0;
+    let mut sx = 0.0;
+    let mut sxx = 0.0;
+    let mut syy = 0.0;
+    for (s0, s1) in [(0.0, s_solid), (s_solid, ln)] {
+        m += rho * shape.integrate(r, ln, s0, s1, 64, |_, ro| area(ro));
+        sx -= rho * shape.integrate(r, ln, s0, s1, 64, |s, ro| area(ro) * s);
+        sxx += rho * shape.integrate(r, ln, s0, s1, 64, |s, ro| area(ro) * s * s);
+        syy += rho * shape.integrate(r, ln, s0, s1, 64, |_, ro| inertia(ro));
+    }
+    out.add_second_moment(
+        m,
+        Vector3::new(sx, 0.0, 0.0),
+        Matrix3::from_diagonal(&Vector3::new(sxx, syy, syy)),
+    );
 }
 
 /// Polygon area integrals (Green's theorem, counter-clockwise vertices):

@@ -2,8 +2,8 @@
 //!
 //! Body stations are the union of
 //! - "hard" stations, kept exactly because the geometry or a mass changes there: the nose
-//!   tip x = 0, the tail x = -L, the end of the nose cone x = -l_n, the point where the cone
-//!   stops being solid (r_o = t, x = -t l_n / R), both ends of every distributed mass, and
+//!   tip x = 0, the tail x = -L, the end of the nose x = -l_n, the point where the nose
+//!   stops being solid (r_o = t: x = -t l_n / R on a cone), both ends of every distributed mass, and
 //!   the x of every fin root node (so each root node has a body node at the same x);
 //! - the `elements` uniform divisions of [-L, 0], dropping any that falls within 0.3 of a
 //!   division of a hard station (to avoid slivers).
@@ -21,7 +21,15 @@ pub fn body_stations(spec: &GeneratorSpec) -> Vec<f64> {
     let mut hard = vec![0.0, -l];
     if body.nose_length > 0.0 {
         hard.push(-body.nose_length);
-        let s0 = body.wall_thickness * body.nose_length / (0.5 * body.outer_diameter);
+        let s0 = if body.nose_shape.is_conical() {
+            body.wall_thickness * body.nose_length / (0.5 * body.outer_diameter)
+        } else {
+            body.nose_shape.solid_tip_end(
+                body.wall_thickness,
+                0.5 * body.outer_diameter,
+                body.nose_length,
+            )
+        };
         hard.push(-s0);
     }
     for d in &spec.distributed_masses {

@@ -33,7 +33,7 @@ pub enum BeamTheory {
     Timoshenko,
 }
 
-/// The fuselage: a thin-walled circular tube with an optional conical nose.
+/// The fuselage: a thin-walled circular tube with an optional nose of revolution.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BodySpec {
     /// Overall length L, m; the body runs from x = 0 (nose tip) to x = -L.
@@ -43,9 +43,11 @@ pub struct BodySpec {
     /// Wall thickness t, m (also the wall of the nose cone; near the tip, where the outer
     /// radius is below t, the cone is solid).
     pub wall_thickness: f64,
-    /// Nose length l_n, m; 0 = no nose. The outer diameter tapers linearly (a cone) from 0 at
-    /// the tip to the full diameter at x = -l_n.
+    /// Nose length l_n, m; 0 = no nose. The outer diameter grows along `nose_shape`'s profile
+    /// from 0 at the tip to the full diameter at x = -l_n.
     pub nose_length: f64,
+    /// The nose profile (`check::nose`; conical: the outer radius grows linearly).
+    pub nose_shape: crate::check::ir::NoseShape,
     /// Number of uniform divisions of the body; extra stations are added (see `mesh`).
     pub elements: usize,
     pub theory: BeamTheory,
