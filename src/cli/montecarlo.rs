@@ -67,8 +67,12 @@ pub fn cmd_montecarlo(
         shard,
         cache_dir: cache_dir.map(Path::to_path_buf),
         sets: common.sets.clone(),
-        progress: std::io::stderr().is_terminal(),
+        progress: std::io::stderr().is_terminal().then(|| {
+            std::sync::Arc::new(super::sweep::Bar::counting("samples"))
+                as std::sync::Arc<dyn crate::ops::Progress>
+        }),
         flutter_margin: req.flutter_margin,
+        full_summary: false,
     };
     match run_dispersion(req.file, d, &scenario.name.value, req.out, &opts) {
         Ok(r) => {
@@ -88,6 +92,13 @@ pub fn cmd_montecarlo(
                         r.wall_seconds,
                         req.out.display()
                     );
+                    let stages: Vec<String> = r
+                        .phases
+                        .stages()
+                        .iter()
+                        .map(|(n, s)| format!("{n} {s:.2} s"))
+                        .collect();
+                    eprintln!("time in the samples' stages: {}", stages.join(", "));
                 }
                 Format::Json => outln!(
                     "{}",
@@ -96,6 +107,7 @@ pub fn cmd_montecarlo(
                         "samples": r.rows.len(), "ran": r.ran, "resumed": r.skipped,
                         "failed": r.failed, "artifacts": r.artifacts,
                         "wall_time_s": r.wall_seconds, "out": req.out,
+                        "stage_seconds": r.phases,
                     })
                 ),
             }
