@@ -533,8 +533,7 @@ struct Counting {
 
 impl flexflight::ops::Progress for Counting {
     fn start(&self, _: &str, total: u64) {
-        self.total
-            .store(total, std::sync::atomic::Ordering::SeqCst);
+        self.total.store(total, std::sync::atomic::Ordering::SeqCst);
     }
     fn inc(&self, n: u64) {
         self.done.fetch_add(n, std::sync::atomic::Ordering::SeqCst);
@@ -582,7 +581,10 @@ fn the_fast_path_gives_the_summary_bits() {
     ] {
         let c = cols.iter().position(|h| h == name).unwrap();
         for r in &a.rows {
-            assert!(r[c].parse::<f64>().is_ok_and(f64::is_finite), "{name}: {r:?}");
+            assert!(
+                r[c].parse::<f64>().is_ok_and(f64::is_finite),
+                "{name}: {r:?}"
+            );
         }
     }
     assert_eq!(
@@ -603,7 +605,11 @@ fn the_fast_path_gives_the_summary_bits() {
     ] {
         for ext in ["svg", "png"] {
             let p = figures.join(format!("{f}.{ext}"));
-            assert!(p.metadata().is_ok_and(|m| m.len() > 1000), "{}", p.display());
+            assert!(
+                p.metadata().is_ok_and(|m| m.len() > 1000),
+                "{}",
+                p.display()
+            );
         }
     }
     // One dot per landing point, one for the legend.

@@ -19,6 +19,8 @@ pub struct MonteCarloRequest<'a> {
     pub shard: Option<&'a str>,
     pub out: &'a Path,
     pub flutter_margin: Option<bool>,
+    /// The reference path: full runs and summaries.
+    pub full_outputs: bool,
 }
 
 /// `flexflight montecarlo`.
@@ -72,7 +74,7 @@ pub fn cmd_montecarlo(
                 as std::sync::Arc<dyn crate::ops::Progress>
         }),
         flutter_margin: req.flutter_margin,
-        full_summary: false,
+        full_summary: req.full_outputs,
     };
     match run_dispersion(req.file, d, &scenario.name.value, req.out, &opts) {
         Ok(r) => {

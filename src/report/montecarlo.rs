@@ -140,11 +140,13 @@ impl Figure for Histogram {
     }
 }
 
-/// The landing points on the ground (x and y from the pad, equal axes) with the 1/2/3-sigma
-/// ellipses of their sample covariance and the pad.
+/// The landing points on the ground (horizontal and vertical coordinates from the pad, equal
+/// axes) with the 1/2/3-sigma ellipses of their sample covariance and the pad.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LandingPlot {
     pub title: String,
+    pub x_label: String,
+    pub y_label: String,
     pub points: Vec<(f64, f64)>,
     pub ellipses: Option<Ellipses>,
 }
@@ -201,8 +203,8 @@ impl Figure for LandingPlot {
         let mut chart = time_chart(root, &self.title, (x0, x1), (y0, y1))?;
         chart
             .configure_mesh()
-            .x_desc("x from the pad (m)")
-            .y_desc("y from the pad (m)")
+            .x_desc(self.x_label.as_str())
+            .y_desc(self.y_label.as_str())
             .axis_desc_style(font(18))
             .label_style(font(14))
             .x_label_formatter(&|v| tick_label(*v, x1 - x0))

@@ -988,8 +988,7 @@ impl Driver<'_, '_> {
             let tk = if (tk - t).abs() <= self.eps { t } else { tk };
             self.interp(step, tk);
             let mut row_state = std::mem::take(&mut self.scratch);
-            if let (Some(peaks), Phase::Descent) = (&mut self.descent_peaks, self.monitor.phase)
-            {
+            if let (Some(peaks), Phase::Descent) = (&mut self.descent_peaks, self.monitor.phase) {
                 peaks.add(tk, self.monitor.peak_channels(tk, &mut row_state));
                 self.scratch = row_state;
                 self.last_row_t = tk;

@@ -581,16 +581,13 @@ fn run_sample(
     .map_err(|e| format!("run::cannot_start: {e}"))?;
     let t3 = Instant::now();
     ph.flight = (t3 - t2).as_secs_f64();
-    let margin = opts
-        .flutter_margin
-        .unwrap_or(sc.launch.is_some())
-        .then(|| {
-            let table_machs = plan.aero.as_ref().map_or_else(
-                || crate::aero::estimator::ESTIMATOR_MACH.to_vec(),
-                |a| a.tables.fin.axis(crate::aero::tables::Axis::Mach).to_vec(),
-            );
-            crate::ops::flutter::flight_margin(sc, &output, &table_machs, cache).json
-        });
+    let margin = opts.flutter_margin.unwrap_or(sc.launch.is_some()).then(|| {
+        let table_machs = plan.aero.as_ref().map_or_else(
+            || crate::aero::estimator::ESTIMATOR_MACH.to_vec(),
+            |a| a.tables.fin.axis(crate::aero::tables::Axis::Mach).to_vec(),
+        );
+        crate::ops::flutter::flight_margin(sc, &output, &table_machs, cache).json
+    });
     let t4 = Instant::now();
     ph.margin = (t4 - t3).as_secs_f64();
     let outputs = if opts.full_summary {

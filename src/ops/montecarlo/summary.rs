@@ -226,7 +226,8 @@ pub fn text(manifest: &Manifest, s: &serde_json::Value) -> String {
 }
 
 /// The figures of a dispersion in `out/figures/` (SVG and PNG, module
-/// [`crate::report::montecarlo`]): `landing` (points and 1/2/3-sigma ellipses), `apogee`
+/// [`crate::report::montecarlo`]): `landing` (points and 1/2/3-sigma ellipses, east to the
+/// right and north up), `apogee`
 /// and `flutter_margin` (histograms), `sensitivity_flutter_margin` and
 /// `sensitivity_apogee` (Spearman bars); a figure without data is not drawn. Returns the
 /// files written.
@@ -254,15 +255,18 @@ pub fn write_figures(
     let mut written = Vec::new();
     let lx = column(manifest, &ok_rows, "landing_x_m");
     let ly = column(manifest, &ok_rows, "landing_y_m");
-    let points: Vec<(f64, f64)> = lx
+    // A map: east (inertial y) to the right, north (inertial x) up.
+    let points: Vec<(f64, f64)> = ly
         .iter()
         .copied()
-        .zip(ly.iter().copied())
-        .filter(|(x, y)| x.is_finite() && y.is_finite())
+        .zip(lx.iter().copied())
+        .filter(|(e, n)| e.is_finite() && n.is_finite())
         .collect();
     if !points.is_empty() {
         let fig = LandingPlot {
             title: format!("{name}: landing points and ellipses"),
+            x_label: "east of the pad (m)".into(),
+            y_label: "north of the pad (m)".into(),
             ellipses: ellipses(&points),
             points,
         };
@@ -312,7 +316,11 @@ pub fn write_figures(
             values: margin,
             markers,
         };
-        written.extend(save_svg_png(&fig, &dir.join("flutter_margin"), FIGURE_SIZE)?);
+        written.extend(save_svg_png(
+            &fig,
+            &dir.join("flutter_margin"),
+            FIGURE_SIZE,
+        )?);
     }
     for (key, output, stem) in [
         (
