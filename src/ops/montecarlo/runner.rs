@@ -328,8 +328,11 @@ fn prepare(
 /// edited while the run goes on.
 #[derive(Default)]
 pub struct MemoLoader {
-    files: Mutex<BTreeMap<PathBuf, Result<String, (std::io::ErrorKind, String)>>>,
+    files: Mutex<BTreeMap<PathBuf, FileRead>>,
 }
+
+/// A file's text, or the kind and text of the error reading it.
+type FileRead = Result<String, (std::io::ErrorKind, String)>;
 
 impl Loader for MemoLoader {
     fn read(&self, path: &Path) -> std::io::Result<String> {
