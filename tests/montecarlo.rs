@@ -95,8 +95,9 @@ fn opts(jobs: usize, shard: Shard) -> MonteCarloOptions {
         shard,
         cache_dir: Some(cache()),
         sets: Vec::new(),
-        progress: false,
+        progress: None,
         flutter_margin: None,
+        full_summary: false,
     }
 }
 
@@ -495,4 +496,164 @@ fn a_scaled_motor_delivers_the_scaled_impulse_and_burn_time() {
         assert!((s.burn_time() - b * c.burn_time()).abs() < 1e-15);
         assert!((s.thrust_at(1.0 * b) - a / b * c.thrust_at(1.0)).abs() < 1e-9);
     }
+}
+
+fn k1000_opts(samples: usize, jobs: usize) -> MonteCarloOptions {
+    MonteCarloOptions {
+        samples,
+        jobs,
+        shard: Shard::ALL,
+        cache_dir: Some(cache()),
+        sets: Vec::new(),
+        progress: None,
+        flutter_margin: None,
+        full_summary: false,
+    }
+}
+
+fn k1000(
+    out: &Path,
+    o: &MonteCarloOptions,
+) -> flexflight::ops::montecarlo::runner::MonteCarloReport {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/hpr_k1000/hpr_k1000.vdl");
+    let checked = check_files(std::slice::from_ref(&file), &[], &DiskLoader);
+    assert!(!checked.has_errors(), "{:?}", checked.diagnostics);
+    let d = checked.program.dispersion("k1000_flight").unwrap();
+    let scenario = &checked.program.scenarios[d.scenario].name.value;
+    run_dispersion(&file, d, scenario, out, o).unwrap()
+}
+
+/// Counts what the runner reports through `ops::Progress`.
+#[derive(Default)]
+struct Counting {
+    total: std::sync::atomic::AtomicU64,
+    done: std::sync::atomic::AtomicU64,
+    finished: std::sync::atomic::AtomicU64,
+}
+
+impl flexflight::ops::Progress for Counting {
+    fn start(&self, _: &str, total: u64) {
+        self.total.store(total, std::sync::atomic::Ordering::SeqCst);
+    }
+    fn inc(&self, n: u64) {
+        self.done.fetch_add(n, std::sync::atomic::Ordering::SeqCst);
+    }
+    fn finish(&self) {
+        self.finished
+            .fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+    }
+    fn warning(&self, _: &str) {}
+}
+
+/// The fast sample path (the flight summary's outputs and the margin's minimum, without
+/// the rest of the run summary) gives the same bits as the outputs read from the complete
+/// `summary.json` of the same flights, on the hpr_k1000 pad-to-landing flights with the
+/// flutter margin; every output is there. Progress goes through `ops::Progress` (one
+/// increment per sample run); the figures are written, the landing plot with one dot per
+/// landing point.
+#[test]
+fn the_fast_path_gives_the_summary_bits() {
+    use std::sync::atomic::Ordering::SeqCst;
+    let dir = tempfile::tempdir().unwrap();
+    let counting = std::sync::Arc::new(Counting::default());
+    let mut fast = k1000_opts(3, 2);
+    fast.progress = Some(counting.clone());
+    let a = k1000(&dir.path().join("fast"), &fast);
+    let mut full = k1000_opts(3, 2);
+    full.full_summary = true;
+    let b = k1000(&dir.path().join("full"), &full);
+    assert_eq!((a.ran, a.failed), (3, 0), "{:?}", a.rows);
+    assert_eq!(a.rows, b.rows);
+    assert_eq!(
+        read(&dir.path().join("fast/samples.csv")),
+        read(&dir.path().join("full/samples.csv"))
+    );
+    let cols = &a.manifest.columns;
+    for name in [
+        "apogee_m",
+        "max_mach",
+        "max_q_pa",
+        "off_rail_speed_m_s",
+        "min_static_margin_cal",
+        "landing_x_m",
+        "landing_y_m",
+        "flutter_margin_min",
+    ] {
+        let c = cols.iter().position(|h| h == name).unwrap();
+        for r in &a.rows {
+            assert!(
+                r[c].parse::<f64>().is_ok_and(f64::is_finite),
+                "{name}: {r:?}"
+            );
+        }
+    }
+    assert_eq!(
+        (
+            counting.total.load(SeqCst),
+            counting.done.load(SeqCst),
+            counting.finished.load(SeqCst)
+        ),
+        (3, 3, 1)
+    );
+    let figures = dir.path().join("fast/figures");
+    for f in [
+        "landing",
+        "apogee",
+        "flutter_margin",
+        "sensitivity_flutter_margin",
+        "sensitivity_apogee",
+    ] {
+        for ext in ["svg", "png"] {
+            let p = figures.join(format!("{f}.{ext}"));
+            assert!(
+                p.metadata().is_ok_and(|m| m.len() > 1000),
+                "{}",
+                p.display()
+            );
+        }
+    }
+    // One dot per landing point, one for the legend.
+    let svg = read(&figures.join("landing.svg"));
+    assert_eq!(svg.matches("<circle").count(), 3 + 1, "{svg}");
+}
+
+/// The run without rows under the canopies (`run::run_without_descent_rows`, the Monte
+/// Carlo sample's flight) is the full run's flight: the same events, steps and rows up to
+/// the first deployment, bit for bit; its Mach and q peaks over the skipped rows are the
+/// first maxima of those channels over the full run's rows after the deployment, bit for
+/// bit, and there are as many of them.
+#[test]
+fn a_run_without_descent_rows_is_the_same_flight() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/hpr_k1000/hpr_k1000.vdl");
+    let mut checked = check_files(std::slice::from_ref(&file), &[], &DiskLoader);
+    let cache = cache();
+    let prep =
+        flexflight::ops::run::prepare(&mut checked, "k1000", Some(cache.as_path()), &mut |_| {})
+            .unwrap_or_else(|_| panic!("k1000 does not prepare"));
+    let model = &prep.compiled.compiled.reduced;
+    let full = flexflight::run::run(&prep.plan, model, &mut |_, _| {}).unwrap();
+    let (lean, peaks) = flexflight::run::run_without_descent_rows(&prep.plan, model).unwrap();
+    assert_eq!(full.events, lean.events);
+    assert_eq!(full.stop, lean.stop);
+    assert_eq!(full.t_end.to_bits(), lean.t_end.to_bits());
+    assert_eq!(full.stats, lean.stats);
+    let t_canopy = full.events.deployments[0].2.t;
+    let kept = full.rows.iter().filter(|r| r[0] <= t_canopy).count();
+    assert_eq!(lean.rows.len(), kept);
+    assert_eq!(&full.rows[..kept], &lean.rows[..]);
+    assert_eq!(peaks.rows, full.rows.len() - kept);
+    assert!(peaks.rows > 1000, "{}", peaks.rows);
+    let first_max = |name: &str| {
+        let c = full.channels.iter().position(|h| h == name).unwrap();
+        full.rows[kept..]
+            .iter()
+            .map(|r| (r[c], r[0]))
+            .reduce(|a, b| if b.0 > a.0 { b } else { a })
+    };
+    let bits = |p: Option<(f64, f64)>| p.map(|(v, t)| (v.to_bits(), t.to_bits()));
+    assert_eq!(bits(peaks.mach), bits(first_max("mach")));
+    assert_eq!(
+        bits(peaks.dynamic_pressure),
+        bits(first_max("dynamic_pressure"))
+    );
 }

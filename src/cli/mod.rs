@@ -191,6 +191,10 @@ pub enum Command {
         /// Skip the flutter margin of each sample (on by default for a launch from a rail).
         #[arg(long)]
         no_flutter_margin: bool,
+        /// Fly every sample with all its rows and read its outputs from the complete run
+        /// summary (the reference of the fast path: the same results, slower).
+        #[arg(long)]
+        full_outputs: bool,
         #[command(flatten)]
         common: Common,
         #[command(flatten)]
@@ -402,6 +406,7 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
             shard,
             out,
             no_flutter_margin,
+            full_outputs,
             common,
             cache,
         } => montecarlo::cmd_montecarlo(
@@ -413,6 +418,7 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
                 shard: shard.as_deref(),
                 out: &out,
                 flutter_margin: no_flutter_margin.then_some(false),
+                full_outputs,
             },
             &common,
             cache.cache_dir.as_deref(),

@@ -19,6 +19,8 @@ pub struct MonteCarloRequest<'a> {
     pub shard: Option<&'a str>,
     pub out: &'a Path,
     pub flutter_margin: Option<bool>,
+    /// The reference path: full runs and summaries.
+    pub full_outputs: bool,
 }
 
 /// `flexflight montecarlo`.
@@ -67,8 +69,12 @@ pub fn cmd_montecarlo(
         shard,
         cache_dir: cache_dir.map(Path::to_path_buf),
         sets: common.sets.clone(),
-        progress: std::io::stderr().is_terminal(),
+        progress: std::io::stderr().is_terminal().then(|| {
+            std::sync::Arc::new(super::sweep::Bar::counting("samples"))
+                as std::sync::Arc<dyn crate::ops::Progress>
+        }),
         flutter_margin: req.flutter_margin,
+        full_summary: req.full_outputs,
     };
     match run_dispersion(req.file, d, &scenario.name.value, req.out, &opts) {
         Ok(r) => {
@@ -88,6 +94,13 @@ pub fn cmd_montecarlo(
                         r.wall_seconds,
                         req.out.display()
                     );
+                    let stages: Vec<String> = r
+                        .phases
+                        .stages()
+                        .iter()
+                        .map(|(n, s)| format!("{n} {s:.2} s"))
+                        .collect();
+                    eprintln!("time in the samples' stages: {}", stages.join(", "));
                 }
                 Format::Json => outln!(
                     "{}",
@@ -96,6 +109,7 @@ pub fn cmd_montecarlo(
                         "samples": r.rows.len(), "ran": r.ran, "resumed": r.skipped,
                         "failed": r.failed, "artifacts": r.artifacts,
                         "wall_time_s": r.wall_seconds, "out": req.out,
+                        "stage_seconds": r.phases,
                     })
                 ),
             }

@@ -13,15 +13,20 @@ use crate::ops::sweep::{SweepOptions, read_shard, run_sweep, write_merged};
 
 use super::{Common, EXIT_DIAGNOSTICS, EXIT_OK, EXIT_USAGE, Format, Terminal, load_program};
 
-/// A progress bar on standard error (`N/M cases, elapsed, ETA`); warnings printed above it.
-pub struct Bar(ProgressBar);
+/// A progress bar on standard error (`N/M cases, rate, elapsed, ETA`); warnings printed
+/// above it.
+pub struct Bar(ProgressBar, &'static str);
 
 impl Bar {
     pub fn new() -> Bar {
-        Bar(ProgressBar::with_draw_target(
-            None,
-            ProgressDrawTarget::stderr(),
-        ))
+        Bar::counting("cases")
+    }
+    /// A bar whose units are `unit` (`cases`, `samples`).
+    pub fn counting(unit: &'static str) -> Bar {
+        Bar(
+            ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr()),
+            unit,
+        )
     }
 }
 
@@ -34,9 +39,10 @@ impl Default for Bar {
 impl Progress for Bar {
     fn start(&self, label: &str, total: u64) {
         self.0.set_length(total);
-        if let Ok(style) = ProgressStyle::with_template(
-            "{prefix} [{bar:30}] {pos}/{len} cases, {elapsed} elapsed, ETA {eta}",
-        ) {
+        if let Ok(style) = ProgressStyle::with_template(&format!(
+            "{{prefix}} [{{bar:30}}] {{pos}}/{{len}} {}, {{per_sec}}, {{elapsed}} elapsed, ETA {{eta}}",
+            self.1
+        )) {
             self.0.set_style(style.progress_chars("=> "));
         }
         self.0.set_prefix(label.to_string());

@@ -8,7 +8,9 @@
 //! - [`history`]: reading a run's `history.csv` with line-numbered errors;
 //! - [`figures`]: the thesis' figure set chosen from the columns of a history;
 //! - [`mesh`]: deformed FE mesh frames (front and isometric views);
-//! - [`index`]: the `index.html` page.
+//! - [`index`]: the `index.html` page;
+//! - [`montecarlo`]: the figures of a Monte Carlo dispersion (landing ellipses, histograms,
+//!   sensitivity bars).
 //!
 //! Architecture invariant: text is drawn with the embedded DejaVu Sans font only (no
 //! fontconfig, no system fonts), so reports render the same on a bare machine; drawing is
@@ -21,6 +23,7 @@ pub mod history;
 pub mod index;
 pub mod map;
 pub mod mesh;
+pub mod montecarlo;
 pub mod plot;
 
 use std::path::PathBuf;

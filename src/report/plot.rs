@@ -179,7 +179,7 @@ pub fn decimate(xs: &[f64], ys: &[f64], max_points: usize) -> Vec<(f64, f64)> {
 /// The chart of a [`TimePlot`]: caption, margins and label areas. The plotting area's
 /// pixel size depends only on these and the root's size ([`TimePlot::draw`] and
 /// [`plot_area_size`] share it).
-fn time_chart<'a, DB: DrawingBackend>(
+pub(crate) fn time_chart<'a, DB: DrawingBackend>(
     root: &'a DrawingArea<DB, Shift>,
     title: &str,
     (x0, x1): (f64, f64),

@@ -538,6 +538,28 @@ impl Monitor<'_> {
         None
     }
 
+    /// Density and speed of sound at altitude `h` (zero outside the model). Interpolated
+    /// rows can overshoot the model range by a hair before the stop check of the accepted
+    /// step catches it: the air is evaluated at the clamped altitude.
+    fn air_at(&self, h: f64) -> (f64, f64) {
+        let air = self
+            .atmosphere
+            .at(h.clamp(ATMOSPHERE_RANGE.0, ATMOSPHERE_RANGE.1))
+            .ok();
+        air.map_or((0.0, 0.0), |a| (a.density, a.speed_of_sound))
+    }
+
+    /// The `mach` and `dynamic_pressure` channels of the row at `(t, x)`, by the same
+    /// arithmetic as [`Self::row`] (so the same bits), without the rest of the row.
+    fn peak_channels(&self, t: f64, x: &mut [f64]) -> (f64, f64) {
+        normalize_euler_parameters(&mut x[3..7]);
+        let s = StateView::new(self.plan.layout(), x);
+        let v = self.air_velocity(t, &s);
+        let speed = v.iter().map(|c| c * c).sum::<f64>().sqrt();
+        let (rho, a) = self.air_at(-s.position[2]);
+        mach_and_q(speed, rho, a)
+    }
+
     /// One row of channels (column order of [`crate::plan::channel_names`]).
     fn row(&mut self, t: f64, x: &mut [f64]) -> Result<Vec<f64>, EomError> {
         normalize_euler_parameters(&mut x[3..7]);
@@ -565,15 +587,10 @@ impl Monitor<'_> {
         r.push(alpha.to_degrees());
         r.push(beta.to_degrees());
         let h = -s.position[2];
-        // Interpolated rows can overshoot the model range by a hair before the stop check
-        // of the accepted step catches it: evaluate the air at the clamped altitude.
-        let air = self
-            .atmosphere
-            .at(h.clamp(ATMOSPHERE_RANGE.0, ATMOSPHERE_RANGE.1))
-            .ok();
-        let (rho, a) = air.map_or((0.0, 0.0), |a| (a.density, a.speed_of_sound));
-        r.push(if a > 0.0 { speed / a } else { 0.0 });
-        r.push(0.5 * rho * speed * speed);
+        let (rho, a) = self.air_at(h);
+        let (mach, q) = mach_and_q(speed, rho, a);
+        r.push(mach);
+        r.push(q);
         r.push(h);
         r.push(rho);
         r.push(a);
@@ -651,6 +668,39 @@ impl Monitor<'_> {
             r.push(sm.calibres(m, h, c[0] / mass).unwrap_or(f64::NAN));
         }
         Ok(r)
+    }
+}
+
+/// The Mach number and dynamic pressure of an airspeed `speed` in air of density `rho` and
+/// speed of sound `a` (Mach 0 outside the atmosphere model, where `a` is 0).
+fn mach_and_q(speed: f64, rho: f64, a: f64) -> (f64, f64) {
+    (
+        if a > 0.0 { speed / a } else { 0.0 },
+        0.5 * rho * speed * speed,
+    )
+}
+
+/// What a run without its rows under canopies ([`run_without_descent_rows`]) keeps of the
+/// rows it did not compute: the first maximum `(value, t)` over them of the `mach` and
+/// `dynamic_pressure` channels, the same bits as those channels of the rows a full run
+/// writes there.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct DescentPeaks {
+    /// Rows skipped.
+    pub rows: usize,
+    pub mach: Option<(f64, f64)>,
+    pub dynamic_pressure: Option<(f64, f64)>,
+}
+
+impl DescentPeaks {
+    fn add(&mut self, t: f64, (mach, q): (f64, f64)) {
+        self.rows += 1;
+        if self.mach.is_none_or(|(m, _)| mach > m) {
+            self.mach = Some((mach, t));
+        }
+        if self.dynamic_pressure.is_none_or(|(p, _)| q > p) {
+            self.dynamic_pressure = Some((q, t));
+        }
     }
 }
 
@@ -738,6 +788,8 @@ struct Driver<'a, 'p> {
     on_row: &'a mut dyn FnMut(&[f64]),
     /// The modal state at the last accepted steps, for a verdict's growth rates.
     trace: ModalTrace,
+    /// `Some`: rows under a canopy are not computed, only their Mach and q peaks kept.
+    descent_peaks: Option<DescentPeaks>,
 }
 
 impl Driver<'_, '_> {
@@ -936,6 +988,13 @@ impl Driver<'_, '_> {
             let tk = if (tk - t).abs() <= self.eps { t } else { tk };
             self.interp(step, tk);
             let mut row_state = std::mem::take(&mut self.scratch);
+            if let (Some(peaks), Phase::Descent) = (&mut self.descent_peaks, self.monitor.phase) {
+                peaks.add(tk, self.monitor.peak_channels(tk, &mut row_state));
+                self.scratch = row_state;
+                self.last_row_t = tk;
+                self.next_k += 1;
+                continue;
+            }
             let r = self.monitor.row(tk, &mut row_state);
             self.scratch = row_state;
             match r {
@@ -958,7 +1017,17 @@ impl Driver<'_, '_> {
         if cut {
             self.interp(step, t_lim);
             let mut row_state = std::mem::take(&mut self.scratch);
-            if let Ok(r) = self.monitor.row(t_lim, &mut row_state) {
+            let lean = self.descent_peaks.is_some() && self.monitor.phase == Phase::Descent;
+            if lean {
+                // The same normalisation of the state as `row` (the landing point and a
+                // segment's state are read from it).
+                let channels = self.monitor.peak_channels(t_lim, &mut row_state);
+                let fresh = t_lim > self.last_row_t + self.eps;
+                if let (true, Some(peaks)) = (fresh, &mut self.descent_peaks) {
+                    peaks.add(t_lim, channels);
+                    self.last_row_t = t_lim;
+                }
+            } else if let Ok(r) = self.monitor.row(t_lim, &mut row_state) {
                 if r.iter().all(|v| v.is_finite()) && t_lim > self.last_row_t + self.eps {
                     (self.on_row)(&r);
                     self.rows.push(r);
@@ -1038,6 +1107,33 @@ pub fn run_with_rows(
     progress: &mut dyn FnMut(f64, f64),
     on_row: &mut dyn FnMut(&[f64]),
 ) -> Result<RunOutput, RunError> {
+    run_inner(plan, model, progress, on_row, false).map(|(o, _)| o)
+}
+
+/// [`run`] without the rows under a canopy (after the first deployment), for a caller that
+/// reads only the flight's events and the rows before it (a Monte Carlo sample:
+/// `ops::montecarlo`): the integration, the events and the rows up to the deployment are
+/// the same bits as [`run`]'s; of the rows not computed the Mach number's and the dynamic
+/// pressure's first maxima are returned ([`DescentPeaks`]). A row is most of the cost of a
+/// step under a canopy (its right-hand side, invariants, aero and static margin channels),
+/// and 10 ms rows over a 150 s descent are thousands. What is lost: the skipped rows'
+/// other channels and the check that they are finite (a full run stops `non_finite` at a
+/// non-finite row; the integrator's own check of the state still stops this one).
+pub fn run_without_descent_rows(
+    plan: &Plan,
+    model: &ReducedModel,
+) -> Result<(RunOutput, DescentPeaks), RunError> {
+    run_inner(plan, model, &mut |_, _| {}, &mut |_| {}, true)
+        .map(|(o, p)| (o, p.unwrap_or_default()))
+}
+
+fn run_inner(
+    plan: &Plan,
+    model: &ReducedModel,
+    progress: &mut dyn FnMut(f64, f64),
+    on_row: &mut dyn FnMut(&[f64]),
+    lean_descent: bool,
+) -> Result<(RunOutput, Option<DescentPeaks>), RunError> {
     let started = Instant::now();
     let probe = AeroProbe::of_plan(plan, model);
     let static_margin = plan.static_margin.clone();
@@ -1157,6 +1253,7 @@ pub fn run_with_rows(
         progress,
         on_row,
         trace: ModalTrace::new(layout.n, TRACE_CAPACITY),
+        descent_peaks: lean_descent.then(DescentPeaks::default),
     };
     // The thrust curve's points: the right-hand side is only continuous there (a kink of
     // the piecewise-linear curve) or jumps (ignition, burnout). A step across such a point
@@ -1290,6 +1387,7 @@ pub fn run_with_rows(
         events,
         on_row,
         trace,
+        mut descent_peaks,
         ..
     } = driver;
     if let Some(e) = row_error {
@@ -1345,24 +1443,29 @@ pub fn run_with_rows(
     // The integrator leaves `x` at the last accepted state (the stop time, or where an
     // underflow or non-finite trial stopped it): close the history there.
     if stopped_at.is_none() && last_row_t < report.t - eps && x.iter().all(|v| v.is_finite()) {
-        if let Ok(r) = monitor.row(report.t, &mut x) {
+        if let (Some(peaks), Phase::Descent) = (&mut descent_peaks, monitor.phase) {
+            peaks.add(report.t, monitor.peak_channels(report.t, &mut x));
+        } else if let Ok(r) = monitor.row(report.t, &mut x) {
             if r.iter().all(|v| v.is_finite()) {
                 on_row(&r);
                 rows.push(r);
             }
         }
     }
-    Ok(RunOutput {
-        channels: plan.channels.clone(),
-        rows,
-        stop,
-        stop_detail: detail,
-        t_end: stopped_at.unwrap_or(report.t),
-        stats,
-        wall_seconds: started.elapsed().as_secs_f64(),
-        events,
-        verdict,
-    })
+    Ok((
+        RunOutput {
+            channels: plan.channels.clone(),
+            rows,
+            stop,
+            stop_detail: detail,
+            t_end: stopped_at.unwrap_or(report.t),
+            stats,
+            wall_seconds: started.elapsed().as_secs_f64(),
+            events,
+            verdict,
+        },
+        descent_peaks,
+    ))
 }
 
 #[cfg(test)]

@@ -102,10 +102,12 @@ def rocketpy_montecarlo(samples, workers, out_dir):
     return time.perf_counter() - t0
 
 
-def flexflight_montecarlo(exe, samples, workers, out_dir, cache):
+def flexflight_montecarlo(exe, samples, workers, out_dir, cache, sets=()):
     cmd = [exe, "montecarlo", os.path.join(EXAMPLE, "hpr_k1000.vdl"), "--dispersion",
            "k1000_flight", "--samples", str(samples), "--jobs", str(workers), "--out", out_dir,
            "--cache-dir", cache]
+    for s in sets:
+        cmd += ["--set", s]
     t0 = time.perf_counter()
     p = subprocess.run(cmd, capture_output=True, text=True)
     dt = time.perf_counter() - t0
@@ -123,6 +125,9 @@ def main():
     ap.add_argument("--skip-rocketpy", action="store_true")
     ap.add_argument("--skip-flexflight", action="store_true")
     ap.add_argument("--json", default=None)
+    ap.add_argument("--set", action="append", default=[], dest="sets",
+                    help="an override passed to flexflight montecarlo (repeatable), e.g. "
+                         "run.integrator=exponential")
     a = ap.parse_args()
     result = {"samples": a.samples, "workers": a.workers}
     with tempfile.TemporaryDirectory() as tmp:
@@ -136,7 +141,7 @@ def main():
             # A first sample warms the artifact, aerodynamic and flutter-boundary caches.
             flexflight_montecarlo(a.flexflight, 1, 1, os.path.join(tmp, "warm"), cache)
             t, err = flexflight_montecarlo(a.flexflight, a.samples, a.workers,
-                                           os.path.join(tmp, "ff"), cache)
+                                           os.path.join(tmp, "ff"), cache, a.sets)
             result["flexflight_s"] = t
             print(err, end="")
             print(f"flexflight montecarlo: {a.samples} flights, {a.workers} job(s): {t:.1f} s, "

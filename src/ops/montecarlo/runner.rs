@@ -7,7 +7,9 @@
 //! - `samples/<sample_id>.json`: one file per finished sample (its drawn inputs, the
 //!   checked variant's hash and its outputs, or its error); its presence with the same
 //!   inputs and variant means done;
-//! - `samples.csv`, `statistics.json`, `statistics.txt` (module [`crate::analysis::montecarlo::stats`]).
+//! - `samples.csv`, `statistics.json`, `statistics.txt` (module [`crate::analysis::montecarlo::stats`]);
+//! - `figures/*.svg` and `*.png`: landing ellipses, histograms of the apogee and of the
+//!   minimum flutter margin, sensitivity bars ([`super::summary::write_figures`]).
 //!
 //! Determinism: a sample's inputs are a pure function of (seed, index) (`crate::analysis::montecarlo::stream`);
 //! each sample runs on one thread with faer's parallelism sequential; rows are written in
@@ -30,14 +32,14 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
 
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::sweep::Shard;
 use crate::artifact::{Cache, CacheKey};
 use crate::check::ir::{Dispersion, DispersionEntry, Scenario};
-use crate::check::{DiskLoader, check_scenario_files};
+use crate::check::{DiskLoader, Loader, check_scenario_files};
+use crate::ops::Progress;
 use crate::ops::compile::{CachedAero, CompileOutcome, aero_cache_key, vehicle_aero_cached};
 
 use crate::analysis::montecarlo::{
@@ -45,7 +47,7 @@ use crate::analysis::montecarlo::{
 };
 
 /// How to run a dispersion.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct MonteCarloOptions {
     /// Samples (default: the dispersion's `samples`).
     pub samples: usize,
@@ -54,9 +56,15 @@ pub struct MonteCarloOptions {
     pub cache_dir: Option<PathBuf>,
     /// `--set` overrides applied to every sample before its draws.
     pub sets: Vec<String>,
-    pub progress: bool,
+    /// Where progress (samples done of the shard's samples to run) and warnings go
+    /// (`None`: nowhere); `ops` never draws it.
+    pub progress: Option<Arc<dyn Progress>>,
     /// Compute the flutter margin of each sample (`None`: when the scenario has a launch).
     pub flutter_margin: Option<bool>,
+    /// Take each sample's outputs from the complete run summary (`ops::run::summary_json`,
+    /// what `flexflight run` writes) instead of the fast path ([`sample_outputs`]); the two
+    /// give the same bits (tests/montecarlo.rs), the reference is slower.
+    pub full_summary: bool,
 }
 
 /// `montecarlo.json`.
@@ -86,6 +94,53 @@ pub struct MonteCarloReport {
     pub wall_seconds: f64,
     /// The text summary (`statistics.txt`).
     pub summary: String,
+    /// Where the samples' time went, summed over the samples run (not written to the
+    /// output directory, whose files depend only on the inputs).
+    pub phases: PhaseSeconds,
+}
+
+/// Wall time of each stage of a sample, s, summed over samples (with `--jobs N` the sums
+/// add the workers' times, so they can exceed the run's wall time).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct PhaseSeconds {
+    /// The sample's variant parsed and checked with its drawn overrides, and its keys.
+    pub check: f64,
+    /// The shared artifact and aerodynamics looked up (built by the first sample of a key).
+    pub compile: f64,
+    /// The simulation plan.
+    pub plan: f64,
+    /// The flight (integration and output rows).
+    pub flight: f64,
+    /// The summary's outputs from the flight.
+    pub summary: f64,
+    /// The flutter margin along the flight (boundary read from the cache).
+    pub margin: f64,
+    /// `samples/<id>.json` written.
+    pub write: f64,
+}
+
+impl PhaseSeconds {
+    fn add(&mut self, o: &PhaseSeconds) {
+        self.check += o.check;
+        self.compile += o.compile;
+        self.plan += o.plan;
+        self.flight += o.flight;
+        self.summary += o.summary;
+        self.margin += o.margin;
+        self.write += o.write;
+    }
+    /// The stages as (name, seconds), in order.
+    pub fn stages(&self) -> [(&'static str, f64); 7] {
+        [
+            ("check", self.check),
+            ("compile", self.compile),
+            ("plan", self.plan),
+            ("flight", self.flight),
+            ("summary", self.summary),
+            ("margin", self.margin),
+            ("write", self.write),
+        ]
+    }
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -99,6 +154,8 @@ pub enum MonteCarloError {
     ThreadPool { jobs: usize, reason: String },
     #[error("cannot write the table: {0}")]
     Csv(#[from] csv::Error),
+    #[error("cannot draw the figures: {0}")]
+    Figure(#[from] crate::report::ReportError),
 }
 
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> MonteCarloError + '_ {
@@ -229,8 +286,13 @@ struct Prepared {
     aero_key: Option<CacheKey>,
 }
 
-fn prepare(file: &Path, scenario: &str, sets: &[String]) -> Result<Prepared, String> {
-    let checked = check_scenario_files(&[file.to_path_buf()], sets, scenario, &DiskLoader);
+fn prepare(
+    file: &Path,
+    scenario: &str,
+    sets: &[String],
+    loader: &MemoLoader,
+) -> Result<Prepared, String> {
+    let checked = check_scenario_files(&[file.to_path_buf()], sets, scenario, loader);
     if checked.has_errors() {
         return Err(checked
             .diagnostics
@@ -258,6 +320,35 @@ fn prepare(file: &Path, scenario: &str, sets: &[String]) -> Result<Prepared, Str
         variant,
         aero_key,
     })
+}
+
+/// The files a dispersion's samples read (the vehicle files, imports, thrust curves,
+/// tables), each read from the disk once and then served from memory: the samples' checks
+/// do not read the disk again, and every sample sees the same contents even if a file is
+/// edited while the run goes on.
+#[derive(Default)]
+pub struct MemoLoader {
+    files: Mutex<BTreeMap<PathBuf, FileRead>>,
+}
+
+/// A file's text, or the kind and text of the error reading it.
+type FileRead = Result<String, (std::io::ErrorKind, String)>;
+
+impl Loader for MemoLoader {
+    fn read(&self, path: &Path) -> std::io::Result<String> {
+        let mut files = self
+            .files
+            .lock()
+            .map_err(|_| std::io::Error::other("the file memo was poisoned"))?;
+        let r = files.entry(path.to_path_buf()).or_insert_with(|| {
+            std::fs::read_to_string(path).map_err(|e| (e.kind(), e.to_string()))
+        });
+        r.clone()
+            .map_err(|(kind, text)| std::io::Error::new(kind, text))
+    }
+    fn exists(&self, path: &Path) -> bool {
+        DiskLoader.exists(path)
+    }
 }
 
 /// The finished record of a sample with these inputs and variant, if there is one.
@@ -313,17 +404,25 @@ pub fn run_dispersion(
 
     let indices: Vec<usize> = (0..opts.samples).filter(|&i| opts.shard.takes(i)).collect();
     let inputs: Vec<Vec<f64>> = indices.iter().map(|&i| draw(d, i as u64)).collect();
-    let prepared: Vec<Result<Prepared, String>> = pool.install(|| {
+    let mut phases = PhaseSeconds::default();
+    let loader = MemoLoader::default();
+    let prepared: Vec<(Result<Prepared, String>, f64)> = pool.install(|| {
         indices
             .par_iter()
             .zip(inputs.par_iter())
             .map(|(_, x)| {
+                let t0 = Instant::now();
                 let mut sets = opts.sets.clone();
                 sets.extend(set_strings(d, x));
-                prepare(file, scenario, &sets)
+                (
+                    prepare(file, scenario, &sets, &loader),
+                    t0.elapsed().as_secs_f64(),
+                )
             })
             .collect()
     });
+    phases.check = prepared.iter().map(|p| p.1).sum();
+    let prepared: Vec<Result<Prepared, String>> = prepared.into_iter().map(|p| p.0).collect();
     let ids: Vec<String> = indices
         .iter()
         .map(|&i| sample_id(i, opts.samples))
@@ -340,17 +439,10 @@ pub fn run_dispersion(
         .collect();
     let skipped = indices.len() - todo.len();
 
-    let bar = if opts.progress {
-        ProgressBar::with_draw_target(Some(todo.len() as u64), ProgressDrawTarget::stderr())
-    } else {
-        ProgressBar::hidden()
-    };
-    if let Ok(style) = ProgressStyle::with_template(
-        "{prefix} [{bar:30}] {pos}/{len} samples, {per_sec}, {elapsed} elapsed, ETA {eta}",
-    ) {
-        bar.set_style(style.progress_chars("=> "));
+    let progress = opts.progress.as_deref();
+    if let Some(p) = progress {
+        p.start(&format!("montecarlo {}", d.name.value), todo.len() as u64);
     }
-    bar.set_prefix(format!("montecarlo {}", d.name.value));
 
     let cache = Cache::resolve(opts.cache_dir.as_deref());
     let ok_prep = || todo.iter().filter_map(|&k| prepared[k].as_ref().ok());
@@ -359,17 +451,19 @@ pub fn run_dispersion(
     let aero: Shared<Option<Arc<CachedAero>>> = Shared::new(ok_prep().filter_map(|p| p.aero_key));
     let artifacts = compiled.len();
 
-    let results: Vec<Result<SampleOutputs, String>> = pool.install(|| {
+    let results: Vec<(Result<SampleOutputs, String>, PhaseSeconds)> = pool.install(|| {
         todo.par_iter()
             .map(|&k| {
+                let mut ph = PhaseSeconds::default();
                 let result = prepared[k].as_ref().map_err(Clone::clone).and_then(|p| {
-                    let r = run_sample(p, &compiled, &aero, &cache, opts.flutter_margin);
+                    let r = run_sample(p, &compiled, &aero, &cache, opts, &mut ph);
                     compiled.done(&p.key);
                     if let Some(a) = &p.aero_key {
                         aero.done(a);
                     }
                     r
                 });
+                let t_write = Instant::now();
                 let record = SampleRecord {
                     index: indices[k],
                     inputs: inputs[k].clone(),
@@ -384,18 +478,25 @@ pub fn run_dispersion(
                 let path = samples_dir.join(format!("{}.json", ids[k]));
                 let text = serde_json::to_string_pretty(&record).unwrap_or_default() + "\n";
                 let written = write_atomic(&path, &text);
-                bar.inc(1);
-                match written {
+                ph.write = t_write.elapsed().as_secs_f64();
+                if let Some(p) = progress {
+                    p.inc(1);
+                }
+                let r = match written {
                     Ok(()) => result,
                     Err(e) => Err(format!("{}: {e}", path.display())),
-                }
+                };
+                (r, ph)
             })
             .collect()
     });
-    bar.finish_and_clear();
-    let failed = results.iter().filter(|r| r.is_err()).count();
-    for (&k, r) in todo.iter().zip(results) {
+    if let Some(p) = progress {
+        p.finish();
+    }
+    let failed = results.iter().filter(|r| r.0.is_err()).count();
+    for (&k, (r, ph)) in todo.iter().zip(results) {
         outcomes[k] = Some(r);
+        phases.add(&ph);
     }
     let rows: Vec<Vec<String>> = (0..indices.len())
         .map(|k| {
@@ -415,10 +516,12 @@ pub fn run_dispersion(
         artifacts,
         wall_seconds: started.elapsed().as_secs_f64(),
         summary,
+        phases,
     })
 }
 
-/// Write `samples.csv`, `statistics.json` and `statistics.txt` for `rows`; returns the text.
+/// Write `samples.csv`, `statistics.json`, `statistics.txt` and `figures/` for `rows`;
+/// returns the text.
 pub fn write_tables(
     out: &Path,
     manifest: &Manifest,
@@ -436,6 +539,7 @@ pub fn write_tables(
     let text = super::summary::text(manifest, &stats);
     let p = out.join("statistics.txt");
     write_atomic(&p, &text).map_err(io_err(&p))?;
+    super::summary::write_figures(out, manifest, rows, &stats)?;
     Ok(text)
 }
 
@@ -445,9 +549,11 @@ fn run_sample(
     compiled: &Shared<Result<Arc<CompileOutcome>, String>>,
     aero: &Shared<Option<Arc<CachedAero>>>,
     cache: &Cache,
-    flutter_margin: Option<bool>,
+    opts: &MonteCarloOptions,
+    ph: &mut PhaseSeconds,
 ) -> Result<SampleOutputs, String> {
     let sc = &p.scenario;
+    let t0 = Instant::now();
     let cell = compiled
         .cell(&p.key)
         .ok_or("the structural variant has no cell")?;
@@ -464,22 +570,79 @@ fn run_sample(
         })
         .clone()
     });
+    let t1 = Instant::now();
+    ph.compile = (t1 - t0).as_secs_f64();
     let plan = crate::plan::build_with_aero(sc, &c.compiled, cached.as_ref().map(|a| &a.aero))
         .map_err(|e| format!("plan::invalid: {e}"))?;
-    let output = crate::run::run(&plan, &c.compiled.reduced, &mut |_, _| {})
-        .map_err(|e| format!("run::cannot_start: {e}"))?;
-    let mut summary = crate::ops::run::summary_json(&plan, &c, &output);
-    if flutter_margin.unwrap_or(sc.launch.is_some()) {
+    let t2 = Instant::now();
+    ph.plan = (t2 - t1).as_secs_f64();
+    let (output, peaks) = if opts.full_summary {
+        crate::run::run(&plan, &c.compiled.reduced, &mut |_, _| {}).map(|o| (o, None))
+    } else {
+        crate::run::run_without_descent_rows(&plan, &c.compiled.reduced).map(|(o, p)| (o, Some(p)))
+    }
+    .map_err(|e| format!("run::cannot_start: {e}"))?;
+    let t3 = Instant::now();
+    ph.flight = (t3 - t2).as_secs_f64();
+    let margin = opts.flutter_margin.unwrap_or(sc.launch.is_some()).then(|| {
         let table_machs = plan.aero.as_ref().map_or_else(
             || crate::aero::estimator::ESTIMATOR_MACH.to_vec(),
             |a| a.tables.fin.axis(crate::aero::tables::Axis::Mach).to_vec(),
         );
-        let m = crate::ops::flutter::flight_margin(sc, &output, &table_machs, cache);
-        if let Some(map) = summary.as_object_mut() {
-            map.insert("flutter_margin".into(), m.json);
+        crate::ops::flutter::flight_margin(sc, &output, &table_machs, cache).json
+    });
+    let t4 = Instant::now();
+    ph.margin = (t4 - t3).as_secs_f64();
+    let outputs = if opts.full_summary {
+        let mut summary = crate::ops::run::summary_json(&plan, &c, &output);
+        if let (Some(map), Some(m)) = (summary.as_object_mut(), margin) {
+            map.insert("flutter_margin".into(), m);
         }
+        SampleOutputs::from_summary(&summary)
+    } else {
+        sample_outputs(&plan, &output, peaks.as_ref(), margin.as_ref())
+    };
+    ph.summary = t4.elapsed().as_secs_f64();
+    Ok(outputs)
+}
+
+/// A sample's outputs from its flight: the stop code, the verdict's kind, the flight
+/// summary (`ops::run::flight_summary`: apogee, max Mach and max q over the rows, off-rail
+/// speed, min static margin, landing) and the flutter margin's minimum, by the same
+/// functions as `summary.json`, so with the same bits, without the rest of the run summary
+/// (extrema of every channel, energy balance, mass, the identification of the response
+/// after each stimulus), which a Monte Carlo sample does not read.
+///
+/// `peaks`: the flight was run without its rows under a canopy
+/// (`run::run_without_descent_rows`); the max Mach and max q are then the larger of the
+/// rows' and the skipped rows' peaks, the rows' on a tie (they come first in time), which
+/// is the first maximum over all the rows, as `flight_summary` takes it. The other outputs
+/// do not read the rows under a canopy: the apogee, off-rail speed and landing are events,
+/// the static margin's minimum ends at the apogee or the first deployment, and the flutter
+/// margin covers the flight up to the first deployment (`ops::flutter::flight_margin`).
+pub fn sample_outputs(
+    plan: &crate::plan::Plan,
+    o: &crate::run::RunOutput,
+    peaks: Option<&crate::run::DescentPeaks>,
+    flutter_margin: Option<&serde_json::Value>,
+) -> SampleOutputs {
+    let s = serde_json::json!({
+        "stop_reason": o.stop.code(),
+        "verdict": { "kind": o.verdict.as_ref().map(|v| v.kind.code()) },
+        "flight": crate::ops::run::flight_summary(plan, o),
+        "flutter_margin": flutter_margin,
+    });
+    let mut out = SampleOutputs::from_summary(&s);
+    let larger = |rows: Option<f64>, skipped: Option<(f64, f64)>| match (rows, skipped) {
+        (Some(r), Some((p, _))) if p > r => Some(p),
+        (None, Some((p, _))) => Some(p),
+        (r, _) => r,
+    };
+    if let Some(p) = peaks {
+        out.max_mach = larger(out.max_mach, p.mach);
+        out.max_q_pa = larger(out.max_q_pa, p.dynamic_pressure);
     }
-    Ok(SampleOutputs::from_summary(&summary))
+    out
 }
 
 /// A merge: the manifest (shard 0/1), the rows in index order, the missing indices.

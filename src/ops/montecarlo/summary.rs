@@ -224,3 +224,133 @@ pub fn text(manifest: &Manifest, s: &serde_json::Value) -> String {
     }
     t
 }
+
+/// The figures of a dispersion in `out/figures/` (SVG and PNG, module
+/// [`crate::report::montecarlo`]): `landing` (points and 1/2/3-sigma ellipses, east to the
+/// right and north up), `apogee`
+/// and `flutter_margin` (histograms), `sensitivity_flutter_margin` and
+/// `sensitivity_apogee` (Spearman bars); a figure without data is not drawn. Returns the
+/// files written.
+pub fn write_figures(
+    out: &std::path::Path,
+    manifest: &Manifest,
+    rows: &[Vec<String>],
+    stats: &serde_json::Value,
+) -> Result<Vec<std::path::PathBuf>, crate::report::ReportError> {
+    use crate::report::montecarlo::{Histogram, LandingPlot, SensitivityBars};
+    use crate::report::plot::{FIGURE_SIZE, save_svg_png};
+    let dir = out.join("figures");
+    std::fs::create_dir_all(&dir).map_err(|e| crate::report::ReportError::Write {
+        path: dir.clone(),
+        message: e.to_string(),
+    })?;
+    let status = text_column(manifest, rows, "status");
+    let ok_rows: Vec<Vec<String>> = rows
+        .iter()
+        .zip(&status)
+        .filter(|(_, s)| **s == "ok")
+        .map(|(r, _)| r.clone())
+        .collect();
+    let name = &manifest.dispersion;
+    let mut written = Vec::new();
+    let lx = column(manifest, &ok_rows, "landing_x_m");
+    let ly = column(manifest, &ok_rows, "landing_y_m");
+    // A map: east (inertial y) to the right, north (inertial x) up.
+    let points: Vec<(f64, f64)> = ly
+        .iter()
+        .copied()
+        .zip(lx.iter().copied())
+        .filter(|(e, n)| e.is_finite() && n.is_finite())
+        .collect();
+    if !points.is_empty() {
+        let fig = LandingPlot {
+            title: format!("{name}: landing points and ellipses"),
+            x_label: "east of the pad (m)".into(),
+            y_label: "north of the pad (m)".into(),
+            ellipses: ellipses(&points),
+            points,
+        };
+        written.extend(save_svg_png(&fig, &dir.join("landing"), FIGURE_SIZE)?);
+    }
+    let apogee = column(manifest, &ok_rows, "apogee_m");
+    if apogee.iter().any(|x| x.is_finite()) {
+        let mean = stats["outputs"]["apogee_m"]["distribution"]["mean"].as_f64();
+        let fig = Histogram {
+            title: format!("{name}: apogee above the ground"),
+            x_label: "apogee (m)".into(),
+            values: apogee,
+            markers: mean
+                .map(|m| (m, format!("mean {m:.1} m")))
+                .into_iter()
+                .collect(),
+        };
+        written.extend(save_svg_png(&fig, &dir.join("apogee"), FIGURE_SIZE)?);
+    }
+    let margin = column(manifest, &ok_rows, "flutter_margin_min");
+    let finite: Vec<f64> = margin.iter().copied().filter(|x| x.is_finite()).collect();
+    if !finite.is_empty() {
+        let (lo, hi) = finite
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                (a.min(x), b.max(x))
+            });
+        // The criterion is drawn when it does not squash the distribution to a sliver.
+        let near = CRITERION >= lo - (hi - lo) && CRITERION <= hi + (hi - lo);
+        let mut markers = Vec::new();
+        if near {
+            markers.push((CRITERION, format!("criterion {CRITERION}")));
+        }
+        if let Some(m) = stats["outputs"]["flutter_margin_min"]["distribution"]["mean"].as_f64() {
+            markers.push((m, format!("mean {m:.3}")));
+        }
+        let below = if near {
+            String::new()
+        } else if lo > CRITERION {
+            format!(" (all above the criterion {CRITERION})")
+        } else {
+            format!(" (criterion {CRITERION} off the axis)")
+        };
+        let fig = Histogram {
+            title: format!("{name}: minimum flutter margin V_F/V{below}"),
+            x_label: "min flutter margin V_F/V over the flight".into(),
+            values: margin,
+            markers,
+        };
+        written.extend(save_svg_png(
+            &fig,
+            &dir.join("flutter_margin"),
+            FIGURE_SIZE,
+        )?);
+    }
+    for (key, output, stem) in [
+        (
+            "spearman_flutter_margin",
+            "min flutter margin",
+            "sensitivity_flutter_margin",
+        ),
+        ("spearman_apogee", "apogee", "sensitivity_apogee"),
+    ] {
+        let bars: Vec<(String, Option<f64>)> = stats["sensitivity"]["inputs"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .map(|i| {
+                (
+                    i["input"].as_str().unwrap_or_default().to_string(),
+                    i[key].as_f64(),
+                )
+            })
+            .collect();
+        if bars.iter().all(|b| b.1.is_none()) {
+            continue;
+        }
+        let fig = SensitivityBars {
+            title: format!("{name}: what drives the {output}"),
+            x_label: format!("Spearman rank correlation with the {output}"),
+            bars,
+        };
+        let h = (FIGURE_SIZE.1).max(140 + 40 * fig.bars.len() as u32);
+        written.extend(save_svg_png(&fig, &dir.join(stem), (FIGURE_SIZE.0, h))?);
+    }
+    Ok(written)
+}
