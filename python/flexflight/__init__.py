@@ -39,6 +39,7 @@ __all__ = [
     "Diagnostic",
     "Error",
     "FlutterResult",
+    "MonteCarloResult",
     "Project",
     "Run",
     "SweepResult",
@@ -368,6 +369,55 @@ class Project:
             adapter.close()
         return SweepResult(summary, os.fspath(out), list(warnings))
 
+    def montecarlo(
+        self,
+        dispersion: str,
+        out: PathLike,
+        samples: Optional[int] = None,
+        jobs: Optional[int] = None,
+        shard: Optional[str] = None,
+        flutter_margin: Optional[bool] = None,
+        progress: Progress = None,
+    ) -> "MonteCarloResult":
+        """Runs a declared dispersion (``flexflight montecarlo FILE --dispersion NAME --out
+        DIR``).
+
+        Args:
+            dispersion: the dispersion block's name.
+            out: the output directory (``montecarlo.json``, ``samples/``, ``samples.csv``,
+                ``statistics.json``, ``statistics.txt``, ``figures/``); samples already
+                finished there are not run again.
+            samples: how many samples (default: the block's ``samples``).
+            jobs: worker threads (default: the machine's cores); the results are the same
+                bits whatever the number.
+            shard: ``"I/N"`` or ``"env"``, as ``--shard``; merge shards with ``flexflight
+                merge``.
+            flutter_margin: compute each sample's flutter margin (default: when the
+                scenario launches from a rail).
+            progress: ``True`` for a tqdm bar (when tqdm is installed), a tqdm bar, or a
+                callable ``progress(done, total)`` in samples (from worker threads with the
+                GIL held, at most ten times a second; an exception it raises is raised when
+                the run ends).
+
+        Returns:
+            The :class:`MonteCarloResult`: ``summary`` (samples run, resumed, failed, time
+            per stage), ``statistics`` (``statistics.json``), ``samples`` (``samples.csv``
+            as a DataFrame) and ``text`` (the short summary).
+
+        Raises:
+            Error: an unknown dispersion, a project opened from several files, a bad shard,
+                an output that cannot be written.
+        """
+        adapter = _ProgressAdapter(progress, f"montecarlo {dispersion}", unit="sample")
+        try:
+            summary, warnings = self._p.montecarlo(
+                dispersion, os.fspath(out), samples, jobs, shard, flutter_margin,
+                adapter if adapter.active() else None,
+            )
+        finally:
+            adapter.close()
+        return MonteCarloResult(summary, os.fspath(out), list(warnings))
+
     def linear(self, scenario: str, frozen_gravity: bool = False) -> Dict[str, Any]:
         """Trim and linearise a scenario's 3-D model (``flexflight analyze linear
         --format json``): a dict with ``scenario``, ``vehicle``, ``mode_names``,
@@ -517,6 +567,45 @@ class SweepResult:
         DataFrame when pandas is installed, else a dict of numpy arrays or lists)."""
         with builtins.open(os.path.join(self.out, "sweep.csv"), newline="") as f:
             return _table(_csv_columns(f.read()))
+
+
+class MonteCarloResult:
+    """A dispersion's outcome (``flexflight montecarlo``).
+
+    Attributes:
+        summary: ``dispersion``, ``scenario``, ``seed``, ``shard``, ``samples``, ``ran``,
+            ``resumed``, ``failed``, ``artifacts``, ``wall_time_s``, ``stage_seconds``.
+        text: the short statistics summary (``statistics.txt``'s text for this run).
+        out: the output directory.
+        warnings: the warnings of the run.
+    """
+
+    def __init__(self, summary: Dict[str, Any], out: str, warnings: List[str]) -> None:
+        self.text = summary.pop("text", "")
+        self.summary = summary
+        self.out = out
+        self.warnings = warnings
+
+    def __repr__(self) -> str:
+        s = self.summary
+        return f"<MonteCarloResult {s['dispersion']}: {s['samples']} samples, {s['failed']} failed, {self.out}>"
+
+    @property
+    def samples(self) -> Any:
+        """``samples.csv``: every drawn input and every output per sample (a pandas
+        DataFrame when pandas is installed, else a dict of numpy arrays or lists)."""
+        with builtins.open(os.path.join(self.out, "samples.csv"), newline="") as f:
+            return _table(_csv_columns(f.read()))
+
+    @property
+    def statistics(self) -> Dict[str, Any]:
+        """``statistics.json``: percentiles with intervals, landing ellipses, the flutter
+        margin's distribution, P(margin < 1.15) and P(flutter) with Wilson intervals, the
+        Spearman sensitivities."""
+        import json
+
+        with builtins.open(os.path.join(self.out, "statistics.json")) as f:
+            return json.load(f)
 
 
 def write_rocketpy_drag_curve(curve: Iterable[Tuple[float, float]], path: PathLike) -> None:

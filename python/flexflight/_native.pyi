@@ -38,6 +38,16 @@ class NativeProject:
         shard: Optional[str] = None,
         progress: Optional[Callable[[int, int], Any]] = None,
     ) -> Tuple[Dict[str, Any], List[str]]: ...
+    def montecarlo(
+        self,
+        name: str,
+        out: str,
+        samples: Optional[int] = None,
+        jobs: Optional[int] = None,
+        shard: Optional[str] = None,
+        flutter_margin: Optional[bool] = None,
+        progress: Optional[Callable[[int, int], Any]] = None,
+    ) -> Tuple[Dict[str, Any], List[str]]: ...
 
 class NativeRun:
     def summary(self) -> Dict[str, Any]: ...

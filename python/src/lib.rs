@@ -403,6 +403,92 @@ impl NativeProject {
         }
     }
 
+    /// `flexflight montecarlo` of the dispersion `name` into `out`
+    /// (`ops::montecarlo::runner::run_dispersion`): the run's summary as JSON and the
+    /// warnings; the tables are `out/samples.csv`, `out/statistics.json` and `.txt`. Samples
+    /// run on `jobs` threads with the GIL released; a finished sample in `out` is not run
+    /// again.
+    #[pyo3(signature = (name, out, samples=None, jobs=None, shard=None, flutter_margin=None, progress=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn montecarlo(
+        &self,
+        py: Python<'_>,
+        name: String,
+        out: PathBuf,
+        samples: Option<usize>,
+        jobs: Option<usize>,
+        shard: Option<String>,
+        flutter_margin: Option<bool>,
+        progress: Option<Py<PyAny>>,
+    ) -> PyResult<(PyObject, Vec<String>)> {
+        use flexflight::analysis::sweep::Shard;
+        use flexflight::ops::montecarlo::runner::{MonteCarloOptions, run_dispersion};
+        let usage = |py: Python<'_>, m: String| error(py, m, Some("usage"), serde_json::json!([]));
+        let [file] = self.files.as_slice() else {
+            return Err(usage(py, "a Monte Carlo runs on a project opened from one file".into()));
+        };
+        let shard = match shard.map(|s| Shard::parse(&s, |k| std::env::var(k).ok())) {
+            None => Shard::ALL,
+            Some(Ok(s)) => s,
+            Some(Err(e)) => return Err(usage(py, e.to_string())),
+        };
+        if jobs == Some(0) || samples == Some(0) {
+            return Err(usage(py, "jobs and samples must be at least 1".into()));
+        }
+        let p = lock(&self.inner);
+        let program = &p.checked.program;
+        let Some(d) = program.dispersion(&name).cloned() else {
+            let e = flexflight::ops::unknown_name(
+                "dispersion",
+                &name,
+                program.dispersions.iter().map(|s| s.name.value.as_str()),
+            );
+            return Err(ops_error(py, e, Some(&p.checked.sources)));
+        };
+        let Some(scenario) = program.scenarios.get(d.scenario).map(|s| s.name.value.clone()) else {
+            return Err(usage(py, format!("dispersion `{name}` names a scenario that did not check")));
+        };
+        let cache_dir = p.cache_dir.clone();
+        drop(p);
+        let prog = std::sync::Arc::new(PyCountProgress {
+            callback: progress,
+            state: Mutex::new(CountState::default()),
+        });
+        let opts = MonteCarloOptions {
+            samples: samples.unwrap_or(d.samples),
+            jobs: jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from)),
+            shard,
+            cache_dir,
+            sets: self.sets.clone(),
+            progress: Some(prog.clone() as std::sync::Arc<dyn flexflight::ops::Progress>),
+            flutter_margin,
+            full_summary: false,
+        };
+        let r = py.allow_threads(|| run_dispersion(file, &d, &scenario, &out, &opts));
+        drop(opts);
+        let (failed, warnings) = match std::sync::Arc::try_unwrap(prog) {
+            Ok(p) => p.into_parts(),
+            Err(_) => (None, Vec::new()),
+        };
+        if let Some(e) = failed {
+            return Err(e);
+        }
+        match r {
+            Ok(r) => {
+                let j = serde_json::json!({
+                    "dispersion": r.manifest.dispersion, "scenario": r.manifest.scenario,
+                    "seed": r.manifest.seed, "shard": r.manifest.shard,
+                    "samples": r.rows.len(), "ran": r.ran, "resumed": r.skipped,
+                    "failed": r.failed, "artifacts": r.artifacts,
+                    "wall_time_s": r.wall_seconds, "stage_seconds": r.phases,
+                    "text": r.summary,
+                });
+                Ok((json_to_py(py, &j)?, warnings))
+            }
+            Err(e) => Err(error(py, e.to_string(), Some("io"), serde_json::json!([]))),
+        }
+    }
+
     /// `analyze flutter` of `scenario` (`ops::flutter::solve_request`): the JSON of
     /// `flutter.json`, the text of `vg.csv` and the warnings.
     #[pyo3(signature = (scenario, clamped, altitude=None, mach=None, speeds=None, modes=None, aero="unsteady"))]

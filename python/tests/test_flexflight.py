@@ -250,6 +250,32 @@ def test_sweep_is_the_clis(root, cache_dir, binary, tmp_path):
     assert "subsonic_thickness_planar" in str(e.value)
 
 
+def test_montecarlo_is_the_clis(root, cache_dir, binary, tmp_path):
+    """`Project.montecarlo` writes the same `samples.csv` and `statistics.json` as
+    `flexflight montecarlo`, bit for bit, with another number of jobs; progress counts the
+    samples up to the total; the statistics and the samples table read back."""
+    p = flexflight.open(_path(root, K1000), cache_dir=cache_dir)
+    calls = []
+    r = p.montecarlo("k1000_flight", tmp_path / "py", samples=3, jobs=2,
+                     progress=lambda done, total: calls.append((done, total)))
+    subprocess.run(
+        [binary, "montecarlo", _path(root, K1000), "--dispersion", "k1000_flight",
+         "--samples", "3", "--jobs", "1", "--out", str(tmp_path / "cli"), "--cache-dir", cache_dir],
+        check=True, capture_output=True,
+    )
+    for name in ["samples.csv", "statistics.json"]:
+        with open(tmp_path / "py" / name, "rb") as a, open(tmp_path / "cli" / name, "rb") as b:
+            assert a.read() == b.read(), name
+    assert r.summary["samples"] == 3 and r.summary["failed"] == 0 and r.summary["ran"] == 3
+    assert calls and calls[-1] == (3, 3)
+    assert isinstance(r.statistics, dict) and r.text
+    t = r.samples
+    assert len(t[list(t.keys() if isinstance(t, dict) else t.columns)[0]]) == 3
+    with pytest.raises(flexflight.Error) as e:
+        p.montecarlo("no_such_dispersion", tmp_path / "x")
+    assert "k1000_flight" in str(e.value)
+
+
 def test_linear_roots(root, cache_dir):
     lin = flexflight.open(_path(root, K1000), cache_dir=cache_dir).linear("k1000")
     assert lin["scenario"] == "k1000" and lin["vehicle"] == "hpr_k1000"
