@@ -1531,7 +1531,7 @@ pub fn solve_request(
     if sc.vehicle.fins.is_none() {
         return Err(refuse(&FinFlutterError::NoFins));
     }
-    if let Ok(crate::aero::panel::Regime::Transonic { .. }) = crate::aero::panel::regime(mach) {
+    if crate::aero::panel::flutter_gap(mach) {
         return Err(refuse(&FinFlutterError::Transonic { mach }));
     }
     let outcome = super::compile::compile_cached(checked, &sc.vehicle, cache_dir)?;
