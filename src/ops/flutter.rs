@@ -521,8 +521,9 @@ pub fn report_text(r: &FinFlutter) -> String {
     };
     let _ = writeln!(
         t,
-        "{case}, {} fin aerodynamics, Mach {:.4}, altitude {:.0} m (rho {:.4} kg/m3, a {:.2} m/s)",
+        "{case}, {} fin aerodynamics ({}), Mach {:.4}, altitude {:.0} m (rho {:.4} kg/m3, a {:.2} m/s)",
         r.aero.name(),
+        crate::analysis::flutter::fin::aero_method(&r.modes.planform, c.mach, r.aero),
         c.mach,
         c.altitude,
         c.density,
@@ -706,6 +707,7 @@ pub fn summary_json(r: &FinFlutter) -> serde_json::Value {
         "case": if r.free_vehicle.is_some() { "free_vehicle" } else { "clamped_fin" },
         "free_vehicle": free,
         "aero": r.aero,
+        "aero_method": crate::analysis::flutter::fin::aero_method(&r.modes.planform, c.mach, r.aero),
         "mach": c.mach,
         "altitude_m": c.altitude,
         "fin_thickness_m": r.modes.thickness,

@@ -181,8 +181,14 @@ pub fn gaf_key_at_revision(
     b.f64("k max", k_max);
     b.f64("wake length", length);
     b.f64("wake ring", ring);
-    b.u64("mach boxes", crate::aero::panel::machbox::DEFAULT_BOXES as u64);
-    b.f64("piston min mach", crate::aero::panel::machbox::PISTON_MIN_MACH);
+    b.u64(
+        "mach boxes",
+        crate::aero::panel::machbox::DEFAULT_BOXES as u64,
+    );
+    b.f64(
+        "piston min mach",
+        crate::aero::panel::machbox::PISTON_MIN_MACH,
+    );
     Ok(b.finish())
 }
 

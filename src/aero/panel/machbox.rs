@@ -105,8 +105,9 @@ use crate::aero::FinPlanform;
 pub const MIN_MACH: f64 = 1.1;
 
 /// Default number of boxes along the fin's streamwise extent (root leading edge to the
-/// furthest trailing edge).
-pub const DEFAULT_BOXES: usize = 40;
+/// furthest trailing edge): the cost grows as its fourth power; at 32 the steady slope of the
+/// tested planforms is within 2.3 % of the constant-pressure panels (48 boxes: 1.2 %).
+pub const DEFAULT_BOXES: usize = 32;
 
 /// Lowest Mach at which [`piston_valid`] accepts piston theory (`1/β² <= 0.19`; module doc).
 pub const PISTON_MIN_MACH: f64 = 2.5;
@@ -140,6 +141,8 @@ pub struct MachBox {
     dy: f64,
     rows: usize,
     cols: usize,
+    /// Columns on the span (the rest is the diaphragm beyond the tip).
+    wing_cols: usize,
     kind: Vec<Kind>,
     /// Grid index `i * cols + j` of each wing box.
     wing: Vec<usize>,
@@ -285,6 +288,9 @@ impl MachBox {
                 spanwise: wing_cols,
             });
         }
+        // Rows behind the last wing box act on no wing box: dropped.
+        let rows = wing.iter().map(|g| g / cols).max().unwrap_or(0) + 1;
+        kind.truncate(rows * cols);
         Ok(MachBox {
             mach,
             beta,
@@ -292,6 +298,7 @@ impl MachBox {
             dy,
             rows,
             cols,
+            wing_cols,
             kind,
             wing,
             centres,
@@ -373,8 +380,19 @@ impl MachBox {
         let lag = c64::new(1.0, -0.5 * nu * self.dx) / c64::new(1.0, 0.5 * nu * self.dx);
         let c00 = coef[0];
         let mut acc = vec![zero; m];
+        let last = rows - 1;
         for i in 0..rows {
             for j in 0..cols {
+                // A diaphragm box `d` columns beyond the tip carries a source only if a wing
+                // box is in its cone (`d <= i`) and matters only if it is in a wing box's
+                // cone (`d <= last - i`), directly or through other such boxes (each column
+                // outward costs a row either way): otherwise its source stays 0.
+                if j >= self.wing_cols {
+                    let d = j + 1 - self.wing_cols;
+                    if d > i.min(last - i) {
+                        continue;
+                    }
+                }
                 acc.iter_mut().for_each(|a| *a = zero);
                 // Every source box in the forward cone except the box itself.
                 for ip in 0..=i {
@@ -430,7 +448,7 @@ impl MachBox {
         for (w, &g) in self.wing.iter().enumerate() {
             let i = g / cols;
             let ahead = (i > 0 && is_wing(g - cols)).then(|| g - cols);
-            let behind = is_wing(g + cols).then_some(g + cols);
+            let behind = (i + 1 < rows && is_wing(g + cols)).then_some(g + cols);
             for c in 0..m {
                 let here = phi[g * m + c];
                 let prev = ahead.map_or(zero, |a| phi[a * m + c]);

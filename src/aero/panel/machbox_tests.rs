@@ -4,7 +4,7 @@ use std::f64::consts::PI;
 
 use faer::c64;
 
-use super::machbox::{MachBox, piston_valid};
+use super::machbox::{DEFAULT_BOXES, MachBox, piston_valid};
 use super::supersonic::slope_and_centre;
 use super::tests::{sphads1, trapezoid};
 use super::{Lattice, PanelError, Spacing};
@@ -149,13 +149,10 @@ fn steady_limit_matches_constant_pressure_panels() {
         for mach in [1.2, 1.5, 2.0, 3.0] {
             let l = Lattice::new(&p, 16, 16, Spacing::Uniform).unwrap();
             let (a_ref, x_ref) = slope_and_centre(&l, mach).unwrap();
-            let mb = MachBox::new(&p, mach, 48).unwrap();
+            let mb = MachBox::new(&p, mach, DEFAULT_BOXES).unwrap();
             let (a, x) = mb.slope_and_centre().unwrap();
 
-            let (ea, ex) = (
-                (a - a_ref).abs() / a_ref,
-                (x - x_ref).abs() / p.root_chord,
-            );
+            let (ea, ex) = ((a - a_ref).abs() / a_ref, (x - x_ref).abs() / p.root_chord);
             worst = (worst.0.max(ea), worst.1.max(ex));
             eprintln!("{p:?} M {mach}: slope {a:.4} vs {a_ref:.4}, x_cp {x:.4} vs {x_ref:.4}");
             assert!(
@@ -164,12 +161,17 @@ fn steady_limit_matches_constant_pressure_panels() {
             );
         }
     }
-    eprintln!("worst slope {:.3e}, x_cp {:.3e} root chords", worst.0, worst.1);
+    eprintln!(
+        "worst slope {:.3e}, x_cp {:.3e} root chords",
+        worst.0, worst.1
+    );
 }
 
 /// Achieved at 48 boxes: slope 1.16 % (a rectangle at M 3, where the panels' own 16 x 16
-/// error is 1.3 %: see the exact rectangle below), x_cp 0.75 % of the root chord.
-const TOL_SLOPE: f64 = 0.013;
+/// error is 1.3 %: see the exact rectangle below), x_cp 0.75 % of the root chord; at the
+/// default 32 boxes (the flutter forces'), asserted here: slope 2.26 % (SPHADS-1 at M 1.2,
+/// 2.2077 against 2.1588), x_cp 0.72 % of the root chord.
+const TOL_SLOPE: f64 = 0.025;
 const TOL_XCP: f64 = 0.008;
 
 #[test]
@@ -184,7 +186,10 @@ fn rectangle_matches_exact_linear_theory() {
             .unwrap()
             .slope_and_centre()
             .unwrap();
-        assert!((a - exact).abs() < 0.005 * exact, "M {mach}: {a} vs {exact}");
+        assert!(
+            (a - exact).abs() < 0.005 * exact,
+            "M {mach}: {a} vs {exact}"
+        );
     }
 }
 
@@ -242,5 +247,8 @@ fn bad_input_is_an_error() {
         mb.forces(1e4, &a, 1),
         Err(PanelError::TooCoarse { .. })
     ));
-    assert!(matches!(mb.forces(1.0, &a, 2), Err(PanelError::Shape { .. })));
+    assert!(matches!(
+        mb.forces(1.0, &a, 2),
+        Err(PanelError::Shape { .. })
+    ));
 }

@@ -489,7 +489,9 @@ fn unsteady_values(
 /// (1/m): [`machbox::DEFAULT_BOXES`], or more where the box rule `Δx <= 0.08 · 2π/ν` needs
 /// them.
 pub fn mach_boxes(planform: &FinPlanform, nu_max: f64) -> usize {
-    let extent = planform.root_chord.max(planform.tip_le_offset + planform.tip_chord)
+    let extent = planform
+        .root_chord
+        .max(planform.tip_le_offset + planform.tip_chord)
         - planform.tip_le_offset.min(0.0);
     let need = extent * nu_max / (harmonic::BOX_RULE * std::f64::consts::TAU);
     if need.is_finite() {
