@@ -29,7 +29,7 @@ fn j0(z: f64) -> f64 {
 }
 
 /// Composite Simpson of a complex function on [lo, hi], `n` (even) intervals.
-fn simpson(lo: f64, hi: f64, n: usize, f: impl Fn(f64) -> c64) -> c64 {
+fn simpson(lo: f64, hi: f64, n: usize, f: &dyn Fn(f64) -> c64) -> c64 {
     let h = (hi - lo) / n as f64;
     let mut s = c64::new(0.0, 0.0);
     for k in 0..=n {
@@ -59,11 +59,11 @@ fn garrick_rubinow(mach: f64, nu: f64, c: f64, alpha: impl Fn(f64) -> c64) -> (c
         if x <= 0.0 {
             return c64::new(0.0, 0.0);
         }
-        simpson(0.0, x, 200, |xi| alpha(xi) * kernel(x - xi)) * (1.0 / beta)
+        simpson(0.0, x, 200, &|xi| alpha(xi) * kernel(x - xi)) * (1.0 / beta)
     };
     let n = 200;
     let int_phi = simpson(0.0, c, n, &phi);
-    let int_xphi = simpson(0.0, c, n, |x| phi(x) * x);
+    let int_xphi = simpson(0.0, c, n, &|x| phi(x) * x);
     let end = phi(c);
     let inu = c64::new(0.0, nu);
     let lift = (end + inu * int_phi) * 4.0;
