@@ -229,6 +229,56 @@ fn a_warm_table_is_the_cold_one_and_a_bad_entry_is_rebuilt() {
     assert!(same_bits(&again.table, &direct));
 }
 
+/// Revision 1's table at a supersonic Mach was unsteady piston theory; revision 2's is the
+/// Mach box (SPHADS-1's fin has a subsonic leading edge to Mach 1.88). An entry stored by
+/// revision 1, under its key, is not served: the lookup misses and the table is the new
+/// method's. Fails on the old code (one revision, one key: the piston table is read back).
+#[test]
+fn a_table_of_the_previous_revision_is_not_served() {
+    use flexflight::ops::gaf_cache::gaf_key_at_revision;
+    let v = sphads1();
+    let s = FinFlutterSettings {
+        k_max: 0.3,
+        k_count: 3,
+        ..small()
+    };
+    let modes = clamped_fin_modes(&v, 3).unwrap();
+    let lattice = fin_lattice(&modes, &s).unwrap();
+    let mach = 1.5;
+    let fresh = gaf_table(&modes, &lattice, mach, &s).unwrap();
+    // The old table: unsteady piston theory, as revision 1 computed it, is the quasi-steady
+    // piston map, exactly linear in k.
+    let qs = gaf_table(
+        &modes,
+        &lattice,
+        mach,
+        &FinFlutterSettings {
+            aero: FinAero::QuasiSteady,
+            ..s
+        },
+    )
+    .unwrap();
+    let (q0, q1) = (qs.at(0), qs.at(1));
+    let values: Vec<Vec<_>> = fresh
+        .ks()
+        .iter()
+        .map(|k| {
+            let t = k / s.k_max;
+            q0.iter().zip(q1).map(|(a, b)| *a + (*b - *a) * t).collect()
+        })
+        .collect();
+    let piston = GafTable::new(3, fresh.ks().to_vec(), values).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let cache = Cache::new(dir.path());
+    let old_key = gaf_key_at_revision("clamped-fin GAF 1", &v, 3, mach, &s).unwrap();
+    let art = GafArtifact::new(&piston, &modes, mach);
+    write_atomic(dir.path(), &old_key, &art).unwrap();
+    let got = cached_gaf_table(&v, &modes, &lattice, mach, &s, &cache).unwrap();
+    assert!(matches!(got.outcome, CacheOutcome::Miss), "{}", got.outcome);
+    assert!(same_bits(&got.table, &fresh));
+    assert!(!same_bits(&got.table, &piston));
+}
+
 fn flexflight() -> Command {
     Command::new(env!("CARGO_BIN_EXE_flexflight"))
 }

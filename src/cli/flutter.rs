@@ -317,9 +317,7 @@ fn cmd_free(
     if sc.vehicle.fins.is_none() {
         return refuse(&FinFlutterError::NoFins, &checked.sources);
     }
-    if let Ok(crate::aero::panel::Regime::Transonic { .. }) =
-        crate::aero::panel::regime(condition.mach)
-    {
+    if crate::aero::panel::flutter_gap(condition.mach) {
         let e = FinFlutterError::Transonic {
             mach: condition.mach,
         };

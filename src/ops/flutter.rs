@@ -523,8 +523,9 @@ pub fn report_text(r: &FinFlutter) -> String {
     };
     let _ = writeln!(
         t,
-        "{case}, {} fin aerodynamics, Mach {:.4}, altitude {:.0} m (rho {:.4} kg/m3, a {:.2} m/s)",
+        "{case}, {} fin aerodynamics ({}), Mach {:.4}, altitude {:.0} m (rho {:.4} kg/m3, a {:.2} m/s)",
         r.aero.name(),
+        crate::analysis::flutter::fin::aero_method(&r.modes.planform, c.mach, r.aero),
         c.mach,
         c.altitude,
         c.density,
@@ -708,6 +709,7 @@ pub fn summary_json(r: &FinFlutter) -> serde_json::Value {
         "case": if r.free_vehicle.is_some() { "free_vehicle" } else { "clamped_fin" },
         "free_vehicle": free,
         "aero": r.aero,
+        "aero_method": crate::analysis::flutter::fin::aero_method(&r.modes.planform, c.mach, r.aero),
         "mach": c.mach,
         "altitude_m": c.altitude,
         "fin_thickness_m": r.modes.thickness,
@@ -1533,7 +1535,7 @@ pub fn solve_request(
     if sc.vehicle.fins.is_none() {
         return Err(refuse(&FinFlutterError::NoFins));
     }
-    if let Ok(crate::aero::panel::Regime::Transonic { .. }) = crate::aero::panel::regime(mach) {
+    if crate::aero::panel::flutter_gap(mach) {
         return Err(refuse(&FinFlutterError::Transonic { mach }));
     }
     let outcome = super::compile::compile_cached(checked, &sc.vehicle, cache_dir)?;

@@ -39,8 +39,10 @@ use crate::artifact::{ArtifactPayload, Cache, CacheKey, CacheKeyBuilder, CacheOu
 use crate::check::ir;
 
 /// Revision of the GAF computation: bump when `gaf_table`'s numbers change for the same
-/// inputs (the lattice, the wake, the spline rows, the virtual-work projection).
-pub const GAF_REVISION: &str = "clamped-fin GAF 1";
+/// inputs (the lattice, the wake, the spline rows, the virtual-work projection). 2: the Mach
+/// box (`panel::machbox`) replaces piston theory above Mach 1.1 where piston theory's
+/// criterion fails (issue 33).
+pub const GAF_REVISION: &str = "clamped-fin GAF 2";
 
 /// The cached form of one GAF table: `ks.len()` matrices of `order x order`, row-major,
 /// real and imaginary parts apart.
@@ -129,6 +131,18 @@ pub fn gaf_key(
     mach: f64,
     settings: &FinFlutterSettings,
 ) -> std::io::Result<CacheKey> {
+    gaf_key_at_revision(GAF_REVISION, v, n_modes, mach, settings)
+}
+
+/// [`gaf_key`] as revision `revision` of the computation made it: the key under which an
+/// older build stored its table (so that a test can show such an entry is not served).
+pub fn gaf_key_at_revision(
+    revision: &str,
+    v: &ir::Vehicle,
+    n_modes: usize,
+    mach: f64,
+    settings: &FinFlutterSettings,
+) -> std::io::Result<CacheKey> {
     let FinFlutterSettings {
         aero,
         chordwise,
@@ -139,7 +153,7 @@ pub fn gaf_key(
     } = *settings;
     let WakeSettings { length, ring } = WakeSettings::default();
     let mut b = CacheKeyBuilder::new("clamped-fin-gaf");
-    b.text("revision", GAF_REVISION);
+    b.text("revision", revision);
     b.text("schema", GafArtifact::SCHEMA);
     super::flutter::hash_clamped_fin(&mut b, v)?;
     b.u64("modes", n_modes as u64);
@@ -167,6 +181,14 @@ pub fn gaf_key(
     b.f64("k max", k_max);
     b.f64("wake length", length);
     b.f64("wake ring", ring);
+    b.u64(
+        "mach boxes",
+        crate::aero::panel::machbox::DEFAULT_BOXES as u64,
+    );
+    b.f64(
+        "piston min mach",
+        crate::aero::panel::machbox::PISTON_MIN_MACH,
+    );
     Ok(b.finish())
 }
 

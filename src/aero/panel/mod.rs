@@ -51,6 +51,7 @@
 pub mod dlm;
 pub mod fin_model;
 pub mod harmonic;
+pub mod machbox;
 pub mod piston;
 pub mod spline;
 pub mod supersonic;
@@ -60,6 +61,8 @@ pub mod vlm;
 mod dlm_tests;
 #[cfg(test)]
 mod harmonic_tests;
+#[cfg(test)]
+mod machbox_tests;
 #[cfg(test)]
 mod supersonic_tests;
 #[cfg(test)]
@@ -266,6 +269,13 @@ pub const SUBSONIC_LIMIT: f64 = 0.9;
 /// Lower Mach of piston theory as used here (see [`piston`] for the accuracy at low
 /// supersonic Mach numbers).
 pub const SUPERSONIC_LIMIT: f64 = 1.2;
+
+/// Whether Mach `mach` lies in the gap of the harmonic (flutter) aerodynamics, `0.9 < M < 1.1`:
+/// above [`SUBSONIC_LIMIT`] and below the Mach box's [`machbox::MIN_MACH`] (the
+/// quasi-steady map keeps the wider gap of [`regime`]).
+pub fn flutter_gap(mach: f64) -> bool {
+    mach > SUBSONIC_LIMIT && mach < machbox::MIN_MACH
+}
 
 /// The regime of Mach `mach`.
 pub fn regime(mach: f64) -> Result<Regime, PanelError> {

@@ -50,6 +50,7 @@ use crate::aero::estimator::FinPlanform;
 use crate::aero::estimator::planform;
 use crate::aero::panel::dlm::{Dlm, MAX_BOX_ASPECT, max_box_aspect};
 use crate::aero::panel::harmonic::{self, HarmonicMap, HarmonicVlm, WakeSettings};
+use crate::aero::panel::machbox::{self, MachBox};
 use crate::aero::panel::piston::{self, Correction};
 use crate::aero::panel::spline::{SplineError, surface_spline};
 use crate::aero::panel::{self, Lattice, PanelError, Regime, Spacing, vlm};
@@ -109,7 +110,7 @@ pub enum FinFlutterError {
     #[error("free vehicle: {0}")]
     Vehicle(String),
     #[error(
-        "Mach {mach} lies in the transonic gap 0.9 < M < 1.2 where neither the vortex lattice nor piston theory is trusted"
+        "Mach {mach} lies in the transonic gap where no model is trusted: 0.9 < M < 1.1 for the unsteady aerodynamics (vortex or doublet lattice to 0.9, the Mach box from 1.1), 0.9 < M < 1.2 for the quasi-steady map"
     )]
     Transonic { mach: f64 },
     #[error(
@@ -436,6 +437,18 @@ fn unsteady_values(
     match panel::regime(mach)? {
         // Piston theory is local: its unsteady map is the quasi-steady one applied to the
         // complex normalwash (Ashley & Zartarian 1956; `panel::harmonic::piston_map`).
+        Regime::Supersonic | Regime::Transonic { .. }
+            if mach >= machbox::MIN_MACH && !machbox::piston_valid(&lattice.planform, mach) =>
+        {
+            let boxes = mach_boxes(&lattice.planform, settings.k_max / b);
+            let mb = MachBox::new(&lattice.planform, mach, boxes)?;
+            let m0 = HarmonicMap {
+                eval: mb.centres().to_vec(),
+                force: mb.centres().to_vec(),
+                k: Vec::new(),
+            };
+            harmonic_gafs(modes, m0, ks, b, n, |nu, alpha| mb.forces(nu, alpha, n))
+        }
         Regime::Supersonic => {
             let h = harmonic::piston_map(lattice, mach, settings.correction)?;
             let map = PanelMap {
@@ -469,6 +482,40 @@ fn unsteady_values(
                 vlm.forces(nu, alpha, n)
             })
         }
+    }
+}
+
+/// The Mach boxes along the fin's streamwise extent for reduced frequencies up to `nu_max`
+/// (1/m): [`machbox::DEFAULT_BOXES`], or more where the box rule `Δx <= 0.08 · 2π/ν` needs
+/// them.
+pub fn mach_boxes(planform: &FinPlanform, nu_max: f64) -> usize {
+    let extent = planform
+        .root_chord
+        .max(planform.tip_le_offset + planform.tip_chord)
+        - planform.tip_le_offset.min(0.0);
+    let need = extent * nu_max / (harmonic::BOX_RULE * std::f64::consts::TAU);
+    if need.is_finite() {
+        machbox::DEFAULT_BOXES.max(need.ceil() as usize)
+    } else {
+        machbox::DEFAULT_BOXES
+    }
+}
+
+/// The aerodynamic method of the generalised forces of `aero` on `planform` at Mach `mach`,
+/// as the reports name it.
+pub fn aero_method(planform: &FinPlanform, mach: f64, aero: FinAero) -> &'static str {
+    let supersonic = mach >= machbox::MIN_MACH;
+    match aero {
+        FinAero::QuasiSteady if mach <= panel::SUBSONIC_LIMIT => {
+            "quasi-steady vortex lattice (Prandtl-Glauert)"
+        }
+        FinAero::QuasiSteady => "quasi-steady piston theory",
+        _ if supersonic && !machbox::piston_valid(planform, mach) => {
+            "Mach box (harmonic supersonic potential)"
+        }
+        _ if supersonic => "unsteady piston theory",
+        FinAero::DoubletLattice => "doublet lattice",
+        FinAero::Unsteady => "harmonic vortex lattice (Goethert)",
     }
 }
 

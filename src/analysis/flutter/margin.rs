@@ -99,7 +99,7 @@ pub const CRITERION: f64 = 1.15;
 
 /// Revision of the boundary's computation, part of its cache key: change it whenever the
 /// solution of a given [`BoundarySpec`] would change.
-pub const BOUNDARY_REVISION: &str = "flight flutter boundary r3: clamped fin (fin::clamped_fin_modes), unmatched p-k per (Mach, altitude) node (pk_solve_cut), node speeds [max(0.1 v_hi, box-rule floor), v_hi], a node not converging at its lowest speed started at the next, k table to 1.2 omega_max b / v_lo, the leading-mode screen below the first speed (pk::screen_below) and the answer rule (pk::PkSolution::answer), US Standard Atmosphere 1976";
+pub const BOUNDARY_REVISION: &str = "flight flutter boundary r4: Mach box (panel::machbox) above Mach 1.1 where piston theory's criterion fails, its nodes floored by the box rule as the subsonic ones; clamped fin (fin::clamped_fin_modes), unmatched p-k per (Mach, altitude) node (pk_solve_cut), node speeds [max(0.1 v_hi, box-rule floor), v_hi], a node not converging at its lowest speed started at the next, k table to 1.2 omega_max b / v_lo, the leading-mode screen below the first speed (pk::screen_below) and the answer rule (pk::PkSolution::answer), US Standard Atmosphere 1976";
 
 /// The ceiling of the margin's altitude grid, m (the built-in estimator's table top).
 pub const CEILING: f64 = 30_000.0;
@@ -360,8 +360,13 @@ pub fn solve_boundary(modes: &FinModes, spec: &BoundarySpec) -> Result<Boundary,
         k_tolerance: spec.k_tolerance,
     };
     for (&m, &[lo, hi]) in spec.machs.iter().zip(&spec.speed_ranges) {
-        // The box rule binds the vortex lattice only (piston theory is local).
-        let sub = matches!(panel::regime(m)?, Regime::Subsonic);
+        // The box rule binds the lattices and the Mach box (piston theory is local); the Mach
+        // box of `fin::mach_boxes` has as many boxes along the fin as the lattice has panels
+        // along the root chord, so the same floor keeps it at its default count.
+        let mach_box = spec.aero.is_harmonic()
+            && m >= panel::machbox::MIN_MACH
+            && !panel::machbox::piston_valid(&modes.planform, m);
+        let sub = matches!(panel::regime(m)?, Regime::Subsonic) || mach_box;
         let v_lo = if sub { lo.max(floor) } else { lo };
         if !(v_lo.is_finite() && hi > v_lo) {
             return Err(FinFlutterError::Generate(format!(

@@ -715,7 +715,8 @@ pub fn solve_coordinates(
     with_body: bool,
 ) -> Result<VehicleFlutter, FinFlutterError> {
     // Refuse the transonic gap before anything else (as the clamped path).
-    if let crate::aero::panel::Regime::Transonic { .. } = crate::aero::panel::regime(mach)? {
+    crate::aero::panel::regime(mach)?;
+    if crate::aero::panel::flutter_gap(mach) {
         return Err(FinFlutterError::Transonic { mach });
     }
     let lattice = vehicle_lattice(&coords, settings)?;
