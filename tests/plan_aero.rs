@@ -77,6 +77,9 @@ fn f64s(v: &serde_json::Value) -> Vec<f64> {
 
 /// The compiled SPHADS-1 of a scenario, through the library (for the shape rows).
 fn compiled(scenario: &str) -> flexflight::structure::compile::CompiledVehicle {
+    // Compiled as the command line compiles (faer sequential, `ops::sequential_linear_algebra`):
+    // the rows are compared bit for bit with the CLI's plan.
+    flexflight::ops::sequential_linear_algebra();
     let checked = flexflight::check::check_files(&[thesis()], &[], &flexflight::check::DiskLoader);
     let sc = checked.program.scenario(scenario).unwrap().clone();
     flexflight::structure::compile::compile(&sc.vehicle)
