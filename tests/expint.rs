@@ -133,8 +133,20 @@ fn group_errors(out: &RunOutput, reference: &RunOutput) -> Vec<(&'static str, f6
 /// atol), where the node shapes amplify it. (Before the cuts, on 2 December, the largest
 /// deformation read 1.08e-5 / 1.11e-5 and `η` 1.7e-5 / 5.7e-6 against a reference that
 /// crossed the gusts' jumps itself and differed from today's by 4.7e-6 of `η`'s range.)
-/// The test pins: each group no worse than DOPRI5's error (5 % margin) or below 1e-7 of its
-/// range; the modal and fin groups no worse than DOPRI5's (5 % margin); the largest
+/// After issue 34's fin drag by cross-section (6 December 2026; the default `square` fins
+/// carry leading- and trailing-edge pressure drag, so the flight is not the same), debug
+/// build, DOPRI5 / exponential: position 1.2e-11 / 1.15e-8, velocity 2.8e-7 / 4.5e-8,
+/// angular rate 2.4e-5 / 1.0e-6, attitude 2.40e-8 / 1.12e-7, alpha and beta 6.4e-7 / 2.6e-8,
+/// eta 1.7e-5 / 4.5e-6, eta rates 3.8e-5 / 1.4e-5, fin incidence 2.8e-6 / 1.9e-6, fin root
+/// stress 5.1e-6 / 3.3e-6, energies 1.3e-10 / 1.9e-8, largest deformation 7.1e-6 / 1.02e-5.
+/// With the edge drag removed by a temporary patch the test passes as before, so the change
+/// is the flight's, not the integrators'; but the exponential integrator's attitude error
+/// (7.3e-8 before) now exceeds the 1e-7 floor, and the floor was raised to 1.5e-7 with the
+/// same headroom over the achieved value as before (1e-7 over 7.3e-8). The exponential
+/// integrator is 4.7x DOPRI5's error on the attitude of this flight, an argument against
+/// making it the default that the next change to the integrator must answer.
+/// The test pins: each group no worse than DOPRI5's error (5 % margin) or below 1.5e-7 of
+/// its range; the modal and fin groups no worse than DOPRI5's (5 % margin); the largest
 /// deformation within 1.5x DOPRI5's; fewer than a quarter of DOPRI5's evaluations; the
 /// gust-response identification of `summary.json` (the same call as `flexflight run`): the
 /// least-damped root's damping and frequency within 2e-7 of DOPRI5's, every fitted root's
@@ -167,7 +179,7 @@ fn exponential_matches_the_tight_reference_at_least_as_well_as_dopri5() {
             continue;
         }
         assert!(
-            *b <= (1.05 * a).max(1e-7),
+            *b <= (1.05 * a).max(1.5e-7),
             "{g}: dopri5 {a:e}, exponential {b:e}"
         );
         if g.starts_with("modal") || g.starts_with("fin") {

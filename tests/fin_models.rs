@@ -103,6 +103,13 @@ fn digest_without(rows: &[Vec<f64>], skip: Option<usize>) -> String {
 /// or two bits (`v_body_x` 199.99533856292143 against ...142); the channels of fin 2, which
 /// sits in the plane of symmetry and carries only roundoff (root stress 0.04 Pa), differ by at
 /// most 3.6e-5 of their range; 313 rows and the stop at 0.3116 s unchanged.
+///
+/// Re-recorded on 6 December 2026 (later): issue 34's fin drag by cross-section (the
+/// default `square` adds leading- and trailing-edge pressure drag and the thickness factor on
+/// the friction) raises the built-in tables' fin axial coefficient, so the flight moves.
+/// With those three terms removed from `aero::estimator`'s fin axial coefficient (a
+/// temporary patch, not committed) this test gives the previous digest (7cc41337...) again:
+/// nothing else moved. How far the history moved was not measured.
 #[test]
 fn key_node_history_is_unchanged() {
     // The 0.6 mm fins flutter in this model (0.25 s): the pinned history flies on through
@@ -121,7 +128,7 @@ fn key_node_history_is_unchanged() {
     );
     assert_eq!(
         others,
-        "7cc41337978867b0e596bf64c57d7a6dd89b8e82d30b6078ce9171ccc04f5391"
+        "a102bb8a23f05e943c07c70369825f460cff1d8e14f8a20da412c0d051d720d9"
     );
     assert_eq!(
         d,
