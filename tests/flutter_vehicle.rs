@@ -209,9 +209,14 @@ fn stiff_fins_do_not_flutter_and_the_short_period_matches_analyze_linear() {
         100.0 * (w_flight / w_lin - 1.0),
         100.0 * (w_panel / w_lin - 1.0)
     );
-    // Achieved: +5.6 % (not explained in the time available; see docs/validation.md).
+    // Achieved: +5.6 % (not explained in the time available; see docs/validation.md), and
+    // +6.48 % since issue 34's fin edge drag (6 December 2026): with the edge drag removed
+    // by a temporary patch (and a fresh cache) this test reads 9.6042 and 10.1411 rad/s,
+    // +5.59 %, as before; with it 9.6120 and 10.2347. The larger fin axial force moves the
+    // flight's fin blocks more than `analyze linear`'s trimmed model. The bound keeps the
+    // headroom it had over the achieved value (6 % over 5.6 %).
     assert!(
-        (w_flight / w_lin - 1.0).abs() < 0.06,
+        (w_flight / w_lin - 1.0).abs() < 0.07,
         "{w_flight} vs {w_lin}"
     );
     // The panels alone carry less pitch stiffness than the tables (no fin-body
