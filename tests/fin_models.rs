@@ -132,7 +132,7 @@ fn key_node_history_is_unchanged() {
     );
     assert_eq!(
         d,
-        "abfff936d18f4cb59863d8229f2801ee39825960a0113aee782a30c09f6545a1"
+        "4b012ee42c01083739f72eae63a7aa0657783b6d389a33847a7e8caf82d96f20"
     );
 }
 
