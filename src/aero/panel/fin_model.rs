@@ -98,17 +98,8 @@ pub fn fin_structure(
     let f = v.fins.as_ref().ok_or(FinPanelError::NoFins)?;
     let angle = f.angles.get(fin).ok_or(FinPanelError::EmptyFin(fin))?;
     let n = c.modes.len();
-    // The mesh generator's fin frame (`structure::generate::mesh::fin_frame`): span
-    // e_s = (0, cos δ, sin δ), canted chord e_a = cos γ x̂ + sin γ (x̂ × e_s), n = e_a × e_s.
-    let (sd, cd) = angle.value.sin_cos();
-    let (sg, cg) = f.cant.value.sin_cos();
-    let es = [0.0, cd, sd];
-    let ea = [cg, -sg * sd, sg * cd];
-    let normal = [
-        ea[1] * es[2] - ea[2] * es[1],
-        ea[2] * es[0] - ea[0] * es[2],
-        ea[0] * es[1] - ea[1] * es[0],
-    ];
+    // The mesh generator's fin frame.
+    let (es, normal) = fin_axes(f, angle.value);
     let members: Vec<usize> = (0..c.node_components.len())
         .filter(|&k| usize::try_from(c.node_components[k]).ok() == Some(fin))
         .collect();
@@ -116,13 +107,7 @@ pub fn fin_structure(
         return Err(FinPanelError::EmptyFin(fin));
     }
     let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let y_root = match &v.structure {
-        ir::Structure::Generate(g) => 0.5 * g.body.diameter.value,
-        ir::Structure::Files(_) => members
-            .iter()
-            .map(|&k| dot(&c.node_positions[k], &es))
-            .fold(f64::INFINITY, f64::min),
-    };
+    let y_root = fin_y_root(c, v, fin, &es);
     let root_le_x = f.root_trailing_edge_x.value + f.root_chord.value;
     let mut nodes = Vec::with_capacity(members.len());
     let mut normal_rows = Vec::with_capacity(members.len() * n);
@@ -457,11 +442,9 @@ impl PanelModel {
     }
 }
 
-/// Translation rows (3 x n, row-major) of a point `p` rigidly attached to the body node
-/// nearest to it: `S_u,m - o^× S_θ,m` with `o = p - r_m`.
-pub fn rigid_rows(c: &CompiledVehicle, p: &[f64; 3]) -> Option<(Vec<f64>, Vec<f64>)> {
-    let n = c.modes.len();
-    let m = (0..c.node_positions.len())
+/// The body node (component tag < 0) nearest to the body point `p`; None without body nodes.
+pub fn nearest_body_node(c: &CompiledVehicle, p: &[f64; 3]) -> Option<usize> {
+    (0..c.node_positions.len())
         .filter(|&k| c.node_components[k] < 0)
         .min_by(|&a, &b| {
             let d = |k: usize| {
@@ -469,7 +452,115 @@ pub fn rigid_rows(c: &CompiledVehicle, p: &[f64; 3]) -> Option<(Vec<f64>, Vec<f6
                 (0..3).map(|e| (r[e] - p[e]).powi(2)).sum::<f64>()
             };
             d(a).total_cmp(&d(b))
-        })?;
+        })
+}
+
+/// The body node that carries fin `fin`'s root as a rigid base (issue 38, item 3): the body
+/// node nearest to the root chord's mid-point on the body surface (`x_LE,root - c_r / 2`, at
+/// the root radius `y_root` along the span direction). None without fins or body nodes.
+pub fn root_body_node(c: &CompiledVehicle, v: &ir::Vehicle, fin: usize) -> Option<usize> {
+    let f = v.fins.as_ref()?;
+    let angle = f.angles.get(fin)?;
+    let (es, _) = fin_axes(f, angle.value);
+    let y_root = fin_y_root(c, v, fin, &es);
+    if !y_root.is_finite() {
+        return None;
+    }
+    let x = f.root_trailing_edge_x.value + 0.5 * f.root_chord.value;
+    nearest_body_node(c, &[x, y_root * es[1], y_root * es[2]])
+}
+
+/// The normal displacement, in the panel's `+z` over the fin plane, of the rigid motion of
+/// body node `node` per unit modal coordinate: `z_k(x, y) = c0_k + c1_k x + c2_k y` in fin
+/// coordinates (module doc, step 1), returned as `[c0_k, c1_k, c2_k]` per mode (issue 38,
+/// item 3).
+///
+/// A point at fin coordinates `(x, y)` has the body position `p = (x_LE,root - x) e_x + (y_root
+/// + y) e_s` (exact without cant, as [`fin_structure`]); attached rigidly to the node it moves
+/// by `u = S_u,m η + (S_θ,m η) × (p - r_m)`, linear in `p` and so in `(x, y)`, and its panel
+/// normal displacement is `z = -n · u`. The three coefficients are therefore exact from the
+/// values at `(0, 0)`, `(1, 0)` and `(0, 1)`.
+pub fn rigid_normal_of_node(
+    c: &CompiledVehicle,
+    v: &ir::Vehicle,
+    fin: usize,
+    node: usize,
+) -> Result<Vec<[f64; 3]>, FinPanelError> {
+    let f = v.fins.as_ref().ok_or(FinPanelError::NoFins)?;
+    let angle = f.angles.get(fin).ok_or(FinPanelError::EmptyFin(fin))?;
+    let (es, normal) = fin_axes(f, angle.value);
+    let n = c.modes.len();
+    if node >= c.node_positions.len() || c.shapes.len() < 6 * (node + 1) * n {
+        return Err(FinPanelError::EmptyFin(fin));
+    }
+    let y_root = fin_y_root(c, v, fin, &es);
+    let root_le_x = f.root_trailing_edge_x.value + f.root_chord.value;
+    let z = |x: f64, y: f64| -> Vec<f64> {
+        let p = [root_le_x - x, (y_root + y) * es[1], (y_root + y) * es[2]];
+        let rows = rows_attached(c, node, &p);
+        (0..n)
+            .map(|j| -(0..3).map(|d| normal[d] * rows[d * n + j]).sum::<f64>())
+            .collect()
+    };
+    let (z00, z10, z01) = (z(0.0, 0.0), z(1.0, 0.0), z(0.0, 1.0));
+    Ok((0..n)
+        .map(|j| [z00[j], z10[j] - z00[j], z01[j] - z00[j]])
+        .collect())
+}
+
+/// The span coordinate of fin `fin`'s root: the body radius for a generated structure, the
+/// innermost fin node's `r · e_s` for an imported one (infinite without fin nodes).
+fn fin_y_root(c: &CompiledVehicle, v: &ir::Vehicle, fin: usize, es: &[f64; 3]) -> f64 {
+    match &v.structure {
+        ir::Structure::Generate(g) => 0.5 * g.body.diameter.value,
+        ir::Structure::Files(_) => (0..c.node_components.len())
+            .filter(|&k| usize::try_from(c.node_components[k]).ok() == Some(fin))
+            .map(|k| {
+                let r = c.node_positions[k];
+                r[0] * es[0] + r[1] * es[1] + r[2] * es[2]
+            })
+            .fold(f64::INFINITY, f64::min),
+    }
+}
+
+/// The span direction `e_s` and the mesh normal `n` of a fin at angular position `delta`
+/// (`structure::generate::mesh::fin_frame`): `e_s = (0, cos δ, sin δ)`, the canted chord
+/// `e_a = cos γ x̂ + sin γ (x̂ × e_s)`, `n = e_a × e_s`.
+fn fin_axes(f: &ir::Fins, delta: f64) -> ([f64; 3], [f64; 3]) {
+    let (sd, cd) = delta.sin_cos();
+    let (sg, cg) = f.cant.value.sin_cos();
+    let es = [0.0, cd, sd];
+    let ea = [cg, -sg * sd, sg * cd];
+    let normal = [
+        ea[1] * es[2] - ea[2] * es[1],
+        ea[2] * es[0] - ea[0] * es[2],
+        ea[0] * es[1] - ea[1] * es[0],
+    ];
+    (es, normal)
+}
+
+/// Translation rows (3 x n, row-major) of a point `p` rigidly attached to body node `m`:
+/// `S_u,m - o^× S_θ,m` with `o = p - r_m`.
+fn rows_attached(c: &CompiledVehicle, m: usize, p: &[f64; 3]) -> Vec<f64> {
+    let n = c.modes.len();
+    let r = c.node_positions[m];
+    let o = [p[0] - r[0], p[1] - r[1], p[2] - r[2]];
+    let skew = [[0.0, -o[2], o[1]], [o[2], 0.0, -o[0]], [-o[1], o[0], 0.0]];
+    let s = |d: usize, j: usize| c.shapes[(6 * m + d) * n + j];
+    let mut rows = vec![0.0; 3 * n];
+    for d in 0..3 {
+        for j in 0..n {
+            rows[d * n + j] = s(d, j) - (0..3).map(|e| skew[d][e] * s(3 + e, j)).sum::<f64>();
+        }
+    }
+    rows
+}
+
+/// Translation rows (3 x n, row-major) of a point `p` rigidly attached to the body node
+/// nearest to it: `S_u,m - o^× S_θ,m` with `o = p - r_m`.
+pub fn rigid_rows(c: &CompiledVehicle, p: &[f64; 3]) -> Option<(Vec<f64>, Vec<f64>)> {
+    let n = c.modes.len();
+    let m = nearest_body_node(c, p)?;
     let r = c.node_positions[m];
     let o = [p[0] - r[0], p[1] - r[1], p[2] - r[2]];
     let skew = [[0.0, -o[2], o[1]], [o[2], 0.0, -o[0]], [-o[1], o[0], 0.0]];

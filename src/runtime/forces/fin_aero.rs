@@ -57,18 +57,23 @@
 //! Steps 1-3 above read the fin's deformation at ONE key node, so the verdict hinges on where
 //! the user puts it. The lifting-surface model splits each fin's load into
 //!
-//! - the rigid load at zero deformation, from the coefficient tables as above but with the
-//!   fin undeformed (`u_f = 0`, `θ_f = 0`, `u̇_f = 0`) at the load model's centre of pressure
-//!   `r_cp = Σ w_k r_k` instead of the key node: `V_Bf = V_B + ω_B × r_cp - V_w`, distributed
-//!   by steps 4-7 unchanged (so a stiff fin flies as with the tables, and nothing depends on
+//! - the rigid load of the fin as a rigid body on its root, from the coefficient tables as
+//!   above at the load model's centre of pressure `r_cp = Σ w_k r_k` instead of the key node,
+//!   the fin carried by the body node `m` that holds its root (the body node nearest to the
+//!   root chord's mid-point, `aero::panel::fin_model::root_body_node`): `θ_f = θ_m`, `u_f =
+//!   u_m + θ_m × (r_cp - r_m)` and `u̇_f` likewise (steps 1-3 with the root body node in place
+//!   of the key node), so `V_Bf = V_B + ω_B × r_cp + u̇_f - V_w` rotated by `θ_m`, distributed
+//!   by steps 4-7 unchanged (a stiff fin flies as with the tables, and nothing depends on
 //!   `key_nodes.fins`). The load weights (and so `r_cp`) are taken at the Mach number of the
 //!   rigid airspeed at the fin planform's area centroid `r_c` (a fixed point of the
 //!   geometry: the weights must be known before `r_cp`);
 //! - the elastic increments, quasi-steady, from the fin's panel model
 //!   (`aero::panel::fin_model`, compiled per grid Mach of the fin table and cached
-//!   with the aerodynamic artifact): with `u = [η; η̇ / V]` (V, q and M of the rigid airspeed
-//!   at `r_cp`), the outputs `y = q T(M) u` (linear in Mach between grid points; only the
-//!   `η` and `η̇` columns of `T`, the rigid normalwash being the tables' part) are the modal
+//!   with the aerodynamic artifact) for the fin's deformation **relative to its root body
+//!   node** (`relative_to_root`): with `u = [η; η̇ / V]` (V, q and M of the rigid airspeed
+//!   at `r_cp`), the outputs `y = q T_rel(M) u` (linear in Mach between grid points; only the
+//!   `η` and `η̇` columns of `T`, less the normalwash of the root node's rigid motion, which
+//!   is the tables' part) are the modal
 //!   forces `Q_j = y_j` (consistent nodal forces through the surface spline: the virtual work
 //!   of the panel loads), the net normal force `N = y_n` along the panel normal `+z_p = -z_f`
 //!   (`z_f` the third row of `C_γ C_fδ`), and the panel-load moments `Σ F_p y_p = y_n+1`
@@ -79,6 +84,16 @@
 //!   span direction; the lattice's `x` is body x, exact without cant, off by `cos γ` with it,
 //!   as in step 6). Geometric second-order terms (the increments rotated by `θ`, their arm
 //!   changed by `u`) are left out, as the panel model is linear.
+//!
+//! Why the split is at the root (issue 38, item 3; docs/validation.md, "The 87 Hz body-bending
+//! root"): a consistent quasi-steady theory gives a reciprocal damping coupling between two
+//! motions (at Mach 2.3 Ackeret's `D_ij = (2q/(βV)) ∫ φ_i φ_j dA` is symmetric). When the
+//! body's own rigid motion went through the tables (with Barrowman's body-fin interference
+//! `K_T(B)`) but the body-bending mode's rigid motion of the fin went through the isolated
+//! fin's panels (without it), the pitch-rate / body-bending coupling lost that symmetry by the
+//! ratio of the two slopes, and SPHADS-1's 87 Hz body-bending pair drew energy from the air.
+//! With every rigid motion of the fin through the tables, whatever moves the root, the
+//! coupling is reciprocal as with the key-node model (`tests/body_bending_root.rs`).
 //!
 //! The leeward factor of step 4 scales the increments too (it is a factor on the whole fin
 //! load), and the root moment of step 8 is that of the rigid distribution plus `-y_n+1`
@@ -134,6 +149,10 @@ pub struct FinSample {
 #[derive(Clone, Debug)]
 struct Fin {
     key: NodeRows,
+    /// The body node that carries the fin's root as a rigid base (lifting-surface model:
+    /// the tables' rigid load sees its motion, the panels the deformation relative to it;
+    /// `aero::panel::fin_model::root_body_node`).
+    root: NodeRows,
     /// `C_γ C_fδ` (body to undeformed canted fin frame).
     c_nominal: Mat3,
     /// Nominal angular position δ_i, rad.
@@ -210,6 +229,32 @@ impl Fin {
         }
         true
     }
+}
+
+/// The `η` and `η̇ / V` columns of a panel transfer matrix `t` (`rows x cols`, module doc of
+/// `aero::panel::fin_model`, `cols = 2 n + 3`) for the fin's deformation relative to its root
+/// body node (issue 38, item 3; the module doc's lifting-surface model). The root node's rigid
+/// motion has the panel-normal displacement `z_r,k = c0_k + c1_k x + c2_k y` per mode
+/// (`root[k] = [c0_k, c1_k, c2_k]`, `fin_model::rigid_normal_of_node`), whose normalwash
+/// `-∂z_r/∂x η - z_r η̇ / V = -c1 η - (c0 + c1 x + c2 y) η̇ / V` the `a_0, a_x, a_y` columns
+/// already express. The normalwash is linear in the inputs, so removing it from the modal
+/// columns is exact: `T_rel[:, η_k] = T[:, η_k] + c1_k T[:, a_0]` and `T_rel[:, η̇_k] =
+/// T[:, η̇_k] + c0_k T[:, a_0] + c1_k T[:, a_x] + c2_k T[:, a_y]`. The output rows (the
+/// generalised forces as virtual work over the whole deformation, the net force and its
+/// moments) are unchanged. Returns the full `rows x cols` matrix with the modal columns
+/// replaced.
+fn relative_to_root(t: &[f64], rows: usize, cols: usize, root: &[[f64; 3]]) -> Vec<f64> {
+    let n = root.len();
+    let mut m = t.to_vec();
+    for r in 0..rows {
+        let row = &t[r * cols..(r + 1) * cols];
+        let (a0, ax, ay) = (row[2 * n], row[2 * n + 1], row[2 * n + 2]);
+        for (k, [c0, c1, c2]) in root.iter().enumerate() {
+            m[r * cols + k] = row[k] + c1 * a0;
+            m[r * cols + n + k] = row[n + k] + c0 * a0 + c1 * ax + c2 * ay;
+        }
+    }
+    m
 }
 
 /// [`FinLoadTable::bracket`] on the ascending grid `machs`, the same interval and weight bit
@@ -538,8 +583,11 @@ impl FinAero {
                     }
                 }
             }
+            let root_node =
+                fin_model::root_body_node(c, v, i).ok_or(AeroForceError::EmptyFin { fin: i })?;
             fins.push(Fin {
                 key: NodeRows::new(c, c.key_fins[i] as usize, "fin key node")?,
+                root: NodeRows::new(c, root_node, "fin root body node")?,
                 c_nominal,
                 delta,
                 positions,
@@ -582,26 +630,24 @@ impl FinAero {
                     _ => fin_model::compile(c, v, &machs, PanelSettings::default())?,
                 };
                 let strips = (n + 3).div_ceil(LANES);
-                let blocks =
-                    model
-                        .fins
-                        .iter()
-                        .map(|t| {
-                            let (rows, cols) = (t.rows(), t.cols());
-                            let mut b = Vec::with_capacity(machs.len() * strips * 2 * n * LANES);
-                            for g in 0..machs.len() {
-                                let m = t.at(g);
-                                for strip in 0..strips {
-                                    for col in 0..2 * n {
-                                        b.extend((strip * LANES..(strip + 1) * LANES).map(|r| {
-                                            if r < rows { m[r * cols + col] } else { 0.0 }
-                                        }));
-                                    }
-                                }
+                let mut blocks = Vec::with_capacity(n_fins);
+                for (i, (t, fin)) in model.fins.iter().zip(&fins).enumerate() {
+                    let root = fin_model::rigid_normal_of_node(c, v, i, fin.root.index)?;
+                    let (rows, cols) = (t.rows(), t.cols());
+                    let mut b = Vec::with_capacity(machs.len() * strips * 2 * n * LANES);
+                    for g in 0..machs.len() {
+                        let m = relative_to_root(t.at(g), rows, cols, &root);
+                        for strip in 0..strips {
+                            for col in 0..2 * n {
+                                b.extend(
+                                    (strip * LANES..(strip + 1) * LANES)
+                                        .map(|r| if r < rows { m[r * cols + col] } else { 0.0 }),
+                                );
                             }
-                            b
-                        })
-                        .collect();
+                        }
+                    }
+                    blocks.push(b);
+                }
                 Some(Elastic {
                     model: Arc::new(model),
                     blocks,
@@ -829,7 +875,15 @@ impl FinAero {
                     }
                     pre_bracketed = true;
                     let rest = &fin.lumped_now[3 * n..];
-                    ([rest[0], rest[1], rest[2]], [0.0; 3], [0.0; 3])
+                    let r_cp = [rest[0], rest[1], rest[2]];
+                    // The fin as a rigid body on its root body node m: u = u_m + θ_m × (r_cp
+                    // - r_m), u̇ likewise, rotated by θ_m (module doc).
+                    let [u_m, th, ud_m, thd] = fin.root.apply_pair(state.eta, state.eta_dot);
+                    let o = [0, 1, 2].map(|d| r_cp[d] - fin.root.position[d]);
+                    let (tu, tud) = (cross(&th, &o), cross(&thd, &o));
+                    let p = [0, 1, 2].map(|d| r_cp[d] + u_m[d] + tu[d]);
+                    let u_dot = [0, 1, 2].map(|d| ud_m[d] + tud[d]);
+                    (p, th, u_dot)
                 }
                 ir::FinIncidence::KeyNode => {
                     let [u, theta, u_dot, _] = fin.key.apply_pair(state.eta, state.eta_dot);
