@@ -159,6 +159,8 @@ impl Lattice {
         spanwise: usize,
         spacing: Spacing,
     ) -> Result<Lattice, PanelError> {
+        // Another outline than the trapezoid may end in a point (its tip chord is the
+        // equivalent trapezoid's, checked like the others).
         for (what, value) in [
             ("span", planform.span),
             ("root chord", planform.root_chord),
@@ -192,7 +194,7 @@ impl Lattice {
         // Point at chord fraction f on the span station y.
         let at = |f: f64, y: f64| -> [f64; 2] {
             let eta = y / s;
-            [planform.tip_le_offset * eta + f * planform.chord_at(eta), y]
+            [planform.le_at(eta) + f * planform.chord_at(eta), y]
         };
         let mut panels = Vec::with_capacity(chordwise * spanwise);
         for j in 0..spanwise {
