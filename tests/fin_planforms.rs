@@ -409,3 +409,31 @@ fn an_elliptical_finned_rocket_checks_compiles_and_flies() {
     let margin = std::fs::read_to_string(out.join("flutter_margin.csv")).unwrap();
     assert!(margin.lines().count() > 10);
 }
+
+/// A pointed freeform fin (a clipped delta ending in a point at the tip): its mesh collapses
+/// the tip row, its lattice's outer panels are triangles, and the vehicle compiles with
+/// finite tables and panel matrices.
+#[test]
+fn a_pointed_freeform_fin_compiles_with_finite_tables_and_panels() {
+    let v = sphads1_with(
+        "delta",
+        "    planform = freeform\n    points = [(0, 0) mm, (250, 127.23) mm, (324.68, 0) mm]",
+    );
+    let f = v.fins.as_ref().unwrap();
+    assert!(f.tip_chord.value.abs() < 1e-12 * f.root_chord.value);
+    let t = flexflight::runtime::forces::aero_tables(&v)
+        .unwrap()
+        .files();
+    for (_, csv) in &t {
+        assert!(!csv.contains("NaN") && !csv.contains("inf"), "{csv}");
+    }
+    let c = compile(&v).unwrap().0;
+    assert!(c.modes.iter().all(|m| m.frequency_hz > 1.0));
+    let m = fin_model::compile(&c, &v, &[0.5, 2.0], PanelSettings::default()).unwrap();
+    for g in 0..2 {
+        assert!(m.fins[0].at(g).iter().all(|x| x.is_finite()));
+    }
+    // The triangle's area, by the polygon: c_r s / 2.
+    let p = planform(f, 0.0635);
+    assert!(rel(p.area(), 0.5 * 0.32468 * 0.12723) < 1e-14);
+}

@@ -159,14 +159,15 @@ impl Lattice {
         spanwise: usize,
         spacing: Spacing,
     ) -> Result<Lattice, PanelError> {
-        // Another outline than the trapezoid may end in a point (its tip chord is the
-        // equivalent trapezoid's, checked like the others).
+        // Another outline than the trapezoid may end in a point: its tip chord (the equivalent
+        // trapezoid's) may be 0, and the outer strip's panels are then triangles.
         for (what, value) in [
             ("span", planform.span),
             ("root chord", planform.root_chord),
             ("tip chord", planform.tip_chord),
         ] {
-            if !(value.is_finite() && value > 0.0) {
+            let pointed_ok = what == "tip chord" && !planform.outline.is_trapezoidal();
+            if !(value.is_finite() && (value > 0.0 || (pointed_ok && value == 0.0))) {
                 return Err(PanelError::BadPlanform { what, value });
             }
         }
