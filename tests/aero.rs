@@ -80,6 +80,7 @@ fn issue33_fin_slope_is_sensible_at_low_supersonic_mach() {
         tip_chord: 0.076,
         tip_le_offset: s * 38.8f64.to_radians().tan(),
         body_radius: 0.051,
+        outline: flexflight::check::ir::FinOutline::Trapezoidal,
     };
     let s_ref = std::f64::consts::PI * 0.051 * 0.051;
     let at = |m: f64| f.interference() * f.cn_alpha(m, s_ref);

@@ -461,6 +461,44 @@ assert_error!(
         "trailing_edge_sweep = -60 deg"
     )
 );
+// Issue 34: a freeform fin's outline that crosses itself, that turns back in span, or whose
+// root is off the body is refused at `check`, at the offending point.
+assert_error!(
+    fins_freeform_outline_crosses_itself,
+    "vdl::fins::outline",
+    edit(
+        FINNED,
+        "span = 100 mm\n    root_chord = 200 mm\n    tip_chord = 100 mm\n    trailing_edge_sweep = 0 deg",
+        "planform = freeform\n    points = [(0, 0) mm, (250, 100) mm, (150, 100) mm, (200, 0) mm]"
+    )
+);
+assert_error!(
+    fins_freeform_outline_not_single_valued,
+    "vdl::fins::outline",
+    edit(
+        FINNED,
+        "span = 100 mm\n    root_chord = 200 mm\n    tip_chord = 100 mm\n    trailing_edge_sweep = 0 deg",
+        "planform = freeform\n    points = [(0, 0) mm, (50, 80) mm, (60, 40) mm, (100, 100) mm, (200, 0) mm]"
+    )
+);
+assert_error!(
+    fins_freeform_root_off_the_body,
+    "vdl::fins::outline",
+    edit(
+        FINNED,
+        "span = 100 mm\n    root_chord = 200 mm\n    tip_chord = 100 mm\n    trailing_edge_sweep = 0 deg",
+        "planform = freeform\n    points = [(0, 0) mm, (100, 100) mm, (150, 100) mm, (200, 5) mm]"
+    )
+);
+assert_error!(
+    fins_elliptical_with_a_tip_chord,
+    "vdl::fins::planform",
+    edit(
+        FINNED,
+        "trailing_edge_sweep = 0 deg",
+        "planform = elliptical"
+    )
+);
 assert_error!(
     range_wall_too_thick,
     "vdl::value::range",

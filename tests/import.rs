@@ -311,3 +311,77 @@ fn broken_designs_are_diagnostics_with_a_place() {
     assert!(stderr(&o).contains("import::format"), "{}", stderr(&o));
     assert!(files_in(&dir.path().join("out")).is_empty());
 }
+
+/// The simple model rocket's XML (the `rocket.ork` entry of its ZIP container).
+fn simple_rocket_xml() -> String {
+    let f = std::fs::File::open(design("simple_model_rocket.ork")).unwrap();
+    let mut z = zip::ZipArchive::new(f).unwrap();
+    let mut s = String::new();
+    std::io::Read::read_to_string(&mut z.by_name("rocket.ork").unwrap(), &mut s).unwrap();
+    s
+}
+
+/// The simple rocket with its trapezoidal fin set's planform replaced by `planform` (the
+/// tag's contents from `<rootchord>` to `<height>`), as plain XML.
+fn simple_rocket_with_fins(dir: &Path, name: &str, tag: &str, planform: &str) -> PathBuf {
+    let xml = simple_rocket_xml();
+    let a = xml.find("<rootchord>").unwrap();
+    let b = xml.find("</height>").unwrap() + "</height>".len();
+    let xml = format!("{}{planform}{}", &xml[..a], &xml[b..])
+        .replacen("<trapezoidfinset>", &format!("<{tag}>"), 1)
+        .replacen("</trapezoidfinset>", &format!("</{tag}>"), 1);
+    let p = dir.join(name);
+    std::fs::write(&p, xml).unwrap();
+    p
+}
+
+/// Issue 34: OpenRocket's elliptical and freeform fin sets become the language's
+/// `planform = elliptical` and `planform = freeform` (they were refused), and the vehicle
+/// checks; a freeform outline the language cannot say is refused at its element.
+#[test]
+fn elliptical_and_freeform_fin_sets_import_as_their_planforms_and_check() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = with_materials(SIMPLE_MATERIALS);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let cases = [
+        (
+            "ellipticalfinset",
+            "<rootchord>0.0508</rootchord><height>0.03</height>",
+            "planform = elliptical\n    span = 30 mm\n    root_chord = 50.8 mm",
+        ),
+        (
+            "freeformfinset",
+            "<finpoints><point x=\"0.0\" y=\"0.0\"/><point x=\"0.0254\" y=\"0.03\"/><point x=\"0.05\" y=\"0.03\"/><point x=\"0.0508\" y=\"0.0\"/></finpoints>",
+            "planform = freeform\n    points = [(0, 0) mm, (25.4, 30) mm, (50, 30) mm, (50.8, 0) mm]",
+        ),
+    ];
+    for (tag, planform, expected) in cases {
+        let design = simple_rocket_with_fins(dir.path(), &format!("{tag}.ork"), tag, planform);
+        let out = dir.path().join(format!("{tag}.vdl"));
+        let o = import(&design, &out, &args);
+        assert!(o.status.success(), "{tag}: {}", stderr(&o));
+        let text = std::fs::read_to_string(&out).unwrap();
+        assert!(text.contains(expected), "{tag}:\n{text}");
+        let c = bin().arg("check").arg(&out).output().unwrap();
+        assert!(c.status.success(), "{tag}: {}\n{text}", stderr(&c));
+    }
+    // An outline that turns back in span: not a fin the language can say, at its element.
+    let design = simple_rocket_with_fins(
+        dir.path(),
+        "jagged.ork",
+        "freeformfinset",
+        "<finpoints><point x=\"0\" y=\"0\"/><point x=\"0.01\" y=\"0.03\"/><point x=\"0.02\" y=\"0.01\"/><point x=\"0.03\" y=\"0.03\"/><point x=\"0.05\" y=\"0\"/></finpoints>",
+    );
+    let out = dir.path().join("jagged").join("x.vdl");
+    std::fs::create_dir(dir.path().join("jagged")).unwrap();
+    let o = import(&design, &out, &args);
+    assert_eq!(o.status.code(), Some(1));
+    let e = stderr(&o);
+    assert!(
+        e.contains("import::unsupported")
+            && e.contains("single-valued")
+            && e.contains("jagged.ork:"),
+        "{e}"
+    );
+    assert!(files_in(&dir.path().join("jagged")).is_empty());
+}

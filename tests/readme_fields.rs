@@ -319,6 +319,16 @@ scenario w {
   wind { profile = [at(0 m, 2 m/s, 270 deg), at(500 m, 6 m/s, 280 deg)] }
   run { stop_time = 1 s }
 }
+vehicle ff {
+  material = m
+  origin = node(1)
+  structure { generate { body { length = 1 m; diameter = 0.1 m; wall = 2 mm; elements = 10 } } }
+  fins { count = 3; planform = freeform; points = [(0, 0) mm, (100, 100) mm, (150, 100) mm, (200, 0) mm]; thickness = 1 mm }
+  key_nodes { body = node(1); fins = fin_point(span = 0.5, chord = 0.25) }
+  modes { fin_flap = per_fin }
+  aero { source = builtin; reference_point = (0, 0, 0) m }
+  forces { gravity {} }
+}
 sweep p { scenario = a; analysis = planar_pinned; grid { run.stop_time = [1 s] } }
 sweep r { scenario = a; analysis = run; grid { run.stop_time = [1 s] } }
 "#;

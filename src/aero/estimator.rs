@@ -132,7 +132,11 @@ pub struct BodyShape {
     pub reference_x: f64,
 }
 
-/// A trapezoidal fin planform.
+/// A fin planform: a trapezoid, or any outline of `check::fin_outline` (issue 34), whose
+/// `root_chord`, `tip_chord` and `tip_le_offset` are then those of the equivalent trapezoid
+/// (same span, root chord, area and leading edge of the mean aerodynamic chord) and whose
+/// [`FinPlanform::le_at`], [`FinPlanform::chord_at`], area, mean aerodynamic chord and
+/// mid-chord sweep follow the true edges (Niskanen 2009, sec. 3.2.2).
 #[derive(Clone, Debug, PartialEq)]
 pub struct FinPlanform {
     /// Span s (root to tip), m.
@@ -144,6 +148,8 @@ pub struct FinPlanform {
     pub tip_le_offset: f64,
     /// Body radius at the fins, m.
     pub body_radius: f64,
+    /// The outline (trapezoidal: the fields above).
+    pub outline: crate::check::ir::FinOutline,
 }
 
 impl FinPlanform {
@@ -160,17 +166,52 @@ impl FinPlanform {
             tip_chord,
             tip_le_offset: root_chord - tip_chord,
             body_radius,
+            outline: crate::check::ir::FinOutline::Trapezoidal,
         }
     }
 
-    /// Local chord at span fraction eta (linear taper).
+    /// The true edges (`check::fin_outline`).
+    pub fn edges(&self) -> crate::check::fin_outline::Edges<'_> {
+        crate::check::fin_outline::Edges {
+            outline: &self.outline,
+            span: self.span,
+            root_chord: self.root_chord,
+            tip_chord: self.tip_chord,
+            tip_le_offset: self.tip_le_offset,
+        }
+    }
+
+    /// Local chord at span fraction eta (linear taper for the trapezoid).
     pub fn chord_at(&self, eta: f64) -> f64 {
+        if self.outline.is_trapezoidal() {
+            self.root_chord + (self.tip_chord - self.root_chord) * eta
+        } else {
+            self.edges().chord(eta * self.span)
+        }
+    }
+
+    /// The (equivalent) trapezoid's chord at span fraction eta: App. A's load distributions
+    /// (`aero::fin_loads`) are derived for the trapezoid and take it for any outline.
+    pub fn trapezoid_chord_at(&self, eta: f64) -> f64 {
         self.root_chord + (self.tip_chord - self.root_chord) * eta
+    }
+
+    /// Leading edge at span fraction eta, m aft of the root leading edge.
+    pub fn le_at(&self, eta: f64) -> f64 {
+        if self.outline.is_trapezoidal() {
+            self.tip_le_offset * eta
+        } else {
+            self.edges().le(eta * self.span)
+        }
     }
 
     /// Planform area A_f of one fin.
     pub fn area(&self) -> f64 {
-        0.5 * (self.root_chord + self.tip_chord) * self.span
+        if self.outline.is_trapezoidal() {
+            0.5 * (self.root_chord + self.tip_chord) * self.span
+        } else {
+            self.edges().area()
+        }
     }
 
     /// Two-panel aspect ratio A = 2 s^2 / A_f.
@@ -198,13 +239,22 @@ impl FinPlanform {
         self.tip_le_offset - (self.root_chord - self.tip_chord)
     }
 
-    /// Mid-chord sweep angle Lambda_c, rad.
+    /// Mid-chord sweep angle Lambda_c, rad; for another outline the angle whose cosine is
+    /// the span average of the local mid-chord line's (Niskanen 2009, sec. 3.2.2).
     pub fn mid_chord_sweep(&self) -> f64 {
+        if !self.outline.is_trapezoidal() {
+            return self.edges().cos_mid_chord_sweep().clamp(-1.0, 1.0).acos();
+        }
         ((self.tip_le_offset + 0.5 * self.tip_chord - 0.5 * self.root_chord) / self.span).atan()
     }
 
-    /// Mean aerodynamic chord and its leading-edge offset aft of the root leading edge.
+    /// Mean aerodynamic chord and its leading-edge offset aft of the root leading edge:
+    /// Barrowman's closed forms for the trapezoid, `(1/A) ∫ c² dy` and `(1/A) ∫ x_le c dy`
+    /// for another outline (Niskanen 2009, sec. 3.2.2; `check::fin_outline`).
     pub fn mean_aerodynamic_chord(&self) -> (f64, f64) {
+        if !self.outline.is_trapezoidal() {
+            return self.edges().mean_aerodynamic_chord();
+        }
         let (cr, ct) = (self.root_chord, self.tip_chord);
         let mac = 2.0 / 3.0 * (cr + ct - cr * ct / (cr + ct));
         let x_le = self.tip_le_offset * (cr + 2.0 * ct) / (3.0 * (cr + ct));
@@ -248,7 +298,7 @@ impl FinPlanform {
     pub fn supersonic_lifting_surface(&self, mach: f64) -> (f64, f64) {
         use super::panel::{Lattice, Spacing, supersonic};
         let mut p = self.clone();
-        if p.tip_chord == 0.0 {
+        if p.tip_chord == 0.0 && p.outline.is_trapezoidal() {
             p.tip_chord = 1e-6 * p.root_chord;
         }
         let at = |n: usize| {
@@ -580,9 +630,15 @@ pub fn fin_axial(
         return skin_friction(re, mach) * 2.0 * f.area() / s_ref;
     };
     let friction = skin_friction(re, mach) * (1.0 + 2.0 * p.thickness / mac) * 2.0 * f.area();
-    let cos_le = (f.span / f.span.hypot(f.tip_le_offset)).min(1.0);
+    // cos^2 of the leading-edge sweep; its span average along a curved or broken edge.
+    let cos2_le = if f.outline.is_trapezoidal() {
+        let cos_le = (f.span / f.span.hypot(f.tip_le_offset)).min(1.0);
+        cos_le * cos_le
+    } else {
+        f.edges().mean_cos2_leading_edge()
+    };
     let pressure =
-        leading_edge_drag(p.section, mach) * cos_le * cos_le + trailing_edge_drag(p.section, mach);
+        leading_edge_drag(p.section, mach) * cos2_le + trailing_edge_drag(p.section, mach);
     (friction + pressure * p.thickness * f.span) / s_ref
 }
 
@@ -710,7 +766,8 @@ impl EstimatedTables {
     }
 }
 
-/// The trapezoidal planform of the `fins` block (x_t = s tan Λ_LE).
+/// The planform of the `fins` block (x_t = s tan Λ_LE of the (equivalent) trapezoid, and
+/// the outline).
 pub fn planform(f: &crate::check::ir::Fins, body_radius: f64) -> FinPlanform {
     FinPlanform {
         span: f.span.value,
@@ -718,5 +775,6 @@ pub fn planform(f: &crate::check::ir::Fins, body_radius: f64) -> FinPlanform {
         tip_chord: f.tip_chord.value,
         tip_le_offset: f.span.value * f.leading_edge_sweep.value.tan(),
         body_radius,
+        outline: f.outline.clone(),
     }
 }

@@ -156,7 +156,7 @@ pub fn elliptic_e(m: f64) -> f64 {
 /// c = c_r (1 - (1 - lambda) cos theta), lambda = c_t/c_r; the OCR's "c_r (1 - lambda) cos
 /// theta + c_r" has a sign slip (it would make the tip chord larger than the root).
 pub fn subsonic_fourier_coefficients(p: &FinPlanform) -> Result<[f64; 4], FinLoadError> {
-    let chord = |theta: f64| p.chord_at(theta.cos());
+    let chord = |theta: f64| p.trapezoid_chord_at(theta.cos());
     fourier_coefficients(p.span, &chord)
 }
 
@@ -353,7 +353,7 @@ fn supersonic_span_load(p: &FinPlanform, beta: f64, eta: f64) -> f64 {
     let s = p.span;
     let eta_c = eta.clamp(0.0, 1.0);
     let y = eta_c * s;
-    let c = p.chord_at(eta);
+    let c = p.trapezoid_chord_at(eta);
     let tan_omega = p.tan_semi_apex();
     let te = p.te_offset();
     // Step 2: the section is cut at the local trailing edge x_te(y) (= c_r when unswept).

@@ -525,6 +525,7 @@ fn unswept_leading_edge_tip_loss_matches_the_tip_cone_field_over_the_true_planfo
             tip_chord: ct,
             tip_le_offset: 0.0,
             body_radius: 0.0,
+            outline: crate::check::ir::FinOutline::Trapezoidal,
         };
         assert!(p.te_offset().abs() / s < beta);
         let load = SpanLoad::new(&p, mach).unwrap();
@@ -572,6 +573,7 @@ fn swept_trailing_edge_section_load_is_the_truncated_conical_field() {
             tip_chord: x_te_root + s * (tan_te - tan_le),
             tip_le_offset: s * tan_le,
             body_radius: 0.0,
+            outline: crate::check::ir::FinOutline::Trapezoidal,
         };
         // F(X, y) of the wedge: the section load of the generating triangle of root chord X
         // (unswept trailing edge, pointed tip: no tip loss), A.2.3-A.2.4.
@@ -582,6 +584,7 @@ fn swept_trailing_edge_section_load_is_the_truncated_conical_field() {
                 tip_chord: 0.0,
                 tip_le_offset: x,
                 body_radius: 0.0,
+                outline: crate::check::ir::FinOutline::Trapezoidal,
             };
             supersonic_span_load(&p, beta, y / p.span)
         };
@@ -635,6 +638,7 @@ fn pointed_fins_obey_the_flow_reversal_theorem() {
             tip_chord: 0.0,
             tip_le_offset: x_t,
             body_radius: 0.0,
+            outline: crate::check::ir::FinOutline::Trapezoidal,
         };
         let (fwd, rev) = (fin(x_t), fin(cr - x_t));
         assert!(x_t / s < beta && (cr - x_t) / s < beta, "edges supersonic");

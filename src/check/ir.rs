@@ -355,7 +355,28 @@ pub struct Fins {
     /// Body-x station of the root trailing edge (<= 0).
     pub root_trailing_edge_x: Q,
     pub material: Material,
+    /// The outline (issue 34, `check::fin_outline`): trapezoidal (the fields above), elliptical
+    /// or freeform. For the latter two `span` and `root_chord` are the fin's, and `tip_chord`
+    /// and `leading_edge_sweep` those of its equivalent trapezoid (same span, root chord, area
+    /// and leading edge of the mean aerodynamic chord), for the analyses that take a trapezoid.
+    #[serde(default, skip_serializing_if = "FinOutline::is_trapezoidal")]
+    pub outline: FinOutline,
 }
+
+impl Fins {
+    /// The fin's edges (`check::fin_outline::Edges`): the true planform.
+    pub fn edges(&self) -> super::fin_outline::Edges<'_> {
+        super::fin_outline::Edges {
+            outline: &self.outline,
+            span: self.span.value,
+            root_chord: self.root_chord.value,
+            tip_chord: self.tip_chord.value,
+            tip_le_offset: self.span.value * self.leading_edge_sweep.value.tan(),
+        }
+    }
+}
+
+pub use super::fin_outline::FinOutline;
 
 /// A fin's cross-section, as OpenRocket offers them (Niskanen 2009, sec. 3.4.4): square
 /// edges, rounded leading and trailing edges, or an airfoil (rounded leading edge, tapering

@@ -8,6 +8,7 @@
 pub mod cli_values;
 mod dispersion;
 pub mod fields;
+pub mod fin_outline;
 mod fixture;
 pub mod ir;
 mod motor;

@@ -318,7 +318,7 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
     // tip chord (structure/generate/spec.rs): a pointed fin (tip chord 0) would need
     // degenerate elements. The aerodynamics take it; the generated structure does not.
     if let (Some(fi), Some(Structure::Generate(_))) = (&fins, &structure) {
-        if fi.tip_chord.value == 0.0 {
+        if fi.tip_chord.value == 0.0 && fi.outline.is_trapezoidal() {
             cx.push(
                 Diagnostic::error(
                     "vdl::fins::tip_chord",
@@ -863,12 +863,69 @@ fn check_fins(
             .and_then(|v| f::quantity(cx, v, Dim::LENGTH));
         f::positive(q, cx)
     };
-    let span = len(cx, &mut fl, "span", "127.23 mm");
-    let root = len(cx, &mut fl, "root_chord", "324.68 mm");
-    let tip = fl
-        .required(cx, "tip_chord", "122.67 mm")
-        .and_then(|v| f::quantity(cx, v, Dim::LENGTH));
-    let tip = f::non_negative(tip, cx);
+    // The outline (issue 34): `trapezoidal` (root and tip chord, a sweep), `elliptical` (root
+    // chord and span) or `freeform` (the polygon's points).
+    let planform_v = fl.value("planform");
+    let kind = match planform_v {
+        Some(v) => f::keyword(
+            cx,
+            v,
+            &[
+                ("trapezoidal", PlanformKind::Trapezoidal),
+                ("elliptical", PlanformKind::Elliptical),
+                ("freeform", PlanformKind::Freeform),
+            ],
+        ),
+        None => Some(PlanformKind::Trapezoidal),
+    };
+    let (span, root, tip, outline) = match kind {
+        Some(PlanformKind::Trapezoidal) | None => {
+            let span = len(cx, &mut fl, "span", "127.23 mm");
+            let root = len(cx, &mut fl, "root_chord", "324.68 mm");
+            let tip = fl
+                .required(cx, "tip_chord", "122.67 mm")
+                .and_then(|v| f::quantity(cx, v, Dim::LENGTH));
+            (
+                span,
+                root,
+                f::non_negative(tip, cx),
+                Some(FinOutline::Trapezoidal),
+            )
+        }
+        Some(PlanformKind::Elliptical) => {
+            let span = len(cx, &mut fl, "span", "127.23 mm");
+            let root = len(cx, &mut fl, "root_chord", "324.68 mm");
+            let pv = planform_v.map_or(b.header, |v| v.span);
+            refuse_for_outline(cx, &mut fl, "elliptical", pv);
+            // The equivalent trapezoid's tip chord (same area): pi/4 c_r s = (c_r + c_t) s / 2.
+            let tip = root.map(|r| Spanned::new((0.5 * std::f64::consts::PI - 1.0) * r.value, pv));
+            (span, root, tip, Some(FinOutline::Elliptical))
+        }
+        Some(PlanformKind::Freeform) => {
+            let pv = planform_v.map_or(b.header, |v| v.span);
+            refuse_for_outline(cx, &mut fl, "freeform", pv);
+            match fl
+                .required(
+                    cx,
+                    "points",
+                    "[(0, 0) mm, (150, 120) mm, (250, 120) mm, (300, 0) mm]",
+                )
+                .and_then(|v| freeform_points(cx, v))
+            {
+                Some((outline, root, span, vspan)) => {
+                    let area = outline_area(&outline, span, root);
+                    let tip = (2.0 * area / span - root).max(0.0);
+                    (
+                        Some(Spanned::new(span, vspan)),
+                        Some(Spanned::new(root, vspan)),
+                        Some(Spanned::new(tip, vspan)),
+                        Some(outline),
+                    )
+                }
+                None => (None, None, None, None),
+            }
+        }
+    };
     let thickness = len(cx, &mut fl, "thickness", "0.6 mm");
     let cross_section = match fl.value("cross_section") {
         Some(v) => f::keyword(
@@ -908,7 +965,7 @@ fn check_fins(
     };
     fl.finish(cx);
 
-    if let (Some(r), Some(t)) = (root, tip) {
+    if let (Some(r), Some(t), Some(FinOutline::Trapezoidal)) = (root, tip, &outline) {
         if t.value > r.value {
             cx.push(
                 Diagnostic::error(
@@ -952,7 +1009,23 @@ fn check_fins(
     // Leading-edge sweep: given, or from the trailing-edge sweep and the taper:
     // x_LE(tip) - x_LE(root) = -(span tan(Lambda_LE)); the tip's trailing edge sits at
     // span tan(Lambda_TE) behind the root's, so tan(Lambda_LE) = tan(Lambda_TE) + (c_r - c_t)/s.
+    let outline = outline?;
     let sweep = match (le, te) {
+        _ if !outline.is_trapezoidal() => {
+            // The equivalent trapezoid's leading edge puts its mean aerodynamic chord's leading
+            // edge where the fin's is: x_MAC = x_t (c_r + 2 c_t) / (3 (c_r + c_t)).
+            let e = crate::check::fin_outline::Edges {
+                outline: &outline,
+                span: span_q.value,
+                root_chord: root_q.value,
+                tip_chord: tip_q.value,
+                tip_le_offset: 0.0,
+            };
+            let (_, x_mac) = e.mean_aerodynamic_chord();
+            let (cr, ct) = (root_q.value, tip_q.value);
+            let x_t = x_mac * 3.0 * (cr + ct) / (cr + 2.0 * ct);
+            Some(Spanned::new((x_t / span_q.value).atan(), tip_q.span))
+        }
         (Some(_), Some((tv, _))) => {
             cx.push(
                 Diagnostic::error(
@@ -1056,7 +1129,146 @@ fn check_fins(
         angles,
         root_trailing_edge_x: station,
         material: material?,
+        outline,
     })
+}
+
+#[derive(Clone, Copy)]
+enum PlanformKind {
+    Trapezoidal,
+    Elliptical,
+    Freeform,
+}
+
+/// The trapezoid's fields have no meaning for an elliptical or freeform fin: a diagnostic at
+/// each one written (marked read so it is not also reported as unknown).
+fn refuse_for_outline(cx: &mut Cx, fl: &mut Fields, which: &str, planform: Span) {
+    let fields: &[&'static str] = if which == "elliptical" {
+        &[
+            "tip_chord",
+            "leading_edge_sweep",
+            "trailing_edge_sweep",
+            "points",
+        ]
+    } else {
+        &[
+            "span",
+            "root_chord",
+            "tip_chord",
+            "leading_edge_sweep",
+            "trailing_edge_sweep",
+        ]
+    };
+    for &name in fields {
+        if let Some(v) = fl.value(name) {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::fins::planform",
+                    format!(
+                        "`{name}` does not describe {} {which} fin",
+                        if which == "elliptical" { "an" } else { "a" }
+                    ),
+                )
+                .label(v.span, "remove this")
+                .label(planform, format!("the planform is {which}"))
+                .with_help(if which == "elliptical" {
+                    "an elliptical fin is given by `root_chord` and `span` (the half ellipse on the root chord)"
+                } else {
+                    "a freeform fin is given by its `points` alone: its span, root and tip chords follow from them"
+                }),
+            );
+        }
+    }
+}
+
+/// Area of an outline of span `span` and root chord `root` (`check::fin_outline`).
+fn outline_area(outline: &FinOutline, span: f64, root: f64) -> f64 {
+    crate::check::fin_outline::Edges {
+        outline,
+        span,
+        root_chord: root,
+        tip_chord: 0.0,
+        tip_le_offset: 0.0,
+    }
+    .area()
+}
+
+/// A freeform fin's `points = [(x, y) mm, ...]` (x aft, y outward from the root, from the
+/// root leading edge out and back to the root trailing edge): the outline, root chord and span,
+/// or a diagnostic at the point that makes it no fin (`check::fin_outline::freeform`).
+fn freeform_points(cx: &mut Cx, v: &Value) -> Option<(FinOutline, f64, f64, Span)> {
+    use crate::check::fin_outline::{OutlineError, freeform};
+    let ValueKind::List(items) = &v.kind else {
+        cx.push(
+            Diagnostic::error(
+                "vdl::type::mismatch",
+                format!("expected a list of points, found {}", v.describe()),
+            )
+            .label(
+                v.span,
+                "write e.g. `[(0, 0) mm, (150, 120) mm, (250, 120) mm, (300, 0) mm]`",
+            ),
+        );
+        return None;
+    };
+    let pts: Vec<Option<[f64; 2]>> = items
+        .iter()
+        .map(|it| f::vector(cx, it, Dim::LENGTH, 2).map(|(c, _)| [c[0], c[1]]))
+        .collect();
+    let pts: Vec<[f64; 2]> = pts.into_iter().collect::<Option<_>>()?;
+    if let Some(k) = pts
+        .iter()
+        .position(|p| !(p[0].is_finite() && p[1].is_finite()))
+    {
+        cx.push(
+            Diagnostic::error("vdl::value::range", "a fin point is not finite")
+                .label(items[k].span, "this point"),
+        );
+        return None;
+    }
+    match freeform(&pts) {
+        Ok((outline, root, span)) => Some((outline, root, span, v.span)),
+        Err(e) => {
+            let (at, msg, label) = match e {
+                OutlineError::TooFew => (
+                    v.span,
+                    "a freeform fin needs at least three points".to_string(),
+                    "too few points".to_string(),
+                ),
+                OutlineError::RootNotOnBody(k) => (
+                    items[k].span,
+                    "the fin's root edge is not on the body: the first and the last point need y = 0".to_string(),
+                    "y is not 0".to_string(),
+                ),
+                OutlineError::BelowRoot(k) => (
+                    items[k].span,
+                    "only the first and the last point of a freeform fin may lie on the body (y = 0)".to_string(),
+                    "y <= 0 between the root points".to_string(),
+                ),
+                OutlineError::NotSingleValued(k) => (
+                    items[k].span,
+                    "the outline is not single-valued in chord per span station: it must go out to the tip with y increasing and back to the root with y decreasing".to_string(),
+                    "y turns back here".to_string(),
+                ),
+                OutlineError::Crosses(k) => (
+                    items[k].span,
+                    "the freeform outline crosses itself: the leading edge meets or passes the trailing edge".to_string(),
+                    "the edges cross at or next to this point".to_string(),
+                ),
+                OutlineError::RootChord => (
+                    v.span,
+                    "the root chord (from the first to the last point) is zero".to_string(),
+                    "root chord 0".to_string(),
+                ),
+            };
+            cx.push(
+                Diagnostic::error("vdl::fins::outline", msg)
+                    .label(at, label)
+                    .with_help("list the points from the root leading edge (0, 0) out to the tip and back to the root trailing edge (c_r, 0), x aft and y outward"),
+            );
+            None
+        }
+    }
 }
 
 fn check_key_nodes(

@@ -353,7 +353,7 @@ pub(crate) fn emit(
     // Fin mass override.
     let fins = &d.fins;
     if let Some(om) = fins.override_mass {
-        let area = 0.5 * (fins.root + fins.tip) * fins.span;
+        let area = fins.area();
         let mg = f64::from(fins.count) * area * fins.thickness * fins.material.density;
         let xc = fins.root_le + fins.root / 2.0;
         add_difference(
@@ -407,12 +407,7 @@ pub(crate) fn emit(
     let mb = rho_b * PI * (r * r - (r - t_b).max(0.0).powi(2)) * (length - ln);
     m_sum += mb;
     mx_sum += mb * (ln + length) / 2.0;
-    let mf = f64::from(fins.count)
-        * 0.5
-        * (fins.root + fins.tip)
-        * fins.span
-        * fins.thickness
-        * fins.material.density;
+    let mf = f64::from(fins.count) * fins.area() * fins.thickness * fins.material.density;
     m_sum += mf;
     mx_sum += mf * (fins.root_le + fins.root / 2.0);
     for m in &masses {
@@ -564,23 +559,61 @@ pub(crate) fn emit(
     let _ = writeln!(o, "    }}");
     let _ = writeln!(o, "  }}");
     let _ = writeln!(o);
-    let _ = writeln!(
-        o,
-        "  # `{}`: {} trapezoidal fins, leading-edge sweep {} over the span.",
-        comment_safe(&fins.name),
-        fins.count,
-        mm(fins.sweep)
-    );
+    match &fins.outline {
+        super::FinShape::Trapezoidal => {
+            let _ = writeln!(
+                o,
+                "  # `{}`: {} trapezoidal fins, leading-edge sweep {} over the span.",
+                comment_safe(&fins.name),
+                fins.count,
+                mm(fins.sweep)
+            );
+        }
+        super::FinShape::Elliptical => {
+            let _ = writeln!(
+                o,
+                "  # `{}`: {} elliptical fins (the half ellipse on the root chord).",
+                comment_safe(&fins.name),
+                fins.count
+            );
+        }
+        super::FinShape::Freeform(p) => {
+            let _ = writeln!(
+                o,
+                "  # `{}`: {} freeform fins, the outline of {} points (x aft of the root leading edge, y outward).",
+                comment_safe(&fins.name),
+                fins.count,
+                p.len()
+            );
+        }
+    }
     let _ = writeln!(o, "  fins {{");
     let _ = writeln!(o, "    count = {}", fins.count);
-    let _ = writeln!(o, "    span = {}", mm(fins.span));
-    let _ = writeln!(o, "    root_chord = {}", mm(fins.root));
-    let _ = writeln!(o, "    tip_chord = {}", mm(fins.tip));
-    let _ = writeln!(
-        o,
-        "    leading_edge_sweep = {} deg",
-        f(fins.sweep.atan2(fins.span).to_degrees(), 4)
-    );
+    match &fins.outline {
+        super::FinShape::Trapezoidal => {
+            let _ = writeln!(o, "    span = {}", mm(fins.span));
+            let _ = writeln!(o, "    root_chord = {}", mm(fins.root));
+            let _ = writeln!(o, "    tip_chord = {}", mm(fins.tip));
+            let _ = writeln!(
+                o,
+                "    leading_edge_sweep = {} deg",
+                f(fins.sweep.atan2(fins.span).to_degrees(), 4)
+            );
+        }
+        super::FinShape::Elliptical => {
+            let _ = writeln!(o, "    planform = elliptical");
+            let _ = writeln!(o, "    span = {}", mm(fins.span));
+            let _ = writeln!(o, "    root_chord = {}", mm(fins.root));
+        }
+        super::FinShape::Freeform(p) => {
+            let _ = writeln!(o, "    planform = freeform");
+            let pts: Vec<String> = p
+                .iter()
+                .map(|&(x, y)| format!("({}, {}) mm", f(x * 1e3, 4), f(y * 1e3, 4)))
+                .collect();
+            let _ = writeln!(o, "    points = [{}]", pts.join(", "));
+        }
+    }
     let _ = writeln!(o, "    thickness = {}", mm(fins.thickness));
     let _ = writeln!(o, "    cross_section = {}", fins.cross_section);
     let _ = writeln!(o, "    cant = {} deg", f(fins.cant, 4));

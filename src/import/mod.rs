@@ -279,6 +279,36 @@ pub struct FinSet {
     pub root_le: f64,
     pub material: OrMaterial,
     pub override_mass: Option<f64>,
+    /// The planform (issue 34): OpenRocket's trapezoidal, elliptical or freeform fin set.
+    pub outline: FinShape,
+}
+
+/// A fin set's planform as OpenRocket stores it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FinShape {
+    Trapezoidal,
+    /// `ellipticalfinset`: the half ellipse on `root` of height `span` (`tip` and `sweep` 0).
+    Elliptical,
+    /// `freeformfinset`: the `<finpoints>` (x aft of the root leading edge, y outward), m.
+    Freeform(Vec<(f64, f64)>),
+}
+
+impl FinSet {
+    /// Planform area of one fin, m².
+    pub fn area(&self) -> f64 {
+        match &self.outline {
+            FinShape::Trapezoidal => 0.5 * (self.root + self.tip) * self.span,
+            FinShape::Elliptical => 0.25 * std::f64::consts::PI * self.root * self.span,
+            FinShape::Freeform(p) => {
+                let mut a = 0.0;
+                for k in 0..p.len() {
+                    let (u, v) = (p[k], p[(k + 1) % p.len()]);
+                    a += u.0 * v.1 - v.0 * u.1;
+                }
+                0.5 * a.abs()
+            }
+        }
+    }
 }
 
 #[derive(Clone, Debug)]
@@ -1133,11 +1163,31 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                     cx.warn(c, format!("{what}: a rail button's drag and mass are not represented (give its mass as an override in OpenRocket to keep it)"));
                 }
             }
-            "trapezoidfinset" => {
-                let root = req(cx, c, "rootchord", &what);
-                let tip = req(cx, c, "tipchord", &what);
-                let span = req(cx, c, "height", &what);
-                let sweep = num(cx, c, "sweeplength").ok().flatten().unwrap_or(0.0);
+            "trapezoidfinset" | "ellipticalfinset" | "freeformfinset" => {
+                // The planform: OpenRocket's trapezoid, its half ellipse on the root chord, or
+                // its polygon of `<finpoints>` (checked as the language checks a freeform fin).
+                let (root, tip, span, sweep, outline) = match tag {
+                    "trapezoidfinset" => (
+                        req(cx, c, "rootchord", &what),
+                        req(cx, c, "tipchord", &what),
+                        req(cx, c, "height", &what),
+                        num(cx, c, "sweeplength").ok().flatten().unwrap_or(0.0),
+                        FinShape::Trapezoidal,
+                    ),
+                    "ellipticalfinset" => (
+                        req(cx, c, "rootchord", &what),
+                        Some(0.0),
+                        req(cx, c, "height", &what),
+                        0.0,
+                        FinShape::Elliptical,
+                    ),
+                    _ => match freeform_fin(cx, c, &what) {
+                        Some((pts, root, span)) => {
+                            (Some(root), Some(0.0), Some(span), 0.0, FinShape::Freeform(pts))
+                        }
+                        None => continue,
+                    },
+                };
                 let thick = req(cx, c, "thickness", &what);
                 let count = num(cx, c, "fincount")
                     .ok()
@@ -1199,53 +1249,15 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                         root_le: le,
                         material: mat,
                         override_mass: om,
+                        outline,
                     });
                 }
             }
-            "freeformfinset" => {
-                let pts: Vec<(f64, f64)> = child(c, "finpoints")
-                    .map(|fp| {
-                        fp.children()
-                            .filter(|q| q.has_tag_name("point"))
-                            .filter_map(|q| {
-                                Some((
-                                    q.attribute("x")?.trim().parse().ok()?,
-                                    q.attribute("y")?.trim().parse().ok()?,
-                                ))
-                            })
-                            .collect()
-                    })
-                    .unwrap_or_default();
-                match self_crossing(&pts) {
-                    Some((i, j)) => cx.error(
-                        "import::fin::crossing",
-                        c,
-                        format!(
-                            "{what}: the fin outline crosses itself (edges {i} and {j} of {})",
-                            pts.len()
-                        ),
-                        "self-crossing outline",
-                    ),
-                    None => cx.error(
-                        "import::unsupported",
-                        c,
-                        format!(
-                            "{what}: freeform fins cannot be represented yet (trapezoidal fins can)"
-                        ),
-                        "freeform fins",
-                    ),
-                }
-            }
-            "ellipticalfinset" | "tubefinset" => cx.error(
+            "tubefinset" => cx.error(
                 "import::unsupported",
                 c,
                 format!(
-                    "{what}: {} cannot be represented yet (trapezoidal fins can)",
-                    if tag == "tubefinset" {
-                        "tube fins"
-                    } else {
-                        "elliptical fins"
-                    }
+                    "{what}: tube fins cannot be represented yet (trapezoidal, elliptical and freeform fins can)"
                 ),
                 "not representable",
             ),
@@ -1263,6 +1275,82 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                 format!("unknown component `<{tag}>` (`{nm}`) in `{parent_name}`"),
                 "unknown component",
             ),
+        }
+    }
+}
+
+/// A `freeformfinset`'s `<finpoints>`: the points, root chord and span, or a diagnostic at
+/// the element (a self-crossing outline names its two edges; one the language's freeform fin
+/// cannot be, `check::fin_outline::freeform`, says why).
+/// A freeform fin's points (m), root chord and span.
+type Freeform = (Vec<(f64, f64)>, f64, f64);
+
+fn freeform_fin(cx: &mut Cx, c: Node, what: &str) -> Option<Freeform> {
+    use crate::check::fin_outline::{OutlineError, freeform};
+    let pts: Vec<(f64, f64)> = child(c, "finpoints")
+        .map(|fp| {
+            fp.children()
+                .filter(|q| q.has_tag_name("point"))
+                .filter_map(|q| {
+                    Some((
+                        q.attribute("x")?.trim().parse().ok()?,
+                        q.attribute("y")?.trim().parse().ok()?,
+                    ))
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    if let Some((i, j)) = self_crossing(&pts) {
+        cx.error(
+            "import::fin::crossing",
+            c,
+            format!(
+                "{what}: the fin outline crosses itself (edges {i} and {j} of {})",
+                pts.len()
+            ),
+            "self-crossing outline",
+        );
+        return None;
+    }
+    let xy: Vec<[f64; 2]> = pts.iter().map(|&(x, y)| [x, y]).collect();
+    match freeform(&xy) {
+        Ok((_, root, span)) => Some((pts, root, span)),
+        Err(e) => {
+            let why = match e {
+                OutlineError::TooFew => "it has fewer than three points".to_string(),
+                OutlineError::RootNotOnBody(k) => {
+                    format!(
+                        "point {} is an end of the root edge but not on the body (y != 0)",
+                        k + 1
+                    )
+                }
+                OutlineError::BelowRoot(k) => {
+                    format!("point {} lies on the body between the root points", k + 1)
+                }
+                OutlineError::NotSingleValued(k) => format!(
+                    "it is not single-valued in chord per span station (it turns back in span at point {})",
+                    k + 1
+                ),
+                OutlineError::Crosses(k) => {
+                    format!(
+                        "its leading edge meets its trailing edge at point {}",
+                        k + 1
+                    )
+                }
+                OutlineError::RootChord => "its root chord is zero".to_string(),
+            };
+            let code = if matches!(e, OutlineError::Crosses(_)) {
+                "import::fin::crossing"
+            } else {
+                "import::unsupported"
+            };
+            cx.error(
+                code,
+                c,
+                format!("{what}: this freeform fin cannot be represented: {why}"),
+                "freeform fin",
+            );
+            None
         }
     }
 }

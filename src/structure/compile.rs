@@ -153,9 +153,10 @@ pub fn generator_spec(v: &Vehicle, g: &ir::Generate) -> GeneratorSpec {
             cant: f.cant.value,
             angles: f.angles.iter().map(|a| a.value).collect(),
             root_trailing_edge_x: f.root_trailing_edge_x.value,
-            span_elements: g.fin_span_elements.value,
+            span_elements: generate::FinSpec::strips_for(&f.outline, g.fin_span_elements.value),
             chord_elements: g.fin_chord_elements.value,
             material: mat(&f.material),
+            outline: f.outline.clone(),
         }),
         point_masses: g
             .point_masses
@@ -280,10 +281,20 @@ fn fin_key_nodes(
                     });
                 }
                 let eta = span.value * f.span.value;
-                let local_chord =
-                    f.root_chord.value + (f.tip_chord.value - f.root_chord.value) * span.value;
-                let x_le = f.root_trailing_edge_x.value + f.root_chord.value
-                    - eta * f.leading_edge_sweep.value.tan();
+                let (local_chord, x_le) = if f.outline.is_trapezoidal() {
+                    (
+                        f.root_chord.value + (f.tip_chord.value - f.root_chord.value) * span.value,
+                        f.root_trailing_edge_x.value + f.root_chord.value
+                            - eta * f.leading_edge_sweep.value.tan(),
+                    )
+                } else {
+                    // The true edges (issue 34).
+                    let e = f.edges();
+                    (
+                        e.chord(eta),
+                        f.root_trailing_edge_x.value + f.root_chord.value - e.le(eta),
+                    )
+                };
                 let x = x_le - chord.value * local_chord;
                 let r = r_root + eta;
                 let target = [x, r * c, r * s];

@@ -129,8 +129,14 @@ pub fn fin_structure(
             .filter(|p| (p[1] - y_min).abs() < 1e-6 * f.span.value)
             .map(|p| {
                 let eta = p[1] / f.span.value;
-                let x_le = eta * f.span.value * f.leading_edge_sweep.value.tan();
-                let c_eta = f.root_chord.value + (f.tip_chord.value - f.root_chord.value) * eta;
+                let (x_le, c_eta) = if f.outline.is_trapezoidal() {
+                    (
+                        eta * f.span.value * f.leading_edge_sweep.value.tan(),
+                        f.root_chord.value + (f.tip_chord.value - f.root_chord.value) * eta,
+                    )
+                } else {
+                    (f.edges().le(p[1]), f.edges().chord(p[1]))
+                };
                 (p[0] - x_le) / c_eta
             })
             .collect();

@@ -252,8 +252,7 @@ impl MachBox {
         }
         let beta = (mach * mach - 1.0).sqrt();
         let p = planform;
-        let x_lo = p.tip_le_offset.min(0.0);
-        let x_hi = p.root_chord.max(p.tip_le_offset + p.tip_chord);
+        let (x_lo, x_hi) = p.edges().x_extent();
         // The span is a whole number of columns (no ragged tip); Δx follows from Δy = Δx/β
         // as near the requested count along the streamwise extent as that allows.
         let wing_cols = ((p.span * beta * boxes as f64 / (x_hi - x_lo)).round() as usize).max(1);
@@ -270,7 +269,7 @@ impl MachBox {
                 let c = [x_lo + (i as f64 + 0.5) * dx, (j as f64 + 0.5) * dy];
                 let k = if c[1] < p.span {
                     let eta = c[1] / p.span;
-                    let le = p.tip_le_offset * eta;
+                    let le = p.le_at(eta);
                     let te = le + p.chord_at(eta);
                     if c[0] > le && c[0] < te {
                         wing.push(i * cols + j);

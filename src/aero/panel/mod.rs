@@ -159,12 +159,15 @@ impl Lattice {
         spanwise: usize,
         spacing: Spacing,
     ) -> Result<Lattice, PanelError> {
+        // Another outline than the trapezoid may end in a point: its tip chord (the equivalent
+        // trapezoid's) may be 0, and the outer strip's panels are then triangles.
         for (what, value) in [
             ("span", planform.span),
             ("root chord", planform.root_chord),
             ("tip chord", planform.tip_chord),
         ] {
-            if !(value.is_finite() && value > 0.0) {
+            let pointed_ok = what == "tip chord" && !planform.outline.is_trapezoidal();
+            if !(value.is_finite() && (value > 0.0 || (pointed_ok && value == 0.0))) {
                 return Err(PanelError::BadPlanform { what, value });
             }
         }
@@ -192,7 +195,7 @@ impl Lattice {
         // Point at chord fraction f on the span station y.
         let at = |f: f64, y: f64| -> [f64; 2] {
             let eta = y / s;
-            [planform.tip_le_offset * eta + f * planform.chord_at(eta), y]
+            [planform.le_at(eta) + f * planform.chord_at(eta), y]
         };
         let mut panels = Vec::with_capacity(chordwise * spanwise);
         for j in 0..spanwise {

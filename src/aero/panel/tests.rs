@@ -22,6 +22,7 @@ pub(super) fn trapezoid(span: f64, cr: f64, ct: f64, x_t: f64) -> FinPlanform {
         tip_chord: ct,
         tip_le_offset: x_t,
         body_radius: 0.0,
+        outline: crate::check::ir::FinOutline::Trapezoidal,
     }
 }
 

@@ -205,6 +205,7 @@ impl WingSpec {
             span_elements: self.span_elements,
             chord_elements: self.chord_elements,
             material,
+            outline: crate::check::ir::FinOutline::Trapezoidal,
         }
     }
 
@@ -266,6 +267,7 @@ impl WingSpec {
             tip_chord: self.tip_chord,
             tip_le_offset: self.span * self.leading_edge_sweep.tan(),
             body_radius: 0.0,
+            outline: crate::check::ir::FinOutline::Trapezoidal,
         }
     }
 

@@ -484,8 +484,16 @@ impl FinAero {
                 ir::Structure::Files(_) => y.iter().copied().fold(f64::INFINITY, f64::min),
             };
             let tan_le = f.leading_edge_sweep.value.tan();
-            let chord_at =
-                |eta: f64| f.root_chord.value + (f.tip_chord.value - f.root_chord.value) * eta;
+            // The true edges for an outline other than the trapezoid (issue 34).
+            let edges = f.edges();
+            let trapezoid = f.outline.is_trapezoidal();
+            let chord_at = |eta: f64| {
+                if trapezoid {
+                    f.root_chord.value + (f.tip_chord.value - f.root_chord.value) * eta
+                } else {
+                    edges.chord(eta * f.span.value)
+                }
+            };
             let mut nodes = Vec::with_capacity(members.len());
             let mut rows = Vec::with_capacity(3 * n * members.len());
             let mut rot_rows = Vec::with_capacity(3 * n * members.len());
@@ -493,8 +501,18 @@ impl FinAero {
             let mut span_arm = Vec::with_capacity(members.len());
             for (j, &k) in members.iter().enumerate() {
                 let eta = (y[j] - y_root) / f.span.value;
-                let x_le = root_le_x - eta * f.span.value * tan_le;
-                let xi = (x_le - c.node_positions[k][0]) / chord_at(eta);
+                let x_le = if trapezoid {
+                    root_le_x - eta * f.span.value * tan_le
+                } else {
+                    root_le_x - edges.le(eta * f.span.value)
+                };
+                let chord = chord_at(eta);
+                // A pointed tip's node has no chord: its chordwise place is immaterial.
+                let xi = if chord > 0.0 {
+                    (x_le - c.node_positions[k][0]) / chord
+                } else {
+                    0.5
+                };
                 let inside = |v: f64| (-PLANFORM_TOL..=1.0 + PLANFORM_TOL).contains(&v);
                 if !(inside(eta) && inside(xi)) {
                     return Err(AeroForceError::NodeOffPlanform {

@@ -207,6 +207,48 @@ fn polygon_moments(v: &[[f64; 2]]) -> [f64; 6] {
     m
 }
 
+/// The planform's moments `[A, ∫a, ∫b, ∫a², ∫b², ∫ab]` in the fin's (a = x - pivot, b =
+/// spanwise) coordinates, exact for each outline: the polygon's by [`polygon_moments`]; the
+/// half ellipse on the root chord (semi-axes `A = c_r/2` along a, `B = s` along b, centred on
+/// the pivot, the middle of the root chord) in closed form: area `π A B/2`, `∫a = 0`,
+/// `∫b = 2 A B²/3`, `∫a² = π A³ B/8`, `∫b² = π A B³/8`, `∫ab = 0` (the half-disc integrals
+/// scaled by the axes).
+fn outline_moments(f: &FinSpec) -> [f64; 6] {
+    use crate::check::ir::FinOutline;
+    match &f.outline {
+        FinOutline::Trapezoidal => {
+            let corners = f.planform_corners().map(|(x, eta)| [x - f.pivot_x(), eta]);
+            polygon_moments(&corners)
+        }
+        FinOutline::Elliptical => {
+            let (a, b) = (0.5 * f.root_chord, f.span);
+            let pi = std::f64::consts::PI;
+            [
+                0.5 * pi * a * b,
+                0.0,
+                2.0 / 3.0 * a * b * b,
+                pi * a.powi(3) * b / 8.0,
+                pi * a * b.powi(3) / 8.0,
+                0.0,
+            ]
+        }
+        FinOutline::Freeform { leading, trailing } => {
+            // Counter-clockwise in (a, b) as the trapezoid's corners: root trailing edge, the
+            // leading edge out to the tip, the trailing edge back in (a = root LE x - x_aft -
+            // pivot).
+            let a0 = f.root_leading_edge_x() - f.pivot_x();
+            let mut v: Vec<[f64; 2]> = vec![[a0 - trailing[0][1], 0.0]];
+            v.extend(leading.iter().map(|p| [a0 - p[1], p[0]]));
+            v.extend(trailing.iter().rev().map(|p| [a0 - p[1], p[0]]));
+            v.dedup();
+            if v.first() == v.last() {
+                v.pop();
+            }
+            polygon_moments(&v)
+        }
+    }
+}
+
 /// One flat fin: r = p0 + a e_a + b e_b + z n over the planform, |z| <= t/2.
 fn add_fin(out: &mut MassProperties, f: &FinSpec, delta: f64, root_radius: f64) {
     let frame = fin_frame(delta, f.cant);
@@ -216,8 +258,7 @@ fn add_fin(out: &mut MassProperties, f: &FinSpec, delta: f64, root_radius: f64) 
         frame.row(2).transpose(),
     );
     let p0 = Vector3::new(f.pivot_x(), 0.0, 0.0) + root_radius * eb;
-    let corners = f.planform_corners().map(|(x, eta)| [x - f.pivot_x(), eta]);
-    let [area, sa, sb, saa, sbb, sab] = polygon_moments(&corners);
+    let [area, sa, sb, saa, sbb, sab] = outline_moments(f);
     let rt = f.material.density * f.thickness;
     let first_local = sa * ea + sb * eb;
     let mut s = area * p0 * p0.transpose()

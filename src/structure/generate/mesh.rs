@@ -133,12 +133,16 @@ pub fn fin_node_maps(
     root: impl Fn(usize) -> NodeMap,
 ) -> Vec<Vec<NodeMap>> {
     let nc = f.chord_elements + 1;
+    let pointed = f.pointed_tip();
     (0..=f.span_elements)
         .map(|j| {
             (0..nc)
                 .map(|i| {
                     if j == 0 {
                         root(i)
+                    } else if pointed && j == f.span_elements {
+                        // The collapsed tip: one node.
+                        NodeMap::Node(first_node + (j - 1) * nc)
                     } else {
                         NodeMap::Node(first_node + (j - 1) * nc + i)
                     }

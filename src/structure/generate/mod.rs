@@ -174,7 +174,7 @@ pub fn generate(spec: &GeneratorSpec) -> Result<FeModel, GenerateError> {
         .collect();
     let n_body = nodes.len();
     let fin_layout = spec.fins.as_ref().map(|f| {
-        let per_fin = f.span_elements * (f.chord_elements + 1);
+        let per_fin = f.nodes_per_fin();
         (f, per_fin, f.fin_angles())
     });
     let n_total = n_body + fin_layout.as_ref().map_or(0, |(f, per, _)| per * f.count);
@@ -221,6 +221,12 @@ pub fn generate(spec: &GeneratorSpec) -> Result<FeModel, GenerateError> {
                 }
             });
             for row in grid.points.iter().skip(1) {
+                // A pointed tip's row is one node (`FinSpec::pointed_tip`).
+                let row = if f.pointed_tip() && std::ptr::eq(row, &grid.points[f.span_elements]) {
+                    &row[..1]
+                } else {
+                    &row[..]
+                };
                 for p in row {
                     nodes.push(Node {
                         id: nodes.len() as u64 + 1,
@@ -279,11 +285,19 @@ pub fn cantilever_plate_model(
     spec::check_fin_planform(&f)?;
     let grid = mesh::fin_grid(&f, 0.0, 0.0);
     let maps = mesh::fin_node_maps(&f, 0, |_| NodeMap::Fixed);
+    let pointed = f.pointed_tip();
     let nodes: Vec<Node> = grid
         .points
         .iter()
         .skip(1)
-        .flatten()
+        .enumerate()
+        .flat_map(|(j, row)| {
+            if pointed && j + 1 == f.span_elements {
+                &row[..1]
+            } else {
+                &row[..]
+            }
+        })
         .enumerate()
         .map(|(i, p)| Node {
             id: i as u64 + 1,

@@ -54,7 +54,9 @@ pub struct BodySpec {
     pub material: MaterialProps,
 }
 
-/// A set of identical flat trapezoidal fins, clamped (rigidly linked) to the body at the root.
+/// A set of identical flat fins, clamped (rigidly linked) to the body at the root: trapezoids,
+/// or any outline of `check::fin_outline` (then `root_chord`, `tip_chord` and `sweep` are the
+/// equivalent trapezoid's, and the mesh follows the true edges).
 #[derive(Clone, Debug, PartialEq)]
 pub struct FinSpec {
     /// Number of fins n.
@@ -76,9 +78,13 @@ pub struct FinSpec {
     pub angles: Vec<f64>,
     /// x of the root trailing edge (<= 0, e.g. -length), m.
     pub root_trailing_edge_x: f64,
+    /// Spanwise strips: for a polygon, at least one per segment between its corners
+    /// ([`FinSpec::for_outline`]).
     pub span_elements: usize,
     pub chord_elements: usize,
     pub material: MaterialProps,
+    /// The outline (trapezoidal: the fields above).
+    pub outline: crate::check::ir::FinOutline,
 }
 
 impl FinSpec {
@@ -103,9 +109,58 @@ impl FinSpec {
         self.root_trailing_edge_x + 0.5 * self.root_chord
     }
 
+    /// The true edges of the planform (`check::fin_outline`).
+    pub fn edges(&self) -> crate::check::fin_outline::Edges<'_> {
+        crate::check::fin_outline::Edges {
+            outline: &self.outline,
+            span: self.span,
+            root_chord: self.root_chord,
+            tip_chord: self.tip_chord,
+            tip_le_offset: self.span * self.sweep.tan(),
+        }
+    }
+
+    /// The spanwise strip count that puts a station at every corner of the outline with at
+    /// least `requested` strips (`Edges::stations`); `requested` for a trapezoid or ellipse.
+    pub fn strips_for(outline: &crate::check::ir::FinOutline, requested: usize) -> usize {
+        match outline {
+            crate::check::ir::FinOutline::Freeform { leading, trailing } => {
+                let mut ys: Vec<f64> = leading.iter().chain(trailing).map(|p| p[0]).collect();
+                ys.sort_by(f64::total_cmp);
+                ys.dedup();
+                requested.max(ys.len().saturating_sub(1))
+            }
+            _ => requested,
+        }
+    }
+
+    /// Whether the tip collapses to a point (elliptical, or a polygon ending in a point): the
+    /// mesh's tip row is then ONE node and the outermost quads are degenerate (two corners on
+    /// that node; their 2 x 2 Gauss points stay inside, so the Jacobian there is regular).
+    pub fn pointed_tip(&self) -> bool {
+        !self.outline.is_trapezoidal() && self.edges().pointed_tip()
+    }
+
+    /// Grid nodes of one fin outside the root row.
+    pub fn nodes_per_fin(&self) -> usize {
+        let nc = self.chord_elements + 1;
+        if self.pointed_tip() {
+            (self.span_elements - 1) * nc + 1
+        } else {
+            self.span_elements * nc
+        }
+    }
+
     /// Planform (x, spanwise distance from the root) of chordwise station i (0 = trailing
     /// edge, `chord_elements` = leading edge) at spanwise station j (0 = root).
     pub fn planform_point(&self, i: usize, j: usize) -> (f64, f64) {
+        if !self.outline.is_trapezoidal() {
+            let e = self.edges();
+            let eta = e.stations(self.span_elements)[j];
+            let chord = e.chord(eta);
+            let x_te = self.root_leading_edge_x() - e.le(eta) - chord;
+            return (x_te + chord * i as f64 / self.chord_elements as f64, eta);
+        }
         let eta = self.span * j as f64 / self.span_elements as f64;
         let chord = self.root_chord + (self.tip_chord - self.root_chord) * eta / self.span;
         let x_le = self.root_leading_edge_x() - eta * self.sweep.tan();
@@ -250,12 +305,14 @@ pub(crate) fn check_fin_planform(f: &FinSpec) -> Result<(), GenerateError> {
     }
     positive("fins.span", f.span)?;
     positive("fins.root_chord", f.root_chord)?;
-    positive("fins.tip_chord", f.tip_chord)?;
+    if f.outline.is_trapezoidal() {
+        positive("fins.tip_chord", f.tip_chord)?;
+    }
     positive("fins.thickness", f.thickness)?;
     finite("fins.sweep", f.sweep)?;
     finite("fins.cant", f.cant)?;
     finite("fins.root_trailing_edge_x", f.root_trailing_edge_x)?;
-    if f.tip_chord > f.root_chord {
+    if f.tip_chord > f.root_chord && f.outline.is_trapezoidal() {
         return Err(GenerateError::BadGeometry {
             what: "fins.tip_chord",
             value: f.tip_chord,
