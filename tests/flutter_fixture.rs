@@ -306,7 +306,14 @@ fn agard_transonic_point_is_answered_on_the_bridge() {
     let o = Command::new(env!("CARGO_BIN_EXE_flexflight"))
         .args(["analyze", "flutter"])
         .arg(example())
-        .args(["--scenario", "m0954", "--aero", "doublet-lattice", "--format", "json"])
+        .args([
+            "--scenario",
+            "m0954",
+            "--aero",
+            "doublet-lattice",
+            "--format",
+            "json",
+        ])
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -323,7 +330,10 @@ fn agard_transonic_point_is_answered_on_the_bridge() {
     assert!((ratio - 0.38420).abs() < 5e-5, "{ratio}");
     let published = &FLUTTER_TESTS[3];
     assert_eq!(published.mach, 0.954);
-    assert!(fsi > published.speed_index, "no transonic dip in linear theory");
+    assert!(
+        fsi > published.speed_index,
+        "no transonic dip in linear theory"
+    );
 }
 
 /// The line of `docs/validation.md` that contains `key` (the first one).

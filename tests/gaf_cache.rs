@@ -303,7 +303,12 @@ fn a_table_of_revision_2_is_not_served_in_the_band() {
     let dir = tempfile::tempdir().unwrap();
     let cache = Cache::new(dir.path());
     let old_key = gaf_key_at_revision("clamped-fin GAF 2", &v, 3, mach, &s).unwrap();
-    write_atomic(dir.path(), &old_key, &GafArtifact::new(&stale, &modes, mach)).unwrap();
+    write_atomic(
+        dir.path(),
+        &old_key,
+        &GafArtifact::new(&stale, &modes, mach),
+    )
+    .unwrap();
     let got = cached_gaf_table(&v, &modes, &lattice, mach, &s, &cache).unwrap();
     assert!(matches!(got.outcome, CacheOutcome::Miss), "{}", got.outcome);
     assert!(same_bits(&got.table, &fresh));

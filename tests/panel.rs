@@ -291,8 +291,16 @@ fn flight_slope_above_mach_one_is_the_supersonic_panels() {
     let centre = |g: usize| t.at(g)[(n + 2) * cols + 2 * n] / t.at(g)[n * cols + 2 * n];
     for (g, mach) in [(2, 1.1), (3, 1.3)] {
         let (a, x) = supersonic::slope_and_centre(&lattice, mach).unwrap();
-        eprintln!("M {mach}: flight {} /rad at {} m, panels {a} at {x}", slope(g), centre(g));
-        assert!((slope(g) / a - 1.0).abs() < 1e-12, "M {mach}: {} vs {a}", slope(g));
+        eprintln!(
+            "M {mach}: flight {} /rad at {} m, panels {a} at {x}",
+            slope(g),
+            centre(g)
+        );
+        assert!(
+            (slope(g) / a - 1.0).abs() < 1e-12,
+            "M {mach}: {} vs {a}",
+            slope(g)
+        );
         assert!((centre(g) - x).abs() < 1e-12 * pf.root_chord, "M {mach}");
     }
     // Mach 1.0: half way between the 0.9 vortex lattice and the 1.1 panels, entry by entry.

@@ -11,8 +11,8 @@ use std::path::Path;
 use crate::aero::atmosphere::{Atmosphere, Standard1976};
 use crate::aero::panel::{Lattice, PanelError};
 use crate::analysis::flutter::fin::{
-    FinAero, FinFlutterError, FinFlutterSettings, FinModes, chordwise_for, clamped_fin_modes,
-    bridged, fin_lattice, gaf_table_bridged, solve_with,
+    FinAero, FinFlutterError, FinFlutterSettings, FinModes, bridged, chordwise_for,
+    clamped_fin_modes, fin_lattice, gaf_table_bridged, solve_with,
 };
 use crate::analysis::flutter::margin::{
     BOUNDARY_REVISION, Boundary, BoundaryArtifact, BoundaryFin, BoundarySpec, solve_boundary,

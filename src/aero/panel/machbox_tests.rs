@@ -278,7 +278,10 @@ fn first_mach_from_the_box_error() {
             w.0 = w.0.max((a - a_ref).abs() / a_ref);
             w.1 = w.1.max((x - x_ref).abs() / p.root_chord);
         }
-        eprintln!("M {mach}: worst slope {:.4}, x_cp {:.4} root chords", w.0, w.1);
+        eprintln!(
+            "M {mach}: worst slope {:.4}, x_cp {:.4} root chords",
+            w.0, w.1
+        );
         w
     };
     let (at_first, below) = (worst(super::machbox::MIN_MACH), worst(1.05));

@@ -281,7 +281,9 @@ pub const SUPERSONIC_LIMIT: f64 = 1.2;
 pub enum SteadyMethod {
     VortexLattice,
     /// `0.9 < M < 1.1`: weight `t` of the 1.1 end.
-    Bridge { t: f64 },
+    Bridge {
+        t: f64,
+    },
     SupersonicPanels,
     Piston,
 }

@@ -536,8 +536,17 @@ pub fn blend_tables(
     let mut u_q: f64 = 0.0;
     for i in 0..lo.ks().len() {
         let (a, b) = (lo.at(i), hi.at(i));
-        let v: Vec<c64> = a.iter().zip(b).map(|(x, y)| *x * (1.0 - t) + *y * t).collect();
-        let jump = a.iter().zip(b).map(|(x, y)| (*y - *x).norm_sqr()).sum::<f64>().sqrt();
+        let v: Vec<c64> = a
+            .iter()
+            .zip(b)
+            .map(|(x, y)| *x * (1.0 - t) + *y * t)
+            .collect();
+        let jump = a
+            .iter()
+            .zip(b)
+            .map(|(x, y)| (*y - *x).norm_sqr())
+            .sum::<f64>()
+            .sqrt();
         let size = v.iter().map(|x| x.norm_sqr()).sum::<f64>().sqrt();
         if size > 0.0 {
             u_q = u_q.max(w * jump / size);
@@ -646,9 +655,7 @@ fn unsteady_values(
                 .map(|&k| gaf_matrix(&rows, &map, n, k / b))
                 .collect())
         }
-        Regime::Transonic { .. } => {
-            Err(PanelError::Untrusted(mach, "harmonic panel model").into())
-        }
+        Regime::Transonic { .. } => Err(PanelError::Untrusted(mach, "harmonic panel model").into()),
         Regime::Subsonic if settings.aero == FinAero::DoubletLattice => {
             let ratio = max_box_aspect(lattice);
             if ratio > MAX_BOX_ASPECT {
@@ -695,11 +702,9 @@ pub fn mach_boxes(planform: &FinPlanform, mach: f64, nu_max: f64) -> usize {
         let cols = ((planform.span * beta * boxes as f64 / extent).round() as usize).max(1);
         planform.span / cols as f64 * beta
     };
-    // Each added box adds at most one column; bounded well within the need.
-    for _ in 0..boxes {
-        if !(limit.is_finite() && dx(boxes) > limit) {
-            break;
-        }
+    // Each added box adds at most one column: at most as many steps as the count itself.
+    let most = 2 * boxes;
+    while boxes < most && limit.is_finite() && dx(boxes) > limit {
         boxes += 1;
     }
     boxes
@@ -734,9 +739,7 @@ pub fn aero_method(planform: &FinPlanform, mach: f64, aero: FinAero) -> &'static
         FinAero::QuasiSteady if mach <= panel::SUBSONIC_LIMIT => {
             "quasi-steady vortex lattice (Prandtl-Glauert)"
         }
-        FinAero::DoubletLattice if mach <= crate::aero::panel::dlm::MACH_LIMIT => {
-            "doublet lattice"
-        }
+        FinAero::DoubletLattice if mach <= crate::aero::panel::dlm::MACH_LIMIT => "doublet lattice",
         FinAero::QuasiSteady => "quasi-steady piston theory",
         _ if supersonic && !machbox::piston_valid(planform, mach) => {
             "Mach box (harmonic supersonic potential)"

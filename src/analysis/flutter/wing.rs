@@ -759,9 +759,13 @@ pub fn direct_unsteady_problem(
     }
     let supersonic = mach >= machbox::MIN_MACH;
     let map = match settings.aero {
-        _ if supersonic && machbox::piston_valid(&modes.planform, mach) => Map::Piston(
-            harmonic::piston_map(&lattice, mach, crate::aero::panel::piston::Correction::Ackeret)?,
-        ),
+        _ if supersonic && machbox::piston_valid(&modes.planform, mach) => {
+            Map::Piston(harmonic::piston_map(
+                &lattice,
+                mach,
+                crate::aero::panel::piston::Correction::Ackeret,
+            )?)
+        }
         _ if supersonic => Map::Box(MachBox::new(
             &modes.planform,
             mach,
