@@ -16,7 +16,9 @@
 //! bridge's stated flutter-speed uncertainty `u` ([`Boundary::uncertainty`]); a row that uses
 //! it is flagged with it (`BoundaryPoint::uncertainty`, the larger of its two Mach nodes'
 //! unless it sits on a node) and the verdict counts its margin divided by `1 + u`, the
-//! conservative side of the uncertainty.
+//! conservative side of the uncertainty. The band's nodes and its two end nodes share one
+//! reduced-frequency grid (up to `1.2 ω_max b` over the lowest speed among them), so a bridged
+//! node blends the end nodes' own tables, each built once.
 //!
 //! A node where no flutter point is found up to the largest speed tried carries that speed
 //! and is flagged as a lower bound (the margin there is at least the value written).
@@ -93,9 +95,10 @@
 //! the node is an upper bound as above.
 
 use super::fin::{
-    FinAero, FinFlutterError, FinFlutterSettings, FinModes, fin_lattice, flutter_model,
-    gaf_table_bridged, in_bridge,
+    FinAero, FinFlutterError, FinFlutterSettings, FinModes, bridge_ends, bridged, fin_lattice,
+    flutter_model, gaf_table, in_bridge,
 };
+use super::pk::GafTable;
 use super::pk::{FlutterAnswer, FlutterError, PkSettings, pk_solve_cut, screen_below};
 use crate::aero::atmosphere::{Atmosphere, STANDARD_MIN_ALTITUDE, Standard1976};
 use crate::aero::panel::piston::Correction;
@@ -106,7 +109,7 @@ pub const CRITERION: f64 = 1.15;
 
 /// Revision of the boundary's computation, part of its cache key: change it whenever the
 /// solution of a given [`BoundarySpec`] would change.
-pub const BOUNDARY_REVISION: &str = "flight flutter boundary r5: transonic nodes 0.95, 1.0, 1.05 and 1.1 on Q(k, M) bridged linearly in Mach between the band's ends (fin::bridged) with the stated speed uncertainty per Mach node; Mach box (panel::machbox) above Mach 1.1 where piston theory's criterion fails, its nodes floored by the box rule as the subsonic ones; clamped fin (fin::clamped_fin_modes), unmatched p-k per (Mach, altitude) node (pk_solve_cut), node speeds [max(0.1 v_hi, box-rule floor), v_hi], a node not converging at its lowest speed started at the next, k table to 1.2 omega_max b / v_lo, the leading-mode screen below the first speed (pk::screen_below) and the answer rule (pk::PkSolution::answer), US Standard Atmosphere 1976";
+pub const BOUNDARY_REVISION: &str = "flight flutter boundary r5: transonic nodes 0.95, 1.0, 1.05 and 1.1 on Q(k, M) bridged linearly in Mach between the band's ends (fin::bridged) with the stated speed uncertainty per Mach node, the band's nodes and ends on one k grid (the band's lowest speed); Mach box (panel::machbox) above Mach 1.1 where piston theory's criterion fails, its nodes floored by the box rule as the subsonic ones; clamped fin (fin::clamped_fin_modes), unmatched p-k per (Mach, altitude) node (pk_solve_cut), node speeds [max(0.1 v_hi, box-rule floor), v_hi], a node not converging at its lowest speed started at the next, k table to 1.2 omega_max b / v_lo, the leading-mode screen below the first speed (pk::screen_below) and the answer rule (pk::PkSolution::answer), US Standard Atmosphere 1976";
 
 /// The ceiling of the margin's altitude grid, m (the built-in estimator's table top).
 pub const CEILING: f64 = 30_000.0;
@@ -377,17 +380,31 @@ pub fn solve_boundary(modes: &FinModes, spec: &BoundarySpec) -> Result<Boundary,
     let pk = PkSettings {
         k_tolerance: spec.k_tolerance,
     };
-    for (&m, &[lo, hi]) in spec.machs.iter().zip(&spec.speed_ranges) {
-        // The box rule binds the lattices and the Mach box (piston theory is local); the Mach
-        // box of `fin::mach_boxes` has as many boxes along the fin as the lattice has panels
-        // along the root chord, so the same floor keeps it at its default count.
+    // The lowest speed of a node's sweep: the box-rule floor binds the lattices and the Mach
+    // box (piston theory is local); the Mach box of `fin::mach_boxes` has as many boxes along
+    // the fin as the lattice has panels along the root chord, so the same floor keeps it near
+    // its default count. A bridged node's ends are a lattice and the Mach box: the same floor.
+    let node_v_lo = |m: f64, lo: f64| -> Result<f64, FinFlutterError> {
         let mach_box = spec.aero.is_harmonic()
             && m >= panel::machbox::MIN_MACH
             && !panel::machbox::piston_valid(&modes.planform, m);
-        // A bridged node's ends are a lattice and the Mach box: the same floor.
         let bridge = spec.aero.is_harmonic() && in_bridge(m, spec.aero);
         let sub = matches!(panel::regime(m)?, Regime::Subsonic) || mach_box || bridge;
-        let v_lo = if sub { lo.max(floor) } else { lo };
+        Ok(if sub { lo.max(floor) } else { lo })
+    };
+    // The nodes of the transonic band and its two ends share one reduced-frequency grid (that
+    // of the lowest speed among them), so each bridged node blends the end nodes' own tables:
+    // built once, kept here by (Mach, k_max) bits.
+    let (b_lo, b_hi) = bridge_ends(spec.aero);
+    let mut band_v_lo = f64::INFINITY;
+    for (&m, &[lo, _]) in spec.machs.iter().zip(&spec.speed_ranges) {
+        if m >= b_lo && m <= b_hi {
+            band_v_lo = band_v_lo.min(node_v_lo(m, lo)?);
+        }
+    }
+    let mut tables: Vec<((u64, u64), GafTable)> = Vec::new();
+    for (&m, &[lo, hi]) in spec.machs.iter().zip(&spec.speed_ranges) {
+        let v_lo = node_v_lo(m, lo)?;
         if !(v_lo.is_finite() && hi > v_lo) {
             return Err(FinFlutterError::Generate(format!(
                 "at Mach {m} the lowest speed the lattice resolves, {v_lo:.1} m/s, is not below the largest, {hi:.1} m/s"
@@ -398,8 +415,22 @@ pub fn solve_boundary(modes: &FinModes, spec: &BoundarySpec) -> Result<Boundary,
             .map(|i| v_lo + (hi - v_lo) * i as f64 / (c - 1) as f64)
             .collect();
         ranges.push([v_lo, hi]);
-        s.k_max = (1.2 * w_max * modes.b_ref() / v_lo).max(0.1);
-        let (gaf, bridge) = gaf_table_bridged(modes, &lattice, m, &s)?;
+        let v_table = if m >= b_lo && m <= b_hi {
+            band_v_lo.min(v_lo)
+        } else {
+            v_lo
+        };
+        s.k_max = (1.2 * w_max * modes.b_ref() / v_table).max(0.1);
+        let settings = s;
+        let (gaf, bridge) = bridged(m, spec.aero, |mm| {
+            let key = (mm.to_bits(), settings.k_max.to_bits());
+            if let Some((_, t)) = tables.iter().find(|(k, _)| *k == key) {
+                return Ok::<_, FinFlutterError>(t.clone());
+            }
+            let t = gaf_table(modes, &lattice, mm, &settings)?;
+            tables.push((key, t.clone()));
+            Ok(t)
+        })?;
         uncertainty.push(bridge.map_or(0.0, |b| b.uncertainty));
         for &rho in &densities {
             let model = flutter_model(modes, rho);
@@ -668,7 +699,9 @@ impl BoundaryArtifact {
             return Err("the cached boundary holds a value that is not finite and positive".into());
         }
         if !self.uncertainty.iter().all(|u| u.is_finite() && *u >= 0.0) {
-            return Err("the cached boundary holds an uncertainty that is not finite and >= 0".into());
+            return Err(
+                "the cached boundary holds an uncertainty that is not finite and >= 0".into(),
+            );
         }
         let flags = |v: &[u8]| -> Result<Vec<bool>, String> {
             v.iter()
