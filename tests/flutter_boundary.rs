@@ -276,8 +276,8 @@ fn a_bad_cache_entry_is_rebuilt_not_trusted_and_not_fatal() {
 fn the_boundary_matches_a_direct_p_k_at_its_nodes_and_between_them() {
     let sc = hpr();
     let mut spec = vehicle_spec(&ESTIMATOR_MACH, 0.0, true, 4, FinAero::Unsteady).unwrap();
-    // Mach 0.6 and 2.0 (the harmonic lattice and piston theory), two altitude nodes.
-    let keep = [2usize, 6];
+    // Mach 0.6 and 2.0 (the harmonic lattice and the Mach box), two altitude nodes.
+    let keep = [2usize, 10];
     spec.machs = keep.iter().map(|&i| spec.machs[i]).collect();
     spec.speed_ranges = keep.iter().map(|&i| spec.speed_ranges[i]).collect();
     spec.altitudes.truncate(2);
@@ -492,12 +492,14 @@ fn rows_outside_the_grid_are_flagged_and_kept_out_of_the_minimum() {
     assert_eq!(j["minimum_including_transonic"]["t"], 2.0);
     assert_eq!(j["minimum_including_transonic"]["in_grid"], false);
     let lines: Vec<&str> = m.csv.lines().collect();
-    assert!(lines[0].ends_with(",in_grid"), "{}", lines[0]);
+    assert!(lines[0].ends_with(",in_grid,uncertainty"), "{}", lines[0]);
     let flags: Vec<&str> = lines[1..]
         .iter()
-        .map(|l| l.rsplit(',').next().unwrap())
+        .map(|l| l.rsplit(',').nth(1).unwrap())
         .collect();
     assert_eq!(flags, ["1", "1", "0"]);
+    // A subsonic grid carries no stated uncertainty.
+    assert!(lines[1..].iter().all(|l| l.ends_with(",0")), "{lines:?}");
     // The outside row is evaluated at the grid's edge (Mach 0.9), not extrapolated.
     let edge: f64 = lines[3].split(',').nth(4).unwrap().parse().unwrap();
     let spec = margin_spec(&sc, &[0.0, 0.4, 0.8]).unwrap();
@@ -527,7 +529,10 @@ fn calisto() -> ir::Scenario {
 fn the_mach_grid_does_not_grow_with_the_tables_resolution() {
     use flexflight::analysis::flutter::margin::vehicle_mach_nodes;
     let sub = [0.0, 0.3, 0.6, 0.9];
-    let with = |above: &[f64]| [&sub[..], above].concat();
+    // Issue 33: the transonic band's nodes and the Mach box's first Mach come with any table
+    // past 0.9.
+    let band = [0.95, 1.0, 1.05, 1.1];
+    let with = |above: &[f64]| [&sub[..], &band[..], above].concat();
     // The estimator's own axis: the grid it always had.
     assert_eq!(
         vehicle_mach_nodes(&ESTIMATOR_MACH),

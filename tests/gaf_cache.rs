@@ -279,6 +279,41 @@ fn a_table_of_the_previous_revision_is_not_served() {
     assert!(!same_bits(&got.table, &piston));
 }
 
+/// Revision 3 answers the transonic band (the blend of the band's end tables, issue 33): an
+/// entry stored under revision 2's key at a Mach in the band (here a table twice the right
+/// one) is not served; the lookup misses and the table is the bridge's. Fails on the old code
+/// (one revision: the stored table is read back; and the band was refused).
+#[test]
+fn a_table_of_revision_2_is_not_served_in_the_band() {
+    use flexflight::ops::gaf_cache::gaf_key_at_revision;
+    let v = sphads1();
+    let s = FinFlutterSettings {
+        k_max: 0.3,
+        k_count: 3,
+        ..small()
+    };
+    let modes = clamped_fin_modes(&v, 3).unwrap();
+    let lattice = fin_lattice(&modes, &s).unwrap();
+    let mach = 1.0;
+    let fresh = gaf_table(&modes, &lattice, mach, &s).unwrap();
+    let values: Vec<Vec<_>> = (0..fresh.ks().len())
+        .map(|i| fresh.at(i).iter().map(|z| *z * 2.0).collect())
+        .collect();
+    let stale = GafTable::new(3, fresh.ks().to_vec(), values).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let cache = Cache::new(dir.path());
+    let old_key = gaf_key_at_revision("clamped-fin GAF 2", &v, 3, mach, &s).unwrap();
+    write_atomic(
+        dir.path(),
+        &old_key,
+        &GafArtifact::new(&stale, &modes, mach),
+    )
+    .unwrap();
+    let got = cached_gaf_table(&v, &modes, &lattice, mach, &s, &cache).unwrap();
+    assert!(matches!(got.outcome, CacheOutcome::Miss), "{}", got.outcome);
+    assert!(same_bits(&got.table, &fresh));
+}
+
 fn flexflight() -> Command {
     Command::new(env!("CARGO_BIN_EXE_flexflight"))
 }

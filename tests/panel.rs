@@ -267,3 +267,48 @@ fn bad_mach_grids_and_finless_vehicles_are_errors() {
     let bad = PanelSettings { chordwise: 0, ..s };
     assert!(fin_model::compile(c, v, &[0.5], bad).is_err());
 }
+
+/// Issue 33: above Mach 1 the flight's lifting-surface fin loads come from the steady
+/// supersonic constant-pressure panels where piston theory's criterion fails. SPHADS-1's fin
+/// has a subsonic leading edge (57.8 deg) up to Mach 1.88: at Mach 1.3 fin 0's rigid
+/// normal-force slope and centre of pressure in the panel model are the supersonic panels'
+/// (`supersonic::slope_and_centre` on the same 8 x 12 cosine lattice; the same linear algebra,
+/// achieved to 1e-15). Fails on the old code (piston theory with Ackeret's factor from 1.2).
+/// In the band the model is the straight line between 0.9 and 1.1.
+#[test]
+fn flight_slope_above_mach_one_is_the_supersonic_panels() {
+    use flexflight::aero::estimator::planform;
+    use flexflight::aero::panel::{Lattice, Spacing, supersonic};
+    let (v, c) = sphads1();
+    let n = c.modes.len();
+    let machs = [0.9, 1.0, 1.1, 1.3];
+    let model = fin_model::compile(c, v, &machs, PanelSettings::default()).unwrap();
+    let pf = planform(v.fins.as_ref().unwrap(), 0.0);
+    let lattice = Lattice::new(&pf, 8, 12, Spacing::Cosine).unwrap();
+    let t = &model.fins[0];
+    let cols = t.cols();
+    let slope = |g: usize| t.at(g)[n * cols + 2 * n] / pf.area();
+    let centre = |g: usize| t.at(g)[(n + 2) * cols + 2 * n] / t.at(g)[n * cols + 2 * n];
+    for (g, mach) in [(2, 1.1), (3, 1.3)] {
+        let (a, x) = supersonic::slope_and_centre(&lattice, mach).unwrap();
+        eprintln!(
+            "M {mach}: flight {} /rad at {} m, panels {a} at {x}",
+            slope(g),
+            centre(g)
+        );
+        assert!(
+            (slope(g) / a - 1.0).abs() < 1e-12,
+            "M {mach}: {} vs {a}",
+            slope(g)
+        );
+        assert!((centre(g) - x).abs() < 1e-12 * pf.root_chord, "M {mach}");
+    }
+    // Mach 1.0: half way between the 0.9 vortex lattice and the 1.1 panels, entry by entry.
+    for (e, (a, b)) in t.at(0).iter().zip(t.at(2)).enumerate() {
+        let want = 0.5 * a + 0.5 * b;
+        assert!(
+            (t.at(1)[e] - want).abs() <= 1e-12 * want.abs().max(1e-12),
+            "entry {e}"
+        );
+    }
+}

@@ -655,7 +655,7 @@ fn index_leads_with_the_answer() {
         "<td>burnout</td><td>t = 2.500 s",
         "<td>landing</td><td>t = 60.000 s, 12.3 m from the pad",
         "min 1.70 (t = 1.000 s), 1.80 at rail exit, 2.10 at max q",
-        "4 flutter margin rows in the transonic gap",
+        "4 flutter margin rows in the transonic band",
         "Warnings (",
     ] {
         before(s);
@@ -755,7 +755,7 @@ fn flutter_figures_mark_what_matters() {
     assert!(
         texts
             .iter()
-            .any(|t| t == "untrusted (transonic gap or outside the grid)"),
+            .any(|t| t == "transonic bridge (stated uncertainty) or outside the grid"),
         "{texts:?}"
     );
     assert!(

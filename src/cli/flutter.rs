@@ -317,12 +317,6 @@ fn cmd_free(
     if sc.vehicle.fins.is_none() {
         return refuse(&FinFlutterError::NoFins, &checked.sources);
     }
-    if crate::aero::panel::flutter_gap(condition.mach) {
-        let e = FinFlutterError::Transonic {
-            mach: condition.mach,
-        };
-        return refuse(&e, &checked.sources);
-    }
     let cache_dir = a.cache.cache_dir.as_deref();
     let outcome =
         match super::compile::compile_cached(checked, &sc.vehicle, cache_dir, format, term) {

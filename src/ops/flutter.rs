@@ -11,8 +11,8 @@ use std::path::Path;
 use crate::aero::atmosphere::{Atmosphere, Standard1976};
 use crate::aero::panel::{Lattice, PanelError};
 use crate::analysis::flutter::fin::{
-    FinAero, FinFlutterError, FinFlutterSettings, FinModes, chordwise_for, clamped_fin_modes,
-    fin_lattice, solve_at, solve_with,
+    FinAero, FinFlutterError, FinFlutterSettings, FinModes, bridged, chordwise_for,
+    clamped_fin_modes, fin_lattice, gaf_table_bridged, solve_with,
 };
 use crate::analysis::flutter::margin::{
     BOUNDARY_REVISION, Boundary, BoundaryArtifact, BoundaryFin, BoundarySpec, solve_boundary,
@@ -77,6 +77,8 @@ pub struct FinFlutter {
     pub matched: Option<MatchedPoint>,
     /// The clamped fin's GAF table through the cache (`None`: the free vehicle, or no cache).
     pub gaf_cache: Option<GafCacheUse>,
+    /// The transonic bridge of the generalised forces, in the band (`fin::bridged`).
+    pub bridge: Option<crate::analysis::flutter::fin::TransonicBridge>,
 }
 
 /// How a clamped-fin solution got its GAF table ([`super::gaf_cache`]).
@@ -360,6 +362,7 @@ pub fn solve_free(
         body_aero,
         lattice,
         vacuum_omega,
+        bridge,
     } = crate::analysis::flutter::vehicle::solve_coordinates(
         variant,
         coords,
@@ -390,6 +393,7 @@ pub fn solve_free(
         critical_thickness: None,
         matched: None,
         gaf_cache: None,
+        bridge,
         free_vehicle: Some(FreeVehicle {
             n_elastic,
             fins,
@@ -411,7 +415,6 @@ pub fn outcome_name(o: &CacheOutcome) -> &'static str {
 
 pub fn flutter_code(e: &FinFlutterError) -> &'static str {
     match e {
-        FinFlutterError::Transonic { .. } => "analysis::flutter::transonic",
         FinFlutterError::NotGenerated => "analysis::flutter::not_generated",
         FinFlutterError::NoFins => "analysis::flutter::no_fins",
         FinFlutterError::Panel(PanelError::TooCoarse { .. }) => "analysis::flutter::too_few_panels",
@@ -444,37 +447,33 @@ pub fn solve_clamped(
     let w_max = modes.omega.iter().copied().fold(0.0, f64::max);
     let settings = sweep_settings(aero, speeds, w_max, modes.b_ref(), &modes);
     let lattice: Lattice = fin_lattice(&modes, &settings)?;
-    let mut gaf_cache = None;
-    let (solution, truncated) = match cache {
-        None => solve_at(
-            &modes,
-            &lattice,
-            condition.mach,
-            condition.density,
-            speeds,
-            &settings,
-        )?,
-        Some(cache) => {
-            let c = super::gaf_cache::cached_gaf_table(
-                v,
-                &modes,
-                &lattice,
-                condition.mach,
-                &settings,
-                cache,
-            )?;
+    let mut gaf_cache: Option<GafCacheUse> = None;
+    // In the transonic band the two end tables (each through the cache) are blended
+    // (`fin::bridged`); the cache use reported is the last table's, `miss` if any missed.
+    let (gaf, bridge) = match cache {
+        None => gaf_table_bridged(&modes, &lattice, condition.mach, &settings)?,
+        Some(cache) => bridged(condition.mach, aero, |m| {
+            let c = super::gaf_cache::cached_gaf_table(v, &modes, &lattice, m, &settings, cache)?;
+            let missed = gaf_cache.as_ref().is_some_and(|g| g.outcome != "hit");
+            let previous = gaf_cache.take();
             gaf_cache = Some(GafCacheUse {
                 hash: c.key.map(|k| k.to_hex()),
-                outcome: outcome_name(&c.outcome),
+                outcome: if missed {
+                    previous.as_ref().map_or("miss", |g| g.outcome)
+                } else {
+                    outcome_name(&c.outcome)
+                },
                 warning: match &c.outcome {
                     CacheOutcome::Rebuilt { .. } => Some(format!("GAF table: {}", c.outcome)),
-                    _ => c.warning,
+                    _ => c.warning.or(previous.and_then(|g| g.warning)),
                 },
             });
-            solve_with(&modes, &c.table, condition.density, speeds)?
-        }
+            Ok::<_, FinFlutterError>(c.table)
+        })?,
     };
+    let (solution, truncated) = solve_with(&modes, &gaf, condition.density, speeds)?;
     Ok(FinFlutter {
+        bridge,
         gaf_cache,
         modes,
         condition,
@@ -525,7 +524,12 @@ pub fn report_text(r: &FinFlutter) -> String {
         t,
         "{case}, {} fin aerodynamics ({}), Mach {:.4}, altitude {:.0} m (rho {:.4} kg/m3, a {:.2} m/s)",
         r.aero.name(),
-        crate::analysis::flutter::fin::aero_method(&r.modes.planform, c.mach, r.aero),
+        crate::analysis::flutter::fin::aero_method_bridged(
+            &r.modes.planform,
+            c.mach,
+            r.aero,
+            r.bridge.as_ref()
+        ),
         c.mach,
         c.altitude,
         c.density,
@@ -709,7 +713,14 @@ pub fn summary_json(r: &FinFlutter) -> serde_json::Value {
         "case": if r.free_vehicle.is_some() { "free_vehicle" } else { "clamped_fin" },
         "free_vehicle": free,
         "aero": r.aero,
-        "aero_method": crate::analysis::flutter::fin::aero_method(&r.modes.planform, c.mach, r.aero),
+        "aero_method": crate::analysis::flutter::fin::aero_method_bridged(&r.modes.planform, c.mach, r.aero, r.bridge.as_ref()),
+        "transonic_bridge": r.bridge.as_ref().map(|b| serde_json::json!({
+            "low_mach": b.low,
+            "high_mach": b.high,
+            "weight_high": b.t,
+            "matrix_uncertainty": b.matrix_uncertainty,
+            "speed_uncertainty": b.uncertainty,
+        })),
         "mach": c.mach,
         "altitude_m": c.altitude,
         "fin_thickness_m": r.modes.thickness,
@@ -1133,9 +1144,11 @@ pub fn flight_margin(
         }
     }
     let mut csv = String::from(
-        "t,mach,altitude,airspeed,flutter_speed,flutter_mach,speed_margin,q_margin,trusted,lower_bound,in_grid\n",
+        "t,mach,altitude,airspeed,flutter_speed,flutter_mach,speed_margin,q_margin,trusted,lower_bound,in_grid,uncertainty\n",
     );
-    // (margin, row) minima: over trusted rows inside the grid and over all rows.
+    // (margin, row) minima: over the rows inside the grid, each margin divided by 1 + u (its
+    // transonic bridge's stated uncertainty, `margin::BoundaryPoint::uncertainty`: the
+    // conservative side), and over all rows.
     let mut min_trusted: Option<(f64, usize)> = None;
     let mut min_all: Option<(f64, usize)> = None;
     let mut untrusted = 0usize;
@@ -1182,12 +1195,13 @@ pub fn flight_margin(
         if min_all.is_none_or(|(x, _)| margin < x) {
             min_all = Some((margin, i));
         }
-        if p.trusted && p.in_grid && min_trusted.is_none_or(|(x, _)| margin < x) {
-            min_trusted = Some((margin, i));
+        let conservative = margin / (1.0 + p.uncertainty);
+        if p.in_grid && min_trusted.is_none_or(|(x, _)| conservative < x) {
+            min_trusted = Some((conservative, i));
         }
         let _ = writeln!(
             csv,
-            "{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{}",
             r[0],
             m,
             h,
@@ -1198,7 +1212,8 @@ pub fn flight_margin(
             margin * margin,
             p.trusted as u8,
             p.lower_bound as u8,
-            p.in_grid as u8
+            p.in_grid as u8,
+            p.uncertainty
         );
     }
     let fin = Tn4197Fin {
@@ -1231,6 +1246,7 @@ pub fn flight_margin(
                 "lower_bound": points[i].lower_bound,
                 "upper_bound": points[i].upper_bound,
                 "trusted": points[i].trusted,
+                "uncertainty": points[i].uncertainty,
                 "raised_start": points[i].raised_start,
                 "in_grid": points[i].in_grid,
             })
@@ -1257,7 +1273,7 @@ pub fn flight_margin(
     if untrusted > 0 {
         let _ = write!(
             warnings,
-            "; warning: {untrusted} rows in the transonic gap 0.9 < M < 1.2 (blended, untrusted)"
+            "; {untrusted} rows in the transonic band on bridged aerodynamic matrices (each margin counted divided by 1 + its stated uncertainty)"
         );
     }
     if outside > 0 {
@@ -1284,12 +1300,20 @@ pub fn flight_margin(
     }
     let line = match critical {
         Some((m, i)) => format!(
-            "flutter margin (clamped fin): min V_F/V = {:.3}{} at t = {:.3} s (Mach {:.3}, {:.0} m), criterion {CRITERION}: {}{warnings}",
+            "flutter margin (clamped fin): min V_F/V = {:.3}{}{} at t = {:.3} s (Mach {:.3}, {:.0} m), criterion {CRITERION}: {}{warnings}",
             m,
             if points[i].lower_bound {
                 " or more"
             } else {
                 ""
+            },
+            if points[i].uncertainty > 0.0 {
+                format!(
+                    " (transonic bridge: V_F/V / (1 + u), u = {:.1} %)",
+                    100.0 * points[i].uncertainty
+                )
+            } else {
+                String::new()
             },
             o.rows[i][0],
             o.rows[i][cm],
@@ -1534,9 +1558,6 @@ pub fn solve_request(
     }
     if sc.vehicle.fins.is_none() {
         return Err(refuse(&FinFlutterError::NoFins));
-    }
-    if crate::aero::panel::flutter_gap(mach) {
-        return Err(refuse(&FinFlutterError::Transonic { mach }));
     }
     let outcome = super::compile::compile_cached(checked, &sc.vehicle, cache_dir)?;
     let cache = Cache::resolve(cache_dir);

@@ -72,6 +72,11 @@ pub struct TunnelFlutter {
     pub panels: (usize, usize),
     pub reference_frequency: Option<f64>,
     pub solution: PkSolution,
+    /// The aerodynamic method at this Mach as the reports name it (the subsonic lattice, the
+    /// transonic bridge with its uncertainty, the Mach box or piston theory).
+    pub method: String,
+    /// The transonic bridge of the generalised forces, in the band (`fin::bridged`).
+    pub bridge: Option<crate::analysis::flutter::fin::TransonicBridge>,
 }
 
 /// Solves the tunnel test `t` with `aero` over `speeds` with `n_modes` modes.
@@ -83,16 +88,26 @@ pub fn solve_tunnel(
     aero: AeroChoice,
 ) -> Result<TunnelFlutter, WingError> {
     let spec = wing_spec(&t.fixture);
+    let spec_planform = spec.planform();
     // The aerodynamic model's Mach range first, on a one-panel lattice: a Mach it refuses
     // is said before the plate's eigen-solve.
+    // The unsteady choices answer any Mach (their lattice, the transonic bridge, the Mach box
+    // or piston theory: `wing::unsteady_problem`); the quasi-steady one is subsonic only.
     let probe = Lattice::new(&spec.planform(), 1, 1, Spacing::Uniform)?;
+    crate::aero::panel::regime(mach)?;
+    let (_, top) = crate::analysis::flutter::fin::bridge_ends(aero.model());
     match aero {
-        AeroChoice::Unsteady => {
-            HarmonicVlm::new(&probe, mach, &WakeSettings::default())?;
+        AeroChoice::Unsteady if mach <= top => {
+            if !crate::analysis::flutter::fin::in_bridge(mach, aero.model()) {
+                HarmonicVlm::new(&probe, mach, &WakeSettings::default())?;
+            }
         }
-        AeroChoice::DoubletLattice => {
-            Dlm::new(&probe, mach)?;
+        AeroChoice::DoubletLattice if mach <= top => {
+            if !crate::analysis::flutter::fin::in_bridge(mach, aero.model()) {
+                Dlm::new(&probe, mach)?;
+            }
         }
+        AeroChoice::Unsteady | AeroChoice::DoubletLattice => {}
         AeroChoice::QuasiSteady => {
             vlm::force_map(&probe, mach)?;
         }
@@ -100,6 +115,7 @@ pub fn solve_tunnel(
     let modes = spec.modes(n_modes)?;
     let density = t.density.value;
     let spanwise = t.fixture.spanwise_panels.value;
+    let mut bridge = None;
     let (solution, panels) = match aero {
         AeroChoice::QuasiSteady => {
             let chordwise = chordwise_for(&modes.planform, k_max_for(&modes, speeds[0]));
@@ -127,6 +143,7 @@ pub fn solve_tunnel(
                 });
             }
             let p = unsteady_problem(&modes, mach, density, &settings)?;
+            bridge = p.bridge;
             (
                 screened(&p.model, &p.gaf, speeds)?,
                 (p.chordwise, p.spanwise),
@@ -144,6 +161,16 @@ pub fn solve_tunnel(
         aero,
         panels,
         solution,
+        method: match aero {
+            AeroChoice::QuasiSteady => aero_name(aero).to_string(),
+            _ => crate::analysis::flutter::fin::aero_method_bridged(
+                &spec_planform,
+                mach,
+                aero.model(),
+                bridge.as_ref(),
+            ),
+        },
+        bridge,
     })
 }
 
@@ -179,7 +206,7 @@ pub fn report_text(r: &TunnelFlutter) -> String {
     let s = &r.solution;
     let _ = writeln!(
         t,
-        "scenario {}: fixture {} clamped at its root ({} x {} plate, mass {:.4} kg, density {:.2} kg/m3), {} aerodynamics on {} x {} panels, Mach {:.4}, air density {:.5} kg/m3, mass ratio {:.3}",
+        "scenario {}: fixture {} clamped at its root ({} x {} plate, mass {:.4} kg, density {:.2} kg/m3), {} aerodynamics ({}) on {} x {} panels, Mach {:.4}, air density {:.5} kg/m3, mass ratio {:.3}",
         r.name,
         r.fixture,
         r.spec.chord_elements,
@@ -187,6 +214,7 @@ pub fn report_text(r: &TunnelFlutter) -> String {
         r.spec.mass(),
         r.spec.density_kg_m3(),
         aero_name(r.aero),
+        r.method,
         r.panels.0,
         r.panels.1,
         r.mach,
@@ -256,6 +284,14 @@ pub fn summary_json(r: &TunnelFlutter) -> serde_json::Value {
             AeroChoice::QuasiSteady => "quasi_steady",
         },
         "panels": [r.panels.0, r.panels.1],
+        "aero_method": r.method,
+        "transonic_bridge": r.bridge.as_ref().map(|b| serde_json::json!({
+            "low_mach": b.low,
+            "high_mach": b.high,
+            "weight_high": b.t,
+            "matrix_uncertainty": b.matrix_uncertainty,
+            "speed_uncertainty": b.uncertainty,
+        })),
         "mach": r.mach,
         "density_kg_m3": r.density,
         "surface_mass_kg": r.spec.mass(),

@@ -34,8 +34,10 @@ use crate::structure::compile::CompiledVehicle;
 /// tables or weights, so that no stale artifact is served. 3: the fin tables' supersonic slope
 /// and centre of pressure from the steady supersonic lifting surface (issue 33). 4: the fin
 /// axial coefficient sees the fin's thickness and cross-section (issue 34; conical noses'
-/// body tables are unchanged).
-pub const AERO_REVISION: u32 = 4;
+/// body tables are unchanged). 5: the lifting-surface panel matrices above Mach 1 from the
+/// steady supersonic panels where piston theory's criterion fails, the band 0.9-1.1 bridged
+/// (issue 33).
+pub const AERO_REVISION: u32 = 5;
 
 /// Source label of the estimated body table (as [`EstimatedTables::estimate`] names it).
 const BUILTIN_BODY: &str = "builtin-body.csv";

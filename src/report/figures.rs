@@ -158,7 +158,7 @@ pub fn ground_track(h: &History) -> PlannedFigure {
     }
 }
 
-/// Rows of `flutter_margin.csv` the margin does not trust: `trusted` 0 (the transonic gap)
+/// Rows of `flutter_margin.csv` the margin marks: `trusted` 0 (a stated uncertainty: the transonic bridge)
 /// or `in_grid` 0 (outside the boundary's grid); as time intervals reaching half-way to
 /// the neighbouring rows.
 pub fn untrusted_intervals(m: &History) -> Vec<(f64, f64)> {
@@ -195,15 +195,19 @@ pub fn untrusted_intervals(m: &History) -> Vec<(f64, f64)> {
     out
 }
 
-/// The first trusted row inside the grid whose speed margin `V_F / V` is below
-/// `criterion`: `(t, mach, margin)`.
+/// The first row inside the grid whose speed margin `V_F / V`, divided by `1 + u` (its
+/// `uncertainty`, the transonic bridge's; the verdict's conservative side), is below
+/// `criterion`: `(t, mach, margin)` (the divided margin). Without an `uncertainty` column
+/// (older files) a row with `trusted` 0 is left out, as the verdict then did.
 pub fn first_violation(m: &History, criterion: f64) -> Option<(f64, f64, f64)> {
     let t = m.time();
     let (mach, margin) = (m.column("mach")?, m.column("speed_margin")?);
     let ok = |name: &str, r: usize| m.column(name).is_none_or(|c| c[r] != 0.0);
+    let u = m.column("uncertainty");
+    let counted = |r: usize| u.map_or(margin[r], |u| margin[r] / (1.0 + u[r]));
     (0..t.len())
-        .find(|&r| ok("trusted", r) && ok("in_grid", r) && margin[r] < criterion)
-        .map(|r| (t[r], mach[r], margin[r]))
+        .find(|&r| (u.is_some() || ok("trusted", r)) && ok("in_grid", r) && counted(r) < criterion)
+        .map(|r| (t[r], mach[r], counted(r)))
 }
 
 /// Flight Mach against the clamped fin's flutter Mach over time (`flutter_margin.csv`),
@@ -234,7 +238,7 @@ pub fn flutter_margin(m: &History, criterion: f64) -> PlannedFigure {
                 },
             ],
             shaded: untrusted_intervals(m),
-            shaded_label: "untrusted (transonic gap or outside the grid)".to_string(),
+            shaded_label: "transonic bridge (stated uncertainty) or outside the grid".to_string(),
             points: first_violation(m, criterion)
                 .map(|(t, mach, margin)| MarkedPoint {
                     x: t,
@@ -250,7 +254,7 @@ pub fn flutter_margin(m: &History, criterion: f64) -> PlannedFigure {
     PlannedFigure {
         stem: "flutter_margin".to_string(),
         caption: format!(
-            "Flight Mach against the flutter Mach of the clamped fin and the criterion line (V_F/V = {criterion}); untrusted rows shaded, the first violation of the criterion marked"
+            "Flight Mach against the flutter Mach of the clamped fin and the criterion line (V_F/V = {criterion}); rows with a stated uncertainty (transonic bridge) or outside the grid shaded, the first violation of the criterion (margin over 1 + u) marked"
         ),
         plot,
     }

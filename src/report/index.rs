@@ -298,7 +298,7 @@ pub fn warning_lines(summary: &Value, extra: &[String]) -> Vec<String> {
     for (key, what) in [
         (
             "transonic_rows",
-            "flutter margin rows in the transonic gap 0.9 < M < 1.2 (blended, untrusted)",
+            "flutter margin rows in the transonic band (bridged aerodynamic matrices: margin counted divided by 1 + its stated uncertainty)",
         ),
         (
             "outside_grid_rows",

@@ -35,12 +35,16 @@
 //!    Mach: its `Q`-rows and `η`-columns are the aerodynamic stiffness (times `q`), its `Q`-rows
 //!    and `η̇`-columns the aerodynamic damping (times `q / V`), the `a`-columns the coupling with
 //!    the rigid incidence and rates.
-//! 4. Between `M = 0.9` and `1.2` the transfer matrix is the linear blend in Mach of those at
-//!    0.9 (vortex lattice) and 1.2 (piston theory) ([`super::Regime`]).
+//! 4. The method per Mach is [`super::steady_method`] (issue 33): the vortex lattice to 0.9;
+//!    from 1.1 the steady supersonic constant-pressure panels ([`super::supersonic`]: normalwash
+//!    at their collocation points, forces at the centroids), valid for subsonic leading edges,
+//!    or piston theory where its criterion holds (`M >= 2.5` and a supersonic leading edge);
+//!    between 0.9 and 1.1 the transfer matrix is the linear blend in Mach of those at 0.9
+//!    (vortex lattice) and 1.1 (supersonic panels), the transonic bridge.
 
 use super::piston::{self, Correction};
 use super::spline::{SplineError, surface_spline};
-use super::{Lattice, PanelError, Regime, Spacing, regime, vlm};
+use super::{Lattice, PanelError, Spacing, SteadyMethod, steady_method, supersonic, vlm};
 use crate::aero::estimator::planform;
 use crate::check::ir;
 use crate::structure::compile::CompiledVehicle;
@@ -293,12 +297,17 @@ pub fn compile(
     let controls: Vec<[f64; 2]> = lattice.panels.iter().map(|p| p.control).collect();
     let bounds: Vec<[f64; 2]> = lattice.panels.iter().map(|p| p.bound_mid()).collect();
     let centroids: Vec<[f64; 2]> = lattice.panels.iter().map(|p| p.centroid).collect();
-    let regimes: Vec<Regime> = machs
+    let methods: Vec<SteadyMethod> = machs
         .iter()
-        .map(|&m| regime(m))
+        .map(|&m| steady_method(&pf, m))
         .collect::<Result<_, _>>()
         .map_err(perr)?;
-    // Both regimes' projections and the two bridge maps are always built (cheap next to the
+    let collocation: Vec<[f64; 2]> = lattice
+        .panels
+        .iter()
+        .map(|p| supersonic::collocation_point(&p.corners))
+        .collect();
+    // Every method's projection and the two bridge maps are always built (cheap next to the
     // per-Mach maps), so no branch below can miss one.
     let mut projections = Vec::with_capacity(f.angles.len());
     for fin in 0..f.angles.len() {
@@ -306,32 +315,38 @@ pub fn compile(
         let scale = pf.root_chord;
         let sub = Projection::new(&s, n, &controls, &bounds, scale, fin)?;
         let sup = Projection::new(&s, n, &centroids, &centroids, scale, fin)?;
-        projections.push((sub, sup));
+        let pan = Projection::new(&s, n, &collocation, &centroids, scale, fin)?;
+        projections.push((sub, sup, pan));
     }
     let mut fins: Vec<FinTransfer> = (0..f.angles.len())
         .map(|_| FinTransfer { n, t: Vec::new() })
         .collect();
     let klo = vlm::force_map(&lattice, super::SUBSONIC_LIMIT).map_err(perr)?;
-    let khi =
-        piston::force_map(&lattice, super::SUPERSONIC_LIMIT, settings.correction).map_err(perr)?;
-    for (&mach, r) in machs.iter().zip(&regimes) {
+    let khi = supersonic::force_map(&lattice, super::machbox::MIN_MACH).map_err(perr)?;
+    for (&mach, r) in machs.iter().zip(&methods) {
         match r {
-            Regime::Subsonic => {
+            SteadyMethod::VortexLattice => {
                 let k = vlm::force_map(&lattice, mach).map_err(perr)?;
-                for (out, (sub, _)) in fins.iter_mut().zip(&projections) {
+                for (out, (sub, _, _)) in fins.iter_mut().zip(&projections) {
                     out.t.extend(sub.transfer(&k, n));
                 }
             }
-            Regime::Supersonic => {
+            SteadyMethod::Piston => {
                 let k = piston::force_map(&lattice, mach, settings.correction).map_err(perr)?;
-                for (out, (_, sup)) in fins.iter_mut().zip(&projections) {
+                for (out, (_, sup, _)) in fins.iter_mut().zip(&projections) {
                     out.t.extend(sup.transfer(&k, n));
                 }
             }
-            Regime::Transonic { t: w } => {
-                for (out, (sub, sup)) in fins.iter_mut().zip(&projections) {
+            SteadyMethod::SupersonicPanels => {
+                let k = supersonic::force_map(&lattice, mach).map_err(perr)?;
+                for (out, (_, _, pan)) in fins.iter_mut().zip(&projections) {
+                    out.t.extend(pan.transfer(&k, n));
+                }
+            }
+            SteadyMethod::Bridge { t: w } => {
+                for (out, (sub, _, pan)) in fins.iter_mut().zip(&projections) {
                     let lo = sub.transfer(&klo, n);
-                    let hi = sup.transfer(&khi, n);
+                    let hi = pan.transfer(&khi, n);
                     out.t
                         .extend(lo.iter().zip(&hi).map(|(a, b)| (1.0 - w) * a + w * b));
                 }
@@ -356,13 +371,14 @@ impl PanelModel {
         let st = &self.settings;
         let _ = writeln!(
             s,
-            "fin panels: {} x {} {:?} lattice per fin; vortex lattice (Prandtl-Glauert) M <= {}, piston theory ({:?}) M >= {}, linear blend between",
+            "fin panels: {} x {} {:?} lattice per fin; vortex lattice (Prandtl-Glauert) M <= {}, steady supersonic panels M >= {} (piston theory, {:?}, where M >= {} with a supersonic leading edge), linear blend between",
             st.chordwise,
             st.spanwise,
             st.spacing,
             super::SUBSONIC_LIMIT,
+            super::machbox::MIN_MACH,
             st.correction,
-            super::SUPERSONIC_LIMIT
+            super::machbox::PISTON_MIN_MACH
         );
         let Some(t) = self.fins.first() else {
             return s;

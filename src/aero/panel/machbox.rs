@@ -242,6 +242,19 @@ impl MachBox {
         if !(mach.is_finite() && mach >= MIN_MACH) {
             return Err(PanelError::BadMach(mach));
         }
+        Self::at_any_supersonic_mach(planform, mach, boxes)
+    }
+
+    /// [`Self::new`] at any `M > 1` (the tests measure the method's error below
+    /// [`MIN_MACH`]).
+    pub(super) fn at_any_supersonic_mach(
+        planform: &FinPlanform,
+        mach: f64,
+        boxes: usize,
+    ) -> Result<MachBox, PanelError> {
+        if !(mach.is_finite() && mach > 1.0) {
+            return Err(PanelError::BadMach(mach));
+        }
         // Validates the planform.
         Lattice::new(planform, 1, 1, super::Spacing::Uniform)?;
         if boxes == 0 {

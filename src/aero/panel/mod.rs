@@ -273,11 +273,41 @@ pub const SUBSONIC_LIMIT: f64 = 0.9;
 /// supersonic Mach numbers).
 pub const SUPERSONIC_LIMIT: f64 = 1.2;
 
-/// Whether Mach `mach` lies in the gap of the harmonic (flutter) aerodynamics, `0.9 < M < 1.1`:
-/// above [`SUBSONIC_LIMIT`] and below the Mach box's [`machbox::MIN_MACH`] (the
-/// quasi-steady map keeps the wider gap of [`regime`]).
-pub fn flutter_gap(mach: f64) -> bool {
-    mach > SUBSONIC_LIMIT && mach < machbox::MIN_MACH
+/// The flight's steady (quasi-steady) fin-panel method at one Mach (issue 33), as
+/// [`fin_model`] uses it: the vortex lattice to [`SUBSONIC_LIMIT`], from
+/// [`machbox::MIN_MACH`] = 1.1 the steady supersonic constant-pressure panels
+/// ([`supersonic`], subsonic and supersonic leading edges alike) or piston theory where its
+/// criterion holds ([`machbox::piston_valid`]: `M >= 2.5` and a supersonic leading edge), and
+/// between them the transonic bridge, the linear blend in Mach of the two ends' maps (as the
+/// flutter solvers bridge their generalised forces, `analysis::flutter::fin`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SteadyMethod {
+    VortexLattice,
+    /// `0.9 < M < 1.1`: weight `t` of the 1.1 end.
+    Bridge {
+        t: f64,
+    },
+    SupersonicPanels,
+    Piston,
+}
+
+/// The flight's steady method on `planform` at Mach `mach` ([`SteadyMethod`]).
+pub fn steady_method(planform: &FinPlanform, mach: f64) -> Result<SteadyMethod, PanelError> {
+    if !(mach.is_finite() && mach >= 0.0) {
+        return Err(PanelError::BadMach(mach));
+    }
+    let hi = machbox::MIN_MACH;
+    Ok(if mach <= SUBSONIC_LIMIT {
+        SteadyMethod::VortexLattice
+    } else if mach < hi {
+        SteadyMethod::Bridge {
+            t: (mach - SUBSONIC_LIMIT) / (hi - SUBSONIC_LIMIT),
+        }
+    } else if machbox::piston_valid(planform, mach) {
+        SteadyMethod::Piston
+    } else {
+        SteadyMethod::SupersonicPanels
+    })
 }
 
 /// The regime of Mach `mach`.

@@ -38,9 +38,58 @@
 //! harmonic wake; piston theory, being local, has the same map in both); a third,
 //! [`FinAero::DoubletLattice`], replaces the subsonic harmonic vortex lattice by the
 //! doublet-lattice method of `panel::dlm` (the compressible unsteady kernel instead of
-//! Göthert's stretch; `n` force points at the box quarter chords). Between Mach 0.9 and
-//! 1.2 no model is trusted ([`panel::Regime`]): a flutter solution there is refused
-//! ([`FinFlutterError::Transonic`]), the flight margin blends and says so.
+//! Göthert's stretch; `n` force points at the box quarter chords).
+//!
+//! # The transonic band: a bridge in the aerodynamic matrices (issue 33)
+//!
+//! Linear theory has no answer near Mach 1 (its lift grows like `1/|β|` from both sides) and
+//! each method stops where its own error says so ([`bridge_ends`]):
+//!
+//! * the subsonic end `M_lo`: the harmonic vortex lattice at [`panel::SUBSONIC_LIMIT`] = 0.9
+//!   (Göthert's stretch drops the acoustic terms, of relative size `4kM²/β²`: 17 k at 0.9,
+//!   `panel::harmonic`); the doublet lattice at its [`crate::aero::panel::dlm::MACH_LIMIT`] =
+//!   0.95 (there `β² = 0.0975` and the kernel's acoustic wavelength `2πβ²/(νM)` reaches the
+//!   box-size rule, `panel::dlm`); the quasi-steady vortex lattice at 0.9;
+//! * the supersonic end `M_hi`: the Mach box at [`machbox::MIN_MACH`] = 1.1 (its boxes are
+//!   `β` times longer than wide, so a fixed box count along the chord leaves fewer columns on
+//!   the span as `β -> 0`; measured at the default 32 boxes against the steady
+//!   constant-pressure panels, `machbox_tests::first_mach_from_the_box_error`, the slope error
+//!   is within the method's 2.5 % tolerance at 1.1 and above; see the test for the figures
+//!   at 1.02-1.075); the quasi-steady map at [`panel::SUPERSONIC_LIMIT`] = 1.2 (piston theory).
+//!
+//! Between them, `M_lo < M < M_hi`, the generalised forces are the straight line in Mach
+//! between the two end tables at the SAME reduced frequencies,
+//!
+//! `Q(k, M) = (1 - t) Q(k, M_lo) + t Q(k, M_hi)`, `t = (M - M_lo)/(M_hi - M_lo)`
+//!
+//! (entry by entry; the natural spline in `k` of [`GafTable`] is linear in its data, so the
+//! bridged table's spline is the same blend of the two splines). Linear in `M` rather than in a
+//! Prandtl-Glauert variable: both ends' `1/|β|` factors are infinite at `M = 1`, where real
+//! (transonic, nonlinear) flow gives finite loads, so no `β`-based variable is right inside the
+//! band; the straight line is the one choice that assumes nothing between the ends.
+//!
+//! *Uncertainty (derived).* Inside the band nothing in linear theory prefers one way of
+//! joining the two ends over another, so the uncertainty is the spread between two choices
+//! that respect both ends: the straight line, and the nearer end held to the middle of the
+//! band (each method used as far as it can be, the jump at `t = 1/2`). They differ by
+//! `min(t, 1 - t)` of the jump `Q(k, M_hi) - Q(k, M_lo)`, entry by entry, so the stated
+//! relative uncertainty of the bridged table is
+//!
+//! `u_Q = min(t, 1 - t) max_k |Q(k, M_hi) - Q(k, M_lo)|_F / |Q(k, M)|_F`,
+//!
+//! measured on the case's own two end tables (never tuned): zero at the ends, where each
+//! method is trusted, largest mid-band. On SPHADS-1's fin (3 modes, `k <= 0.5`) the jump
+//! relative to the mid-band table is 0.72 (unsteady: vortex lattice at 0.9 against the Mach
+//! box at 1.1), 0.67 (doublet lattice from 0.95) and 1.36 (quasi-steady: piston theory with
+//! Ackeret's factor at 1.2), so mid-band `u_Q` is 0.34-0.68 and the speed's `u` 16-30 % (measured by
+//! `the_bridge_is_linear_in_mach_between_its_end_tables`, `tests/flutter_fin.rs`). No transonic dip is modelled: real
+//! transonic flow lowers the flutter speed inside the band (AGARD 445.6: 16-17 % from Mach
+//! 0.901 to 0.954-0.960, docs/validation.md), which this straight line cannot show. Scaling the aerodynamic matrices
+//! by `1 + u_Q` scales the flutter dynamic pressure by `1/(1 + u_Q)` (exactly for the
+//! quasi-steady `Q`, to first order in the slope of `Q(k)` otherwise), so the flutter SPEED's
+//! relative uncertainty is `u = sqrt(1 + u_Q) - 1` ([`TransonicBridge::uncertainty`]); the
+//! reports name the method `transonic bridge (+-u %)` and the flight margin divides its margin
+//! by `1 + u` ([`super::margin`]).
 
 use faer::c64;
 use rayon::prelude::*;
@@ -110,9 +159,9 @@ pub enum FinFlutterError {
     #[error("free vehicle: {0}")]
     Vehicle(String),
     #[error(
-        "Mach {mach} lies in the transonic gap where no model is trusted: 0.9 < M < 1.1 for the unsteady aerodynamics (vortex or doublet lattice to 0.9, the Mach box from 1.1), 0.9 < M < 1.2 for the quasi-steady map"
+        "the transonic bridge at Mach {mach} needs the same reduced frequencies in its two end tables"
     )]
-    Transonic { mach: f64 },
+    BridgeMismatch { mach: f64 },
     #[error(
         "the doublet-lattice boxes reach an aspect ratio (width over chord) of {ratio:.2}, above {limit}, where the parabolic approximation of the kernel across a box is poor (Rodden, Taylor & McIntosh 1998)"
     )]
@@ -265,7 +314,9 @@ pub fn quasi_steady_map(
             let c: Vec<[f64; 2]> = lattice.panels.iter().map(|p| p.centroid).collect();
             (c.clone(), c, piston::force_map(lattice, mach, correction)?)
         }
-        Regime::Transonic { .. } => return Err(FinFlutterError::Transonic { mach }),
+        Regime::Transonic { .. } => {
+            return Err(PanelError::Untrusted(mach, "quasi-steady map").into());
+        }
     };
     debug_assert_eq!(k.len(), n * n);
     Ok(PanelMap {
@@ -400,8 +451,140 @@ pub fn gaf_ks(settings: &FinFlutterSettings) -> Vec<f64> {
         .collect()
 }
 
-/// The tabulated `Q(k)` of the clamped fin at Mach `mach` (module doc).
+/// The tabulated `Q(k)` of the clamped fin at Mach `mach` (module doc), bridged in the
+/// transonic band ([`gaf_table_bridged`]).
 pub fn gaf_table(
+    modes: &FinModes,
+    lattice: &Lattice,
+    mach: f64,
+    settings: &FinFlutterSettings,
+) -> Result<GafTable, FinFlutterError> {
+    Ok(gaf_table_bridged(modes, lattice, mach, settings)?.0)
+}
+
+/// The tabulated `Q(k)` of the clamped fin at Mach `mach` and, in the transonic band of
+/// `settings.aero`, the bridge it was made by (module doc).
+pub fn gaf_table_bridged(
+    modes: &FinModes,
+    lattice: &Lattice,
+    mach: f64,
+    settings: &FinFlutterSettings,
+) -> Result<(GafTable, Option<TransonicBridge>), FinFlutterError> {
+    bridged(mach, settings.aero, |m| {
+        direct_gaf_table(modes, lattice, m, settings)
+    })
+}
+
+/// The end Machs `(M_lo, M_hi)` of the transonic bridge of `aero` (module doc): the last
+/// Mach of its subsonic method and the first of its supersonic one.
+pub fn bridge_ends(aero: FinAero) -> (f64, f64) {
+    match aero {
+        FinAero::QuasiSteady => (panel::SUBSONIC_LIMIT, panel::SUPERSONIC_LIMIT),
+        FinAero::Unsteady => (panel::SUBSONIC_LIMIT, machbox::MIN_MACH),
+        FinAero::DoubletLattice => (crate::aero::panel::dlm::MACH_LIMIT, machbox::MIN_MACH),
+    }
+}
+
+/// Whether Mach `mach` lies strictly inside the transonic band of `aero`.
+pub fn in_bridge(mach: f64, aero: FinAero) -> bool {
+    let (lo, hi) = bridge_ends(aero);
+    mach > lo && mach < hi
+}
+
+/// How a table in the transonic band was made (module doc).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TransonicBridge {
+    /// The end Machs.
+    pub low: f64,
+    pub high: f64,
+    /// The weight `t` of the high end.
+    pub t: f64,
+    /// `u_Q`, the relative uncertainty of the bridged matrices: `min(t, 1 - t)` times the
+    /// largest relative jump between the ends (module doc).
+    pub matrix_uncertainty: f64,
+    /// `u = sqrt(1 + u_Q) - 1`, the relative uncertainty of the flutter speed.
+    pub uncertainty: f64,
+}
+
+impl TransonicBridge {
+    /// The method's name in reports: `transonic bridge (+-X %)` and its ends.
+    pub fn name(&self, low: &str, high: &str) -> String {
+        format!(
+            "transonic bridge (+-{:.1} %): Q(k) linear in Mach between {low} at Mach {} and {high} at Mach {}",
+            100.0 * self.uncertainty,
+            self.low,
+            self.high
+        )
+    }
+}
+
+/// The bridged table at `mach` from the end tables `lo` (at `low`) and `hi` (at `high`),
+/// which must share their reduced frequencies (module doc).
+pub fn blend_tables(
+    lo: &GafTable,
+    hi: &GafTable,
+    mach: f64,
+    low: f64,
+    high: f64,
+) -> Result<(GafTable, TransonicBridge), FinFlutterError> {
+    if lo.ks() != hi.ks() || lo.order() != hi.order() {
+        return Err(FinFlutterError::BridgeMismatch { mach });
+    }
+    let t = (mach - low) / (high - low);
+    let w = t.min(1.0 - t);
+    let mut values = Vec::with_capacity(lo.ks().len());
+    let mut u_q: f64 = 0.0;
+    for i in 0..lo.ks().len() {
+        let (a, b) = (lo.at(i), hi.at(i));
+        let v: Vec<c64> = a
+            .iter()
+            .zip(b)
+            .map(|(x, y)| *x * (1.0 - t) + *y * t)
+            .collect();
+        let jump = a
+            .iter()
+            .zip(b)
+            .map(|(x, y)| (*y - *x).norm_sqr())
+            .sum::<f64>()
+            .sqrt();
+        let size = v.iter().map(|x| x.norm_sqr()).sum::<f64>().sqrt();
+        if size > 0.0 {
+            u_q = u_q.max(w * jump / size);
+        }
+        values.push(v);
+    }
+    let table = GafTable::new(lo.order(), lo.ks().to_vec(), values)?;
+    Ok((
+        table,
+        TransonicBridge {
+            low,
+            high,
+            t,
+            matrix_uncertainty: u_q,
+            uncertainty: (1.0 + u_q).sqrt() - 1.0,
+        },
+    ))
+}
+
+/// The table `build(mach)` outside the transonic band of `aero`, the blend of `build(M_lo)`
+/// and `build(M_hi)` inside it (module doc).
+pub fn bridged<E: From<FinFlutterError>>(
+    mach: f64,
+    aero: FinAero,
+    mut build: impl FnMut(f64) -> Result<GafTable, E>,
+) -> Result<(GafTable, Option<TransonicBridge>), E> {
+    if !in_bridge(mach, aero) {
+        return Ok((build(mach)?, None));
+    }
+    let (low, high) = bridge_ends(aero);
+    let lo = build(low)?;
+    let hi = build(high)?;
+    let (table, b) = blend_tables(&lo, &hi, mach, low, high)?;
+    Ok((table, Some(b)))
+}
+
+/// The tabulated `Q(k)` of the clamped fin at a Mach outside the transonic band (module doc).
+fn direct_gaf_table(
     modes: &FinModes,
     lattice: &Lattice,
     mach: f64,
@@ -434,13 +617,23 @@ fn unsteady_values(
 ) -> Result<Vec<Vec<c64>>, FinFlutterError> {
     let n = modes.order();
     let b = modes.b_ref();
-    match panel::regime(mach)? {
+    let regime = match panel::regime(mach)? {
+        // The doublet lattice holds to its own limit, above the vortex lattice's.
+        Regime::Transonic { .. }
+            if settings.aero == FinAero::DoubletLattice
+                && mach <= crate::aero::panel::dlm::MACH_LIMIT =>
+        {
+            Regime::Subsonic
+        }
+        r => r,
+    };
+    match regime {
         // Piston theory is local: its unsteady map is the quasi-steady one applied to the
         // complex normalwash (Ashley & Zartarian 1956; `panel::harmonic::piston_map`).
         Regime::Supersonic | Regime::Transonic { .. }
             if mach >= machbox::MIN_MACH && !machbox::piston_valid(&lattice.planform, mach) =>
         {
-            let boxes = mach_boxes(&lattice.planform, settings.k_max / b);
+            let boxes = mach_boxes(&lattice.planform, mach, settings.k_max / b);
             let mb = MachBox::new(&lattice.planform, mach, boxes)?;
             let m0 = HarmonicMap {
                 eval: mb.centres().to_vec(),
@@ -462,7 +655,7 @@ fn unsteady_values(
                 .map(|&k| gaf_matrix(&rows, &map, n, k / b))
                 .collect())
         }
-        Regime::Transonic { .. } => Err(FinFlutterError::Transonic { mach }),
+        Regime::Transonic { .. } => Err(PanelError::Untrusted(mach, "harmonic panel model").into()),
         Regime::Subsonic if settings.aero == FinAero::DoubletLattice => {
             let ratio = max_box_aspect(lattice);
             if ratio > MAX_BOX_ASPECT {
@@ -485,30 +678,68 @@ fn unsteady_values(
     }
 }
 
-/// The Mach boxes along the fin's streamwise extent for reduced frequencies up to `nu_max`
-/// (1/m): [`machbox::DEFAULT_BOXES`], or more where the box rule `Δx <= 0.08 · 2π/ν` needs
-/// them.
-pub fn mach_boxes(planform: &FinPlanform, nu_max: f64) -> usize {
+/// The Mach boxes along the fin's streamwise extent at Mach `mach` for reduced frequencies up
+/// to `nu_max` (1/m): [`machbox::DEFAULT_BOXES`], or more where the box rule `Δx <= 0.08 ·
+/// 2π/ν` needs them. The grid's `Δx` is `β` times its column width, and its span holds a
+/// whole number `round(s β boxes / extent)` of columns ([`MachBox::new`]), so `Δx` can come
+/// out a little longer than `extent / boxes`: the count is raised until the grid's own `Δx`
+/// meets the rule.
+pub fn mach_boxes(planform: &FinPlanform, mach: f64, nu_max: f64) -> usize {
     let extent = planform
         .root_chord
         .max(planform.tip_le_offset + planform.tip_chord)
         - planform.tip_le_offset.min(0.0);
-    let need = extent * nu_max / (harmonic::BOX_RULE * std::f64::consts::TAU);
-    if need.is_finite() {
+    let limit = harmonic::BOX_RULE * std::f64::consts::TAU / nu_max;
+    let need = extent / limit;
+    let mut boxes = if need.is_finite() {
         machbox::DEFAULT_BOXES.max(need.ceil() as usize)
     } else {
         machbox::DEFAULT_BOXES
+    };
+    let beta = (mach * mach - 1.0).max(0.0).sqrt();
+    // The grid's Δx for a requested count (as `MachBox::new` lays it out).
+    let dx = |boxes: usize| {
+        let cols = ((planform.span * beta * boxes as f64 / extent).round() as usize).max(1);
+        planform.span / cols as f64 * beta
+    };
+    // Each added box adds at most one column: at most as many steps as the count itself.
+    let most = 2 * boxes;
+    while boxes < most && limit.is_finite() && dx(boxes) > limit {
+        boxes += 1;
     }
+    boxes
 }
 
 /// The aerodynamic method of the generalised forces of `aero` on `planform` at Mach `mach`,
-/// as the reports name it.
+/// as the reports name it; in the transonic band the bridge with its uncertainty (`bridge`,
+/// from the tables' own ends).
+pub fn aero_method_bridged(
+    planform: &FinPlanform,
+    mach: f64,
+    aero: FinAero,
+    bridge: Option<&TransonicBridge>,
+) -> String {
+    match bridge {
+        Some(b) => b.name(
+            aero_method(planform, b.low, aero),
+            aero_method(planform, b.high, aero),
+        ),
+        None => aero_method(planform, mach, aero).to_string(),
+    }
+}
+
+/// The aerodynamic method of the generalised forces of `aero` on `planform` at Mach `mach`
+/// outside the transonic band ([`aero_method_bridged`] names the bridge), as the reports name it.
 pub fn aero_method(planform: &FinPlanform, mach: f64, aero: FinAero) -> &'static str {
     let supersonic = mach >= machbox::MIN_MACH;
+    if in_bridge(mach, aero) {
+        return "transonic bridge";
+    }
     match aero {
         FinAero::QuasiSteady if mach <= panel::SUBSONIC_LIMIT => {
             "quasi-steady vortex lattice (Prandtl-Glauert)"
         }
+        FinAero::DoubletLattice if mach <= crate::aero::panel::dlm::MACH_LIMIT => "doublet lattice",
         FinAero::QuasiSteady => "quasi-steady piston theory",
         _ if supersonic && !machbox::piston_valid(planform, mach) => {
             "Mach box (harmonic supersonic potential)"

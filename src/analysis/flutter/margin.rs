@@ -8,10 +8,17 @@
 //! and of altitudes (laid out from the vehicle and its site, below), each at fixed Mach and
 //! density: the "unmatched" p-k solution of Rodden & Johnson (MSC Nastran Aeroelastic User's
 //! Guide §2.6), in which speed is varied at the node's Mach and density. Between nodes the
-//! boundary is interpolated bilinearly in `(M, h)` (of `V_F sqrt(ρ)`, below). In the transonic
-//! gap `0.9 < M < 1.2` it is the linear blend of the 0.9 and 1.2 nodes and every such row is
-//! flagged untrusted (neither theory holds there; the flight's panel loads are bridged the
-//! same way, `aero::panel::Regime`).
+//! boundary is interpolated bilinearly in `(M, h)` (of `V_F sqrt(ρ)`, below). The transonic
+//! band has nodes of its own (0.95, 1.0, 1.05): each is solved like any other node, on
+//! generalised forces bridged in the aerodynamic matrices between the band's ends
+//! ([`super::fin::bridged`]: `Q(k, M)` linear in Mach between the last subsonic and the first
+//! supersonic method's tables), never by blending flutter speeds. Such a node carries the
+//! bridge's stated flutter-speed uncertainty `u` ([`Boundary::uncertainty`]); a row that uses
+//! it is flagged with it (`BoundaryPoint::uncertainty`, the larger of its two Mach nodes'
+//! unless it sits on a node) and the verdict counts its margin divided by `1 + u`, the
+//! conservative side of the uncertainty. The band's nodes and its two end nodes share one
+//! reduced-frequency grid (up to `1.2 ω_max b` over the lowest speed among them), so a bridged
+//! node blends the end nodes' own tables, each built once.
 //!
 //! A node where no flutter point is found up to the largest speed tried carries that speed
 //! and is flagged as a lower bound (the margin there is at least the value written).
@@ -34,7 +41,8 @@
 //! for its margin.
 //!
 //! - Mach nodes ([`vehicle_mach_nodes`]): the subsonic `0, 0.3, 0.6, 0.9`; when the vehicle's
-//!   fin coefficient table reaches past 0.9, `1.2`, the built-in estimator's supersonic nodes
+//!   fin coefficient table reaches past 0.9, the band's [`TRANSONIC_NODES`] `0.95, 1.0, 1.05`,
+//!   the Mach box's first Mach `1.1`, then `1.2`, the built-in estimator's supersonic nodes
 //!   `1.5, 2, 2.5, 3, 4, 5` below the table's last Mach, and that last Mach (the same nodes
 //!   as the estimator's table for a table of its own; never one node per table node: a
 //!   table tabulated every 0.01 would cost a sweep per node). A flight cannot be flown past
@@ -87,8 +95,10 @@
 //! the node is an upper bound as above.
 
 use super::fin::{
-    FinAero, FinFlutterError, FinFlutterSettings, FinModes, fin_lattice, flutter_model, gaf_table,
+    FinAero, FinFlutterError, FinFlutterSettings, FinModes, bridge_ends, bridged, fin_lattice,
+    flutter_model, gaf_table, in_bridge,
 };
+use super::pk::GafTable;
 use super::pk::{FlutterAnswer, FlutterError, PkSettings, pk_solve_cut, screen_below};
 use crate::aero::atmosphere::{Atmosphere, STANDARD_MIN_ALTITUDE, Standard1976};
 use crate::aero::panel::piston::Correction;
@@ -99,7 +109,7 @@ pub const CRITERION: f64 = 1.15;
 
 /// Revision of the boundary's computation, part of its cache key: change it whenever the
 /// solution of a given [`BoundarySpec`] would change.
-pub const BOUNDARY_REVISION: &str = "flight flutter boundary r4: Mach box (panel::machbox) above Mach 1.1 where piston theory's criterion fails, its nodes floored by the box rule as the subsonic ones; clamped fin (fin::clamped_fin_modes), unmatched p-k per (Mach, altitude) node (pk_solve_cut), node speeds [max(0.1 v_hi, box-rule floor), v_hi], a node not converging at its lowest speed started at the next, k table to 1.2 omega_max b / v_lo, the leading-mode screen below the first speed (pk::screen_below) and the answer rule (pk::PkSolution::answer), US Standard Atmosphere 1976";
+pub const BOUNDARY_REVISION: &str = "flight flutter boundary r5: transonic nodes 0.95, 1.0, 1.05 and 1.1 on Q(k, M) bridged linearly in Mach between the band's ends (fin::bridged) with the stated speed uncertainty per Mach node, the band's nodes and ends on one k grid (the band's lowest speed); Mach box (panel::machbox) above Mach 1.1 where piston theory's criterion fails, its nodes floored by the box rule as the subsonic ones; clamped fin (fin::clamped_fin_modes), unmatched p-k per (Mach, altitude) node (pk_solve_cut), node speeds [max(0.1 v_hi, box-rule floor), v_hi], a node not converging at its lowest speed started at the next, k table to 1.2 omega_max b / v_lo, the leading-mode screen below the first speed (pk::screen_below) and the answer rule (pk::PkSolution::answer), US Standard Atmosphere 1976";
 
 /// The ceiling of the margin's altitude grid, m (the built-in estimator's table top).
 pub const CEILING: f64 = 30_000.0;
@@ -184,14 +194,23 @@ pub struct Boundary {
     pub node_lowest_speeds: Vec<f64>,
     /// The largest speed tried, m/s.
     pub largest_speed: f64,
+    /// Per Mach node, the relative uncertainty `u` of its flutter speed: the transonic
+    /// bridge's (`fin::TransonicBridge::uncertainty`), 0 outside the band.
+    pub uncertainty: Vec<f64>,
 }
 
 /// The supersonic Mach nodes of the margin above [`SUPERSONIC_LIMIT`] (the built-in
 /// estimator's, `aero::estimator::ESTIMATOR_MACH`).
 pub const SUPERSONIC_NODES: [f64; 6] = [1.5, 2.0, 2.5, 3.0, 4.0, 5.0];
 
+/// The margin's Mach nodes inside the transonic band and at its supersonic end (module doc):
+/// the bridged `0.95, 1.0, 1.05` (0.95 is the doublet lattice's own last Mach) and the Mach
+/// box's first, 1.1.
+pub const TRANSONIC_NODES: [f64; 4] = [0.95, 1.0, 1.05, panel::machbox::MIN_MACH];
+
 /// The Mach nodes of a vehicle whose fin coefficient table has the Mach axis `table_machs`
-/// (module doc): `0, 0.3, 0.6, 0.9`, then, if the table reaches past 0.9, `1.2`, the
+/// (module doc): `0, 0.3, 0.6, 0.9`, then, if the table reaches past 0.9, the
+/// [`TRANSONIC_NODES`], `1.2`, the
 /// [`SUPERSONIC_NODES`] below the table's last Mach node, and that last node. The grid does
 /// not follow the table's own resolution: a table tabulated every 0.01 in Mach would
 /// otherwise give one p-k sweep per node and altitude (examples/calisto: 81 supersonic
@@ -204,6 +223,7 @@ pub fn vehicle_mach_nodes(table_machs: &[f64]) -> Vec<f64> {
         .fold(0.0, f64::max);
     let mut m = vec![0.0, 0.3, 0.6, SUBSONIC_LIMIT];
     if top > SUBSONIC_LIMIT {
+        m.extend(TRANSONIC_NODES);
         m.push(SUPERSONIC_LIMIT);
         m.extend(SUPERSONIC_NODES.iter().copied().filter(|&x| x < top));
         if top > SUPERSONIC_LIMIT {
@@ -356,18 +376,35 @@ pub fn solve_boundary(modes: &FinModes, spec: &BoundarySpec) -> Result<Boundary,
     let mut upper = Vec::with_capacity(n);
     let mut ranges = Vec::with_capacity(spec.machs.len());
     let mut node_lowest = Vec::with_capacity(n);
+    let mut uncertainty = Vec::with_capacity(spec.machs.len());
     let pk = PkSettings {
         k_tolerance: spec.k_tolerance,
     };
-    for (&m, &[lo, hi]) in spec.machs.iter().zip(&spec.speed_ranges) {
-        // The box rule binds the lattices and the Mach box (piston theory is local); the Mach
-        // box of `fin::mach_boxes` has as many boxes along the fin as the lattice has panels
-        // along the root chord, so the same floor keeps it at its default count.
+    // The lowest speed of a node's sweep: the box-rule floor binds the lattices and the Mach
+    // box (piston theory is local); the Mach box of `fin::mach_boxes` has as many boxes along
+    // the fin as the lattice has panels along the root chord, so the same floor keeps it near
+    // its default count. A bridged node's ends are a lattice and the Mach box: the same floor.
+    let node_v_lo = |m: f64, lo: f64| -> Result<f64, FinFlutterError> {
         let mach_box = spec.aero.is_harmonic()
             && m >= panel::machbox::MIN_MACH
             && !panel::machbox::piston_valid(&modes.planform, m);
-        let sub = matches!(panel::regime(m)?, Regime::Subsonic) || mach_box;
-        let v_lo = if sub { lo.max(floor) } else { lo };
+        let bridge = spec.aero.is_harmonic() && in_bridge(m, spec.aero);
+        let sub = matches!(panel::regime(m)?, Regime::Subsonic) || mach_box || bridge;
+        Ok(if sub { lo.max(floor) } else { lo })
+    };
+    // The nodes of the transonic band and its two ends share one reduced-frequency grid (that
+    // of the lowest speed among them), so each bridged node blends the end nodes' own tables:
+    // built once, kept here by (Mach, k_max) bits.
+    let (b_lo, b_hi) = bridge_ends(spec.aero);
+    let mut band_v_lo = f64::INFINITY;
+    for (&m, &[lo, _]) in spec.machs.iter().zip(&spec.speed_ranges) {
+        if m >= b_lo && m <= b_hi {
+            band_v_lo = band_v_lo.min(node_v_lo(m, lo)?);
+        }
+    }
+    let mut tables: Vec<((u64, u64), GafTable)> = Vec::new();
+    for (&m, &[lo, hi]) in spec.machs.iter().zip(&spec.speed_ranges) {
+        let v_lo = node_v_lo(m, lo)?;
         if !(v_lo.is_finite() && hi > v_lo) {
             return Err(FinFlutterError::Generate(format!(
                 "at Mach {m} the lowest speed the lattice resolves, {v_lo:.1} m/s, is not below the largest, {hi:.1} m/s"
@@ -378,8 +415,23 @@ pub fn solve_boundary(modes: &FinModes, spec: &BoundarySpec) -> Result<Boundary,
             .map(|i| v_lo + (hi - v_lo) * i as f64 / (c - 1) as f64)
             .collect();
         ranges.push([v_lo, hi]);
-        s.k_max = (1.2 * w_max * modes.b_ref() / v_lo).max(0.1);
-        let gaf = gaf_table(modes, &lattice, m, &s)?;
+        let v_table = if m >= b_lo && m <= b_hi {
+            band_v_lo.min(v_lo)
+        } else {
+            v_lo
+        };
+        s.k_max = (1.2 * w_max * modes.b_ref() / v_table).max(0.1);
+        let settings = s;
+        let (gaf, bridge) = bridged(m, spec.aero, |mm| {
+            let key = (mm.to_bits(), settings.k_max.to_bits());
+            if let Some((_, t)) = tables.iter().find(|(k, _)| *k == key) {
+                return Ok::<_, FinFlutterError>(t.clone());
+            }
+            let t = gaf_table(modes, &lattice, mm, &settings)?;
+            tables.push((key, t.clone()));
+            Ok(t)
+        })?;
+        uncertainty.push(bridge.map_or(0.0, |b| b.uncertainty));
         for &rho in &densities {
             let model = flutter_model(modes, rho);
             // A branch whose p-k iteration does not converge at some speed (near zero
@@ -432,6 +484,7 @@ pub fn solve_boundary(modes: &FinModes, spec: &BoundarySpec) -> Result<Boundary,
         speed_ranges: ranges,
         node_lowest_speeds: node_lowest,
         largest_speed,
+        uncertainty,
     })
 }
 
@@ -454,8 +507,12 @@ fn bracket(grid: &[f64], x: f64) -> (usize, f64) {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BoundaryPoint {
     pub flutter_speed: f64,
-    /// Both theories are trusted at this Mach (outside the transonic gap).
+    /// No node used carries a stated uncertainty (`uncertainty == 0`: outside the transonic
+    /// bridge).
     pub trusted: bool,
+    /// The relative uncertainty `u` of `flutter_speed` (module doc): the transonic bridge's,
+    /// the larger of the two Mach nodes used (the node's own on a node); 0 outside the band.
+    pub uncertainty: f64,
     /// Some node used is a lower bound.
     pub lower_bound: bool,
     /// Some node used was unstable at its lowest speed (an upper bound).
@@ -507,9 +564,17 @@ impl Boundary {
         } else {
             e / rho.sqrt()
         };
+        let u = if tm == 0.0 {
+            self.uncertainty[i]
+        } else if tm == 1.0 {
+            self.uncertainty[i1]
+        } else {
+            self.uncertainty[i].max(self.uncertainty[i1])
+        };
         BoundaryPoint {
             flutter_speed: v,
-            trusted: !(mach > SUBSONIC_LIMIT && mach < SUPERSONIC_LIMIT),
+            trusted: u == 0.0,
+            uncertainty: u,
             lower_bound: flag(&self.lower_bound),
             upper_bound: flag(&self.upper_bound),
             in_grid,
@@ -566,6 +631,8 @@ pub struct BoundaryArtifact {
     pub speed_ranges: Vec<f64>,
     /// Per node, the speed its sweep started at.
     pub node_lowest_speeds: Vec<f64>,
+    /// Per Mach node, the flutter speed's relative uncertainty (0 outside the band).
+    pub uncertainty: Vec<f64>,
     pub mode_names: Vec<String>,
     pub omega: Vec<f64>,
     /// Shear modulus, span, root chord, tip chord, thickness, tip leading-edge offset.
@@ -573,7 +640,7 @@ pub struct BoundaryArtifact {
 }
 
 impl crate::artifact::ArtifactPayload for BoundaryArtifact {
-    const SCHEMA: &'static str = "BoundaryArtifact v3: machs Vec<f64>, altitudes Vec<f64>, densities Vec<f64> (per altitude), speeds Vec<f64> (machs x altitudes row-major), lower_bound Vec<u8>, upper_bound Vec<u8>, speed_ranges Vec<f64> (2 per Mach), node_lowest_speeds Vec<f64> (per node), mode_names Vec<String>, omega Vec<f64>, fin Vec<f64> [G, span, root chord, tip chord, thickness, tip LE offset]";
+    const SCHEMA: &'static str = "BoundaryArtifact v4: machs Vec<f64>, altitudes Vec<f64>, densities Vec<f64> (per altitude), speeds Vec<f64> (machs x altitudes row-major), lower_bound Vec<u8>, upper_bound Vec<u8>, speed_ranges Vec<f64> (2 per Mach), node_lowest_speeds Vec<f64> (per node), uncertainty Vec<f64> (per Mach), mode_names Vec<String>, omega Vec<f64>, fin Vec<f64> [G, span, root chord, tip chord, thickness, tip LE offset]";
 }
 
 impl BoundaryArtifact {
@@ -587,6 +654,7 @@ impl BoundaryArtifact {
             upper_bound: b.upper_bound.iter().map(|&x| u8::from(x)).collect(),
             speed_ranges: b.speed_ranges.iter().flatten().copied().collect(),
             node_lowest_speeds: b.node_lowest_speeds.clone(),
+            uncertainty: b.uncertainty.clone(),
             mode_names: f.mode_names.clone(),
             omega: f.omega.clone(),
             fin: vec![
@@ -615,6 +683,7 @@ impl BoundaryArtifact {
             || self.upper_bound.len() != n
             || self.speed_ranges.len() != 2 * nm
             || self.node_lowest_speeds.len() != n
+            || self.uncertainty.len() != nm
             || self.omega.len() != spec.modes
             || self.mode_names.len() != spec.modes
             || self.fin.len() != 6
@@ -628,6 +697,11 @@ impl BoundaryArtifact {
             || !positive(&self.node_lowest_speeds)
         {
             return Err("the cached boundary holds a value that is not finite and positive".into());
+        }
+        if !self.uncertainty.iter().all(|u| u.is_finite() && *u >= 0.0) {
+            return Err(
+                "the cached boundary holds an uncertainty that is not finite and >= 0".into(),
+            );
         }
         let flags = |v: &[u8]| -> Result<Vec<bool>, String> {
             v.iter()
@@ -655,6 +729,7 @@ impl BoundaryArtifact {
                 speed_ranges,
                 node_lowest_speeds: self.node_lowest_speeds.clone(),
                 largest_speed,
+                uncertainty: self.uncertainty.clone(),
             },
             BoundaryFin {
                 mode_names: self.mode_names.clone(),

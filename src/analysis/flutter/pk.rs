@@ -170,6 +170,11 @@ impl GafTable {
         })
     }
 
+    /// The number of generalised coordinates.
+    pub fn order(&self) -> usize {
+        self.order
+    }
+
     /// The tabulated reduced frequencies.
     pub fn ks(&self) -> &[f64] {
         &self.ks

@@ -671,6 +671,8 @@ pub struct VehicleFlutter {
     pub lattice: (usize, usize),
     /// Vacuum frequencies of the branches (rad/s, ascending; the rigid ones 0).
     pub vacuum_omega: Vec<f64>,
+    /// The transonic bridge of the fins' tables, in the band (`fin::bridged`).
+    pub bridge: Option<super::fin::TransonicBridge>,
 }
 
 /// The p-k solution of the free vehicle of `variant` at Mach `mach`, density `density` and
@@ -714,19 +716,22 @@ pub fn solve_coordinates(
     settings: &FinFlutterSettings,
     with_body: bool,
 ) -> Result<VehicleFlutter, FinFlutterError> {
-    // Refuse the transonic gap before anything else (as the clamped path).
     crate::aero::panel::regime(mach)?;
-    if crate::aero::panel::flutter_gap(mach) {
-        return Err(FinFlutterError::Transonic { mach });
-    }
     let lattice = vehicle_lattice(&coords, settings)?;
     let body = if with_body {
         body_gaf(variant, mach * speed_of_sound, altitude, coords.b_ref())?
     } else {
         None
     };
-    let gaf = vehicle_gaf(&coords, &lattice, mach, settings, body.as_ref())?;
-    solve_gaf(coords, gaf, density, speeds, body.is_some(), settings)
+    // In the transonic band the fins' tables are bridged between the band's ends
+    // (`fin::bridged`); the body's quasi-steady loads, at the flight's speed, are the same in
+    // both ends and so in the blend.
+    let (gaf, bridge) = super::fin::bridged(mach, settings.aero, |m| {
+        vehicle_gaf(&coords, &lattice, m, settings, body.as_ref())
+    })?;
+    let mut r = solve_gaf(coords, gaf, density, speeds, body.is_some(), settings)?;
+    r.bridge = bridge;
+    Ok(r)
 }
 
 /// The p-k solution on given coordinates and generalised forces (start roots, sweep,
@@ -774,5 +779,6 @@ pub fn solve_gaf(
         truncated,
         body_aero,
         lattice: (settings.chordwise, settings.spanwise),
+        bridge: None,
     })
 }

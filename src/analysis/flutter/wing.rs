@@ -42,6 +42,7 @@ use super::pk::{FlutterError, FlutterModel, GafFn, GafTable};
 use crate::aero::FinPlanform;
 use crate::aero::panel::dlm::Dlm;
 use crate::aero::panel::harmonic::{self, HarmonicVlm, WakeSettings};
+use crate::aero::panel::machbox::{self, MachBox};
 use crate::aero::panel::spline::{SplineError, surface_spline};
 use crate::aero::panel::{Lattice, PanelError, Spacing, vlm};
 use crate::structure::fe_model::FeModel;
@@ -137,6 +138,23 @@ pub enum WingError {
         most: usize,
         v_min: f64,
     },
+}
+
+impl From<super::fin::FinFlutterError> for WingError {
+    /// The errors of the transonic bridge (`fin::bridged`): its table and panel errors as
+    /// such, anything else (mismatched end tables) as a panel error at its Mach.
+    fn from(e: super::fin::FinFlutterError) -> Self {
+        use super::fin::FinFlutterError as F;
+        match e {
+            F::Flutter(f) => WingError::Flutter(f),
+            F::Panel(p) => WingError::Panel(p),
+            F::BridgeMismatch { mach } => {
+                WingError::Panel(PanelError::Untrusted(mach, "transonic bridge"))
+            }
+            // `blend_tables` makes no other error.
+            _ => WingError::Panel(PanelError::Untrusted(f64::NAN, "transonic bridge")),
+        }
+    }
 }
 
 /// Thickness over chord `τ(u) = 2 z/c` of a tabulated section at chord fraction `u` from
@@ -658,6 +676,46 @@ pub struct UnsteadyProblem {
     pub chordwise: usize,
     pub spanwise: usize,
     pub wake_rings: usize,
+    /// In the transonic band, the bridge the table was made by (`fin::bridged`).
+    pub bridge: Option<super::fin::TransonicBridge>,
+}
+
+impl UnsteadyAero {
+    /// The clamped fin's model with the same subsonic method (for the bridge's ends and the
+    /// method names of `fin`).
+    pub fn fin_aero(self) -> super::fin::FinAero {
+        match self {
+            UnsteadyAero::VortexLattice => super::fin::FinAero::Unsteady,
+            UnsteadyAero::DoubletLattice => super::fin::FinAero::DoubletLattice,
+        }
+    }
+}
+
+/// The unsteady flutter problem of the wing at any Mach (issue 33): [`direct_unsteady_problem`]
+/// outside the transonic band of `settings.aero` (its subsonic lattice, or above Mach 1.1
+/// the Mach box, unsteady piston theory where its criterion holds, as the clamped fin), and
+/// inside it the blend of the band's two end tables at the same reduced frequencies
+/// (`fin::bridged`, its uncertainty in [`UnsteadyProblem::bridge`]). The lattice reported is
+/// the subsonic end's.
+pub fn unsteady_problem(
+    modes: &WingModes,
+    mach: f64,
+    density: f64,
+    settings: &UnsteadySettings,
+) -> Result<UnsteadyProblem, WingError> {
+    let mut last: Option<UnsteadyProblem> = None;
+    let (gaf, bridge) = super::fin::bridged(mach, settings.aero.fin_aero(), |m| {
+        let p = direct_unsteady_problem(modes, m, density, settings)?;
+        let g = p.gaf.clone();
+        if last.is_none() {
+            last = Some(p);
+        }
+        Ok::<_, WingError>(g)
+    })?;
+    let mut p = last.ok_or(WingError::Panel(PanelError::BadMach(mach)))?;
+    p.gaf = gaf;
+    p.bridge = bridge;
+    Ok(p)
 }
 
 /// The flutter problem of the wing's modes with the UNSTEADY vortex-lattice GAF (the
@@ -677,8 +735,12 @@ pub struct UnsteadyProblem {
 /// every tabulated `k`; the wake is [`WakeSettings::default`]. `M > 0.9` is refused by the
 /// vortex lattice ([`PanelError::Untrusted`]). With [`UnsteadyAero::DoubletLattice`] the map is
 /// [`Dlm::forces`] instead (`n` force points, no wake: the kernel carries it), accepted up to
-/// [`crate::aero::panel::dlm::MACH_LIMIT`].
-pub fn unsteady_problem(
+/// [`crate::aero::panel::dlm::MACH_LIMIT`]. From Mach 1.1 ([`machbox::MIN_MACH`]) either
+/// choice uses the harmonic Mach box ([`MachBox::forces`], boxes from the box rule as
+/// `fin::mach_boxes`), or unsteady piston theory with Ackeret's factor where
+/// [`machbox::piston_valid`] holds, as the clamped fin does; [`unsteady_problem`] bridges the
+/// band between.
+pub fn direct_unsteady_problem(
     modes: &WingModes,
     mach: f64,
     density: f64,
@@ -694,8 +756,23 @@ pub fn unsteady_problem(
     enum Map {
         Vlm(HarmonicVlm),
         Dlm(Dlm),
+        Box(MachBox),
+        Piston(harmonic::HarmonicMap),
     }
+    let supersonic = mach >= machbox::MIN_MACH;
     let map = match settings.aero {
+        _ if supersonic && machbox::piston_valid(&modes.planform, mach) => {
+            Map::Piston(harmonic::piston_map(
+                &lattice,
+                mach,
+                crate::aero::panel::piston::Correction::Ackeret,
+            )?)
+        }
+        _ if supersonic => Map::Box(MachBox::new(
+            &modes.planform,
+            mach,
+            super::fin::mach_boxes(&modes.planform, mach, settings.k_max / modes.semichord()),
+        )?),
         UnsteadyAero::VortexLattice => {
             let vlm = HarmonicVlm::new(&lattice, mach, &WakeSettings::default())?;
             vlm.check_resolution(settings.k_max / modes.semichord())?;
@@ -710,6 +787,12 @@ pub fn unsteady_problem(
     let m0 = match &map {
         Map::Vlm(v) => v.map(0.0)?,
         Map::Dlm(d) => d.map(0.0)?,
+        Map::Box(b) => harmonic::HarmonicMap {
+            eval: b.centres().to_vec(),
+            force: b.centres().to_vec(),
+            k: Vec::new(),
+        },
+        Map::Piston(h) => h.clone(),
     };
     let rows = mode_rows(modes, &m0.eval, &m0.force)?;
     let count = modes.w.len();
@@ -738,6 +821,20 @@ pub fn unsteady_problem(
             let f = match &map {
                 Map::Vlm(v) => v.forces(nu, &alpha, count)?,
                 Map::Dlm(d) => d.forces(nu, &alpha, count)?,
+                Map::Box(b) => b.forces(nu, &alpha, count)?,
+                // Piston theory is local: F = K α with its frequency-independent map.
+                Map::Piston(h) => {
+                    let mut f = vec![c64::new(0.0, 0.0); nf * count];
+                    for p in 0..nf {
+                        for r in 0..ne {
+                            let kv = h.k[p * ne + r];
+                            for j in 0..count {
+                                f[p * count + j] += kv * alpha[r * count + j];
+                            }
+                        }
+                    }
+                    f
+                }
             };
             let mut q = vec![c64::new(0.0, 0.0); count * count];
             for p in 0..nf {
@@ -758,7 +855,8 @@ pub fn unsteady_problem(
         spanwise: settings.spanwise,
         wake_rings: match &map {
             Map::Vlm(v) => v.wake_rings(),
-            Map::Dlm(_) => 0,
+            _ => 0,
         },
+        bridge: None,
     })
 }
