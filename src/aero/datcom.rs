@@ -40,6 +40,9 @@
 use std::fmt;
 
 use nom::IResult;
+
+use crate::aero::tables::{CoefficientTable, TableKind};
+use crate::check::ir::OutOfRange;
 use nom::Parser;
 use nom::bytes::complete::{tag, take_until};
 use nom::character::complete::{space0, space1};
@@ -838,6 +841,323 @@ fn fin_set_number(s: &str) -> Option<u32> {
     r.ok().map(|(_, n)| n)
 }
 
+// ---------------------------------------------------------------------------------------
+// The flight's tables from a parsed file.
+// ---------------------------------------------------------------------------------------
+
+/// Which part of a file the vehicle uses (`datcom("for006.dat", case = N, fin_set = N)`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Selection {
+    /// Only this case's pages; `None`: every case (their Mach numbers and altitudes must
+    /// not repeat).
+    pub case: Option<u32>,
+    /// The fin set that is the vehicle's `fins`; `None`: the file's only one.
+    pub fin_set: Option<u32>,
+}
+
+/// What the vehicle says about the same quantities (SI, body frame: x forward from the
+/// nose tip, so the moment reference is at x = -XCG).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VehicleReference {
+    pub area: f64,
+    pub length: f64,
+    pub point_x: f64,
+    /// `(count, x of the root chord's leading edge)` of the vehicle's fins, if it has any.
+    pub fins: Option<(usize, f64)>,
+}
+
+/// Which vehicle quantity a file contradicts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mismatch {
+    Area,
+    Length,
+    Point,
+}
+
+/// Why a parsed file cannot give the vehicle's tables; `line` is in the DATCOM file.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{message}")]
+pub struct ConversionError {
+    pub line: Option<usize>,
+    pub message: String,
+    pub mismatch: Option<Mismatch>,
+}
+
+fn conv(line: Option<usize>, message: impl Into<String>) -> ConversionError {
+    ConversionError {
+        line,
+        message: message.into(),
+        mismatch: None,
+    }
+}
+
+/// The body and one-fin tables of a vehicle flown on a DATCOM file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DatcomTables {
+    pub body: CoefficientTable,
+    pub fin: CoefficientTable,
+}
+
+/// Below this |C_N| a fin set carries no normal force and its centre of pressure is taken
+/// from the nearest angle of attack that has one.
+const CN_ZERO: f64 = 1e-9;
+
+/// The flight's tables from a parsed file (docs/language.md, "Missile DATCOM").
+///
+/// - Body table: the complete configuration minus the chosen fin set in the presence of the
+///   body: `cn = CN - CN_f`, `ca = CA - CA_f`, `cm = CM - CM_f`, so body + fins is DATCOM's
+///   complete configuration exactly, every other fin set (canards, a second tail) riding in
+///   the body table. Coefficients are on SREF and LREF about XCG: the vehicle's reference
+///   area, length and point must be what DATCOM printed (to its printed resolution), and
+///   the vehicle's precise values are used (DATCOM prints SREF to three decimals).
+/// - Fin table, one fin of `n` at its own angle of attack: with the fin block's model a
+///   fin at roll angle δ from the pitch plane's normal sees α_f ≈ α cos δ and its normal
+///   force projects with cos δ, so the set gives Σ cn_f(α cos δ_i) cos δ_i, which is
+///   `(n/2) cn_f(α)` for the slope of any n >= 3 equally spaced fins (Σ cos² δ_i = n/2)
+///   and exactly `2 cn_f(α)` for a cruciform in `+` at any α (the two fins in the plane of
+///   α carry it all). Hence `cn = (2/n) CN_f(α)`; `ca = CA_f / n` (each fin's share of the
+///   set's axial force); the centre of pressure `x_cp = XCG - LREF CM_f/CN_f` aft of the
+///   nose, less the root leading edge's distance aft of the nose (DATCOM's stations are
+///   taken from the nose tip, its default origin). Where CN_f = 0 (α = 0) the centre of
+///   pressure of the nearest α with a normal force is held.
+/// - Axes: Mach, alpha in degrees as printed, altitude (0 when the file gives a Reynolds
+///   number instead: the table is then constant in altitude).
+pub fn tables(
+    out: &DatcomOutput,
+    source: &std::path::Path,
+    sel: Selection,
+    vref: &VehicleReference,
+    policy: OutOfRange,
+) -> Result<DatcomTables, ConversionError> {
+    let in_case = |c: u32| sel.case.is_none_or(|k| k == c);
+    let pages: Vec<&StaticTable> = out.complete.iter().filter(|t| in_case(t.case)).collect();
+    let Some(first) = pages.first() else {
+        return Err(conv(
+            None,
+            match sel.case {
+                Some(c) => format!("the file has no STATIC AERODYNAMICS page for case {c}"),
+                None => "the file has no STATIC AERODYNAMICS page (CN, CM, CA against alpha)"
+                    .to_string(),
+            },
+        ));
+    };
+    // The fin set.
+    let mut sets: Vec<u32> = out
+        .fin_sets
+        .iter()
+        .filter(|f| in_case(f.case))
+        .map(|f| f.fin_set)
+        .collect();
+    sets.sort_unstable();
+    sets.dedup();
+    let fin_set = match (vref.fins, sel.fin_set, sets.as_slice()) {
+        (None, None, []) => None,
+        (None, _, _) => {
+            return Err(conv(
+                Some(first.line),
+                "the file has fin sets but the vehicle has no `fins` block",
+            ));
+        }
+        (Some(_), _, []) => {
+            return Err(conv(
+                Some(first.line),
+                "the file has no `FIN SET n IN PRESENCE OF THE BODY` pages, so its body and fins cannot be told apart: run DATCOM with the PART control card",
+            ));
+        }
+        (Some(_), Some(k), _) if sets.contains(&k) => Some(k),
+        (Some(_), Some(k), _) => {
+            return Err(conv(
+                Some(first.line),
+                format!("the file has no fin set {k} (it has {sets:?})"),
+            ));
+        }
+        (Some(_), None, [k]) => Some(*k),
+        (Some(_), None, _) => {
+            return Err(conv(
+                Some(first.line),
+                format!(
+                    "the file has fin sets {sets:?}: say which is the vehicle's `fins` with `fin_set = N`"
+                ),
+            ));
+        }
+    };
+    let alphas = first.alpha_deg.clone();
+    let with_altitude = first.conditions.altitude.is_some();
+    let mut points: Vec<(f64, f64, &StaticTable, Option<&FinSetTable>)> = Vec::new();
+    for t in &pages {
+        let c = &t.conditions;
+        if c.altitude.is_some() != with_altitude {
+            return Err(conv(
+                Some(t.line),
+                format!(
+                    "this page {} an altitude but the page on line {} {}",
+                    if c.altitude.is_some() {
+                        "gives"
+                    } else {
+                        "gives no"
+                    },
+                    first.line,
+                    if with_altitude { "does" } else { "does not" }
+                ),
+            ));
+        }
+        let h = c.altitude.unwrap_or(0.0);
+        if t.alpha_deg != alphas {
+            return Err(conv(
+                Some(t.line),
+                format!(
+                    "this page's angles of attack {:?} differ from those of the page on line {} {:?}: every page must share one alpha grid",
+                    t.alpha_deg, first.line, alphas
+                ),
+            ));
+        }
+        if let Some((_, _, p, _)) = points.iter().find(|(m, a, _, _)| *m == c.mach && *a == h) {
+            return Err(conv(
+                Some(t.line),
+                format!(
+                    "Mach {} at altitude {h} m is given twice: by case {} (line {}) and case {} (this page); choose one with `case = N`",
+                    c.mach, p.case, p.line, t.case
+                ),
+            ));
+        }
+        let reference = [
+            (
+                c.reference_area,
+                vref.area,
+                Mismatch::Area,
+                "reference area",
+                "m^2",
+            ),
+            (
+                c.reference_length,
+                vref.length,
+                Mismatch::Length,
+                "reference length",
+                "m",
+            ),
+            (
+                c.moment_center,
+                -vref.point_x,
+                Mismatch::Point,
+                "moment centre (XCG aft of the nose)",
+                "m",
+            ),
+        ];
+        for (printed, vehicle, which, name, unit) in reference {
+            if !printed.admits(vehicle) {
+                return Err(ConversionError {
+                    line: Some(t.line),
+                    message: format!(
+                        "the file's {name} is {} {unit} (to {} {unit}), the vehicle's {vehicle} {unit}",
+                        printed.value, printed.resolution
+                    ),
+                    mismatch: Some(which),
+                });
+            }
+        }
+        let fin = match fin_set {
+            None => None,
+            Some(k) => {
+                let f = out
+                    .fin_sets
+                    .iter()
+                    .find(|f| f.case == t.case && f.fin_set == k && f.conditions.mach == c.mach && f.conditions.altitude == c.altitude)
+                    .ok_or_else(|| conv(Some(t.line), format!("no `FIN SET {k} IN PRESENCE OF THE BODY` page for this page's Mach {} (case {})", c.mach, t.case)))?;
+                if f.alpha_deg != alphas {
+                    return Err(conv(
+                        Some(f.line),
+                        format!(
+                            "fin set {k}'s angles of attack differ from the static page's on line {}",
+                            t.line
+                        ),
+                    ));
+                }
+                Some(f)
+            }
+        };
+        points.push((c.mach, h, t, fin));
+    }
+    let mut machs: Vec<f64> = points.iter().map(|p| p.0).collect();
+    machs.sort_by(f64::total_cmp);
+    machs.dedup();
+    let mut alts: Vec<f64> = points.iter().map(|p| p.1).collect();
+    alts.sort_by(f64::total_cmp);
+    alts.dedup();
+    let n_alpha = alphas.len();
+    let mut body = Vec::with_capacity(machs.len() * n_alpha * alts.len());
+    let mut fin = Vec::with_capacity(body.capacity());
+    for &m in &machs {
+        // Per altitude: the page, or a hole.
+        let mut cols = Vec::with_capacity(alts.len());
+        for &h in &alts {
+            let p = points.iter().find(|p| p.0 == m && p.1 == h).ok_or_else(|| {
+                conv(None, format!("the pages do not make a full grid: no page for Mach {m} at altitude {h} m"))
+            })?;
+            cols.push((p.2, p.3, fin_columns(p.2, p.3, vref)?));
+        }
+        for j in 0..n_alpha {
+            for (t, f, fc) in &cols {
+                let (fcn, fcm, fca) = f.map_or((0.0, 0.0, 0.0), |f| (f.cn[j], f.cm[j], f.ca[j]));
+                body.push([t.cn[j] - fcn, t.ca[j] - fca, t.cm[j] - fcm]);
+                fin.push(fc[j]);
+            }
+        }
+    }
+    let grid = |kind, points: &[[f64; 3]]| {
+        CoefficientTable::from_grid(
+            kind,
+            source,
+            [machs.clone(), alphas.clone(), alts.clone()],
+            points,
+            policy,
+        )
+        .map_err(|e| conv(None, e.to_string()))
+    };
+    Ok(DatcomTables {
+        body: grid(TableKind::Body, &body)?,
+        fin: grid(TableKind::Fin, &fin)?,
+    })
+}
+
+/// One fin's `[cn, ca, x_cp_m]` at every alpha of a page (see [`tables`]).
+fn fin_columns(
+    t: &StaticTable,
+    f: Option<&FinSetTable>,
+    vref: &VehicleReference,
+) -> Result<Vec<[f64; 3]>, ConversionError> {
+    let (Some(f), Some((n, x_le))) = (f, vref.fins) else {
+        return Ok(vec![[0.0; 3]; t.alpha_deg.len()]);
+    };
+    let nf = n as f64;
+    let xcg = -vref.point_x;
+    let x_cp = |j: usize| xcg - vref.length * f.cm[j] / f.cn[j] + x_le;
+    let lifting: Vec<usize> = (0..f.cn.len())
+        .filter(|&j| f.cn[j].abs() > CN_ZERO)
+        .collect();
+    if lifting.is_empty() {
+        return Err(conv(
+            Some(f.line),
+            format!(
+                "fin set {} has no normal force at any angle of attack: its centre of pressure is undefined",
+                f.fin_set
+            ),
+        ));
+    }
+    Ok((0..f.cn.len())
+        .map(|j| {
+            let k = *lifting
+                .iter()
+                .min_by(|a, b| {
+                    let da = (t.alpha_deg[**a] - t.alpha_deg[j]).abs();
+                    let db = (t.alpha_deg[**b] - t.alpha_deg[j]).abs();
+                    da.total_cmp(&db)
+                })
+                .unwrap_or(&j);
+            [2.0 / nf * f.cn[j], f.ca[j] / nf, x_cp(k)]
+        })
+        .collect())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -983,5 +1303,165 @@ mod tests {
         );
         let e = parse(&text).unwrap_err();
         assert_eq!((e.line, e.column), (701, 20), "{e}");
+    }
+
+    const FT: f64 = 0.3048;
+
+    fn ogive_vehicle() -> VehicleReference {
+        VehicleReference {
+            area: 11.045 * FT * FT,
+            length: 3.75 * FT,
+            point_x: -18.75 * FT,
+            // Fin set 2: four panels, root leading edge XLE = 31.915 ft aft of the nose.
+            fins: Some((4, -31.915 * FT)),
+        }
+    }
+
+    fn ogive_tables(sel: Selection, v: &VehicleReference) -> Result<DatcomTables, ConversionError> {
+        let d = parse(OGIVE).unwrap();
+        tables(&d, std::path::Path::new("o.dat"), sel, v, OutOfRange::Clamp)
+    }
+
+    /// Body + fins is DATCOM's complete configuration at every alpha: C_N = cn_b + (n/2)
+    /// cn_f and C_m = cm_b - (n/2) cn_f (x_cp - XCG)/LREF; the fin's centre of pressure at
+    /// 4 deg by hand: 18.75 + 3.75 x 1.7272/0.3934 - 31.915 = 3.29922 ft.
+    #[test]
+    fn body_plus_fins_rebuild_the_complete_configuration() {
+        let v = ogive_vehicle();
+        let sel = Selection {
+            case: None,
+            fin_set: Some(2),
+        };
+        let t = ogive_tables(sel, &v).unwrap();
+        let d = parse(OGIVE).unwrap();
+        let c = &d.complete[0];
+        for (j, &a) in c.alpha_deg.iter().enumerate() {
+            let b = t.body.body(2.36, a, 0.0).unwrap();
+            let f = t.fin.fin(2.36, a, 0.0).unwrap();
+            assert!((b.cn + 2.0 * f.cn - c.cn[j]).abs() < 1e-12, "alpha {a}");
+            assert!((b.ca + 4.0 * f.ca - c.ca[j]).abs() < 1e-12, "alpha {a}");
+            let x_cp_aft_nose = f.x_cp_m + 31.915 * FT;
+            let cm_f = -2.0 * f.cn * (x_cp_aft_nose - 18.75 * FT) / (3.75 * FT);
+            assert!((b.cm + cm_f - c.cm[j]).abs() < 1e-12, "alpha {a}");
+        }
+        let f4 = t.fin.fin(2.36, 4.0, 0.0).unwrap();
+        let by_hand = (18.75 + 3.75 * 1.7272 / 0.3934 - 31.915) * FT;
+        assert!((f4.x_cp_m - by_hand).abs() < 1e-12);
+        // At alpha = 0 the fin set has no normal force: the 4 deg centre of pressure holds.
+        assert_eq!(t.fin.fin(2.36, 0.0, 0.0).unwrap().x_cp_m, f4.x_cp_m);
+    }
+
+    #[test]
+    fn two_fin_sets_need_a_choice_and_a_missing_one_is_named() {
+        let v = ogive_vehicle();
+        let e = ogive_tables(Selection::default(), &v).unwrap_err();
+        assert!(e.message.contains("fin_set = N"), "{e}");
+        let e = ogive_tables(
+            Selection {
+                case: None,
+                fin_set: Some(3),
+            },
+            &v,
+        )
+        .unwrap_err();
+        assert!(e.message.contains("no fin set 3"), "{e}");
+        let e = ogive_tables(
+            Selection {
+                case: Some(2),
+                fin_set: Some(2),
+            },
+            &v,
+        )
+        .unwrap_err();
+        assert!(e.message.contains("case 2"), "{e}");
+    }
+
+    /// A vehicle whose reference area, length or point is not what DATCOM printed is refused,
+    /// naming the quantity; the printed resolution is the tolerance.
+    #[test]
+    fn reference_quantities_must_agree_with_the_vehicle() {
+        let sel = Selection {
+            case: None,
+            fin_set: Some(2),
+        };
+        let ok = ogive_vehicle();
+        // Within the printed resolution (11.045 ft^2 to 0.0005 ft^2).
+        let mut v = ok;
+        v.area = 11.0454 * FT * FT;
+        assert!(ogive_tables(sel, &v).is_ok());
+        for (which, v) in [
+            (
+                Mismatch::Area,
+                VehicleReference {
+                    area: 11.046 * FT * FT,
+                    ..ok
+                },
+            ),
+            (
+                Mismatch::Length,
+                VehicleReference {
+                    length: 3.8 * FT,
+                    ..ok
+                },
+            ),
+            (
+                Mismatch::Point,
+                VehicleReference {
+                    point_x: -18.0 * FT,
+                    ..ok
+                },
+            ),
+        ] {
+            let e = ogive_tables(sel, &v).unwrap_err();
+            assert_eq!(e.mismatch, Some(which), "{e}");
+            assert_eq!(e.line, Some(687));
+        }
+    }
+
+    #[test]
+    fn a_file_without_the_part_card_cannot_split_body_and_fins() {
+        let d = parse(JAVELIN).unwrap();
+        let v = VehicleReference {
+            area: 1.266768698e-2,
+            length: 0.05,
+            point_x: -0.446,
+            fins: Some((4, -1.011)),
+        };
+        let e = tables(
+            &d,
+            std::path::Path::new("j.dat"),
+            Selection::default(),
+            &v,
+            OutOfRange::Stop,
+        )
+        .unwrap_err();
+        assert!(e.message.contains("PART"), "{e}");
+        // Without fins, the body is the complete configuration; the deflection cases repeat
+        // case 1's Mach numbers, so a case must be chosen.
+        let v = VehicleReference { fins: None, ..v };
+        let e = tables(
+            &d,
+            std::path::Path::new("j.dat"),
+            Selection::default(),
+            &v,
+            OutOfRange::Stop,
+        )
+        .unwrap_err();
+        assert!(e.message.contains("case = N"), "{e}");
+        let t = tables(
+            &d,
+            std::path::Path::new("j.dat"),
+            Selection {
+                case: Some(1),
+                fin_set: None,
+            },
+            &v,
+            OutOfRange::Stop,
+        )
+        .unwrap();
+        let b = t.body.body(0.1, 5.0, 0.0).unwrap();
+        assert_eq!((b.cn, b.cm, b.ca), (1.773, -8.489, 0.169));
+        // Between Mach 0.1 and 0.2 the table interpolates.
+        assert!(t.body.body(0.15, 5.0, 0.0).is_ok());
     }
 }
