@@ -153,3 +153,16 @@ fn the_aero_key_follows_the_datcom_file() {
         "editing the DATCOM file must change the aero key"
     );
 }
+
+/// A `fins` block that fails its own checks is reported once: no DATCOM follow-on error
+/// saying the vehicle has no fins.
+#[test]
+fn a_bad_fins_block_gives_no_datcom_follow_on_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = setup(dir.path(), |v| v.replace("count = 4", "count = 0"), |d| d);
+    let o = flexflight(&["check"], &file);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(e.contains("count"), "{e}");
+    assert!(!e.contains("vdl::aero::datcom"), "{e}");
+}

@@ -314,7 +314,8 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
             }
         }
     }
-    if let Some(a) = &aero {
+    // A `fins` block that failed its own checks has been reported: no DATCOM follow-on.
+    if let (Some(a), false) = (&aero, fins.is_none() && fins_block.is_some()) {
         if !super::datcom_source::check_vehicle(cx, a, fins.as_ref(), forces.as_ref()) {
             return None;
         }
