@@ -38,6 +38,7 @@ const ORDER: &[&str] = &[
 const EXCEPTIONS: &[(&str, &str)] = &[
     ("check/vehicle.rs", "aero/tables.rs"),
     ("check/vehicle.rs", "aero/fin_loads.rs"),
+    ("check/datcom_source.rs", "aero/datcom.rs"),
     ("check/motor.rs", "runtime/thrust.rs"),
     ("check/motor.rs", "runtime/catalogue.rs"),
     ("check/scenario.rs", "runtime/stimuli.rs"),

@@ -14,6 +14,7 @@
 //! other quantity is SI.
 
 pub mod atmosphere;
+pub mod datcom;
 pub mod estimator;
 pub mod fin_loads;
 pub mod leeward;

@@ -410,6 +410,14 @@ pub enum AeroSource {
         fins: Spanned<PathBuf>,
         out_of_range: Spanned<OutOfRange>,
     },
+    /// Missile DATCOM's printed output (`datcom("for006.dat", case = N, fin_set = N)`),
+    /// turned into body and fin tables by [`crate::aero::datcom::tables`].
+    Datcom {
+        file: Spanned<PathBuf>,
+        case: Option<u32>,
+        fin_set: Option<u32>,
+        out_of_range: Spanned<OutOfRange>,
+    },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -6,6 +6,7 @@
 //! [`Loader`] trait (the real disk, or memory in tests and the fuzzer).
 
 pub mod cli_values;
+mod datcom_source;
 mod dispersion;
 pub mod fields;
 pub mod fin_outline;

@@ -314,6 +314,12 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
             }
         }
     }
+    // A `fins` block that failed its own checks has been reported: no DATCOM follow-on.
+    if let (Some(a), false) = (&aero, fins.is_none() && fins_block.is_some()) {
+        if !super::datcom_source::check_vehicle(cx, a, fins.as_ref(), forces.as_ref()) {
+            return None;
+        }
+    }
     // The fin generator meshes each fin with MITC4 quadrilaterals between the root and the
     // tip chord (structure/generate/spec.rs): a pointed fin (tip chord 0) would need
     // degenerate elements. The aerodynamics take it; the generated structure does not.
@@ -1553,8 +1559,14 @@ fn check_modes(
 fn check_aero(cx: &mut Cx, b: &Block, diameter: Option<Option<f64>>) -> Option<Aero> {
     let mut fl = Fields::new(cx, "the `aero` block", b.header, &b.body);
     let source_v = fl.required(cx, "source", "builtin");
-    let source_kind =
-        source_v.and_then(|v| f::keyword(cx, v, &[("builtin", false), ("tables", true)]));
+    // `datcom("for006.dat", ...)`: Missile DATCOM output (check/datcom_source.rs).
+    let datcom_v = source_v.filter(|v| {
+        matches!(&v.kind, crate::syntax::ast::ValueKind::Call { name, .. } if name.name == "datcom")
+    });
+    let source_kind = match datcom_v {
+        Some(_) => None,
+        None => source_v.and_then(|v| f::keyword(cx, v, &[("builtin", false), ("tables", true)])),
+    };
     let policy = |cx: &mut Cx, fl: &mut Fields, default: OutOfRange| match fl.value("out_of_range")
     {
         Some(v) => f::keyword(
@@ -1587,7 +1599,16 @@ fn check_aero(cx: &mut Cx, b: &Block, diameter: Option<Option<f64>>) -> Option<A
                 _ => None,
             }
         }
-        None => None,
+        None => datcom_v.and_then(|v| {
+            let (file, sel) = super::datcom_source::call(cx, v)?;
+            let out_of_range = policy(cx, &mut fl, OutOfRange::Stop)?;
+            Some(AeroSource::Datcom {
+                file,
+                case: sel.case,
+                fin_set: sel.fin_set,
+                out_of_range,
+            })
+        }),
     };
     let area = match (fl.value("reference_area"), diameter) {
         (Some(v), _) => f::positive(f::quantity(cx, v, Dim::AREA), cx),

@@ -312,6 +312,9 @@ pub fn aero_cache_key(v: &Vehicle, structural: &CacheKey) -> std::io::Result<Cac
         b.file("body table", &body.value)?;
         b.file("fin table", &fins.value)?;
     }
+    if let crate::check::ir::AeroSource::Datcom { file, .. } = &v.aero.source {
+        b.file("datcom output", &file.value)?;
+    }
     Ok(b.finish())
 }
 

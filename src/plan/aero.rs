@@ -220,7 +220,9 @@ impl AeroArtifact {
                     true,
                 )
             }
-            (AeroSource::Tables { .. }, None, None) => (aero_tables(v)?, false),
+            (AeroSource::Tables { .. } | AeroSource::Datcom { .. }, None, None) => {
+                (aero_tables(v)?, false)
+            }
             _ => {
                 return Err(AeroForceError::Cached(
                     "the cached aerodynamics do not match the vehicle's aero source".into(),

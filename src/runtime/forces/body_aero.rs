@@ -94,6 +94,11 @@ pub enum AeroForceError {
     NoRateColumns { path: std::path::PathBuf },
     #[error("vehicle `{vehicle}` has fin aerodynamics but no `fins` block")]
     NoFins { vehicle: String },
+    #[error("Missile DATCOM output {}: {message}", path.display())]
+    Datcom {
+        path: std::path::PathBuf,
+        message: String,
+    },
     #[error("{what} node index {index} is outside the compiled model ({n_nodes} nodes)")]
     BadNode {
         what: &'static str,
@@ -162,6 +167,42 @@ pub fn aero_tables(v: &ir::Vehicle) -> Result<EstimatedTables, AeroForceError> {
                 out_of_range.value,
             )?,
         }),
+        AeroSource::Datcom {
+            file,
+            case,
+            fin_set,
+            out_of_range,
+        } => {
+            use crate::aero::datcom;
+            let path = file.value.clone();
+            let err = |message: String| AeroForceError::Datcom {
+                path: path.clone(),
+                message,
+            };
+            let text = std::fs::read_to_string(&path).map_err(|e| err(e.to_string()))?;
+            let parsed = datcom::parse(&text).map_err(|e| err(e.to_string()))?;
+            let vref = datcom::VehicleReference {
+                area: v.aero.reference_area.value,
+                length: v.aero.reference_length.value,
+                point_x: v.aero.reference_point.value[0],
+                fins: v.fins.as_ref().map(|f| {
+                    (
+                        f.count.value,
+                        f.root_trailing_edge_x.value + f.root_chord.value,
+                    )
+                }),
+            };
+            let sel = datcom::Selection {
+                case: *case,
+                fin_set: *fin_set,
+            };
+            let t = datcom::tables(&parsed, &path, sel, &vref, out_of_range.value)
+                .map_err(|e| err(e.to_string()))?;
+            Ok(EstimatedTables {
+                body: t.body,
+                fin: t.fin,
+            })
+        }
         AeroSource::Builtin { out_of_range } => {
             let Structure::Generate(g) = &v.structure else {
                 return Err(AeroForceError::NoBodyGeometry);
