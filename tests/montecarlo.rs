@@ -747,7 +747,7 @@ fn the_fins_material_constants_are_dispersable() {
         ),
     )
     .unwrap();
-    let checked = check_files(&[disp.clone()], &[], &DiskLoader);
+    let checked = check_files(std::slice::from_ref(&disp), &[], &DiskLoader);
     assert!(!checked.has_errors(), "{:?}", checked.diagnostics);
     assert!(checked.program.dispersion("fin_modulus").is_some());
     std::fs::write(
