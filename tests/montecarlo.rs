@@ -98,6 +98,7 @@ fn opts(jobs: usize, shard: Shard) -> MonteCarloOptions {
         progress: None,
         flutter_margin: None,
         full_summary: false,
+        exact_boundaries: false,
     }
 }
 
@@ -508,6 +509,7 @@ fn k1000_opts(samples: usize, jobs: usize) -> MonteCarloOptions {
         progress: None,
         flutter_margin: None,
         full_summary: false,
+        exact_boundaries: false,
     }
 }
 
@@ -760,4 +762,138 @@ fn the_fins_material_constants_are_dispersable() {
     .unwrap();
     let checked = check_files(&[disp], &[], &DiskLoader);
     assert!(checked.has_errors(), "{:?}", checked.diagnostics);
+}
+
+/// A dispersion of the K1000T's fin thickness alone (`k1000`, pad to landing with the
+/// flutter margin), its samples drawn from `k1000_mc`'s truncated normal.
+const THICKNESS_FILE: &str = r#"
+import "K1000"
+
+dispersion k1000_t {
+  scenario = k1000
+  samples = 3
+  seed = 2026
+  vary {
+    fins.thickness = truncated_normal(mean = 2 mm, sd = 0.05 mm, min = 1.85 mm, max = 2.15 mm)
+  }
+}
+"#;
+
+fn thickness_run(
+    file: &Path,
+    out: &Path,
+    jobs: usize,
+    shard: Shard,
+    exact: bool,
+) -> flexflight::ops::montecarlo::runner::MonteCarloReport {
+    let checked = check_files(&[file.to_path_buf()], &[], &DiskLoader);
+    assert!(!checked.has_errors(), "{:?}", checked.diagnostics);
+    let d = checked.program.dispersion("k1000_t").unwrap();
+    let mut o = k1000_opts(3, jobs);
+    o.shard = shard;
+    o.exact_boundaries = exact;
+    run_dispersion(file, d, "k1000", out, &o).unwrap()
+}
+
+/// The flutter boundary of a fin-thickness dispersion interpolated between compiled
+/// thicknesses (`ops::montecarlo::family`): the nodes cover the drawn range at the stated
+/// spacing; every sample's minimum flutter margin agrees with its exact per-sample boundary
+/// (`exact_boundaries`) within 2e-5 relative (the stated bound, docs/performance.md), and is
+/// not the exact one's bits (the interpolation ran); every other output is the exact run's
+/// bit for bit. `samples.csv` and the statistics are the same bits with 1 and 2 jobs and
+/// with 2 shards merged.
+#[test]
+fn the_thickness_family_gives_the_exact_margin_within_its_bound() {
+    let dir = tempfile::tempdir().unwrap();
+    let k1000 = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/hpr_k1000/hpr_k1000.vdl");
+    let file = dir.path().join("t.vdl");
+    std::fs::write(
+        &file,
+        THICKNESS_FILE.replace("K1000", &k1000.display().to_string()),
+    )
+    .unwrap();
+    let exact = thickness_run(&file, &dir.path().join("exact"), 2, Shard::ALL, true);
+    let one = thickness_run(&file, &dir.path().join("j1"), 1, Shard::ALL, false);
+    let two = thickness_run(&file, &dir.path().join("j2"), 2, Shard::ALL, false);
+    assert_eq!((one.ran, one.failed), (3, 0), "{:?}", one.rows);
+    assert_eq!(exact.manifest.boundary_nodes, None);
+    let nodes = one.manifest.boundary_nodes.clone().expect("the family ran");
+    let cols = &one.manifest.columns;
+    let c = |name: &str| cols.iter().position(|h| h == name).unwrap();
+    let (ct, cm) = (c("fins.thickness [mm]"), c("flutter_margin_min"));
+    let ts: Vec<f64> = one.rows.iter().map(|r| r[ct].parse().unwrap()).collect();
+    let lo = ts.iter().copied().fold(f64::INFINITY, f64::min) * 1e-3;
+    let hi = ts.iter().copied().fold(0.0, f64::max) * 1e-3;
+    assert!(
+        (nodes[0] / lo - 1.0).abs() < 1e-12 && (nodes[nodes.len() - 1] / hi - 1.0).abs() < 1e-12
+    );
+    for w in nodes.windows(2) {
+        assert!(w[1] > w[0] && (w[1] / w[0]).ln() <= 0.078 * (1.0 + 1e-12));
+    }
+    let mut worst = 0.0f64;
+    for (a, e) in one.rows.iter().zip(&exact.rows) {
+        let (x, y): (f64, f64) = (a[cm].parse().unwrap(), e[cm].parse().unwrap());
+        worst = worst.max((x / y - 1.0).abs());
+        let interior = nodes
+            .iter()
+            .all(|n| (n * 1e3 - a[ct].parse::<f64>().unwrap()).abs() > 1e-9);
+        if interior {
+            assert_ne!(
+                x.to_bits(),
+                y.to_bits(),
+                "sample {} was not interpolated",
+                a[0]
+            );
+        }
+        for k in 0..a.len() {
+            if k != cm {
+                assert_eq!(a[k], e[k], "column {}", cols[k]);
+            }
+        }
+    }
+    eprintln!(
+        "nodes {nodes:?} m, thicknesses {ts:?} mm, largest relative margin error {worst:.2e}"
+    );
+    assert!(worst <= 2e-5, "{worst:e}");
+    for f in ["samples.csv", "statistics.json", "statistics.txt"] {
+        assert_eq!(
+            read(&dir.path().join("j1").join(f)),
+            read(&dir.path().join("j2").join(f)),
+            "{f} differs between 1 and 2 threads"
+        );
+    }
+    assert_eq!(two.rows, one.rows);
+    thickness_run(
+        &file,
+        &dir.path().join("s0"),
+        1,
+        Shard { index: 0, count: 2 },
+        false,
+    );
+    thickness_run(
+        &file,
+        &dir.path().join("s1"),
+        1,
+        Shard { index: 1, count: 2 },
+        false,
+    );
+    let out = bin()
+        .args(["merge", "--out"])
+        .arg(dir.path().join("merged"))
+        .arg(dir.path().join("s0"))
+        .arg(dir.path().join("s1"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for f in ["samples.csv", "statistics.json", "statistics.txt"] {
+        assert_eq!(
+            read(&dir.path().join("merged").join(f)),
+            read(&dir.path().join("j1").join(f)),
+            "merged {f} differs from the unsharded run"
+        );
+    }
 }
