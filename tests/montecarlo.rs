@@ -798,9 +798,12 @@ fn thickness_run(
 /// The flutter boundary of a fin-thickness dispersion interpolated between compiled
 /// thicknesses (`ops::montecarlo::family`): the nodes cover the drawn range at the stated
 /// spacing; every sample's minimum flutter margin agrees with its exact per-sample boundary
-/// (`exact_boundaries`) within 2e-5 relative (the stated bound, docs/performance.md), and is
-/// not the exact one's bits (the interpolation ran); every other output is the exact run's
-/// bit for bit. `samples.csv` and the statistics are the same bits with 1 and 2 jobs and
+/// (`exact_boundaries`) within 5e-6 relative (measured 2.4e-6 on the interior sample, the
+/// other two being the nodes; the stated bound, docs/montecarlo.md, is the boundary cells'
+/// 3.1e-5), and an interior sample's is not the exact one's bits (the interpolation ran);
+/// every other output is the exact run's bit for bit. A sample outside the nodes would have
+/// no margin (the parse fails); an interpolation linear in `t` instead of `ln t` errs by
+/// about `p (p - 1) h² / 8 ≈ 2e-4` here. `samples.csv` and the statistics are the same bits with 1 and 2 jobs and
 /// with 2 shards merged.
 #[test]
 fn the_thickness_family_gives_the_exact_margin_within_its_bound() {
@@ -854,7 +857,7 @@ fn the_thickness_family_gives_the_exact_margin_within_its_bound() {
     eprintln!(
         "nodes {nodes:?} m, thicknesses {ts:?} mm, largest relative margin error {worst:.2e}"
     );
-    assert!(worst <= 2e-5, "{worst:e}");
+    assert!(worst <= 5e-6, "{worst:e}");
     for f in ["samples.csv", "statistics.json", "statistics.txt"] {
         assert_eq!(
             read(&dir.path().join("j1").join(f)),

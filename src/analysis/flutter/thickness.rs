@@ -22,9 +22,11 @@
 //! 5.0e-5, i.e. at the boundary solve's own resolution rather than at the truncation.
 //!
 //! The clamped modes' frequencies `ω_i ∝ t` in bending are interpolated in the same way. The
-//! flags of a cell (`lower_bound`, `upper_bound`) are the OR of the two nodes' flags, and the
-//! speed a node's sweep started from the larger of the two, so an interpolated cell is never
-//! reported as more certain than either node it comes from. A thickness outside the nodes is
+//! flags of a cell (`lower_bound`, `upper_bound`) are the OR of the two nodes' flags; a Mach
+//! node's sweep range spans both nodes' (its lowest speed is the lattice's resolution limit,
+//! which moves with the fin's frequencies) and a cell's sweep counts as started above its
+//! range when either node's did; so an interpolated cell is never reported as more certain
+//! than either node it comes from. A thickness outside the nodes is
 //! refused, never extrapolated.
 
 use super::margin::{Boundary, BoundaryFin};
@@ -61,8 +63,8 @@ pub fn interpolate(
     if !same(&bl.machs, &bh.machs)
         || !same(&bl.altitudes, &bh.altitudes)
         || !same(&bl.densities, &bh.densities)
-        || bl.speed_ranges != bh.speed_ranges
-        || bl.largest_speed.to_bits() != bh.largest_speed.to_bits()
+        || bl.speed_ranges.len() != bh.speed_ranges.len()
+        || bl.speed_ranges.len() != bl.machs.len()
         || [
             bh.speeds.len(),
             bl.lower_bound.len(),
@@ -88,6 +90,27 @@ pub fn interpolate(
             ((1.0 - s) * a.ln() + s * b.ln()).exp()
         }
     };
+    // A Mach node's sweep range: the lowest speed the lattice resolves depends on the fin's
+    // frequencies (`margin::solve_boundary`), so it differs between thicknesses; the
+    // interpolated range spans both, and a cell's sweep counts as raised (started above its
+    // range) when either node's did.
+    let ranges: Vec<[f64; 2]> = bl
+        .speed_ranges
+        .iter()
+        .zip(&bh.speed_ranges)
+        .map(|(a, b)| [a[0].min(b[0]), a[1].max(b[1])])
+        .collect();
+    let na = bl.altitudes.len();
+    let node_lowest: Vec<f64> = (0..n)
+        .map(|k| {
+            let i = k / na.max(1);
+            if bl.raised_start(i, k % na) || bh.raised_start(i, k % na) {
+                bl.node_lowest_speeds[k].max(bh.node_lowest_speeds[k])
+            } else {
+                ranges[i][0]
+            }
+        })
+        .collect();
     let or =
         |a: &[bool], b: &[bool]| -> Vec<bool> { a.iter().zip(b).map(|(x, y)| *x || *y).collect() };
     let boundary = Boundary {
@@ -102,14 +125,9 @@ pub fn interpolate(
             .collect(),
         lower_bound: or(&bl.lower_bound, &bh.lower_bound),
         upper_bound: or(&bl.upper_bound, &bh.upper_bound),
-        speed_ranges: bl.speed_ranges.clone(),
-        node_lowest_speeds: bl
-            .node_lowest_speeds
-            .iter()
-            .zip(&bh.node_lowest_speeds)
-            .map(|(&a, &b)| a.max(b))
-            .collect(),
-        largest_speed: bl.largest_speed,
+        largest_speed: ranges.iter().map(|r| r[1]).fold(0.0, f64::max),
+        speed_ranges: ranges,
+        node_lowest_speeds: node_lowest,
     };
     let fin = BoundaryFin {
         mode_names: fl.mode_names.clone(),
@@ -206,6 +224,16 @@ mod tests {
             assert_eq!(f.thickness, t);
             assert_eq!(b.lower_bound, vec![false, true, false, false]);
         }
+        // Ranges that differ (the lattice's lowest speed moves with t): spanned; the raised
+        // start of node 2 of `lo` (20 > 10) kept, no other cell raised.
+        let mut b1r = b1.clone();
+        b1r.speed_ranges[0][0] = 12.0;
+        b1r.node_lowest_speeds[0] = 12.0;
+        b1r.node_lowest_speeds[1] = 12.0;
+        let (b, _) = interpolate((&b0, &f0, t0), (&b1r, &f1, t1), 1.9e-3).unwrap();
+        assert_eq!(b.speed_ranges[0], [10.0, 500.0]);
+        let raised: Vec<bool> = (0..4).map(|k| b.raised_start(k / 2, k % 2)).collect();
+        assert_eq!(raised, vec![false, false, true, false]);
         let (b, _) = interpolate((&b0, &f0, t0), (&b1, &f1, t1), t0).unwrap();
         assert_eq!(b.speeds, b0.speeds);
         let (b, _) = interpolate((&b0, &f0, t0), (&b1, &f1, t1), t1).unwrap();
