@@ -880,7 +880,8 @@ fn the_exponential_integrators_body_rates_on_a_boost_stay_near_the_reference() {
 
 /// The M1670's boost through its thrust curve's first points (0.055, 0.092, 0.1, 0.15, 0.2,
 /// 0.5 s: kinks of the piecewise-linear curve) with DOPRI5 (rtol 1e-7): a tighter atol
-/// flies no meaningfully further from the reference (DOP853 rtol 1e-10, atol 1e-13). A step across a
+/// flies no further from the reference than the rtol's floor, and a tighter rtol flies closer
+/// (DOP853 rtol 1e-10, atol 1e-13). A step across a
 /// kink has a local error of order `h² Δf'` that the embedded estimate can miss;
 /// integrating across the points, atol 1e-11 ended 3.06e-4 m/s off the reference against
 /// 1.0e-5 at atol 1e-9. The run now restarts the integrator at every thrust-curve point:
@@ -889,9 +890,14 @@ fn the_exponential_integrators_body_rates_on_a_boost_stay_near_the_reference() {
 /// were mostly the reference's own error: DOP853's rows were a cubic Hermite across its
 /// long steps. With its continuous extension (6 December 2026) the same runs are 1.60e-6
 /// (atol 1e-9) and 1.73e-6 m/s (atol 1e-11): both DOPRI5's rtol share, their order decided
-/// by round-off, so the test pins what the atol must not do (make it worse by more than a
-/// quarter; across the kinks it made it 30 times worse) and a bound near the achieved
-/// value (4e-6, was 2e-5).
+/// by round-off. So the test asserts that floor (the atol moves the error by less than a
+/// tenth, measured 8 %; across the kinks it made it 30 times worse; both under 2e-6) and
+/// compares levels off it: rtol 1e-9 (atol 1e-11) is 1.76e-7 m/s off, 9.1 times closer
+/// than rtol 1e-7, asserted at 8 (the reference is not the floor there: DOP853 at rtol
+/// 1e-12 is 1.8e-9 from it). Tolerance proportionality (Hairer, Nørsett & Wanner, vol. I,
+/// II.4: DOPRI5's global error roughly proportional to the tolerance) would give 100; this
+/// boost does not reach it (rtol 1e-5: 9.3e-6, 1e-6: 5.0e-6, 1e-7: 1.6e-6 m/s), measured
+/// 6 December 2026 and not explained here: the assertion is the measured factor.
 #[test]
 fn a_tighter_tolerance_flies_the_boost_closer_to_the_reference() {
     let dir = tempfile::tempdir().unwrap();
@@ -937,10 +943,20 @@ fn a_tighter_tolerance_flies_the_boost_closer_to_the_reference() {
     };
     let e9 = worst(&fly("atol9", &["run.atol=1e-9"]));
     let e11 = worst(&fly("atol11", &["run.atol=1e-11"]));
-    eprintln!("v_body_x off the reference: atol 1e-9 {e9:.3e} m/s, atol 1e-11 {e11:.3e} m/s");
+    let tight = worst(&fly("rtol9", &["run.rtol=1e-9", "run.atol=1e-11"]));
+    eprintln!(
+        "v_body_x off the reference: rtol 1e-7 atol 1e-9 {e9:.3e} m/s, atol 1e-11 {e11:.3e} m/s; rtol 1e-9 atol 1e-11 {tight:.3e} m/s"
+    );
+    // At rtol 1e-7 the atol is not what limits: the floor is the rtol's share, and the atol
+    // moves the error by less than a tenth either way (measured 8 %).
     assert!(
-        e11 <= 1.25 * e9,
+        (e11 / e9 - 1.0).abs() < 0.1,
         "atol 1e-11: {e11:e} m/s, atol 1e-9: {e9:e} m/s"
     );
-    assert!(e11 < 4e-6, "{e11:e}");
+    assert!(e9.max(e11) < 2e-6, "{e9:e} {e11:e}");
+    // A tighter rtol, off that floor, flies closer: 100x in tolerance, measured 9.1x.
+    assert!(
+        tight * 8.0 <= e9,
+        "rtol 1e-9: {tight:e} m/s, rtol 1e-7: {e9:e} m/s"
+    );
 }
