@@ -145,13 +145,25 @@ fn group_errors(out: &RunOutput, reference: &RunOutput) -> Vec<(&'static str, f6
 /// same headroom over the achieved value as before (1e-7 over 7.3e-8). The exponential
 /// integrator is 4.7x DOPRI5's error on the attitude of this flight, an argument against
 /// making it the default that the next change to the integrator must answer.
+/// Since 6 December 2026 the reference's rows come from DOP853's own order-7 continuous
+/// extension (before, from a cubic Hermite across its long steps, which put the reference
+/// itself about 1.7e-6 of `η`'s range off between its steps: the `η`, fin and deformation
+/// errors quoted above were mostly the reference's). Against the sound reference (dev
+/// profile, DOPRI5 / exponential): position 1.18e-11 / 1.15e-8, velocity 2.78e-7 / 4.54e-8,
+/// angular rate 2.37e-5 / 2.39e-8, attitude 2.41e-8 / 1.12e-7, alpha and beta 6.36e-7 /
+/// 5.36e-9, eta 1.71e-5 / 1.76e-8, eta rates 3.78e-5 / 5.86e-8, fin incidence 2.89e-6 /
+/// 1.02e-8, fin root stress 5.17e-6 / 1.53e-8, energies 1.32e-10 / 1.94e-8, largest
+/// deformation 6.43e-6 / 2.19e-8; steps 14,065 / 2,232. So the exponential integrator is
+/// 300 to 1,000 times more accurate on the modes, the fin loads and the deformation, and
+/// behind on the position, attitude and energies (the slow states, which DOPRI5 over-resolves
+/// at the stability bound of the fin modes; docs/performance.md, work-precision).
 /// The test pins: each group no worse than DOPRI5's error (5 % margin) or below 1.5e-7 of
-/// its range; the modal and fin groups no worse than DOPRI5's (5 % margin); the largest
-/// deformation within 1.5x DOPRI5's; fewer than a quarter of DOPRI5's evaluations; the
-/// gust-response identification of `summary.json` (the same call as `flexflight run`): the
-/// least-damped root's damping and frequency within 2e-7 of DOPRI5's, every fitted root's
-/// frequency within 2e-5 and growth rate within 1 % (the lightly damped 90 Hz root seen in
-/// `alpha` is the loosest).
+/// its range; the modal, fin and deformation groups below 1 % of DOPRI5's (achieved 0.1 %
+/// to 0.35 %); fewer than a quarter of DOPRI5's evaluations; the gust-response
+/// identification of `summary.json` (the same call as `flexflight run`): the least-damped
+/// root's damping and frequency within 2e-7 of DOPRI5's, every fitted root's frequency
+/// within 2e-5 and growth rate within 1 % (the lightly damped 90 Hz root seen in `alpha` is
+/// the loosest).
 #[test]
 fn exponential_matches_the_tight_reference_at_least_as_well_as_dopri5() {
     let (reference, _) = fly(&[
@@ -172,18 +184,12 @@ fn exponential_matches_the_tight_reference_at_least_as_well_as_dopri5() {
         eprintln!("{g:>16}: dopri5 {a:.2e}  exponential {b:.2e}");
     }
     for ((g, a), (_, b)) in e5.iter().zip(&ee) {
-        if *g == "max deformation" {
-            // Both at the atol level of `η` amplified by the node shapes, largest on the
-            // rows just after a gust's end (see the doc above).
-            assert!(*b <= 1.5 * a, "{g}: dopri5 {a:e}, exponential {b:e}");
-            continue;
-        }
         assert!(
             *b <= (1.05 * a).max(1.5e-7),
             "{g}: dopri5 {a:e}, exponential {b:e}"
         );
-        if g.starts_with("modal") || g.starts_with("fin") {
-            assert!(*b <= 1.05 * a, "{g}: dopri5 {a:e}, exponential {b:e}");
+        if g.starts_with("modal") || g.starts_with("fin") || *g == "max deformation" {
+            assert!(*b <= 0.01 * a, "{g}: dopri5 {a:e}, exponential {b:e}");
         }
     }
     assert!(

@@ -463,6 +463,7 @@ impl NativeProject {
             progress: Some(prog.clone() as std::sync::Arc<dyn flexflight::ops::Progress>),
             flutter_margin,
             full_summary: false,
+            exact_boundaries: false,
         };
         let r = py.allow_threads(|| run_dispersion(file, &d, &scenario, &out, &opts));
         drop(opts);

@@ -969,7 +969,43 @@ fn check_fins(
         Some(v) => material_ref(cx, v, materials).inspect(|m| isotropic_only(cx, m, v.span)),
         None => vehicle_material.cloned(),
     };
+    // The fins' own material constants, over those of `material` (a measured laminate, or a
+    // dispersion: `fins.E = normal(...)`), checked as a material's.
+    let e_fin = fl
+        .value("E")
+        .map(|v| f::positive(f::quantity(cx, v, Dim::PRESSURE), cx));
+    let nu_fin = fl
+        .value("nu")
+        .map(|v| f::check_range(f::number(cx, v), cx, |x| x > 0.0 && x < 0.5, "0 < nu < 0.5"));
+    let rho_fin = fl
+        .value("rho")
+        .map(|v| f::positive(f::quantity(cx, v, Dim::DENSITY), cx));
     fl.finish(cx);
+    let material = match material {
+        Some(mut m) if e_fin.is_some() || nu_fin.is_some() || rho_fin.is_some() => {
+            for (over, field) in [
+                (e_fin, &mut m.youngs_modulus),
+                (nu_fin, &mut m.poisson),
+                (rho_fin, &mut m.density),
+            ] {
+                match over {
+                    Some(Some(q)) => *field = q,
+                    Some(None) => return None,
+                    None => {}
+                }
+            }
+            if let Some(d) = super::plausible::material_warning(
+                &m.name.value,
+                (m.youngs_modulus.value, m.youngs_modulus.span),
+                (m.density.value, m.density.span),
+                b.header,
+            ) {
+                cx.push(d);
+            }
+            Some(m)
+        }
+        m => m,
+    };
 
     if let (Some(r), Some(t), Some(FinOutline::Trapezoidal)) = (root, tip, &outline) {
         if t.value > r.value {

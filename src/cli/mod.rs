@@ -195,6 +195,10 @@ pub enum Command {
         /// summary (the reference of the fast path: the same results, slower).
         #[arg(long)]
         full_outputs: bool,
+        /// Solve each sample's flutter boundary at its own fin thickness instead of
+        /// interpolating between boundaries compiled at a few thicknesses.
+        #[arg(long)]
+        exact_boundaries: bool,
         #[command(flatten)]
         common: Common,
         #[command(flatten)]
@@ -407,6 +411,7 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
             out,
             no_flutter_margin,
             full_outputs,
+            exact_boundaries,
             common,
             cache,
         } => montecarlo::cmd_montecarlo(
@@ -419,6 +424,7 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
                 out: &out,
                 flutter_margin: no_flutter_margin.then_some(false),
                 full_outputs,
+                exact_boundaries,
             },
             &common,
             cache.cache_dir.as_deref(),

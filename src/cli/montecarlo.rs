@@ -21,6 +21,8 @@ pub struct MonteCarloRequest<'a> {
     pub flutter_margin: Option<bool>,
     /// The reference path: full runs and summaries.
     pub full_outputs: bool,
+    /// Each sample's flutter boundary at its own thickness (no interpolation).
+    pub exact_boundaries: bool,
 }
 
 /// `flexflight montecarlo`.
@@ -75,6 +77,7 @@ pub fn cmd_montecarlo(
         }),
         flutter_margin: req.flutter_margin,
         full_summary: req.full_outputs,
+        exact_boundaries: req.exact_boundaries,
     };
     match run_dispersion(req.file, d, &scenario.name.value, req.out, &opts) {
         Ok(r) => {

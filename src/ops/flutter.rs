@@ -1100,6 +1100,19 @@ pub fn flight_margin(
     table_machs: &[f64],
     cache: &Cache,
 ) -> FlightMargin {
+    flight_margin_with(sc, o, table_machs, &|v, spec| {
+        cached_boundary(v, spec, cache)
+    })
+}
+
+/// [`flight_margin`] with the boundary from `boundary` instead of [`cached_boundary`] (a Monte
+/// Carlo's thickness family, `ops::montecarlo::family`).
+pub fn flight_margin_with(
+    sc: &ir::Scenario,
+    o: &crate::run::RunOutput,
+    table_machs: &[f64],
+    boundary: &dyn Fn(&ir::Vehicle, &BoundarySpec) -> Result<CachedBoundary, FinFlutterError>,
+) -> FlightMargin {
     use crate::analysis::flutter::margin::CRITERION;
     let started = std::time::Instant::now();
     let col = |n: &str| o.channels.iter().position(|c| c == n);
@@ -1119,7 +1132,7 @@ pub fn flight_margin(
         Ok(s) => s,
         Err(e) => return margin_skipped(e.to_string()),
     };
-    let cached = match cached_boundary(&sc.vehicle, &spec, cache) {
+    let cached = match boundary(&sc.vehicle, &spec) {
         Ok(c) => c,
         Err(e) => return margin_skipped(e.to_string()),
     };

@@ -5,10 +5,12 @@
 //! Output sampling: the integrator's observer sees `(t, x, ẋ)` after every accepted step,
 //! and the step's continuous extension where the method has one
 //! ([`Integrator::integrate_dense`]; the exponential integrator's, which stays accurate over
-//! steps spanning many periods of a fin mode); rows at the output times inside the step are
+//! steps spanning many periods of a fin mode, and DOP853's order-7 `contd8`, three more
+//! right-hand sides a step, so that its long steps at a tight tolerance keep their rows and
+//! events as accurate as its steps); rows at the output times inside the step are
 //! interpolated by it, else by the cubic Hermite polynomial through the two step ends and
-//! their derivatives (third-order accurate, no extra right-hand side evaluations; DOPRI5,
-//! DOP853 and RK4 keep it, bit for bit as before). The Euler parameters of a row are
+//! their derivatives (third-order accurate, no extra right-hand side evaluations; DOPRI5
+//! and RK4 keep it, bit for bit as before). The Euler parameters of a row are
 //! renormalised. When an
 //! accepted step meets a stop condition (ground, alpha, deformation, atmosphere range), the
 //! first state meeting it is located by bisection on that interpolant and the history ends

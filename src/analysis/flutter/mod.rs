@@ -17,6 +17,7 @@ pub mod fin;
 pub mod margin;
 pub mod pk;
 pub mod theodorsen;
+pub mod thickness;
 pub mod vehicle;
 pub mod wing;
 

@@ -3,5 +3,6 @@
 //! `samples/<id>.json` per sample, resume, shards and merge: [`runner`]) and their statistics
 //! ([`summary`]). The draws and the statistics themselves are `analysis::montecarlo`.
 
+pub mod family;
 pub mod runner;
 pub mod summary;

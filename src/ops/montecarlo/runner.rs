@@ -42,6 +42,8 @@ use crate::check::{DiskLoader, Loader, check_scenario_files};
 use crate::ops::Progress;
 use crate::ops::compile::{CachedAero, CompileOutcome, aero_cache_key, vehicle_aero_cached};
 
+use super::family::ThicknessFamily;
+
 use crate::analysis::montecarlo::{
     SampleOutputs, draw, sample_id, set_strings, table_csv, table_header, table_row,
 };
@@ -65,6 +67,9 @@ pub struct MonteCarloOptions {
     /// what `flexflight run` writes) instead of the fast path ([`sample_outputs`]); the two
     /// give the same bits (tests/montecarlo.rs), the reference is slower.
     pub full_summary: bool,
+    /// Every sample's flutter boundary solved at its own fin thickness, never interpolated
+    /// between compiled thicknesses ([`super::family`]).
+    pub exact_boundaries: bool,
 }
 
 /// `montecarlo.json`.
@@ -79,6 +84,10 @@ pub struct Manifest {
     pub columns: Vec<String>,
     /// The stream's definition, for whoever reads the directory later.
     pub stream: String,
+    /// The fin thicknesses (m) the samples' flutter boundaries are interpolated between
+    /// ([`super::family`]); absent when each sample has its own boundary.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub boundary_nodes: Option<Vec<f64>>,
 }
 
 /// What a run did.
@@ -188,6 +197,9 @@ struct SampleRecord {
     status: String,
     error: Option<String>,
     outputs: Option<OutputsRecord>,
+    /// How the flutter boundary was had, when interpolated (`ThicknessFamily::describe`).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    boundary: String,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -352,7 +364,13 @@ impl Loader for MemoLoader {
 }
 
 /// The finished record of a sample with these inputs and variant, if there is one.
-fn finished(dir: &Path, id: &str, inputs: &[f64], variant: &str) -> Option<SampleRecord> {
+fn finished(
+    dir: &Path,
+    id: &str,
+    inputs: &[f64],
+    variant: &str,
+    boundary: &str,
+) -> Option<SampleRecord> {
     let text = std::fs::read_to_string(dir.join(format!("{id}.json"))).ok()?;
     let r: SampleRecord = serde_json::from_str(&text).ok()?;
     let same_inputs = r.inputs.len() == inputs.len()
@@ -360,7 +378,7 @@ fn finished(dir: &Path, id: &str, inputs: &[f64], variant: &str) -> Option<Sampl
             .iter()
             .zip(inputs)
             .all(|(a, b)| a.to_bits() == b.to_bits());
-    (r.status == "ok" && same_inputs && r.variant == variant).then_some(r)
+    (r.status == "ok" && same_inputs && r.variant == variant && r.boundary == boundary).then_some(r)
 }
 
 /// Run (this shard of) `d`, declared in `file`, into `out`.
@@ -381,6 +399,13 @@ pub fn run_dispersion(
             reason: e.to_string(),
         })?;
     let header = table_header(d);
+    let loader = MemoLoader::default();
+    let family = if opts.exact_boundaries {
+        None
+    } else {
+        thickness_family(file, d, scenario, opts, &loader)
+    };
+    let boundary = family.as_ref().map(|f| f.describe()).unwrap_or_default();
     let manifest = Manifest {
         dispersion: d.name.value.clone(),
         scenario: scenario.to_string(),
@@ -392,6 +417,7 @@ pub fn run_dispersion(
         stream: "u(seed, i, j) = ((mix(mix(mix(seed) ^ i) ^ j) >> 11) + 0.5) / 2^53, mix the \
                  SplitMix64 output function; normals by Acklam's inverse CDF with a Halley step"
             .to_string(),
+        boundary_nodes: family.as_ref().map(|f| f.nodes.clone()),
     };
     let samples_dir = out.join("samples");
     std::fs::create_dir_all(&samples_dir).map_err(io_err(&samples_dir))?;
@@ -405,7 +431,6 @@ pub fn run_dispersion(
     let indices: Vec<usize> = (0..opts.samples).filter(|&i| opts.shard.takes(i)).collect();
     let inputs: Vec<Vec<f64>> = indices.iter().map(|&i| draw(d, i as u64)).collect();
     let mut phases = PhaseSeconds::default();
-    let loader = MemoLoader::default();
     let prepared: Vec<(Result<Prepared, String>, f64)> = pool.install(|| {
         indices
             .par_iter()
@@ -430,7 +455,7 @@ pub fn run_dispersion(
     let mut outcomes: Vec<Option<Result<SampleOutputs, String>>> = (0..indices.len())
         .map(|k| {
             let p = prepared[k].as_ref().ok()?;
-            finished(&samples_dir, &ids[k], &inputs[k], &p.variant)
+            finished(&samples_dir, &ids[k], &inputs[k], &p.variant, &boundary)
                 .and_then(|r| r.outputs.as_ref().map(|o| Ok(SampleOutputs::from(o))))
         })
         .collect();
@@ -456,7 +481,7 @@ pub fn run_dispersion(
             .map(|&k| {
                 let mut ph = PhaseSeconds::default();
                 let result = prepared[k].as_ref().map_err(Clone::clone).and_then(|p| {
-                    let r = run_sample(p, &compiled, &aero, &cache, opts, &mut ph);
+                    let r = run_sample(p, &compiled, &aero, &cache, opts, family.as_ref(), &mut ph);
                     compiled.done(&p.key);
                     if let Some(a) = &p.aero_key {
                         aero.done(a);
@@ -474,6 +499,7 @@ pub fn run_dispersion(
                     status: if result.is_ok() { "ok" } else { "failed" }.to_string(),
                     error: result.as_ref().err().cloned(),
                     outputs: result.as_ref().ok().map(OutputsRecord::from),
+                    boundary: boundary.clone(),
                 };
                 let path = samples_dir.join(format!("{}.json", ids[k]));
                 let text = serde_json::to_string_pretty(&record).unwrap_or_default() + "\n";
@@ -543,6 +569,32 @@ pub fn write_tables(
     Ok(text)
 }
 
+/// The thickness family of `d` (module [`super::family`]): the nodes from the smallest and
+/// largest thickness drawn over all `opts.samples` samples (not only this shard's), each in
+/// metres as its sample's variant checks it; `None` when `d` does not qualify, the two
+/// extreme samples do not check, or the range gives one node.
+fn thickness_family(
+    file: &Path,
+    d: &Dispersion,
+    scenario: &str,
+    opts: &MonteCarloOptions,
+    loader: &MemoLoader,
+) -> Option<ThicknessFamily> {
+    let j = super::family::thickness_entry(d)?;
+    let drawn: Vec<(f64, usize)> = (0..opts.samples)
+        .map(|i| (draw(d, i as u64)[j], i))
+        .collect();
+    let lo = drawn.iter().copied().min_by(|a, b| a.0.total_cmp(&b.0))?;
+    let hi = drawn.iter().copied().max_by(|a, b| a.0.total_cmp(&b.0))?;
+    let metres = |i: usize| {
+        let mut sets = opts.sets.clone();
+        sets.extend(set_strings(d, &draw(d, i as u64)));
+        let p = prepare(file, scenario, &sets, loader).ok()?;
+        p.scenario.vehicle.fins.as_ref().map(|f| f.thickness.value)
+    };
+    ThicknessFamily::new(metres(lo.1)?, metres(hi.1)?)
+}
+
 /// Compile (shared), plan, fly and post-process one sample.
 fn run_sample(
     p: &Prepared,
@@ -550,6 +602,7 @@ fn run_sample(
     aero: &Shared<Option<Arc<CachedAero>>>,
     cache: &Cache,
     opts: &MonteCarloOptions,
+    family: Option<&ThicknessFamily>,
     ph: &mut PhaseSeconds,
 ) -> Result<SampleOutputs, String> {
     let sc = &p.scenario;
@@ -589,7 +642,15 @@ fn run_sample(
             || crate::aero::estimator::ESTIMATOR_MACH.to_vec(),
             |a| a.tables.fin.axis(crate::aero::tables::Axis::Mach).to_vec(),
         );
-        crate::ops::flutter::flight_margin(sc, &output, &table_machs, cache).json
+        match family {
+            Some(f) => {
+                crate::ops::flutter::flight_margin_with(sc, &output, &table_machs, &|v, spec| {
+                    f.boundary(v, spec, cache)
+                })
+            }
+            None => crate::ops::flutter::flight_margin(sc, &output, &table_machs, cache),
+        }
+        .json
     });
     let t4 = Instant::now();
     ph.margin = (t4 - t3).as_secs_f64();
@@ -667,9 +728,10 @@ pub fn merge(dirs: &[PathBuf]) -> Result<Merged, String> {
                 || f.samples != m.samples
                 || f.columns != m.columns
                 || f.entries != m.entries
+                || f.boundary_nodes != m.boundary_nodes
             {
                 return Err(format!(
-                    "`{}` is another dispersion run (dispersion, seed, samples or entries differ)",
+                    "`{}` is another dispersion run (dispersion, seed, samples, entries or boundary nodes differ)",
                     dir.display()
                 ));
             }
