@@ -216,6 +216,7 @@ fn the_mach_box_count_meets_the_box_rule_with_its_own_box_length() {
             tip_chord: 0.08,
             tip_le_offset: 0.1,
             body_radius: 0.0,
+            outline: flexflight::check::ir::FinOutline::Trapezoidal,
         },
         FinPlanform {
             span: 0.3,
@@ -223,6 +224,7 @@ fn the_mach_box_count_meets_the_box_rule_with_its_own_box_length() {
             tip_chord: 0.15,
             tip_le_offset: 0.0,
             body_radius: 0.0,
+            outline: flexflight::check::ir::FinOutline::Trapezoidal,
         },
     ];
     let mut checked = 0;

@@ -65,6 +65,8 @@ pub fn interpolate(
         || !same(&bl.densities, &bh.densities)
         || bl.speed_ranges.len() != bh.speed_ranges.len()
         || bl.speed_ranges.len() != bl.machs.len()
+        || bl.uncertainty.len() != bl.machs.len()
+        || bh.uncertainty.len() != bl.machs.len()
         || [
             bh.speeds.len(),
             bl.lower_bound.len(),
@@ -128,6 +130,14 @@ pub fn interpolate(
         largest_speed: ranges.iter().map(|r| r[1]).fold(0.0, f64::max),
         speed_ranges: ranges,
         node_lowest_speeds: node_lowest,
+        // A transonic node's stated uncertainty (issue 33): the larger of the two
+        // thicknesses', as the bound flags take either's.
+        uncertainty: bl
+            .uncertainty
+            .iter()
+            .zip(&bh.uncertainty)
+            .map(|(a, b)| a.max(*b))
+            .collect(),
     };
     let fin = BoundaryFin {
         mode_names: fl.mode_names.clone(),
@@ -192,6 +202,7 @@ mod tests {
             speed_ranges: vec![[10.0, 500.0], [10.0, 500.0]],
             node_lowest_speeds: vec![10.0, 10.0, 20.0, 10.0],
             largest_speed: 500.0,
+            uncertainty: vec![0.0, 0.1 * scale],
         };
         let f = BoundaryFin {
             mode_names: vec!["a".into()],
