@@ -583,16 +583,9 @@ fn rows_attached(c: &CompiledVehicle, m: usize, p: &[f64; 3]) -> Vec<f64> {
 pub fn rigid_rows(c: &CompiledVehicle, p: &[f64; 3]) -> Option<(Vec<f64>, Vec<f64>)> {
     let n = c.modes.len();
     let m = nearest_body_node(c, p)?;
-    let r = c.node_positions[m];
-    let o = [p[0] - r[0], p[1] - r[1], p[2] - r[2]];
-    let skew = [[0.0, -o[2], o[1]], [o[2], 0.0, -o[0]], [-o[1], o[0], 0.0]];
-    let s = |d: usize, j: usize| c.shapes[(6 * m + d) * n + j];
-    let mut rows = vec![0.0; 3 * n];
-    for d in 0..3 {
-        for j in 0..n {
-            rows[d * n + j] = s(d, j) - (0..3).map(|e| skew[d][e] * s(3 + e, j)).sum::<f64>();
-        }
-    }
     // A rigid attachment rotates with the body node.
-    Some((rows, c.shapes[(6 * m + 3) * n..(6 * m + 6) * n].to_vec()))
+    Some((
+        rows_attached(c, m, p),
+        c.shapes[(6 * m + 3) * n..(6 * m + 6) * n].to_vec(),
+    ))
 }
