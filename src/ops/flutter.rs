@@ -714,13 +714,7 @@ pub fn summary_json(r: &FinFlutter) -> serde_json::Value {
         "free_vehicle": free,
         "aero": r.aero,
         "aero_method": crate::analysis::flutter::fin::aero_method_bridged(&r.modes.planform, c.mach, r.aero, r.bridge.as_ref()),
-        "transonic_bridge": r.bridge.as_ref().map(|b| serde_json::json!({
-            "low_mach": b.low,
-            "high_mach": b.high,
-            "weight_high": b.t,
-            "matrix_uncertainty": b.matrix_uncertainty,
-            "speed_uncertainty": b.uncertainty,
-        })),
+        "transonic_bridge": r.bridge.as_ref().map(bridge_json),
         "mach": c.mach,
         "altitude_m": c.altitude,
         "fin_thickness_m": r.modes.thickness,
@@ -1583,4 +1577,16 @@ pub fn solve_request(
     };
     let v0 = scenario_speed(&sc, air.speed_of_sound);
     solve_free(&variant, condition, &speeds, req.aero.model(), v0).map_err(|e| refuse(&e))
+}
+
+/// The transonic bridge of a flutter answer (issue 33) as `summary.json` writes it, for the
+/// clamped fin, the free vehicle and a tunnel fixture alike.
+pub(crate) fn bridge_json(b: &crate::analysis::flutter::fin::TransonicBridge) -> serde_json::Value {
+    serde_json::json!({
+        "low_mach": b.low,
+        "high_mach": b.high,
+        "weight_high": b.t,
+        "matrix_uncertainty": b.matrix_uncertainty,
+        "speed_uncertainty": b.uncertainty,
+    })
 }
