@@ -960,3 +960,36 @@ fn a_tighter_tolerance_flies_the_boost_closer_to_the_reference() {
         "rtol 1e-9: {tight:e} m/s, rtol 1e-7: {e9:e} m/s"
     );
 }
+
+/// A team's flight with a measured apogee (issue 34 item 6): Valetudo (Projeto Jupiter,
+/// 2019; RocketPy's docs/examples/valetudo_flight_sim.ipynb records 860 m above the ground,
+/// the flight recordings lost), flown with flexflight's own aerodynamics (`examples/valetudo`:
+/// Barrowman normal force and the built-in drag build-up, not the team's RASAero curve).
+/// The issue's target is 10 % of the measured apogee: 913.3 m, +6.2 %, measured. The rail
+/// phase is set up like RocketPy's (`tools/rocketpy/valetudo.py`: the travel until the upper
+/// button leaves the rail): off-rail speed 22.61 m/s against RocketPy 1.13.0's 22.597 m/s.
+#[test]
+fn valetudo_reaches_its_measured_apogee_within_ten_percent() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = bin()
+        .arg("run")
+        .arg(repo("examples/valetudo/valetudo.vdl"))
+        .args(["--scenario", "valetudo", "--no-flutter-margin", "--out"])
+        .arg(&out)
+        .arg("--cache-dir")
+        .arg(cache())
+        .args(["--set", "run.stop_time=20 s"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = summary(&out);
+    let apogee = s["flight"]["apogee"]["height"].as_f64().unwrap();
+    let off_rail = s["flight"]["off_rail_speed"].as_f64().unwrap();
+    eprintln!("apogee {apogee} m, off the rail at {off_rail} m/s");
+    assert!((apogee / 860.0 - 1.0).abs() < 0.10, "apogee {apogee} m");
+    assert!(
+        (off_rail / 22.597 - 1.0).abs() < 2e-3,
+        "off rail {off_rail} m/s"
+    );
+}

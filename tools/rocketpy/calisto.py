@@ -124,24 +124,10 @@ def build():
     return env, motor, calisto
 
 
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--until-apogee", action="store_true")
-    ap.add_argument("--json")
-    a = ap.parse_args()
-    env, motor, calisto = build()
-    t0 = time.perf_counter()
-    f = Flight(
-        rocket=calisto,
-        environment=env,
-        rail_length=5.2,
-        inclination=85,
-        heading=0,
-        terminate_on_apogee=a.until_apogee,
-    )
-    wall = time.perf_counter() - t0
+def flight_summary(f, env, motor, rocket, wall, until_apogee):
+    """The comparison's outputs of a RocketPy `Flight` (shared with valetudo.py)."""
     tb = motor.burn_out_time
-    out = {
+    return {
         "apogee_m_agl": float(f.apogee - env.elevation),
         "apogee_time_s": float(f.apogee_time),
         "burnout_time_s": float(tb),
@@ -156,7 +142,7 @@ def main():
         "max_acceleration_m_s2": float(f.max_acceleration),
         "max_acceleration_time_s": float(f.max_acceleration_time),
         # Rocket.static_margin is at Mach 0; Flight.stability_margin at the flight's Mach.
-        "static_margin_at_rail_exit_cal": float(calisto.static_margin(f.out_of_rail_time)),
+        "static_margin_at_rail_exit_cal": float(rocket.static_margin(f.out_of_rail_time)),
         "stability_margin_at_rail_exit_cal": float(f.stability_margin(f.out_of_rail_time)),
         "stability_margin_at_max_q_cal": float(f.stability_margin(f.max_dynamic_pressure_time)),
         "min_stability_margin_cal": float(f.min_stability_margin),
@@ -165,7 +151,7 @@ def main():
         "apogee_east_m": float(f.apogee_x),
         "final_time_s": float(f.t_final),
         "landing": None
-        if a.until_apogee
+        if until_apogee
         else {
             "t": float(f.t_final),
             "north_m": float(f.y_impact),
@@ -175,11 +161,34 @@ def main():
         },
         "solve_wall_s": wall,
     }
-    text = json.dumps(out, indent=2)
+
+
+def fly_and_print(build_fn, rail_length, inclination, heading):
+    """Parses `--until-apogee` and `--json`, flies `build_fn()`'s rocket, prints the summary."""
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--until-apogee", action="store_true")
+    ap.add_argument("--json")
+    a = ap.parse_args()
+    env, motor, rocket = build_fn()
+    t0 = time.perf_counter()
+    f = Flight(
+        rocket=rocket,
+        environment=env,
+        rail_length=rail_length,
+        inclination=inclination,
+        heading=heading,
+        terminate_on_apogee=a.until_apogee,
+    )
+    wall = time.perf_counter() - t0
+    text = json.dumps(flight_summary(f, env, motor, rocket, wall, a.until_apogee), indent=2)
     if a.json:
         with open(a.json, "w") as fh:
             fh.write(text + "\n")
     print(text)
+
+
+def main():
+    fly_and_print(build, rail_length=5.2, inclination=85, heading=0)
 
 
 if __name__ == "__main__":

@@ -18,7 +18,10 @@ solve; the roll inertia is shared over them as m rho^2, with pitch rho^2/2 each,
 Prints the point_mass blocks; with --check compiles the vdl as it is and prints the
 comparison with RocketPy (the numbers in examples/calisto/README.md).
 
-Usage: python calisto_mass.py [--flexflight BIN] [--check]
+`--case valetudo` does the same for examples/valetudo (valetudo.py's rocket; its motor's
+dry mass is 1 g, so the casing compensation is nil).
+
+Usage: python calisto_mass.py [--case calisto|valetudo] [--flexflight BIN] [--check]
 """
 
 import argparse
@@ -35,13 +38,26 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import calisto  # noqa: E402
+import valetudo  # noqa: E402
 
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
-EX = os.path.join(ROOT, "examples", "calisto")
-VDL = os.path.join(EX, "calisto.vdl")
-NOSE_TIP = 1.278
-NOZZLE_X = -1.255 - NOSE_TIP
-STATIONS = [("payload", -0.40), ("avionics", -1.30), ("fin_can", -2.20)]
+# Per case: the RocketPy script, the example's folder and vdl, the nose tip and the nozzle
+# exit in RocketPy's frame (tail_to_nose, metres), the point masses' stations (x aft of the
+# nose tip, negative).
+CASES = {
+    "calisto": (calisto, "calisto", 1.278, -1.255,
+                [("payload", -0.40), ("avionics", -1.30), ("fin_can", -2.20)]),
+    "valetudo": (valetudo, "valetudo", valetudo.NOSE_TIP, valetudo.NOZZLE,
+                 [("payload", -0.30), ("avionics", -1.10), ("fin_can", -2.00)]),
+}
+
+
+def select(name):
+    global SCRIPT, EX, VDL, NOSE_TIP, NOZZLE_X, STATIONS
+    SCRIPT, folder, NOSE_TIP, nozzle, STATIONS = CASES[name]
+    EX = os.path.join(ROOT, "examples", folder)
+    VDL = os.path.join(EX, folder + ".vdl")
+    NOZZLE_X = nozzle - NOSE_TIP
 
 
 def vdl_motor():
@@ -68,7 +84,7 @@ def compile_json(ff, text):
         for f in os.listdir(EX):
             if f.endswith((".eng", ".csv")):
                 shutil.copy(os.path.join(EX, f), tmp)
-        p = os.path.join(tmp, "calisto.vdl")
+        p = os.path.join(tmp, os.path.basename(VDL))
         open(p, "w").write(text)
         r = subprocess.run(
             [ff, "compile", p, "--format", "json", "--cache-dir", os.path.join(tmp, "cache")],
@@ -86,7 +102,7 @@ def props(j):
 
 
 def targets():
-    _env, motor, rocket = calisto.build()
+    _env, motor, rocket = SCRIPT.build()
     m_r = rocket.mass
     x_r = rocket.center_of_mass_without_motor - NOSE_TIP
     i_r, i_r33 = rocket.I_11_without_motor, rocket.I_33_without_motor
@@ -174,7 +190,9 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--flexflight", default=os.path.join(ROOT, "target", "debug", "flexflight"))
     ap.add_argument("--check", action="store_true")
+    ap.add_argument("--case", choices=sorted(CASES), default="calisto")
     a = ap.parse_args()
+    select(a.case)
     (check if a.check else solve)(a.flexflight)
 
 
