@@ -6,10 +6,13 @@ mod common;
 use std::process::Command;
 
 use flexflight::aero::atmosphere::{Atmosphere, Standard1976};
+use flexflight::analysis::flutter::fin::FinAero;
 use flexflight::analysis::flutter::fin::{
     FinFlutterSettings, clamped_fin_modes, fin_lattice, flutter_model, gaf_table,
 };
-use flexflight::analysis::flutter::pk::{PkSettings, k_method, pk_solve};
+use flexflight::analysis::flutter::pk::{
+    FlutterAnswer, PkSettings, k_method, pk_solve, pk_solve_cut,
+};
 use flexflight::check::{DiskLoader, check_files, ir};
 
 fn sphads1(sets: &[&str]) -> ir::Vehicle {
@@ -682,4 +685,49 @@ fn unsteady_gaf_tables_have_the_same_bits_on_one_and_two_threads() {
             );
         }
     }
+}
+
+/// A small, stiff fin (examples/valetudo: 3 mm G10, 77 mm span; clamped modes 367, 1822,
+/// 2156 and 4852 Hz, the last an in-plane mode the air does not act on) on the flight
+/// margin's sweep at Mach 0.3 (40 speeds from 154.5 m/s, 32 x 12 unsteady lattice, the k
+/// table to 1.2 omega_max b / v_lo). Before the p-k first-order form was scaled the
+/// in-plane branch's `Im p` wandered by 1e-7 relative between evaluations, its iteration did
+/// not converge at 154.5 m/s (k = 5.72), and the flight's margin was "not computed"; with a
+/// looser tolerance its round-off damping (+2.3e-12) made the sweep "unstable at its lowest
+/// speed". TN 4197 puts this fin's flutter at 524-928 m/s; the sweep is stable to 1013 m/s.
+#[test]
+fn a_stiff_fin_with_an_in_plane_mode_solves_its_margin_sweep() {
+    let file = common::root().join("examples/valetudo/valetudo.vdl");
+    let checked = check_files(&[file], &[], &DiskLoader);
+    assert!(!checked.has_errors());
+    let v = checked
+        .program
+        .scenario("valetudo")
+        .unwrap()
+        .vehicle
+        .clone();
+    let modes = clamped_fin_modes(&v, 4).unwrap();
+    let w_max = modes.omega.iter().copied().fold(0.0, f64::max);
+    let v_lo = 154.548;
+    let s = FinFlutterSettings {
+        aero: FinAero::Unsteady,
+        chordwise: 32,
+        spanwise: 12,
+        k_max: 1.2 * w_max * modes.b_ref() / v_lo,
+        ..FinFlutterSettings::default()
+    };
+    let lattice = fin_lattice(&modes, &s).unwrap();
+    let gaf = gaf_table(&modes, &lattice, 0.3, &s).unwrap();
+    let speeds: Vec<f64> = (0..40)
+        .map(|i| v_lo + (1013.0 - v_lo) * i as f64 / 39.0)
+        .collect();
+    let model = flutter_model(&modes, Standard1976::new().at(668.0).unwrap().density);
+    let (sol, cut) = pk_solve_cut(&model, &gaf, &speeds, PkSettings::default()).unwrap();
+    assert_eq!(cut, None);
+    assert!(
+        sol.unstable_at_start.is_empty(),
+        "{:?}",
+        sol.unstable_at_start
+    );
+    assert_eq!(sol.answer(), FlutterAnswer::Stable);
 }

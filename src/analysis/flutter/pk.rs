@@ -771,10 +771,31 @@ impl<'a> PkProblem<'a> {
         });
         let mk = &self.minv * &kt;
         let mb = &self.minv * &bt;
+        // The first-order form in the scaled state `z = [s η, η̇]` (a diagonal similarity,
+        // the same eigenvalues): `A = [[0, s I], [-M⁻¹K̃ / s, -M⁻¹B̃]]` with `s` the square
+        // root of the largest `|M⁻¹K̃|` entry, about the highest modal frequency. Unscaled,
+        // the lower-left block is of order `ω_max²` against the identity above it, and the
+        // eigenvalues carry an absolute error of order `ε ω_max²`: on a 4.85 kHz fin torsion
+        // mode (examples/valetudo) `Im p` moved by 1e-7 relative between evaluations, so the
+        // consistency residual never met the 1e-11 tolerance (the iteration did not
+        // converge) and an inert branch's damping came out at ±1.8e-11. Scaled, both blocks
+        // are of order `ω_max` and the error is of order `ε ω_max`.
+        let s = (0..n)
+            .flat_map(|i| (0..n).map(move |j| (i, j)))
+            .map(|(i, j)| mk[(i, j)].abs())
+            .fold(0.0, f64::max)
+            .sqrt();
+        let s = if s.is_finite() && s > 0.0 { s } else { 1.0 };
         let a = Mat::<f64>::from_fn(2 * n, 2 * n, |i, j| match (i < n, j < n) {
             (true, true) => 0.0,
-            (true, false) => f64::from(u8::from(j - n == i)),
-            (false, true) => -mk[(i - n, j)],
+            (true, false) => {
+                if j - n == i {
+                    s
+                } else {
+                    0.0
+                }
+            }
+            (false, true) => -mk[(i - n, j)] / s,
             (false, false) => -mb[(i - n, j - n)],
         });
         if (0..2 * n).any(|i| (0..2 * n).any(|j| !a[(i, j)].is_finite())) {
@@ -976,7 +997,8 @@ fn sweep(
     let mut unstable_at_start = Vec::new();
     let mut flutter = Vec::new();
     for j in 0..n {
-        if roots[j][0].g().is_some_and(|g| g > 0.0) {
+        // Above the round-off of an inert branch (`G_NOISE`, below), as the crossings are.
+        if roots[j][0].g().is_some_and(|g| g > G_NOISE) {
             unstable_at_start.push(j);
         }
         for i in 0..speeds.len().saturating_sub(1) {
@@ -1452,5 +1474,65 @@ mod tests {
             let want = (6400.0 - 0.0625_f64).sqrt();
             assert!((r.p.im - want).abs() < 1e-9 * want, "{:?}", r.p);
         }
+    }
+
+    /// A branch the air does not act on (a zero row and column of `Q`, as a fin's in-plane
+    /// modes) keeps its vacuum root at every speed and is never flagged: examples/valetudo's
+    /// clamped fin has one at 4.85 kHz above two coupled ones. Before the first-order form
+    /// was scaled, its `Im p` came out 9.1e-8 relative off `ω` and its damping at +1.8e-11, so
+    /// the sweep called it unstable at its lowest speed (`g > 0`: round-off of either sign)
+    /// and answered `V_F < 154.5 m/s` for a fin stable over the whole sweep. Measured now:
+    /// `Im p / ω - 1` at most 4.4e-16 (bound 1e-14), `|g|` at most 1.8e-16 (bound 2e-15).
+    #[test]
+    fn an_inert_high_frequency_branch_keeps_its_vacuum_root_and_is_not_unstable() {
+        let w = [2309.0, 11400.0, 30488.0];
+        let n = 3;
+        let mut model = FlutterModel {
+            names: (0..n).map(|j| format!("mode {j}")).collect(),
+            mass: vec![0.0; n * n],
+            stiffness: vec![0.0; n * n],
+            damping: vec![0.0; n * n],
+            structural_g: 0.0,
+            b_ref: 0.029,
+            density: 1.15,
+        };
+        for (j, wj) in w.iter().enumerate() {
+            model.mass[j * n + j] = 1.0;
+            model.stiffness[j * n + j] = wj * wj;
+        }
+        // Quasi-steady coupling of the first two (aerodynamic damping -q b Q1 / V, Q1
+        // negative definite: stable); nothing on the third.
+        let q0 = [[-3.0, 8.0], [2.0, -5.0]];
+        let q1 = [[-11.0, 3.0], [4.0, -9.0]];
+        let gaf = GafFn {
+            order: n,
+            k_max: 10.0,
+            f: move |k: f64, out: &mut [c64]| {
+                out.fill(c64::new(0.0, 0.0));
+                for i in 0..2 {
+                    for j in 0..2 {
+                        out[i * n + j] = c64::new(q0[i][j], k * q1[i][j]);
+                    }
+                }
+            },
+        };
+        let speeds: Vec<f64> = (0..40)
+            .map(|i| 154.548 + (1013.0 - 154.548) * i as f64 / 39.0)
+            .collect();
+        let (sol, cut) = pk_solve_cut(&model, &gaf, &speeds, PkSettings::default()).unwrap();
+        assert_eq!(cut, None);
+        assert!(
+            sol.unstable_at_start.is_empty(),
+            "{:?}",
+            sol.unstable_at_start
+        );
+        assert_eq!(sol.answer(), FlutterAnswer::Stable);
+        let (mut im, mut g) = (0.0f64, 0.0f64);
+        for r in &sol.roots[2] {
+            im = im.max((r.p.im / w[2] - 1.0).abs());
+            g = g.max(r.g().unwrap().abs());
+        }
+        eprintln!("inert branch: Im p / w - 1 at most {im:e}, |g| at most {g:e}");
+        assert!(im < 1e-14 && g < 2e-15, "{im:e} {g:e}");
     }
 }
