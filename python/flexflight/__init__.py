@@ -378,6 +378,8 @@ class Project:
         shard: Optional[str] = None,
         flutter_margin: Optional[bool] = None,
         progress: Progress = None,
+        full_outputs: bool = False,
+        exact_boundaries: bool = False,
     ) -> "MonteCarloResult":
         """Runs a declared dispersion (``flexflight montecarlo FILE --dispersion NAME --out
         DIR``).
@@ -398,6 +400,12 @@ class Project:
                 callable ``progress(done, total)`` in samples (from worker threads with the
                 GIL held, at most ten times a second; an exception it raises is raised when
                 the run ends).
+            full_outputs: take each sample's outputs from the complete run summary
+                (``--full-outputs``: slower, the same bits).
+            exact_boundaries: solve every sample's flutter boundary at its own fin thickness
+                instead of interpolating between compiled thicknesses
+                (``--exact-boundaries``; ``montecarlo.json`` then has no
+                ``boundary_nodes``).
 
         Returns:
             The :class:`MonteCarloResult`: ``summary`` (samples run, resumed, failed, time
@@ -412,7 +420,7 @@ class Project:
         try:
             summary, warnings = self._p.montecarlo(
                 dispersion, os.fspath(out), samples, jobs, shard, flutter_margin,
-                adapter if adapter.active() else None,
+                adapter if adapter.active() else None, bool(full_outputs), bool(exact_boundaries),
             )
         finally:
             adapter.close()

@@ -47,6 +47,8 @@ class NativeProject:
         shard: Optional[str] = None,
         flutter_margin: Optional[bool] = None,
         progress: Optional[Callable[[int, int], Any]] = None,
+        full_outputs: bool = False,
+        exact_boundaries: bool = False,
     ) -> Tuple[Dict[str, Any], List[str]]: ...
 
 class NativeRun:

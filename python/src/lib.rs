@@ -407,8 +407,10 @@ impl NativeProject {
     /// (`ops::montecarlo::runner::run_dispersion`): the run's summary as JSON and the
     /// warnings; the tables are `out/samples.csv`, `out/statistics.json` and `.txt`. Samples
     /// run on `jobs` threads with the GIL released; a finished sample in `out` is not run
-    /// again.
-    #[pyo3(signature = (name, out, samples=None, jobs=None, shard=None, flutter_margin=None, progress=None))]
+    /// again. `full_outputs` takes each sample's outputs from the complete run summary
+    /// (`--full-outputs`), `exact_boundaries` solves every sample's flutter boundary at its
+    /// own fin thickness (`--exact-boundaries`).
+    #[pyo3(signature = (name, out, samples=None, jobs=None, shard=None, flutter_margin=None, progress=None, full_outputs=false, exact_boundaries=false))]
     #[allow(clippy::too_many_arguments)]
     fn montecarlo(
         &self,
@@ -420,6 +422,8 @@ impl NativeProject {
         shard: Option<String>,
         flutter_margin: Option<bool>,
         progress: Option<Py<PyAny>>,
+        full_outputs: bool,
+        exact_boundaries: bool,
     ) -> PyResult<(PyObject, Vec<String>)> {
         use flexflight::analysis::sweep::Shard;
         use flexflight::ops::montecarlo::runner::{MonteCarloOptions, run_dispersion};
@@ -462,8 +466,8 @@ impl NativeProject {
             sets: self.sets.clone(),
             progress: Some(prog.clone() as std::sync::Arc<dyn flexflight::ops::Progress>),
             flutter_margin,
-            full_summary: false,
-            exact_boundaries: false,
+            full_summary: full_outputs,
+            exact_boundaries,
         };
         let r = py.allow_threads(|| run_dispersion(file, &d, &scenario, &out, &opts));
         drop(opts);

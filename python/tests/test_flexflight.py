@@ -276,6 +276,35 @@ def test_montecarlo_is_the_clis(root, cache_dir, binary, tmp_path):
     assert "k1000_flight" in str(e.value)
 
 
+def test_montecarlo_options_reach_the_runner(root, cache_dir, tmp_path):
+    """`exact_boundaries` and `full_outputs` are the CLI's `--exact-boundaries` and
+    `--full-outputs`: a fin-thickness dispersion's boundaries are interpolated between node
+    thicknesses (`montecarlo.json` names them) unless `exact_boundaries`; the complete run
+    summary gives the fast path's `samples.csv` bits."""
+    vdl = tmp_path / "t.vdl"
+    vdl.write_text(
+        f'import "{_path(root, K1000)}"\n'
+        "dispersion k1000_t {\n  scenario = k1000\n  samples = 2\n  seed = 2026\n"
+        "  vary {\n    fins.thickness = truncated_normal(mean = 2 mm, sd = 0.05 mm, "
+        "min = 1.85 mm, max = 2.15 mm)\n  }\n}\n"
+    )
+    p = flexflight.open(str(vdl), cache_dir=cache_dir)
+    family = p.montecarlo("k1000_t", tmp_path / "family", jobs=1)
+    exact = p.montecarlo("k1000_t", tmp_path / "exact", jobs=1, exact_boundaries=True)
+    assert family.summary["failed"] == 0 and exact.summary["failed"] == 0
+    manifests = {}
+    for name in ["family", "exact"]:
+        with open(tmp_path / name / "montecarlo.json") as f:
+            manifests[name] = json.load(f)
+    assert len(manifests["family"]["boundary_nodes"]) >= 2
+    assert "boundary_nodes" not in manifests["exact"]
+    fast = p.montecarlo("k1000_t", tmp_path / "fast", jobs=1, flutter_margin=False)
+    full = p.montecarlo("k1000_t", tmp_path / "full", jobs=1, flutter_margin=False, full_outputs=True)
+    assert fast.summary["failed"] == 0 and full.summary["failed"] == 0
+    with open(tmp_path / "fast" / "samples.csv", "rb") as a, open(tmp_path / "full" / "samples.csv", "rb") as b:
+        assert a.read() == b.read()
+
+
 def test_linear_roots(root, cache_dir):
     lin = flexflight.open(_path(root, K1000), cache_dir=cache_dir).linear("k1000")
     assert lin["scenario"] == "k1000" and lin["vehicle"] == "hpr_k1000"
