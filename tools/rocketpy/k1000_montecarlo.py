@@ -3,7 +3,7 @@
 Outside `cargo test`; RocketPy in its own venv (`setup_venv.sh`).
 
     tools/rocketpy/.venv/bin/python tools/rocketpy/k1000_montecarlo.py [--samples N] \
-        [--workers W] [--flexflight PATH] [--json FILE]
+        [--workers W] [--flexflight PATH] [--json FILE] [--keep DIR]
 
 The rocket is the example's as far as RocketPy's rigid model takes it: 98 mm body 1.9 m long
 with a 0.45 m conical nose, three trapezoidal fins (root 250 mm, tip 100 mm, span 120 mm,
@@ -19,7 +19,11 @@ landing, no flutter margin: the work flexflight does per sample is larger.
 
 Timed: `MonteCarlo.simulate(N, parallel=..., n_workers=W)` (RocketPy's own parallelism), and
 `flexflight montecarlo ... --dispersion k1000_flight --samples N --jobs W` as a whole process
-with a warm cache. Printed: wall seconds and samples per second of each, and the ratio.
+with a warm cache. Printed: wall and CPU seconds (the process's own and its reaped
+children's: RocketPy's workers, flexflight's process) and samples per second of each, the
+ratio, and the load average before and after. `--keep DIR` keeps both tools' outputs (a
+fresh DIR each time: flexflight resumes finished samples), so that if RocketPy's workers
+hang on a sample the finished ones can be counted from `DIR/k1000.outputs.txt`.
 """
 
 import argparse
