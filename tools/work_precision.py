@@ -103,19 +103,24 @@ def main():
     ap.add_argument("--flexflight", required=True)
     ap.add_argument("--case", choices=CASES, required=True)
     ap.add_argument("--out", required=True)
+    ap.add_argument("--variant", action="append", metavar="INTEGRATOR,RTOL,ATOL[,SET...]",
+                    help="instead of the case's list; each further SET (e.g. run.atol=...) is passed as --set")
     a = ap.parse_args()
     vdl, scenario, base, variants = CASES[a.case]
+    if a.variant:
+        variants = [tuple(v.split(",")) for v in a.variant]
     os.makedirs(a.out, exist_ok=True)
-    def sets(it, rt, at, tight):
+    d = lambda name: f"{a.out}/" + name.replace(", ", "_").replace(" ", "_")
+    def sets(it, rt, at, ab, tight):  # ab: further --set values
         s = base + [f"run.integrator={it}", f"run.rtol={rt}", f"run.atol={at}"]
+        s += list(ab)
         return s + ["run.min_step=1e-15 s"] if tight else s
     names, cpu = [], {}
     for tight, group in ((True, REFERENCE), (False, variants)):
-        for it, rt, at in group:
-            name = f"{it} {rt}, {at}"
-            cpu[name] = fly(a.flexflight, vdl, scenario, f"{a.out}/{it}_{rt}_{at}", sets(it, rt, at, tight))
+        for it, rt, at, *ab in group:
+            name = f"{it} {rt}, {at}" + "".join(f", {x}" for x in ab)
+            cpu[name] = fly(a.flexflight, vdl, scenario, d(name), sets(it, rt, at, ab, tight))
             names.append(name)
-    d = lambda name: f"{a.out}/" + name.replace(", ", "_").replace(" ", "_")
     ref = names[0]
     ro, _ = outputs(d(ref))
     f = json.load(open(f"{d(ref)}/summary.json"))["flight"]

@@ -3,7 +3,7 @@
 Outside `cargo test`; RocketPy in its own venv (`setup_venv.sh`).
 
     tools/rocketpy/.venv/bin/python tools/rocketpy/k1000_montecarlo.py [--samples N] \
-        [--workers W] [--flexflight PATH] [--json FILE]
+        [--workers W] [--flexflight PATH] [--json FILE] [--keep DIR]
 
 The rocket is the example's as far as RocketPy's rigid model takes it: 98 mm body 1.9 m long
 with a 0.45 m conical nose, three trapezoidal fins (root 250 mm, tip 100 mm, span 120 mm,
@@ -19,12 +19,17 @@ landing, no flutter margin: the work flexflight does per sample is larger.
 
 Timed: `MonteCarlo.simulate(N, parallel=..., n_workers=W)` (RocketPy's own parallelism), and
 `flexflight montecarlo ... --dispersion k1000_flight --samples N --jobs W` as a whole process
-with a warm cache. Printed: wall seconds and samples per second of each, and the ratio.
+with a warm cache. Printed: wall and CPU seconds (the process's own and its reaped
+children's: RocketPy's workers, flexflight's process) and samples per second of each, the
+ratio, and the load average before and after. `--keep DIR` keeps both tools' outputs (a
+fresh DIR each time: flexflight resumes finished samples), so that if RocketPy's workers
+hang on a sample the finished ones can be counted from `DIR/k1000.outputs.txt`.
 """
 
 import argparse
 import json
 import os
+import resource
 import shutil
 import subprocess
 import sys
@@ -35,6 +40,16 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 DATA = os.path.join(HERE, "data")
 EXAMPLE = os.path.join(ROOT, "examples", "hpr_k1000")
+
+
+def cpu_seconds():
+    """User + system CPU of this process and of its reaped children (RocketPy's workers,
+    flexflight's process and its threads), s."""
+    t = 0.0
+    for who in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN):
+        r = resource.getrusage(who)
+        t += r.ru_utime + r.ru_stime
+    return t
 
 
 def build():
@@ -128,27 +143,38 @@ def main():
     ap.add_argument("--set", action="append", default=[], dest="sets",
                     help="an override passed to flexflight montecarlo (repeatable), e.g. "
                          "run.integrator=exponential")
+    ap.add_argument("--keep", default=None,
+                    help="a directory for both tools' outputs, kept (default: a temporary one)")
     a = ap.parse_args()
-    result = {"samples": a.samples, "workers": a.workers}
-    with tempfile.TemporaryDirectory() as tmp:
+    result = {"samples": a.samples, "workers": a.workers, "load_before": os.getloadavg()}
+    with tempfile.TemporaryDirectory() as scratch:
+        tmp = a.keep or scratch
+        os.makedirs(tmp, exist_ok=True)
         if not a.skip_rocketpy:
+            c0 = cpu_seconds()
             t = rocketpy_montecarlo(a.samples, a.workers, tmp)
             result["rocketpy_s"] = t
-            print(f"RocketPy MonteCarlo: {a.samples} flights, {a.workers} worker(s): {t:.1f} s, "
-                  f"{a.samples / t:.2f} samples/s")
+            result["rocketpy_cpu_s"] = cpu_seconds() - c0
+            print(f"RocketPy MonteCarlo: {a.samples} flights, {a.workers} worker(s): {t:.1f} s "
+                  f"({result['rocketpy_cpu_s']:.1f} s CPU), {a.samples / t:.2f} samples/s",
+                  flush=True)
         if not a.skip_flexflight:
             cache = a.cache_dir or os.path.join(tmp, "cache")
             # A first sample warms the artifact, aerodynamic and flutter-boundary caches.
             flexflight_montecarlo(a.flexflight, 1, 1, os.path.join(tmp, "warm"), cache)
+            c0 = cpu_seconds()
             t, err = flexflight_montecarlo(a.flexflight, a.samples, a.workers,
                                            os.path.join(tmp, "ff"), cache, a.sets)
             result["flexflight_s"] = t
+            result["flexflight_cpu_s"] = cpu_seconds() - c0
             print(err, end="")
-            print(f"flexflight montecarlo: {a.samples} flights, {a.workers} job(s): {t:.1f} s, "
-                  f"{a.samples / t:.2f} samples/s")
+            print(f"flexflight montecarlo: {a.samples} flights, {a.workers} job(s): {t:.1f} s "
+                  f"({result['flexflight_cpu_s']:.1f} s CPU), {a.samples / t:.2f} samples/s")
         if "rocketpy_s" in result and "flexflight_s" in result:
             result["ratio"] = result["rocketpy_s"] / result["flexflight_s"]
             print(f"flexflight / RocketPy throughput: {result['ratio']:.2f}x")
+        result["load_after"] = os.getloadavg()
+        print(f"load average before {result['load_before']}, after {result['load_after']}")
     if a.json:
         with open(a.json, "w") as f:
             json.dump(result, f, indent=2)
