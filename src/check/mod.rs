@@ -19,6 +19,7 @@ pub mod plausible;
 mod scenario;
 pub use dispersion::cholesky as dispersion_cholesky;
 mod sweep;
+pub mod transition;
 mod vehicle;
 
 use std::collections::HashMap;
