@@ -161,6 +161,60 @@ fn a_design_with_a_boat_tail_imports_checks_and_flies() {
     assert!((apogee / 1190.0 - 1.0).abs() < 0.05, "apogee {apogee}");
 }
 
+/// The terminal report with its line breaks and gutters folded (messages wrap at a width).
+fn flat(e: &str) -> String {
+    e.split_whitespace()
+        .filter(|w| *w != "│")
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// RockSim designs (issue 34, `src/import/rocksim.rs`): real `.rkt` files of OpenRocket's test
+/// resources (provenance in tests/import_designs/README.md) are read in RockSim's units (mm,
+/// g) into the same model as OpenRocket's, and what the language cannot say is refused naming
+/// the component, with the file and line: the Apocalypse's twelve custom fin sets (one fin
+/// set at most), the test rocket's 57 mm nose on a 66 mm tube (a step in diameter); nothing
+/// is written. A truncated `.rkt` is `import::xml` with the file, a non-zero exit, nothing
+/// written.
+#[test]
+fn rocksim_designs_are_read_and_what_cannot_be_said_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.vdl");
+    let o = import(&design("apocalypse.rkt"), &out, &[]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = flat(&stderr(&o));
+    assert!(
+        e.contains("import::unsupported")
+            && e.contains("12 fin sets")
+            && e.contains("Custom Fin-1")
+            && e.contains("second fin set `Contre fins 1a`")
+            && e.contains("apocalypse.rkt:"),
+        "{e}"
+    );
+    // The parachutes were read (their deployment is RockSim's simulation setting: a warning).
+    assert!(e.contains("Main Parachute"), "{e}");
+    let o = import(&design("rocksim_test_rocket_1.rkt"), &out, &[]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = flat(&stderr(&o));
+    assert!(
+        e.contains("import::diameter")
+            && e.contains("body tube `Body tube` starts at diameter 66.040 mm")
+            && e.contains("ends at 57.150 mm")
+            && e.contains("rocksim_test_rocket_1.rkt:230:"),
+        "{e}"
+    );
+    assert!(files_in(dir.path()).is_empty());
+    // Truncated: the first 2,000 bytes of a real design.
+    let text = std::fs::read(design("apocalypse.rkt")).unwrap();
+    let cut = dir.path().join("cut.rkt");
+    std::fs::write(&cut, &text[..2000]).unwrap();
+    let o = import(&cut, &out, &[]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = flat(&stderr(&o));
+    assert!(e.contains("import::xml") && e.contains("cut.rkt:"), "{e}");
+    assert_eq!(files_in(dir.path()), ["cut.rkt"]);
+}
+
 #[test]
 fn the_import_is_deterministic() {
     let dir = tempfile::tempdir().unwrap();

@@ -1,13 +1,14 @@
-//! `flexflight import`: an OpenRocket design (`.ork`: plain XML, gzip or ZIP) becomes a
-//! commented vehicle file with a scenario per stored simulation.
+//! `flexflight import`: an OpenRocket design (`.ork`: plain XML, gzip or ZIP) or a RockSim
+//! design (`.rkt`, [`rocksim`]) becomes a commented vehicle file with a scenario per stored
+//! simulation.
 //!
 //! Pipeline: [`container::decode`] -> XML (roxmltree, byte ranges kept so that every
 //! diagnostic points at its element's line and column) -> [`Design`] (the components the
 //! vehicle language can say, in metres from the nose tip) -> text ([`emit`]).
 //!
 //! What the language cannot say is a diagnostic naming the component: an error where the
-//! flight would be a different rocket (a second stage, a transition or a second diameter, a
-//! non-trapezoidal fin set, an assembly mass override, a material without stiffness, a motor
+//! flight would be a different rocket (a second stage, a step in diameter without a transition,
+//! a second fin set, an assembly mass override, a material without stiffness, a motor
 //! not in the catalogue), a warning where the rocket is kept and one property is approximated
 //! (a nose shape other than a cone generated as a cone with its exact mass restored, a launch
 //! lug's or rail button's drag). Nothing is written on an error.
@@ -23,6 +24,7 @@
 pub mod catalogue;
 pub mod container;
 pub mod emit;
+mod rocksim;
 pub mod shapes;
 
 use std::path::{Path, PathBuf};
@@ -560,14 +562,7 @@ struct Reader {
 fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<Design> {
     let root = doc.root_element();
     if root.has_tag_name("RockSimDocument") {
-        cx.error(
-            "import::format",
-            root,
-            "this is a RockSim design (.rkt); flexflight reads OpenRocket designs only for now"
-                .into(),
-            "RockSim document",
-        );
-        return None;
+        return rocksim::read(cx, root, path);
     }
     if !root.has_tag_name("openrocket") {
         cx.error(
