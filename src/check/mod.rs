@@ -20,6 +20,7 @@ mod scenario;
 pub use dispersion::cholesky as dispersion_cholesky;
 mod sweep;
 pub mod transition;
+mod transition_check;
 mod vehicle;
 
 use std::collections::HashMap;

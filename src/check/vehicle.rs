@@ -213,7 +213,7 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
     let key_nodes = key_block.and_then(|kb| check_key_nodes(cx, kb, fins.as_ref(), fins_failed));
     let modes = modes_block.and_then(|mb| check_modes(cx, mb, fins.as_ref(), fins_failed));
     if let (Some(Structure::Generate(g)), Some(f)) = (&structure, &fins) {
-        if !super::transition::check_fins_clear(cx, &g.body, f) {
+        if !super::transition_check::check_fins_clear(cx, &g.body, f) {
             return None;
         }
     }
@@ -476,7 +476,7 @@ fn check_generate(cx: &mut Cx, b: &Block) -> Option<Generate> {
         };
         let transition_blocks = fl.blocks("transition");
         fl.finish(cx);
-        let transitions = super::transition::check_transitions(
+        let transitions = super::transition_check::check_transitions(
             cx,
             &transition_blocks,
             diameter.as_ref(),

@@ -945,8 +945,7 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
     nose.radius = r0;
     let mut r_cur = r0;
     let mut ahead = format!("nose `{}`", nose.name);
-    for k in 0..order.len() {
-        let (is_tube, i, n) = order[k];
+    for (k, &(is_tube, i, n)) in order.iter().enumerate() {
         let next = explicit_fore(k + 1);
         let (fore, name) = if is_tube {
             let t = &mut tubes[i];
