@@ -20,6 +20,7 @@ fn sphads_body() -> BodyShape {
         diameter: 0.127,
         nose: NoseShape::Cone { length: 0.4 },
         reference_x: -1.59,
+        transitions: vec![],
     }
 }
 
@@ -196,6 +197,7 @@ fn sphads1_vdl_body() -> BodyShape {
         diameter: 0.127,
         nose: NoseShape::Cone { length: 0.45 },
         reference_x: -1.59,
+        transitions: vec![],
     }
 }
 
@@ -294,6 +296,7 @@ fn conical_nose_tables_are_bit_identical_to_before_nose_shapes() {
             diameter: 0.127,
             nose: NoseShape::Cone { length: 0.45 },
             reference_x: -1.59,
+            transitions: vec![],
         },
         &flexflight::aero::estimator::planform(v.fins.as_ref().unwrap(), r),
         OutOfRange::Clamp,

@@ -77,6 +77,7 @@ fn tube() -> BodySpec {
         wall_thickness: 0.002,
         nose_length: 0.0,
         nose_shape: ir::NoseShape::Conical,
+        transitions: Vec::new(),
         elements: 30,
         theory: BeamTheory::EulerBernoulli,
         material: aluminium(),

@@ -103,6 +103,118 @@ fn the_simple_model_rocket_imports_checks_and_flies() {
     assert!(apogee > 20.0 && apogee < 120.0, "apogee {apogee}");
 }
 
+/// A real design with a boat tail (issue 34): EPFL Rocket Team's Bella Lui (2020) as the
+/// RocketSerializer project ships it (provenance in tests/import_designs/README.md). Its
+/// conical carbon-fibre tail (156 mm to 135 mm over 50 mm) becomes a `transition` of the
+/// generated body (the importer refused every transition before); the vehicle checks and flies
+/// OpenRocket's stored simulation with the same motor, and the apogee is within 5 % of
+/// OpenRocket's stored 1190 m (different drag and normal-force models: docs/validation.md).
+#[test]
+fn a_design_with_a_boat_tail_imports_checks_and_flies() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("bella.vdl");
+    let motors = design("motors");
+    let o = import(
+        &design("epfl_bella_lui_2020.ork"),
+        &out,
+        &[
+            "--motor-dir",
+            motors.to_str().unwrap(),
+            // Test input, not a reference value: the design gives only the density.
+            "--material",
+            "Carbon fiber=70 GPa,0.3",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    for needle in [
+        "transition {",
+        "fore_station = -2.6276 m",
+        "length = 50 mm",
+        "fore_diameter = 156 mm",
+        "aft_diameter = 135 mm",
+        "reference_length = 156 mm # the largest diameter",
+    ] {
+        assert!(text.contains(needle), "{needle}: {text}");
+    }
+    let c = bin().arg("check").arg(&out).output().unwrap();
+    assert!(c.status.success(), "check: {}\n{text}", stderr(&c));
+    let run_dir = dir.path().join("run");
+    let r = bin()
+        .args(["run"])
+        .arg(&out)
+        .args(["--scenario", "simulation_1", "--no-flutter-margin", "--out"])
+        .arg(&run_dir)
+        .arg("--cache-dir")
+        .arg(cache())
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "run: {}", stderr(&r));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run_dir.join("summary.json")).unwrap())
+            .unwrap();
+    let apogee = s["flight"]["apogee"]["altitude"].as_f64().unwrap();
+    let t = s["flight"]["apogee"]["t"].as_f64().unwrap();
+    eprintln!(
+        "Bella Lui, AeroTech K828FJ: apogee {apogee} m at {t} s (OpenRocket 1190 m at 14.851 s)"
+    );
+    assert!((apogee / 1190.0 - 1.0).abs() < 0.05, "apogee {apogee}");
+}
+
+/// The terminal report with its line breaks and gutters folded (messages wrap at a width).
+fn flat(e: &str) -> String {
+    e.split_whitespace()
+        .filter(|w| *w != "│")
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// RockSim designs (issue 34, `src/import/rocksim.rs`): real `.rkt` files of OpenRocket's test
+/// resources (provenance in tests/import_designs/README.md) are read in RockSim's units (mm,
+/// g) into the same model as OpenRocket's, and what the language cannot say is refused naming
+/// the component, with the file and line: the Apocalypse's twelve custom fin sets (one fin
+/// set at most), the test rocket's 57 mm nose on a 66 mm tube (a step in diameter); nothing
+/// is written. A truncated `.rkt` is `import::xml` with the file, a non-zero exit, nothing
+/// written.
+#[test]
+fn rocksim_designs_are_read_and_what_cannot_be_said_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.vdl");
+    let o = import(&design("apocalypse.rkt"), &out, &[]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = flat(&stderr(&o));
+    assert!(
+        e.contains("import::unsupported")
+            && e.contains("12 fin sets")
+            && e.contains("Custom Fin-1")
+            && e.contains("second fin set `Contre fins 1a`")
+            && e.contains("apocalypse.rkt:"),
+        "{e}"
+    );
+    // The parachutes were read (their deployment is RockSim's simulation setting: a warning).
+    assert!(e.contains("Main Parachute"), "{e}");
+    let o = import(&design("rocksim_test_rocket_1.rkt"), &out, &[]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = flat(&stderr(&o));
+    assert!(
+        e.contains("import::diameter")
+            && e.contains("body tube `Body tube` starts at diameter 66.040 mm")
+            && e.contains("ends at 57.150 mm")
+            && e.contains("rocksim_test_rocket_1.rkt:230:"),
+        "{e}"
+    );
+    assert!(files_in(dir.path()).is_empty());
+    // Truncated: the first 2,000 bytes of a real design.
+    let text = std::fs::read(design("apocalypse.rkt")).unwrap();
+    let cut = dir.path().join("cut.rkt");
+    std::fs::write(&cut, &text[..2000]).unwrap();
+    let o = import(&cut, &out, &[]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = flat(&stderr(&o));
+    assert!(e.contains("import::xml") && e.contains("cut.rkt:"), "{e}");
+    assert_eq!(files_in(dir.path()), ["cut.rkt"]);
+}
+
 #[test]
 fn the_import_is_deterministic() {
     let dir = tempfile::tempdir().unwrap();

@@ -322,7 +322,7 @@ scenario w {
 vehicle ff {
   material = m
   origin = node(1)
-  structure { generate { body { length = 1 m; diameter = 0.1 m; wall = 2 mm; elements = 10 } } }
+  structure { generate { body { length = 1 m; diameter = 0.1 m; wall = 2 mm; elements = 10; transition { fore_station = -0.3 m; length = 0.1 m; fore_diameter = 0.1 m; aft_diameter = 0.08 m; shape = ogive } } } }
   fins { count = 3; planform = freeform; points = [(0, 0) mm, (100, 100) mm, (150, 100) mm, (200, 0) mm]; thickness = 1 mm }
   key_nodes { body = node(1); fins = fin_point(span = 0.5, chord = 0.25) }
   modes { fin_flap = per_fin }

@@ -97,6 +97,20 @@
 //!   fin block already carries this effect through the velocity of the fin (5.4.8), so
 //!   adding it to the body table would count it twice.
 //!
+//! Transitions and boat tails (`check::transition`, issue 34): the reference length is then
+//! the largest diameter (S = pi b_b^2/4 on it), the nose's potential slope 2 A_base/S; each
+//! transition adds Barrowman's `C_Nalpha = 2 (A_aft - A_fore)/S` (negative on a boat tail) at
+//! `X = (l A(l) - V)/(A(l) - A(0))` aft of its fore end (Barrowman 1967, sec. 3, eq. 3-36 ff.;
+//! Niskanen 2009, sec. 3.2.1; `TransitionGeom::potential`), with the nose's alpha dependence
+//! `sin 2alpha cos(alpha/2)`, whose slope at 0 is 2; its side view to the crossflow planform
+//! and its surface to the wetted area; base drag on the aft end's area; a boat tail's
+//! pressure drag from the base drag (Niskanen 2009, sec. 3.4.3, as OpenRocket's
+//! `SymmetricComponentCalc` computes it: the base drag coefficient on the frontal area
+//! A_fore - A_aft, times 1 up to the fineness l/(d_fore - d_aft) = 1, (3 - l/(d_fore -
+//! d_aft))/2 up to 3, 0 beyond); a widening transition the sharp cone's wave drag above at
+//! its own half-angle on its frontal area; rate derivatives with A_b the aft end's area.
+//! Fins take the body radius under their root chord for K_T(B) and their root.
+//!
 //! The thesis itself used Missile DATCOM tables (5.5); these are simple engineering methods.
 
 use std::path::Path;
@@ -125,11 +139,29 @@ pub enum NoseShape {
 pub struct BodyShape {
     /// Overall length, m.
     pub length: f64,
-    /// Diameter (also the reference length b_b), m.
+    /// Diameter of the nose's base and of the tube behind it up to the first transition, m;
+    /// with no transitions also the reference length b_b.
     pub diameter: f64,
     pub nose: NoseShape,
     /// Coefficient reference point (nominal c.g.) body x, m (<= 0; x forward from the nose).
     pub reference_x: f64,
+    /// Transitions and boat tails, fore to aft (`check::transition`).
+    pub transitions: Vec<crate::check::transition::TransitionGeom>,
+}
+
+impl BodyShape {
+    /// The reference length b_b and diameter of the reference area S = pi b_b^2/4: the
+    /// largest diameter of the body (the diameter when it has one).
+    pub fn reference_diameter(&self) -> f64 {
+        crate::check::transition::max_diameter(self.diameter, &self.transitions)
+    }
+
+    /// The outer radius of the aft end.
+    pub fn base_radius(&self) -> f64 {
+        self.transitions
+            .last()
+            .map_or(0.5 * self.diameter, |t| t.r_aft)
+    }
 }
 
 /// A fin planform: a trapezoid, or any outline of `check::fin_outline` (issue 34), whose
@@ -401,12 +433,16 @@ pub fn nose_centre_of_pressure(nose: NoseShape, d: f64) -> (f64, f64) {
 
 /// Body coefficients (C_N, C_A, C_M) at one condition; see the module doc.
 pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f64) -> [f64; 3] {
+    let pi = std::f64::consts::PI;
     let d = b.diameter;
-    let s_ref = std::f64::consts::PI * d * d / 4.0;
+    let d_ref = b.reference_diameter();
+    let s_ref = pi * d_ref * d_ref / 4.0;
     let a = alpha_deg.to_radians();
     let (nose_len, x_nose_cp) = nose_centre_of_pressure(b.nose, d);
+    // The nose's slope 2 A_base/S: 2 /rad when its base is the reference diameter.
+    let nose_area_ratio = if d == d_ref { 1.0 } else { (d / d_ref).powi(2) };
     let cn_pot = if nose_len > 0.0 {
-        (2.0 * a).sin() * (0.5 * a).cos()
+        nose_area_ratio * (2.0 * a).sin() * (0.5 * a).cos()
     } else {
         0.0
     };
@@ -416,13 +452,46 @@ pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f
         NoseShape::Profile { length, shape } => shape.planform(0.5 * d, length),
         _ => (0.5 * d * nose_len, 2.0 / 3.0 * nose_len),
     };
-    let a_cyl = d * (b.length - nose_len);
-    let a_p = a_nose + a_cyl;
-    let x_p = (a_nose * (-nose_centroid) + a_cyl * (-(nose_len + b.length) / 2.0)) / a_p;
+    // The tube's sections of one diameter between the transitions, and the transitions:
+    // (planform area, its centroid's body x, wetted area) each.
+    let mut pieces: Vec<(f64, f64, f64)> = Vec::with_capacity(2 * b.transitions.len() + 1);
+    let (mut from, mut rs) = (nose_len, 0.5 * d);
+    for t in &b.transitions {
+        pieces.push((
+            (2.0 * rs) * (t.start - from),
+            -(from + t.start) / 2.0,
+            pi * (2.0 * rs) * (t.start - from),
+        ));
+        let (area, centroid) = t.planform();
+        pieces.push((area, -centroid, t.wetted_area()));
+        (from, rs) = (t.end(), t.r_aft);
+    }
+    pieces.push((
+        (2.0 * rs) * (b.length - from),
+        -(from + b.length) / 2.0,
+        pi * (2.0 * rs) * (b.length - from),
+    ));
+    let mut a_p = a_nose;
+    let mut x_num = a_nose * (-nose_centroid);
+    for &(area, x, _) in &pieces {
+        a_p += area;
+        x_num += area * x;
+    }
+    let x_p = x_num / a_p;
     const C_DC: f64 = 1.2;
     let cn_cross = C_DC * (a_p / s_ref) * a.sin() * a.sin().abs();
-    let cn = cn_pot + cn_cross;
-    let cm = (cn_pot * (x_nose_cp - b.reference_x) + cn_cross * (x_p - b.reference_x)) / d;
+    let mut cn = cn_pot + cn_cross;
+    let mut cm_num = cn_pot * (x_nose_cp - b.reference_x) + cn_cross * (x_p - b.reference_x);
+    // Each transition's potential normal force, Barrowman's 2 (A_aft - A_fore)/S per rad
+    // (negative on a boat tail) with the nose's alpha dependence, at its centre of pressure
+    // (`TransitionGeom::potential`).
+    for t in &b.transitions {
+        let (da, s_cp) = t.potential();
+        let cn_t = (da / s_ref) * (2.0 * a).sin() * (0.5 * a).cos();
+        cn += cn_t;
+        cm_num += cn_t * (-s_cp - b.reference_x);
+    }
+    let cm = cm_num / d_ref;
     // Axial force.
     let (_, rho, sound, mu) = atmosphere(altitude_m);
     let v = mach.max(FRICTION_REYNOLDS_MIN_MACH) * sound;
@@ -434,13 +503,49 @@ pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f
             std::f64::consts::PI * 0.5 * d * slant
         }
     };
-    let wetted = nose_wetted + std::f64::consts::PI * d * (b.length - nose_len);
+    let mut wetted = nose_wetted;
+    for &(_, _, w) in &pieces {
+        wetted += w;
+    }
     let friction = skin_friction(re, mach) * wetted / s_ref;
-    let base = if mach < 1.0 {
+    let base_cd = if mach < 1.0 {
         0.12 + 0.13 * mach * mach
     } else {
         0.25 / mach
     };
+    // On the base's own area (Niskanen 2009, sec. 3.4.5): the reference area's when the body
+    // ends at the reference diameter.
+    let r_base = b.base_radius();
+    let base = if 2.0 * r_base == d_ref {
+        base_cd
+    } else {
+        base_cd * pi * r_base * r_base / s_ref
+    };
+    // Transitions' pressure drag (Niskanen 2009, sec. 3.4.3; OpenRocket's
+    // `SymmetricComponentCalc.calculatePressureCD`): a narrowing one (boat tail) takes the
+    // base drag on its frontal area A_fore - A_aft, times 1 for a fineness
+    // g = l/(d_fore - d_aft) <= 1, (3 - g)/2 for 1 < g < 3, 0 from 3 on; a widening one the
+    // nose's sharp-cone wave drag (below) at its own half-angle atan((r_aft - r_fore)/l) on
+    // its frontal area A_aft - A_fore.
+    let mut transition_drag = 0.0;
+    for t in &b.transitions {
+        let frontal = pi * (t.r_fore * t.r_fore - t.r_aft * t.r_aft).abs() / s_ref;
+        if t.narrows() {
+            let g = t.length / (2.0 * (t.r_fore - t.r_aft));
+            let factor = if g <= 1.0 {
+                1.0
+            } else if g < 3.0 {
+                (3.0 - g) / 2.0
+            } else {
+                0.0
+            };
+            transition_drag += base_cd * frontal * factor;
+        } else {
+            let half_angle = ((t.r_aft - t.r_fore) / t.length).atan();
+            let fit = |m: f64| (1.59 + 1.83 / (m * m)) * half_angle.powf(1.69);
+            transition_drag += frontal * transonic_blend(mach, |_| 0.0, fit);
+        }
+    }
     let wave = if nose_len > 0.0 {
         let half_angle = (0.5 / (nose_len / d)).atan();
         let fit = |m: f64| (1.59 + 1.83 / (m * m)) * half_angle.powf(1.69);
@@ -458,7 +563,13 @@ pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f
     } else {
         0.0
     };
-    [cn, friction + base + wave, cm]
+    // The nose's wave drag is on its base area.
+    let wave = nose_area_ratio * wave;
+    if b.transitions.is_empty() {
+        [cn, friction + base + wave, cm]
+    } else {
+        [cn, friction + base + wave + transition_drag, cm]
+    }
 }
 
 /// Body rate derivatives `[C_Nq + C_Nα̇, C_mq + C_mα̇]` at angle of attack `alpha_deg`
@@ -491,6 +602,9 @@ pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f
 /// term is quasi-steady: no α̇ part. Both parts are even in α, as the table is queried at
 /// the total angle of attack.
 pub fn body_rate_derivatives(b: &BodyShape, alpha_deg: f64) -> [f64; 2] {
+    if !b.transitions.is_empty() {
+        return rate_derivatives_with_transitions(b, alpha_deg);
+    }
     let d = b.diameter;
     let s_ref = std::f64::consts::PI * d * d / 4.0;
     let l = b.length;
@@ -532,6 +646,64 @@ pub fn body_rate_derivatives(b: &BodyShape, alpha_deg: f64) -> [f64; 2] {
     [
         cn_pot + k * i1 / (s_ref * d),
         cm_pot - k * i2 / (s_ref * d * d),
+    ]
+}
+
+/// [`body_rate_derivatives`] of a body with transitions: the derivation there holds for any
+/// A(s) with A(0) = 0 (A_b = A(l) the aft end's area, Vol the whole volume, I_k over the whole
+/// planform); S and d are the reference area and length (the largest diameter).
+fn rate_derivatives_with_transitions(b: &BodyShape, alpha_deg: f64) -> [f64; 2] {
+    let pi = std::f64::consts::PI;
+    let d = b.diameter;
+    let d_ref = b.reference_diameter();
+    let s_ref = pi * d_ref * d_ref / 4.0;
+    let l = b.length;
+    let s_r = -b.reference_x;
+    let r = 0.5 * d;
+    // Volume and planform moments of the nose.
+    let (ln, mut vol, mut i1, mut i2) = match b.nose {
+        NoseShape::Tube => (0.0, 0.0, 0.0, 0.0),
+        NoseShape::Cone { length } => (
+            length,
+            pi * r * r * length / 3.0,
+            d * (length * length / 3.0 - s_r * length / 2.0),
+            d * (length.powi(3) / 4.0 - 2.0 * s_r * length * length / 3.0
+                + s_r * s_r * length / 2.0),
+        ),
+        NoseShape::Profile { length, shape } => (
+            length,
+            shape.volume(r, length),
+            shape.integrate(r, length, 0.0, length, 64, |s, ro| 2.0 * ro * (s - s_r)),
+            shape.integrate(r, length, 0.0, length, 64, |s, ro| {
+                2.0 * ro * (s - s_r).powi(2)
+            }),
+        ),
+    };
+    // Cylinders of radius rs on [p, q]: volume, and the planform moments in closed form.
+    let mut cylinders = Vec::new();
+    let (mut from, mut rs) = (ln, r);
+    for t in &b.transitions {
+        cylinders.push((rs, from, t.start));
+        vol += t.volume();
+        i1 += t.integrate(t.start, t.end(), |s, ro| 2.0 * ro * (s - s_r));
+        i2 += t.integrate(t.start, t.end(), |s, ro| 2.0 * ro * (s - s_r).powi(2));
+        (from, rs) = (t.end(), t.r_aft);
+    }
+    cylinders.push((rs, from, l));
+    for (rs, p, q) in cylinders {
+        vol += pi * rs * rs * (q - p);
+        i1 += 2.0 * rs * ((q - s_r).powi(2) - (p - s_r).powi(2)) / 2.0;
+        i2 += 2.0 * rs * ((q - s_r).powi(3) - (p - s_r).powi(3)) / 3.0;
+    }
+    let a_b = pi * b.base_radius().powi(2);
+    let cn_pot = 4.0 * (a_b * (l - s_r) + vol) / (s_ref * d_ref);
+    let cm_pot = -4.0 * a_b * (l - s_r).powi(2) / (s_ref * d_ref * d_ref);
+    const C_DC: f64 = 1.2;
+    let a = alpha_deg.to_radians();
+    let k = 4.0 * C_DC * a.sin().abs() * a.cos();
+    [
+        cn_pot + k * i1 / (s_ref * d_ref),
+        cm_pot - k * i2 / (s_ref * d_ref * d_ref),
     ]
 }
 
@@ -707,7 +879,8 @@ impl EstimatedTables {
             alpha.clone(),
             ESTIMATOR_ALTITUDE.to_vec(),
         ];
-        let s_ref = std::f64::consts::PI * body.diameter * body.diameter / 4.0;
+        let d_ref = body.reference_diameter();
+        let s_ref = std::f64::consts::PI * d_ref * d_ref / 4.0;
         let mut bp = Vec::new();
         let mut br = Vec::new();
         let mut fp = Vec::new();

@@ -213,6 +213,62 @@ pub struct BodyGeometry {
     pub nose_shape: Spanned<NoseShape>,
     pub elements: Spanned<usize>,
     pub theory: Spanned<BeamTheory>,
+    /// Transitions and boat tails, fore to aft (`check::transition`; none: one diameter).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub transitions: Vec<Transition>,
+}
+
+/// A transition or boat tail of the generated body (`body { transition { ... } }`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Transition {
+    pub span: Span,
+    /// Body-x station of its fore end (< 0).
+    pub fore_station: Q,
+    pub length: Q,
+    pub fore_diameter: Q,
+    pub aft_diameter: Q,
+    pub shape: Spanned<NoseShape>,
+}
+
+impl Transition {
+    /// Its geometry in plain numbers.
+    pub fn geom(&self) -> super::transition::TransitionGeom {
+        super::transition::TransitionGeom {
+            start: -self.fore_station.value,
+            length: self.length.value,
+            r_fore: 0.5 * self.fore_diameter.value,
+            r_aft: 0.5 * self.aft_diameter.value,
+            shape: self.shape.value,
+        }
+    }
+}
+
+impl BodyGeometry {
+    /// The transitions' geometry, fore to aft.
+    pub fn transition_geoms(&self) -> Vec<super::transition::TransitionGeom> {
+        self.transitions.iter().map(Transition::geom).collect()
+    }
+
+    /// Outer radius at body station `x` (<= 0) aft of the nose (`check::transition`).
+    pub fn radius_at(&self, x: f64) -> f64 {
+        super::transition::section_radius(0.5 * self.diameter.value, &self.transition_geoms(), -x)
+    }
+
+    /// The body's radius under a fin set: at the middle of its root chord.
+    pub fn radius_under(&self, fins: &Fins) -> f64 {
+        self.radius_at(fins.root_trailing_edge_x.value + 0.5 * fins.root_chord.value)
+    }
+
+    /// The fins' root radius: [`Self::radius_under`] the fin set, the diameter's half without
+    /// one.
+    pub fn root_radius(&self, fins: Option<&Fins>) -> f64 {
+        fins.map_or(0.5 * self.diameter.value, |f| self.radius_under(f))
+    }
+
+    /// The largest outer diameter (the default reference length).
+    pub fn max_diameter(&self) -> f64 {
+        super::transition::max_diameter(self.diameter.value, &self.transition_geoms())
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

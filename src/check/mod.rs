@@ -19,6 +19,8 @@ pub mod plausible;
 mod scenario;
 pub use dispersion::cholesky as dispersion_cholesky;
 mod sweep;
+pub mod transition;
+mod transition_check;
 mod vehicle;
 
 use std::collections::HashMap;

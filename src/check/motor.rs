@@ -360,6 +360,23 @@ pub(crate) fn check_motor(cx: &mut Cx, b: &Block, structure: Option<&Structure>)
             );
             ok = false;
         }
+        // The narrowest section over the motor's length (transitions are monotone: their ends
+        // and the motor's ends are the candidates).
+        let mut d_body = d_body;
+        if !g.body.transitions.is_empty() {
+            let mut xs = vec![aft, fore.min(0.0)];
+            for t in g.body.transition_geoms() {
+                xs.extend(
+                    [-t.start, -t.end()]
+                        .into_iter()
+                        .filter(|x| *x <= fore && *x >= aft),
+                );
+            }
+            d_body = xs
+                .iter()
+                .map(|&x| 2.0 * g.body.radius_at(x))
+                .fold(f64::INFINITY, f64::min);
+        }
         let inner = d_body - 2.0 * g.body.wall.value;
         if diameter.value > inner * (1.0 + 1e-12) {
             cx.push(

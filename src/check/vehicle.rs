@@ -212,8 +212,13 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
     let fins_failed = fins_block.is_some() && fins.is_none();
     let key_nodes = key_block.and_then(|kb| check_key_nodes(cx, kb, fins.as_ref(), fins_failed));
     let modes = modes_block.and_then(|mb| check_modes(cx, mb, fins.as_ref(), fins_failed));
+    if let (Some(Structure::Generate(g)), Some(f)) = (&structure, &fins) {
+        if !super::transition_check::check_fins_clear(cx, &g.body, f) {
+            return None;
+        }
+    }
     let diameter = match &structure {
-        Some(Structure::Generate(g)) => Some(Some(g.body.diameter.value)),
+        Some(Structure::Generate(g)) => Some(Some(g.body.max_diameter())),
         Some(Structure::Files(_)) => Some(None),
         None => None,
     };
@@ -469,7 +474,16 @@ fn check_generate(cx: &mut Cx, b: &Block) -> Option<Generate> {
             .map(|t| Spanned::new(t, v.span)),
             None => Some(Spanned::new(BeamTheory::EulerBernoulli, bb.header)),
         };
+        let transition_blocks = fl.blocks("transition");
         fl.finish(cx);
+        let transitions = super::transition_check::check_transitions(
+            cx,
+            &transition_blocks,
+            diameter.as_ref(),
+            wall.as_ref(),
+            nose.as_ref(),
+            length.as_ref(),
+        );
         if let (Some(d), Some(w)) = (diameter, wall) {
             if w.value * 2.0 >= d.value {
                 cx.push(
@@ -521,6 +535,7 @@ fn check_generate(cx: &mut Cx, b: &Block) -> Option<Generate> {
             nose_shape: nose_shape?,
             elements: Spanned::new(elements?, bb.header),
             theory: theory?,
+            transitions: transitions?,
         })
     });
 
@@ -1872,7 +1887,7 @@ fn check_forces(cx: &mut Cx, b: &Block) -> Option<Forces> {
 /// `ogive(k) | parabolic(K) | power(n) | haack(C)` (`check::nose`); an unknown shape
 /// (`vdl::value::keyword`) or a parameter outside its range (`vdl::nose::parameter`) is an
 /// error at its span.
-fn nose_shape(cx: &mut Cx, v: &Value) -> Option<Spanned<NoseShape>> {
+pub(super) fn nose_shape(cx: &mut Cx, v: &Value) -> Option<Spanned<NoseShape>> {
     use super::nose::{NAMED, WITH_PARAMETER};
     if let ValueKind::Call { name, args } = &v.kind {
         f::record_keywords(WITH_PARAMETER.iter().map(|(n, _, _)| *n));

@@ -2,8 +2,9 @@
 //! one fin set, the masses the body does not contain, the motor) and a scenario per stored
 //! simulation, each with a comment saying where its numbers come from.
 //!
-//! The generated body is one tube of the first body tube's material and wall with a conical
-//! nose shell of the same wall (`structure::generate`). Where the design differs (nose shape,
+//! The generated body is a tube of the first body tube's material and wall with a nose shell
+//! of the same wall and the design's transitions and boat tails (`structure::generate`,
+//! `check::transition`), one diameter between them. Where the design differs (nose shape,
 //! nose or tube material or wall, mass overrides), the difference of mass, true minus
 //! generated, is added back as a point or distributed mass at the place that restores the
 //! centre of mass: for masses (m_t, x_t) true and (m_g, x_g) generated, Delta m = m_t - m_g at
@@ -263,7 +264,8 @@ pub(crate) fn emit(
     let body_mat = body_mat?;
     let rho_b = tube0.material.density;
     let t_b = tube0.thickness;
-    let r = tube0.radius;
+    // The nose's base: the body's diameter ahead of the first transition.
+    let r = d.nose.radius;
     let length = d.length();
     let ln = d.nose.length;
     let mut masses: Vec<MassItem> = d.masses.clone();
@@ -321,6 +323,7 @@ pub(crate) fn emit(
     }
     // Tubes of another material, wall or an overridden mass.
     for t in &d.tubes {
+        let r = t.radius;
         let area = |w: f64| PI * (r * r - (r - w).max(0.0).powi(2));
         let mg = rho_b * area(t_b) * t.length;
         let mt = t
@@ -349,6 +352,108 @@ pub(crate) fn emit(
                 ),
             ));
         }
+    }
+    // Transitions (issue 34): generated in the body's material and wall with the design's
+    // profile (a cone where the language has none); the difference of mass restored.
+    let mut generated_transitions = Vec::new();
+    for t in &d.transitions {
+        if t.length <= 0.0 {
+            cx.diags.push(
+                Diagnostic::error(
+                    "import::diameter",
+                    format!(
+                        "transition `{}` has no length: a step in diameter cannot be represented",
+                        t.name
+                    ),
+                )
+                .label(t.at, "this transition"),
+            );
+            continue;
+        }
+        let lang = t.shape.to_language();
+        let g = crate::check::transition::TransitionGeom {
+            start: t.top,
+            length: t.length,
+            r_fore: t.r_fore,
+            r_aft: t.r_aft,
+            shape: lang.unwrap_or(crate::check::ir::NoseShape::Conical),
+        };
+        // True: the design's own profile (OpenRocket's, on the smaller radius), wall, density.
+        let true_radius = |s: f64| {
+            let (lo, hi) = (t.r_fore.min(t.r_aft), t.r_fore.max(t.r_aft));
+            let u = (s - t.top).clamp(0.0, t.length);
+            let u = if t.r_aft < t.r_fore { t.length - u } else { u };
+            lo + t.shape.radius(u, hi - lo, t.length)
+        };
+        let shell = |radius: &dyn Fn(f64) -> f64, w: f64, rho: f64, filled: bool| {
+            let (mut m, mut mx) = (0.0, 0.0);
+            for (s, wq) in g.rule(g.start, g.end(), 64) {
+                let ro = radius(s);
+                let ri = if filled { 0.0 } else { (ro - w).max(0.0) };
+                let a = rho * PI * (ro * ro - ri * ri);
+                m += wq * a;
+                mx += wq * a * s;
+            }
+            (
+                m,
+                if m > 0.0 {
+                    mx / m
+                } else {
+                    g.start + 0.5 * g.length
+                },
+            )
+        };
+        let (mut mt, mut xt) = shell(&true_radius, t.thickness, t.material.density, t.filled);
+        if let Some(om) = t.override_mass {
+            mt = om;
+            notes.push(format!(
+                "transition `{}`: mass overridden in the design ({om} kg)",
+                t.name
+            ));
+        }
+        if let Some(cg) = t.override_cg {
+            xt = t.top + cg;
+            notes.push(format!(
+                "transition `{}`: CG overridden in the design ({cg} m from its fore end)",
+                t.name
+            ));
+        }
+        let (mg, xg) = shell(&|s| g.radius(s), t_b, rho_b, false);
+        add_difference(
+            cx,
+            &mut masses,
+            &format!("{} (shape, material and wall)", t.name),
+            mt,
+            xt,
+            mg,
+            xg,
+            (t.top, t.top + t.length),
+            &mut notes,
+        );
+        if lang.is_none() {
+            cx.diags.push(Diagnostic::warning(
+                "import::approximation",
+                format!(
+                    "transition `{}` is {}, which the language cannot say: the structure and the built-in aerodynamics take a frustum; its mass and centre of mass are restored",
+                    t.name,
+                    t.shape.describe()
+                ),
+            ));
+        } else if t.clipped && !matches!(lang, Some(crate::check::ir::NoseShape::Conical)) {
+            cx.diags.push(Diagnostic::warning(
+                "import::approximation",
+                format!(
+                    "transition `{}` is a clipped {} profile: it is generated unclipped (the nose profile offset onto the smaller radius, `check::transition`)",
+                    t.name,
+                    t.shape.describe()
+                ),
+            ));
+        }
+        if (t.r_fore - t.r_aft).abs() <= 1e-6 {
+            // Equal radii: the tube continues; the shell's mass is restored above.
+            continue;
+        }
+        generated_transitions.push((t, g));
     }
     // Fin mass override.
     let fins = &d.fins;
@@ -404,9 +509,21 @@ pub(crate) fn emit(
     let (mg, xg) = NoseShape::Conical.shell_mass(r, ln, t_b, rho_b, false);
     m_sum += mg;
     mx_sum += mg * xg;
-    let mb = rho_b * PI * (r * r - (r - t_b).max(0.0).powi(2)) * (length - ln);
-    m_sum += mb;
-    mx_sum += mb * (ln + length) / 2.0;
+    // The tube's sections and the transitions (their mean radius, enough for a reference point).
+    let mut from = ln;
+    let mut rs = r;
+    let mut sections: Vec<(f64, f64, f64)> = Vec::new();
+    for (_, g) in &generated_transitions {
+        sections.push((rs, from, g.start));
+        sections.push((0.5 * (g.r_fore + g.r_aft), g.start, g.end()));
+        (from, rs) = (g.end(), g.r_aft);
+    }
+    sections.push((rs, from, length));
+    for (rr, a, b) in sections {
+        let mb = rho_b * PI * (rr * rr - (rr - t_b).max(0.0).powi(2)) * (b - a);
+        m_sum += mb;
+        mx_sum += mb * (a + b) / 2.0;
+    }
     let mf = f64::from(fins.count) * fins.area() * fins.thickness * fins.material.density;
     m_sum += mf;
     mx_sum += mf * (fins.root_le + fins.root / 2.0);
@@ -437,7 +554,7 @@ pub(crate) fn emit(
     let _ = writeln!(o, "#");
     let _ = writeln!(
         o,
-        "# The body is generated: one tube of the first body tube's material and wall with a"
+        "# The body is generated: the tubes and transitions in the first body tube's material and wall with a"
     );
     let _ = writeln!(
         o,
@@ -512,6 +629,31 @@ pub(crate) fn emit(
     }
     let _ = writeln!(o, "        elements = {elements}");
     let _ = writeln!(o, "        theory = euler_bernoulli");
+    for (t, g) in &generated_transitions {
+        let _ = writeln!(o);
+        let _ = writeln!(
+            o,
+            "        # `{}`: {} {} (the design's {}, wall {}).",
+            comment_safe(&t.name),
+            if g.narrows() {
+                "a boat tail or reducer,"
+            } else {
+                "a widening transition,"
+            },
+            t.shape.describe(),
+            comment_safe(&t.material.name),
+            mm(t.thickness)
+        );
+        let _ = writeln!(o, "        transition {{");
+        let _ = writeln!(o, "          fore_station = {} m", f(-g.start, 5));
+        let _ = writeln!(o, "          length = {}", mm(g.length));
+        let _ = writeln!(o, "          fore_diameter = {}", mm(2.0 * g.r_fore));
+        let _ = writeln!(o, "          aft_diameter = {}", mm(2.0 * g.r_aft));
+        if !g.shape.is_conical() {
+            let _ = writeln!(o, "          shape = {}", g.shape.source_text());
+        }
+        let _ = writeln!(o, "        }}");
+    }
     let _ = writeln!(o, "      }}");
     let _ = writeln!(o);
     let _ = writeln!(o, "      fin_mesh {{");
@@ -700,7 +842,14 @@ pub(crate) fn emit(
     let _ = writeln!(o);
     let _ = writeln!(o, "  aero {{");
     let _ = writeln!(o, "    source = builtin");
-    let _ = writeln!(o, "    reference_length = {}", mm(2.0 * r));
+    let r_max = generated_transitions
+        .iter()
+        .fold(r, |m, (_, g)| m.max(g.r_fore).max(g.r_aft));
+    let _ = writeln!(
+        o,
+        "    reference_length = {} # the largest diameter",
+        mm(2.0 * r_max)
+    );
     let _ = writeln!(
         o,
         "    reference_point = ({}, 0, 0) m # the estimated dry centre of mass",

@@ -1,13 +1,14 @@
-//! `flexflight import`: an OpenRocket design (`.ork`: plain XML, gzip or ZIP) becomes a
-//! commented vehicle file with a scenario per stored simulation.
+//! `flexflight import`: an OpenRocket design (`.ork`: plain XML, gzip or ZIP) or a RockSim
+//! design (`.rkt`, [`rocksim`]) becomes a commented vehicle file with a scenario per stored
+//! simulation.
 //!
 //! Pipeline: [`container::decode`] -> XML (roxmltree, byte ranges kept so that every
 //! diagnostic points at its element's line and column) -> [`Design`] (the components the
 //! vehicle language can say, in metres from the nose tip) -> text ([`emit`]).
 //!
 //! What the language cannot say is a diagnostic naming the component: an error where the
-//! flight would be a different rocket (a second stage, a transition or a second diameter, a
-//! non-trapezoidal fin set, an assembly mass override, a material without stiffness, a motor
+//! flight would be a different rocket (a second stage, a step in diameter without a transition,
+//! a second fin set, an assembly mass override, a material without stiffness, a motor
 //! not in the catalogue), a warning where the rocket is kept and one property is approximated
 //! (a nose shape other than a cone generated as a cone with its exact mass restored, a launch
 //! lug's or rail button's drag). Nothing is written on an error.
@@ -23,6 +24,7 @@
 pub mod catalogue;
 pub mod container;
 pub mod emit;
+mod rocksim;
 pub mod shapes;
 
 use std::path::{Path, PathBuf};
@@ -261,6 +263,26 @@ pub struct Tube {
     pub override_mass: Option<f64>,
 }
 
+/// A transition or boat tail (issue 34): fore end `top` m aft of the tip, radii resolved
+/// (`auto` from the neighbours, as OpenRocket does).
+#[derive(Clone, Debug)]
+pub struct ImpTransition {
+    pub name: String,
+    pub top: f64,
+    pub length: f64,
+    pub r_fore: f64,
+    pub r_aft: f64,
+    pub thickness: f64,
+    pub filled: bool,
+    pub shape: NoseShape,
+    /// OpenRocket's "clipped" profile (the nose profile cut at the smaller radius).
+    pub clipped: bool,
+    pub material: OrMaterial,
+    pub override_mass: Option<f64>,
+    pub override_cg: Option<f64>,
+    pub at: Span,
+}
+
 #[derive(Clone, Debug)]
 pub struct FinSet {
     pub name: String,
@@ -382,6 +404,8 @@ pub struct Design {
     pub creator: Option<String>,
     pub nose: Nose,
     pub tubes: Vec<Tube>,
+    /// Transitions and boat tails, fore to aft.
+    pub transitions: Vec<ImpTransition>,
     pub fins: FinSet,
     pub masses: Vec<MassItem>,
     pub mount: Option<Mount>,
@@ -395,9 +419,13 @@ pub struct Design {
 
 impl Design {
     pub fn length(&self) -> f64 {
-        self.tubes
+        let tubes = self
+            .tubes
             .last()
-            .map_or(self.nose.length, |t| t.top + t.length)
+            .map_or(self.nose.length, |t| t.top + t.length);
+        self.transitions
+            .last()
+            .map_or(tubes, |t| tubes.max(t.top + t.length))
     }
 }
 
@@ -534,14 +562,7 @@ struct Reader {
 fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<Design> {
     let root = doc.root_element();
     if root.has_tag_name("RockSimDocument") {
-        cx.error(
-            "import::format",
-            root,
-            "this is a RockSim design (.rkt); flexflight reads OpenRocket designs only for now"
-                .into(),
-            "RockSim document",
-        );
-        return None;
+        return rocksim::read(cx, root, path);
     }
     if !root.has_tag_name("openrocket") {
         cx.error(
@@ -642,6 +663,9 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
     let mut notes = Vec::new();
     let mut nose: Option<Nose> = None;
     let mut tubes: Vec<Tube> = Vec::new();
+    let mut transitions: Vec<ImpTransition> = Vec::new();
+    // The body's components in order: (is a tube, index, node).
+    let mut order: Vec<(bool, usize, Node)> = Vec::new();
     let mut s = 0.0;
     for (i, c) in ext.iter().enumerate() {
         let tag = c.tag_name().name();
@@ -760,6 +784,7 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
                         material: mat,
                         override_mass: om,
                     });
+                    order.push((true, tubes.len() - 1, *c));
                     s += length;
                 }
             }
@@ -769,12 +794,89 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
                 format!("nose cone `{}` is not the first component: a second nose cannot be represented", comp_name(*c)),
                 "not first",
             ),
-            "transition" => cx.error(
-                "import::unsupported",
-                *c,
-                format!("transition `{}` cannot be represented: the generated body has one diameter (transitions and boat tails are not in the language yet)", comp_name(*c)),
-                "transition",
-            ),
+            "transition" => {
+                let nm = comp_name(*c);
+                let what = format!("transition `{nm}`");
+                let length = req(cx, *c, "length", &what);
+                let solid = text_of(*c, "thickness") == Some("filled");
+                let thickness = if solid {
+                    Some(0.0)
+                } else {
+                    req(cx, *c, "thickness", &what)
+                };
+                let shape_s = text_of(*c, "shape").unwrap_or("conical");
+                let k = num(cx, *c, "shapeparameter").ok().flatten().unwrap_or(1.0);
+                let shape = NoseShape::from_ork(shape_s, k);
+                if shape.is_none() {
+                    cx.error(
+                        "import::value",
+                        *c,
+                        format!("{what}: unknown shape `{shape_s}`"),
+                        "unknown shape",
+                    );
+                }
+                // `auto` (with or without OpenRocket's value after it): the neighbour's radius,
+                // resolved below.
+                let auto = |tag: &str| text_of(*c, tag).is_some_and(|t| t.starts_with("auto"));
+                let r_fore = num(cx, *c, "foreradius").ok().flatten();
+                let r_aft = num(cx, *c, "aftradius").ok().flatten();
+                let mat = material(cx, *c, "material");
+                let om = override_mass(cx, *c);
+                let ocg = num(cx, *c, "overridecg").ok().flatten();
+                if child(*c, "overridecd").is_some() {
+                    cx.warn(*c, format!("{what}: its drag override is not representable (the built-in drag is computed); ignored"));
+                }
+                let filled = solid || text_of(*c, "filled") == Some("true");
+                if let (Some(length), Some(thickness), Some(shape), Some(mat)) =
+                    (length, thickness, shape, mat)
+                {
+                    for (end, s0) in [("fore", s), ("aft", s + length)] {
+                        let sl = num(cx, *c, &format!("{end}shoulderlength")).ok().flatten().unwrap_or(0.0);
+                        let sr = num(cx, *c, &format!("{end}shoulderradius")).ok().flatten().unwrap_or(0.0);
+                        let st = num(cx, *c, &format!("{end}shoulderthickness")).ok().flatten().unwrap_or(0.0);
+                        if sl > 0.0 && sr > 0.0 && st > 0.0 {
+                            let ri = (sr - st).max(0.0);
+                            let mut m = std::f64::consts::PI * (sr * sr - ri * ri) * sl * mat.density;
+                            if text_of(*c, &format!("{end}shouldercapped")) == Some("true") {
+                                m += std::f64::consts::PI * ri * ri * st * mat.density;
+                            }
+                            let (a, b) = if end == "fore" { (s0 - sl, s0) } else { (s0, s0 + sl) };
+                            rd.masses.push(MassItem {
+                                name: format!("{nm} {end} shoulder"),
+                                mass: m,
+                                s0: a,
+                                s1: b,
+                                note: "transition shoulder, a tube of the transition's material inside the body".into(),
+                            });
+                        }
+                    }
+                    if let Some(subs) = child(*c, "subcomponents") {
+                        let p = Parent {
+                            top: s,
+                            length,
+                            inner_radius: r_fore.unwrap_or(0.0).min(r_aft.unwrap_or(0.0)) - thickness,
+                        };
+                        read_internal(cx, &mut rd, subs, &p, &nm);
+                    }
+                    transitions.push(ImpTransition {
+                        name: nm,
+                        top: s,
+                        length,
+                        r_fore: if auto("foreradius") && r_fore.is_none() { f64::NAN } else { r_fore.unwrap_or(f64::NAN) },
+                        r_aft: if auto("aftradius") && r_aft.is_none() { f64::NAN } else { r_aft.unwrap_or(f64::NAN) },
+                        thickness,
+                        filled,
+                        shape,
+                        clipped: text_of(*c, "shapeclipped") == Some("true"),
+                        material: mat,
+                        override_mass: om,
+                        override_cg: ocg,
+                        at: cx.span(*c),
+                    });
+                    order.push((false, transitions.len() - 1, *c));
+                    s += length;
+                }
+            }
             "podset" | "parallelstage" | "boosterset" => cx.error(
                 "import::unsupported",
                 *c,
@@ -810,9 +912,28 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
         );
         return None;
     }
-    // Radii: `auto` resolves to the neighbour; all must agree (one diameter).
-    let r0 = tubes.iter().map(|t| t.radius).find(|r| r.is_finite());
-    let Some(r0) = r0.or(nose.radius.is_finite().then_some(nose.radius)) else {
+    // Radii: `auto` resolves to the neighbour (a tube's and a transition's fore radius to the
+    // section ahead, a transition's aft radius to the component behind, the nose's to the
+    // first component); each component must start at the radius of the section ahead of it
+    // (a step without a transition cannot be represented).
+    let fores: Vec<Option<f64>> = order
+        .iter()
+        .map(|&(is_tube, i, _)| {
+            let r = if is_tube {
+                tubes[i].radius
+            } else {
+                transitions[i].r_fore
+            };
+            r.is_finite().then_some(r)
+        })
+        .collect();
+    let explicit_fore = |k: usize| -> Option<f64> { fores.get(k).copied().flatten() };
+    let r0 = if nose.radius.is_finite() {
+        Some(nose.radius)
+    } else {
+        explicit_fore(0).or_else(|| tubes.iter().map(|t| t.radius).find(|r| r.is_finite()))
+    };
+    let Some(r0) = r0 else {
         cx.error(
             "import::value",
             stage,
@@ -821,34 +942,45 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
         );
         return None;
     };
-    if !nose.radius.is_finite() {
-        nose.radius = r0;
-    }
-    for t in &mut tubes {
-        if !t.radius.is_finite() {
-            t.radius = r0;
-        }
-    }
-    let tube_nodes: Vec<Node> = ext
-        .iter()
-        .copied()
-        .filter(|c| c.has_tag_name("bodytube"))
-        .collect();
-    for (t, n) in tubes.iter().zip(&tube_nodes) {
-        if (t.radius - r0).abs() > 1e-6 || (nose.radius - r0).abs() > 1e-6 {
+    nose.radius = r0;
+    let mut r_cur = r0;
+    let mut ahead = format!("nose `{}`", nose.name);
+    for (k, &(is_tube, i, n)) in order.iter().enumerate() {
+        let next = explicit_fore(k + 1);
+        let (fore, name) = if is_tube {
+            let t = &mut tubes[i];
+            if !t.radius.is_finite() {
+                t.radius = r_cur;
+            }
+            (t.radius, format!("body tube `{}`", t.name))
+        } else {
+            let t = &mut transitions[i];
+            if !t.r_fore.is_finite() {
+                t.r_fore = r_cur;
+            }
+            if !t.r_aft.is_finite() {
+                t.r_aft = next.unwrap_or(t.r_fore);
+            }
+            (t.r_fore, format!("transition `{}`", t.name))
+        };
+        if (fore - r_cur).abs() > 1e-6 {
             cx.error(
                 "import::diameter",
-                *n,
+                n,
                 format!(
-                    "body tube `{}` has radius {:.4} mm, the body {:.4} mm (nose {:.4} mm): the generated body has one diameter",
-                    t.name,
-                    t.radius * 1e3,
-                    r0 * 1e3,
-                    nose.radius * 1e3
+                    "{name} starts at radius {:.4} mm, the {ahead} ends at {:.4} mm: a step in diameter without a transition cannot be represented",
+                    fore * 1e3,
+                    r_cur * 1e3,
                 ),
                 "another diameter",
             );
         }
+        r_cur = if is_tube {
+            tubes[i].radius
+        } else {
+            transitions[i].r_aft
+        };
+        ahead = name;
     }
     let fins = match rd.fins.len() {
         0 => {
@@ -914,6 +1046,7 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
         creator,
         nose,
         tubes,
+        transitions,
         fins: fins?,
         masses: rd.masses,
         mount: rd.mounts.pop(),

@@ -887,7 +887,7 @@ pub fn fin_corners_text(v: &ir::Vehicle) -> String {
         return String::new();
     };
     let radius = match &v.structure {
-        ir::Structure::Generate(g) => 0.5 * g.body.diameter.value,
+        ir::Structure::Generate(g) => g.body.root_radius(v.fins.as_ref()),
         ir::Structure::Files(_) => {
             return "fin corners    not drawn: the structure is read from files (its nodes place the fins)\n".to_string();
         }

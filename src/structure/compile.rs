@@ -136,6 +136,7 @@ pub fn generator_spec(v: &Vehicle, g: &ir::Generate) -> GeneratorSpec {
             wall_thickness: g.body.wall.value,
             nose_length: g.body.nose_length.value,
             nose_shape: g.body.nose_shape.value,
+            transitions: g.body.transition_geoms(),
             elements: g.body.elements.value,
             theory: match g.body.theory.value {
                 ir::BeamTheory::EulerBernoulli => generate::BeamTheory::EulerBernoulli,

@@ -534,7 +534,7 @@ pub fn rigid_normal_of_node(
 /// innermost fin node's `r · e_s` for an imported one (infinite without fin nodes).
 fn fin_y_root(c: &CompiledVehicle, v: &ir::Vehicle, fin: usize, es: &[f64; 3]) -> f64 {
     match &v.structure {
-        ir::Structure::Generate(g) => 0.5 * g.body.diameter.value,
+        ir::Structure::Generate(g) => g.body.root_radius(v.fins.as_ref()),
         ir::Structure::Files(_) => (0..c.node_components.len())
             .filter(|&k| usize::try_from(c.node_components[k]).ok() == Some(fin))
             .map(|k| {

@@ -231,7 +231,7 @@ pub fn vehicle_coordinates(variant: &Variant) -> Result<VehicleCoordinates, FinF
     omega.extend(&omega_elastic);
     let pf = planform(f, 0.0);
     let y_root = match &v.structure {
-        crate::check::ir::Structure::Generate(g) => 0.5 * g.body.diameter.value,
+        crate::check::ir::Structure::Generate(g) => g.body.root_radius(v.fins.as_ref()),
         // An imported structure: `fin_structure` measures the span from the innermost node.
         crate::check::ir::Structure::Files(_) => f64::NAN,
     };

@@ -222,7 +222,7 @@ impl PlanarVehicle {
             num / den
         };
         let body_radius = match &v.structure {
-            Structure::Generate(g) => 0.5 * g.body.diameter.value,
+            Structure::Generate(g) => g.body.root_radius(v.fins.as_ref()),
             Structure::Files(_) => compiled
                 .node_positions
                 .iter()

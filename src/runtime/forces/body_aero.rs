@@ -224,9 +224,10 @@ pub fn aero_tables(v: &ir::Vehicle) -> Result<EstimatedTables, AeroForceError> {
                     NoseShape::Tube
                 },
                 reference_x: v.aero.reference_point.value[0],
+                transitions: b.transition_geoms(),
             };
             let fin = match &v.fins {
-                Some(f) => planform(f, 0.5 * b.diameter.value),
+                Some(f) => planform(f, b.radius_under(f)),
                 // No fins: a placeholder planform; the fin table is then never used.
                 None => FinPlanform::unswept_trailing_edge(0.1, 0.1, 0.1, 0.5 * b.diameter.value),
             };

@@ -480,7 +480,7 @@ impl FinAero {
                 .map(|&k| dot3(&c.node_positions[k], &span_dir))
                 .collect();
             let y_root = match &v.structure {
-                ir::Structure::Generate(g) => 0.5 * g.body.diameter.value,
+                ir::Structure::Generate(g) => g.body.root_radius(v.fins.as_ref()),
                 ir::Structure::Files(_) => y.iter().copied().fold(f64::INFINITY, f64::min),
             };
             let tan_le = f.leading_edge_sweep.value.tan();

@@ -35,6 +35,10 @@
 //! Gauss after the substitution that makes the profile smooth at the tip and the base), so
 //! the rigid-body projection equals the profile's integrals to rounding-level accuracy
 //! rather than exactly (`tests/generator.rs` measures it).
+//! A transition (`check::transition`) is a frustum or a shaped shell of revolution: on the
+//! frustum the integrands are polynomials of the same degrees as on the hollow cone (exact);
+//! on a shaped one each element is integrated with the transition's substituted rule, as on a
+//! curved nose.
 //! For Timoshenko elements phi uses the element means of EI and kGA (exact for uniform
 //! elements, which is every element outside the nose).
 //!
@@ -104,7 +108,7 @@ pub fn section_at(body: &BodySpec, x: f64) -> TubeSection {
             body.nose_shape.radius(s, r, body.nose_length)
         }
     } else {
-        r
+        crate::check::transition::section_radius(r, &body.transitions, s)
     };
     TubeSection {
         outer_radius: outer,
@@ -163,8 +167,21 @@ pub fn beam_element(body: &BodySpec, x_aft: f64, x_fore: f64, line_mass: f64) ->
     let curved = body.nose_length > 0.0
         && !body.nose_shape.is_conical()
         && x_aft >= -body.nose_length * (1.0 + 1e-12);
+    // A shaped transition's element likewise (the mesh puts nodes at its ends, so an element
+    // lies on one transition or none); a frustum's integrands are polynomials (A linear and
+    // I quartic in x, as on the hollow cone), for which 5-point Gauss is exact.
+    let shaped = body.transitions.iter().find(|t| {
+        !t.shape.is_conical()
+            && -x_fore >= t.start * (1.0 - 1e-12)
+            && -x_aft <= t.end() * (1.0 + 1e-12)
+    });
     let rule: Vec<(f64, f64)> = if curved {
         crate::check::ir::NoseShape::rule(body.nose_length, -x_fore, -x_aft, NOSE_PANELS)
+            .into_iter()
+            .map(|(s, w)| ((-s - x_aft) / l, w / l))
+            .collect()
+    } else if let Some(t) = shaped {
+        t.rule((-x_fore).max(t.start), (-x_aft).min(t.end()), NOSE_PANELS)
             .into_iter()
             .map(|(s, w)| ((-s - x_aft) / l, w / l))
             .collect()
@@ -256,6 +273,7 @@ mod tests {
             wall_thickness: 0.003,
             nose_length: 0.0,
             nose_shape: crate::check::ir::NoseShape::Conical,
+            transitions: Vec::new(),
             elements: 10,
             theory,
             material: MaterialProps {

@@ -149,7 +149,61 @@ fn add_body(out: &mut MassProperties, b: &BodySpec) {
             ln,
         );
     }
-    add_revolution(out, rho, &Poly(vec![r]), &Poly(vec![r - t]), ln, b.length);
+    // The tube behind the nose: sections of one diameter between the transitions, and the
+    // transitions (frustum: linear radius polynomials; shaped: the profile's quadrature).
+    let mut from = ln;
+    let mut rs = r;
+    for tr in &b.transitions {
+        add_revolution(
+            out,
+            rho,
+            &Poly(vec![rs]),
+            &Poly(vec![rs - t]),
+            from,
+            tr.start,
+        );
+        if tr.shape.is_conical() {
+            let k = (tr.r_aft - tr.r_fore) / tr.length;
+            let ro = Poly(vec![tr.r_fore - k * tr.start, k]);
+            let ri = Poly(vec![tr.r_fore - k * tr.start - t, k]);
+            add_revolution(out, rho, &ro, &ri, tr.start, tr.end());
+        } else {
+            add_shaped_transition(out, rho, t, tr);
+        }
+        from = tr.end();
+        rs = tr.r_aft;
+    }
+    add_revolution(
+        out,
+        rho,
+        &Poly(vec![rs]),
+        &Poly(vec![rs - t]),
+        from,
+        b.length,
+    );
+}
+
+/// A shaped transition (`check::transition`): the integrals of [`add_revolution`] of the
+/// annulus between r(s) and r(s) - t by the transition's quadrature.
+fn add_shaped_transition(
+    out: &mut MassProperties,
+    rho: f64,
+    t: f64,
+    tr: &crate::check::transition::TransitionGeom,
+) {
+    let pi = std::f64::consts::PI;
+    let area = |ro: f64| pi * (ro * ro - (ro - t) * (ro - t));
+    let inertia = |ro: f64| 0.25 * pi * (ro.powi(4) - (ro - t).powi(4));
+    let (a, b) = (tr.start, tr.end());
+    let m = rho * tr.integrate(a, b, |_, ro| area(ro));
+    let sx = -rho * tr.integrate(a, b, |s, ro| area(ro) * s);
+    let sxx = rho * tr.integrate(a, b, |s, ro| area(ro) * s * s);
+    let syy = rho * tr.integrate(a, b, |_, ro| inertia(ro));
+    out.add_second_moment(
+        m,
+        Vector3::new(sx, 0.0, 0.0),
+        Matrix3::from_diagonal(&Vector3::new(sxx, syy, syy)),
+    );
 }
 
 /// A curved nose (`check::nose`): the same integrals as [`add_revolution`] of the annulus
@@ -279,7 +333,12 @@ pub fn analytic_mass_properties(spec: &GeneratorSpec) -> MassProperties {
     add_body(&mut out, &spec.body);
     if let Some(f) = &spec.fins {
         for delta in f.fin_angles() {
-            add_fin(&mut out, f, delta, 0.5 * spec.body.outer_diameter);
+            add_fin(
+                &mut out,
+                f,
+                delta,
+                super::mesh::fin_root_radius(&spec.body, f.pivot_x()),
+            );
         }
     }
     for d in &spec.distributed_masses {

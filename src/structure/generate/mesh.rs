@@ -3,7 +3,8 @@
 //! Body stations are the union of
 //! - "hard" stations, kept exactly because the geometry or a mass changes there: the nose
 //!   tip x = 0, the tail x = -L, the end of the nose x = -l_n, the point where the nose
-//!   stops being solid (r_o = t: x = -t l_n / R on a cone), both ends of every distributed mass, and
+//!   stops being solid (r_o = t: x = -t l_n / R on a cone), both ends of every transition,
+//!   both ends of every distributed mass, and
 //!   the x of every fin root node (so each root node has a body node at the same x);
 //! - the `elements` uniform divisions of [-L, 0], dropping any that falls within 0.3 of a
 //!   division of a hard station (to avoid slivers).
@@ -31,6 +32,10 @@ pub fn body_stations(spec: &GeneratorSpec) -> Vec<f64> {
             )
         };
         hard.push(-s0);
+    }
+    for t in &body.transitions {
+        hard.push(-t.start);
+        hard.push(-t.end());
     }
     for d in &spec.distributed_masses {
         hard.push(d.x_from);
@@ -152,7 +157,8 @@ pub fn fin_node_maps(
         .collect()
 }
 
-/// Outer radius of the body where the fins sit (they must be on the cylinder).
-pub fn fin_root_radius(body: &BodySpec) -> f64 {
-    0.5 * body.outer_diameter
+/// Outer radius of the body where the fins sit (they must be on a section of one diameter:
+/// `check::transition`), at the middle of the root chord `pivot_x`.
+pub fn fin_root_radius(body: &BodySpec, pivot_x: f64) -> f64 {
+    crate::check::transition::section_radius(0.5 * body.outer_diameter, &body.transitions, -pivot_x)
 }

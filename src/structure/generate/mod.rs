@@ -210,7 +210,7 @@ pub fn generate(spec: &GeneratorSpec) -> Result<FeModel, GenerateError> {
     if let Some((f, per_fin, angles)) = &fin_layout {
         let root_x = mesh::fin_root_stations(f);
         for (k, &delta) in angles.iter().enumerate() {
-            let grid = mesh::fin_grid(f, delta, mesh::fin_root_radius(body));
+            let grid = mesh::fin_grid(f, delta, mesh::fin_root_radius(body, f.pivot_x()));
             let first = n_body + k * per_fin;
             let maps = mesh::fin_node_maps(f, first, |i| {
                 let master = mesh::nearest_station(&stations, root_x[i]);

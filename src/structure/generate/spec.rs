@@ -48,6 +48,9 @@ pub struct BodySpec {
     pub nose_length: f64,
     /// The nose profile (`check::nose`; conical: the outer radius grows linearly).
     pub nose_shape: crate::check::ir::NoseShape,
+    /// Transitions and boat tails, fore to aft (`check::transition`): behind the nose the
+    /// outer diameter is `outer_diameter` up to the first, then each one's aft diameter.
+    pub transitions: Vec<crate::check::transition::TransitionGeom>,
     /// Number of uniform divisions of the body; extra stations are added (see `mesh`).
     pub elements: usize,
     pub theory: BeamTheory,
@@ -278,6 +281,23 @@ pub(crate) fn check_body(b: &BodySpec) -> Result<(), GenerateError> {
             what: "body.elements",
         });
     }
+    // The checker's rules (`check::transition`), for callers that build a spec directly.
+    let mut prev = (0.5 * b.outer_diameter, b.nose_length);
+    for t in &b.transitions {
+        let ok = t.length > 0.0
+            && t.start >= prev.1
+            && t.end() <= b.length * (1.0 + 1e-12)
+            && (t.r_fore - prev.0).abs() <= 1e-9 * prev.0
+            && b.wall_thickness < t.r_fore.min(t.r_aft);
+        if !ok {
+            return Err(GenerateError::BadGeometry {
+                what: "body.transitions",
+                value: t.start,
+                reason: "a transition must start at the diameter ahead of it, behind the nose and the previous transition, end within the body, and be thicker than the wall",
+            });
+        }
+        prev = (t.r_aft, t.end());
+    }
     check_material("body", &b.material)
 }
 
@@ -287,7 +307,11 @@ pub(crate) fn check_fins(f: &FinSpec, body: &BodySpec) -> Result<(), GenerateErr
     // The root chord (after cant) must sit on the cylindrical part of the body.
     let half = 0.5 * f.root_chord * f.cant.cos();
     let (aft, fore) = (f.pivot_x() - half, f.pivot_x() + half);
-    if aft < -body.length * (1.0 + 1e-12) || fore > -body.nose_length {
+    let on_transition = body
+        .transitions
+        .iter()
+        .any(|t| -fore < t.end() * (1.0 - 1e-12) && -aft > t.start * (1.0 + 1e-12));
+    if aft < -body.length * (1.0 + 1e-12) || fore > -body.nose_length || on_transition {
         return Err(GenerateError::FinOutsideBody {
             root_from: aft,
             root_to: fore,
