@@ -532,10 +532,7 @@ impl PairGeo {
         let i_abs = phase * inner;
         let (i1, e_u1) = if self.negative {
             let i0 = st.i0;
-            (
-                c64::new(2.0 * i0.re - i_abs.re, i_abs.im),
-                c64::new(c, s),
-            )
+            (c64::new(2.0 * i0.re - i_abs.re, i_abs.im), c64::new(c, s))
         } else {
             (i_abs, phase)
         };
@@ -630,11 +627,7 @@ impl Geometry {
                     let gamma = f;
                     let a2 = alpha / (2.0 * e * e);
                     let b2 = beta / (2.0 * e);
-                    [
-                        c * (a2 - b2),
-                        c * (gamma - 2.0 * a2),
-                        c * (a2 + b2),
-                    ]
+                    [c * (a2 - b2), c * (gamma - 2.0 * a2), c * (a2 + b2)]
                 };
                 weights.push([w(l), w(&l.image())]);
             }

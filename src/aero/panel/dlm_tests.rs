@@ -376,8 +376,15 @@ fn fast_influence_is_the_direct_sum() {
                         worst = worst.max((fast[(r, s)] - direct[(r, s)]).norm());
                     }
                 }
-                println!("M {mach}, nu {nu}: worst |fast - direct| / max|A| = {:.2e}", worst / scale);
-                assert!(worst <= 1e-14 * scale, "M {mach} nu {nu}: {}", worst / scale);
+                println!(
+                    "M {mach}, nu {nu}: worst |fast - direct| / max|A| = {:.2e}",
+                    worst / scale
+                );
+                assert!(
+                    worst <= 1e-14 * scale,
+                    "M {mach} nu {nu}: {}",
+                    worst / scale
+                );
             }
         }
     }
@@ -403,7 +410,10 @@ fn automatic_strips_meet_the_box_rule_and_are_the_fewest() {
         let ns = dlm::spanwise_for(&p, nc, least, spacing).unwrap();
         let l = Lattice::new(&p, nc, ns, spacing).unwrap();
         let ratio = dlm::max_box_aspect(&l);
-        println!("{:?} {nc} chordwise, {spacing:?}: {ns} strips, aspect {ratio:.3}", p.outline);
+        println!(
+            "{:?} {nc} chordwise, {spacing:?}: {ns} strips, aspect {ratio:.3}",
+            p.outline
+        );
         assert!(ratio <= dlm::MAX_BOX_ASPECT);
         assert!(dlm::check_boxes(&l).is_ok());
         assert!(ns >= least);
@@ -419,7 +429,10 @@ fn automatic_strips_meet_the_box_rule_and_are_the_fewest() {
     };
     match dlm::spanwise_for(&pointed, 16, 1, Spacing::Cosine) {
         Err(super::PanelError::WideBoxes { ratio, limit }) => {
-            println!("pointed tip: aspect {ratio:.3} at {} strips", dlm::MAX_AUTO_STRIPS);
+            println!(
+                "pointed tip: aspect {ratio:.3} at {} strips",
+                dlm::MAX_AUTO_STRIPS
+            );
             assert!(ratio > limit);
         }
         other => panic!("{other:?}"),

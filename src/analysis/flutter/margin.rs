@@ -143,7 +143,8 @@ pub struct BoundarySpec {
     pub modes: usize,
     /// The panel aerodynamics.
     pub aero: FinAero,
-    /// Lattice panels.
+    /// Lattice panels (for the doublet lattice `spanwise` is the least count: strips are
+    /// added until its boxes meet their aspect-ratio rule, `dlm::spanwise_for`).
     pub chordwise: usize,
     pub spanwise: usize,
     /// Ackeret's correction of piston theory (`piston::Correction::Ackeret`) or none.
@@ -294,9 +295,21 @@ pub fn vehicle_spec(
             FinAero::Unsteady | FinAero::DoubletLattice => MARGIN_CHORDWISE,
             FinAero::QuasiSteady => d.chordwise,
         },
-        spanwise: d.spanwise,
+        // The doublet lattice's strips follow its box rule alone (`dlm::spanwise_for` from
+        // one strip in `solve_boundary`: the fewest with no box more than 3 times wider than
+        // long); the vortex lattice keeps its 12 cosine strips.
+        spanwise: match aero {
+            FinAero::DoubletLattice => 1,
+            FinAero::Unsteady | FinAero::QuasiSteady => d.spanwise,
+        },
         piston_ackeret: d.correction == Correction::Ackeret,
-        k_count: 40,
+        // 40 reduced frequencies for the vortex lattice; 20 for the doublet lattice, whose
+        // tables cost about twice as much per frequency (its kernel fill besides the solve);
+        // the effect on the thesis vehicle's margin and cold boundary: docs/performance.md.
+        k_count: match aero {
+            FinAero::DoubletLattice => 20,
+            FinAero::Unsteady | FinAero::QuasiSteady => 40,
+        },
         k_tolerance: PkSettings::default().k_tolerance,
     })
 }
@@ -355,6 +368,16 @@ pub fn solve_boundary(modes: &FinModes, spec: &BoundarySpec) -> Result<Boundary,
     }
     let atm = Standard1976::new();
     let mut s = spec.fin_settings();
+    if spec.aero == FinAero::DoubletLattice {
+        // `spec.spanwise` is the least count: the doublet lattice's boxes also keep its
+        // aspect-ratio rule (`dlm::spanwise_for`; the key covers the spec and the fin).
+        s.spanwise = panel::dlm::spanwise_for(
+            &modes.planform,
+            s.chordwise,
+            s.spanwise,
+            panel::Spacing::Cosine,
+        )?;
+    }
     let w_max = modes.omega.iter().copied().fold(0.0, f64::max);
     let lattice = fin_lattice(modes, &s)?;
     let floor = match spec.aero {
