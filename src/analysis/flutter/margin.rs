@@ -412,7 +412,10 @@ pub fn solve_boundary(modes: &FinModes, spec: &BoundarySpec) -> Result<Boundary,
             && m >= panel::machbox::MIN_MACH
             && !panel::machbox::piston_valid(&modes.planform, m);
         let bridge = spec.aero.is_harmonic() && in_bridge(m, spec.aero);
-        let sub = matches!(panel::regime(m)?, Regime::Subsonic) || mach_box || bridge;
+        // The doublet lattice holds to its own limit (0.95), inside the vortex lattice's band.
+        let lattice = matches!(panel::regime(m)?, Regime::Subsonic)
+            || (spec.aero == FinAero::DoubletLattice && m <= panel::dlm::MACH_LIMIT);
+        let sub = lattice || mach_box || bridge;
         Ok(if sub { lo.max(floor) } else { lo })
     };
     // The nodes of the transonic band and its two ends share one reduced-frequency grid (that
