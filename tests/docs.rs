@@ -98,6 +98,7 @@ fn validation_flutter_figures_are_todays() {
     };
     for (aero, key) in [
         ("unsteady", "| clamped fin, unsteady panels"),
+        ("doublet-lattice", "| clamped fin, doublet lattice"),
         ("quasi-steady", "| clamped fin, quasi-steady panels"),
     ] {
         let j = run(aero);

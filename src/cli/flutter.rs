@@ -48,7 +48,7 @@ pub struct FlutterArgs {
     /// its compiled modes).
     #[arg(long)]
     pub modes: Option<usize>,
-    #[arg(long, value_enum, default_value_t = AeroChoice::Unsteady)]
+    #[arg(long, value_enum, default_value_t = AeroChoice::DoubletLattice)]
     pub aero: AeroChoice,
     /// Find the fin thickness whose flutter speed is the target speed, by root finding:
     /// START:STOP:COUNT lengths (COUNT thicknesses scanned for a bracket, then refined).

@@ -30,13 +30,15 @@ use crate::diagnostics::Diagnostic;
 // `clap::ValueEnum` so that the command line takes it as it is (`--aero`).
 #[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum AeroChoice {
-    /// The harmonic vortex lattice with a convected wake (subsonic) and unsteady piston
-    /// theory (supersonic).
+    /// The harmonic vortex lattice with a convected wake (subsonic, Göthert) and, supersonic,
+    /// the same methods as the doublet lattice (`--aero unsteady`, also `vortex-lattice`).
+    #[value(alias = "vortex-lattice")]
     Unsteady,
     /// The flight's quasi-steady panel map (no wake lag, no apparent mass).
     QuasiSteady,
-    /// The doublet-lattice method (subsonic, compressible unsteady kernel) and unsteady
-    /// piston theory (supersonic).
+    /// The default (issue 33): the doublet-lattice method (subsonic, the compressible
+    /// unsteady kernel, its lattice meeting the box rules automatically) and, supersonic, the
+    /// Mach box or unsteady piston theory.
     DoubletLattice,
 }
 
@@ -322,6 +324,18 @@ pub fn sweep_settings(
         settings.chordwise =
             chordwise_for(layout, settings.k_max, settings.chordwise).min(MAX_CHORDWISE);
     }
+    if aero == FinAero::DoubletLattice {
+        // The automatic lattice of the doublet lattice: strips for its box aspect ratio
+        // (`dlm::spanwise_for`); where none suffice the default 12 stay, and the analysis
+        // refuses the wide boxes with its diagnostic.
+        settings.spanwise = crate::aero::panel::dlm::spanwise_for(
+            &layout.planform,
+            settings.chordwise,
+            settings.spanwise,
+            crate::aero::panel::Spacing::Cosine,
+        )
+        .unwrap_or(settings.spanwise);
+    }
     settings
 }
 
@@ -418,7 +432,8 @@ pub fn flutter_code(e: &FinFlutterError) -> &'static str {
         FinFlutterError::NotGenerated => "analysis::flutter::not_generated",
         FinFlutterError::NoFins => "analysis::flutter::no_fins",
         FinFlutterError::Panel(PanelError::TooCoarse { .. }) => "analysis::flutter::too_few_panels",
-        FinFlutterError::WideBoxes { .. } => "analysis::flutter::wide_boxes",
+        FinFlutterError::WideBoxes { .. }
+        | FinFlutterError::Panel(PanelError::WideBoxes { .. }) => "analysis::flutter::wide_boxes",
         _ => "analysis::flutter::failed",
     }
 }
@@ -934,8 +949,9 @@ fn margin_skipped(why: String) -> FlightMargin {
 /// Number of clamped-fin modes of the flight margin.
 pub const MARGIN_MODES: usize = 4;
 
-/// The aerodynamics of the flight margin: the unsteady panels, as `analyze flutter`.
-pub const MARGIN_AERO: FinAero = FinAero::Unsteady;
+/// The aerodynamics of the flight margin: the default of `analyze flutter`, the doublet
+/// lattice (issue 33).
+pub const MARGIN_AERO: FinAero = FinAero::DoubletLattice;
 
 /// The cache key of a vehicle's flutter boundary: exactly the inputs the clamped fin's modes
 /// are computed from ([`clamped_fin_modes`]: the `fins` block whole, with its material,

@@ -123,7 +123,7 @@ pub fn solve_tunnel(
             (screened(&model, &gaf, speeds)?, (chordwise, spanwise))
         }
         AeroChoice::Unsteady | AeroChoice::DoubletLattice => {
-            let settings = UnsteadySettings {
+            let mut settings = UnsteadySettings {
                 aero: if aero == AeroChoice::Unsteady {
                     UnsteadyAero::VortexLattice
                 } else {
@@ -141,6 +141,18 @@ pub fn solve_tunnel(
                     most: MAX_CHORDWISE,
                     v_min: speeds[0],
                 });
+            }
+            // The doublet lattice's automatic strips (`dlm::spanwise_for`) unless the fixture
+            // gives `spanwise_panels` (the default 12 carries the block's header span): an
+            // explicit count is used as given and refused if its boxes are too wide.
+            let explicit = t.fixture.spanwise_panels.span != t.fixture.span;
+            if aero == AeroChoice::DoubletLattice && !explicit {
+                settings.spanwise = crate::aero::panel::dlm::spanwise_for(
+                    &modes.planform,
+                    chordwise,
+                    spanwise,
+                    Spacing::Uniform,
+                )?;
             }
             let p = unsteady_problem(&modes, mach, density, &settings)?;
             bridge = p.bridge;
@@ -177,6 +189,9 @@ pub fn solve_tunnel(
 pub fn tunnel_code(e: &WingError) -> &'static str {
     match e {
         WingError::TooManyPanels { .. } => "analysis::flutter::too_few_panels",
+        WingError::Panel(crate::aero::panel::PanelError::WideBoxes { .. }) => {
+            "analysis::flutter::wide_boxes"
+        }
         _ => "analysis::flutter::failed",
     }
 }

@@ -153,9 +153,14 @@
 //! scale of the distance to the receiving point and of `1/ν`; the usual guideline is an aspect
 //! ratio below about 3 (MSC Nastran Aeroelastic Analysis User's Guide, as widely quoted; not
 //! read here), and [RTM98]'s quartic approximation was introduced for the wide boxes where the
-//! parabola fails. The quartic is not implemented; the flutter analyses refuse a lattice
-//! whose boxes exceed [`MAX_BOX_ASPECT`] (`analysis::flutter::fin`; the map itself does not,
-//! so the 2-D test below can use wide far strips); measured: the 2-D test converges
+//! parabola fails (W. P. Rodden, P. F. Taylor, S. C. McIntosh, "Improvements to the
+//! doublet-lattice method in MSC/NASTRAN", whose abstract, read here, states that the number
+//! of boxes needed "depends on aspect ratio and reduced frequency" and that the quartic
+//! version "relaxes limitations of the previous version to permit higher box aspect ratios").
+//! The quartic is not implemented; the flutter analyses refuse an explicit lattice whose boxes
+//! exceed [`MAX_BOX_ASPECT`] (`analysis::flutter::fin`, [`check_boxes`]; the map itself does
+//! not, so the 2-D test below can use wide far strips), and the automatic lattice of the
+//! analyses ([`spanwise_for`]) adds strips until none does; measured: the 2-D test converges
 //! (first order, Richardson 0.04 %) with aspect ratio 2 next to the receiving strip, and stalls
 //! at 2.7 % when the strips are kept 1/8 chord wide while the boxes shrink to 1/64 chord
 //! (aspect ratio 8).
@@ -173,6 +178,61 @@ pub fn max_box_aspect(lattice: &Lattice) -> f64 {
         .iter()
         .map(|p| p.width * p.width / p.area)
         .fold(0.0, f64::max)
+}
+
+/// The most spanwise strips [`spanwise_for`] lays out.
+pub const MAX_AUTO_STRIPS: usize = 256;
+
+/// The doublet lattice's box rules on a lattice: [`PanelError::WideBoxes`] when a box is
+/// wider than [`MAX_BOX_ASPECT`] times its chord (the box-size rule in the chordwise
+/// direction is checked per reduced frequency, [`Dlm::check_resolution`]).
+pub fn check_boxes(lattice: &Lattice) -> Result<(), PanelError> {
+    let ratio = max_box_aspect(lattice);
+    if ratio > MAX_BOX_ASPECT {
+        return Err(PanelError::WideBoxes {
+            ratio,
+            limit: MAX_BOX_ASPECT,
+        });
+    }
+    Ok(())
+}
+
+/// The automatic lattice of the doublet lattice (issue 33): with `chordwise` boxes along
+/// every chord (the consumer's count from the box-size rule `Δx < 0.08 V/f` at its highest
+/// reduced frequency, module doc "Limits"), the fewest spanwise strips, at least
+/// `min_spanwise` and at most [`MAX_AUTO_STRIPS`], with which no box of the lattice on
+/// `planform` with `spacing` is wider than [`MAX_BOX_ASPECT`] times its mean chord.
+///
+/// The count is searched upward one strip at a time (the largest aspect ratio is not
+/// monotone in the count for every outline, and the lattice is cheap to lay out), so the
+/// answer is the smallest that meets the rule. Which box binds: uniform strips of width `s /
+/// n_s` bind at the tip (the shortest chord), `n_s >= s n_c / (3 c_tip)`; the cosine strips
+/// of [`Spacing::Cosine`] are widest at the root, `s sin(π/(2 n_s)) ≈ π s / (2 n_s)`, so
+/// `n_s >= π s n_c / (6 c_r)` there, and at a rounded tip (elliptical outline, chord
+/// `∝ sqrt(1 - η²)`) the last strip's aspect ratio falls like `π s n_c / (2 n_s c_r)` too.
+/// An outline ending in a point along a straight edge (a zero tip chord reached linearly)
+/// has a last strip whose aspect ratio is `2 s n_c / c_r` whatever the count (its width and
+/// its chord shrink together); there, and whenever [`MAX_AUTO_STRIPS`] strips do not
+/// suffice, [`PanelError::WideBoxes`] says so and the vortex lattice remains
+/// (`--aero vortex-lattice`).
+pub fn spanwise_for(
+    planform: &crate::aero::estimator::FinPlanform,
+    chordwise: usize,
+    min_spanwise: usize,
+    spacing: super::Spacing,
+) -> Result<usize, PanelError> {
+    let mut ratio = f64::INFINITY;
+    for ns in min_spanwise.max(1)..=MAX_AUTO_STRIPS.max(min_spanwise) {
+        let l = Lattice::new(planform, chordwise, ns, spacing)?;
+        ratio = max_box_aspect(&l);
+        if ratio <= MAX_BOX_ASPECT {
+            return Ok(ns);
+        }
+    }
+    Err(PanelError::WideBoxes {
+        ratio,
+        limit: MAX_BOX_ASPECT,
+    })
 }
 
 use faer::linalg::solvers::DenseSolveCore;
@@ -373,6 +433,225 @@ pub struct Dlm {
     eval: Vec<[f64; 2]>,
     force: Vec<[f64; 2]>,
     max_box_chord: f64,
+    /// The frequency-independent part of the kernel ([`Self::influence`], "Cost").
+    geometry: Geometry,
+}
+
+/// The kernel's sampling points and every frequency-independent quantity of the numerator
+/// `P` and of the parabolic integral, computed once per Mach ([`Dlm::influence`], "Cost").
+#[derive(Clone, Debug)]
+struct Geometry {
+    /// The distinct sampling points `η = -e, 0, e` of the doublet lines and of their images.
+    points: Vec<[f64; 2]>,
+    /// Per line, the indices into `points` of `P(-e), P(0), P(e)`: the line, then its image.
+    taps: Vec<[[usize; 3]; 2]>,
+    /// Per receiving point `r` and line `s` (row-major `n x n`), the weights of `P(-e),
+    /// P(0), P(e)` in `d_rs`, line then image, `-1/(4π)` included.
+    weights: Vec<[[f64; 3]; 2]>,
+    /// Per receiving point and sampling point (row-major `n x points`), the pair's geometry.
+    pairs: Vec<PairGeo>,
+    /// The distinct spanwise coordinates of the sampling points, and each point's index in it.
+    ys: Vec<f64>,
+    point_y: Vec<usize>,
+}
+
+/// The frequency-independent part of `P` at one (receiving, sampling) pair (module doc):
+/// `|u1|`, `1 - |u1|/sqrt(1 + u1²)`, `e^{-2 b |u1|}` (Desmarais' base), `M r1 / (R
+/// sqrt(1 + u1²))`, `K10`, whether `u1 < 0`, and whether the point lies on the doublet's
+/// line (`r1 -> 0`: then `K1 = k10`, -2 downstream and 0 upstream).
+#[derive(Clone, Copy, Debug)]
+struct PairGeo {
+    au: f64,
+    om: f64,
+    q: f64,
+    amp: f64,
+    k10: f64,
+    negative: bool,
+    on_line: bool,
+}
+
+impl PairGeo {
+    fn new(x0: f64, y0: f64, mach: f64, scale: f64) -> PairGeo {
+        let r1 = y0.abs();
+        let b2 = 1.0 - mach * mach;
+        if r1 <= 1e-12 * scale {
+            let k = if x0 > 0.0 { -2.0 } else { 0.0 };
+            return PairGeo {
+                au: 0.0,
+                om: 0.0,
+                q: 0.0,
+                amp: 0.0,
+                k10: k,
+                negative: false,
+                on_line: true,
+            };
+        }
+        // As `increment_numerator`, term by term.
+        let r = (x0 * x0 + b2 * r1 * r1).sqrt();
+        let u1 = (mach * r - x0) / (b2 * r1);
+        let root = (r - mach * x0) / (b2 * r1);
+        let k10 = if x0 >= 0.0 {
+            -(r + x0) / r
+        } else {
+            -(b2 * r1 * r1) / (r * (r - x0))
+        };
+        let au = u1.abs();
+        PairGeo {
+            au,
+            om: one_minus(au),
+            q: (-2.0 * DESMARAIS_B * au).exp(),
+            amp: mach * r1 / (r * root),
+            k10,
+            negative: u1 < 0.0,
+            on_line: false,
+        }
+    }
+
+    /// `K1 e^{-iν x0} - K10` given `wave = e^{-iν x0}` and the quantities of its spanwise
+    /// distance `r1` ([`Station`]) (module doc; `I1` by Desmarais').
+    #[inline]
+    fn numerator(&self, wave: c64, st: &Station) -> c64 {
+        if self.on_line {
+            return wave * self.k10 - c64::new(self.k10, 0.0);
+        }
+        let k1 = st.k1;
+        let (s, c) = (k1 * self.au).sin_cos();
+        // e^{-i k1 |u1|}.
+        let phase = c64::new(c, -s);
+        // Desmarais' J at |u1| (module doc; as `i1_nonneg`), q = e^{-2^n b |u1|}.
+        let (mut jr, mut ji) = (0.0, 0.0);
+        let mut q = self.q;
+        for (n, a) in DESMARAIS_A.iter().enumerate() {
+            let w = a * q * st.inv[n];
+            jr += st.p[n] * w;
+            ji -= k1 * w;
+            q *= q;
+        }
+        // I1(|u1|, k1) = phase [om - i k1 J].
+        let inner = c64::new(self.om + k1 * ji, -k1 * jr);
+        let i_abs = phase * inner;
+        let (i1, e_u1) = if self.negative {
+            let i0 = st.i0;
+            (c64::new(2.0 * i0.re - i_abs.re, i_abs.im), c64::new(c, s))
+        } else {
+            (i_abs, phase)
+        };
+        let k1v = -i1 - e_u1 * self.amp;
+        k1v * wave - c64::new(self.k10, 0.0)
+    }
+}
+
+/// What every sampling point at one spanwise distance `r1` from a receiving point shares at
+/// one frequency: `k1 = ν r1`, Desmarais' `p_n` and `1/(p_n² + k1²)`, and `I1(0, k1)` (the
+/// `u1 < 0` continuation, module doc).
+#[derive(Clone, Copy, Debug)]
+struct Station {
+    k1: f64,
+    p: [f64; 12],
+    inv: [f64; 12],
+    i0: c64,
+}
+
+impl Station {
+    fn new(k1: f64) -> Station {
+        let mut p = [0.0; 12];
+        let mut inv = [0.0; 12];
+        let mut pn = 2.0 * DESMARAIS_B;
+        let (mut jr, mut ji) = (0.0, 0.0);
+        for n in 0..12 {
+            p[n] = pn;
+            inv[n] = 1.0 / (pn * pn + k1 * k1);
+            // J(0, k1) = Σ a_n (p_n - i k1)/(p_n² + k1²).
+            let w = DESMARAIS_A[n] * inv[n];
+            jr += pn * w;
+            ji -= k1 * w;
+            pn *= 2.0;
+        }
+        // I1(0, k1) = 1 - i k1 J(0, k1).
+        Station {
+            k1,
+            p,
+            inv,
+            i0: c64::new(1.0 + k1 * ji, -k1 * jr),
+        }
+    }
+}
+
+impl Geometry {
+    /// `bounds`: each line's end points as the lattice lays them out (neighbours share them
+    /// bit for bit), `lines` the lines made from them.
+    fn new(bounds: &[[[f64; 2]; 2]], lines: &[Line], eval: &[[f64; 2]], mach: f64) -> Geometry {
+        let mut points: Vec<[f64; 2]> = Vec::new();
+        let mut index = std::collections::BTreeMap::<(u64, u64), usize>::new();
+        let mut tap = |p: [f64; 2]| -> usize {
+            // -0.0 and 0.0 are one point.
+            let p = [p[0] + 0.0, p[1] + 0.0];
+            *index
+                .entry((p[0].to_bits(), p[1].to_bits()))
+                .or_insert_with(|| {
+                    points.push(p);
+                    points.len() - 1
+                })
+        };
+        let mut taps = Vec::with_capacity(lines.len());
+        for (l, [a, b]) in lines.iter().zip(bounds) {
+            // The line runs from `a` (η = -e) to `b` (η = e); its image from the image of `b`
+            // (η = -e) to that of `a`.
+            let mirror = |p: [f64; 2]| [p[0], -p[1]];
+            taps.push([
+                [tap(*a), tap(l.mid), tap(*b)],
+                [tap(mirror(*b)), tap(mirror(l.mid)), tap(mirror(*a))],
+            ]);
+        }
+        let scale = lines.iter().map(|l| l.half).fold(f64::INFINITY, f64::min);
+        let n = eval.len();
+        let np = points.len();
+        let mut pairs = Vec::with_capacity(n * np);
+        for p in eval {
+            for q in &points {
+                pairs.push(PairGeo::new(p[0] - q[0], p[1] - q[1], mach, scale));
+            }
+        }
+        let mut weights = Vec::with_capacity(n * lines.len());
+        let c = -1.0 / (4.0 * std::f64::consts::PI);
+        for p in eval {
+            for l in lines {
+                let w = |l: &Line| -> [f64; 3] {
+                    let e = l.half;
+                    let yb = p[1] - l.mid[1];
+                    let f = 2.0 * e / (yb * yb - e * e);
+                    let log = ((yb - e) * (yb - e) / ((yb + e) * (yb + e))).ln();
+                    // ∫ = A α + B β + C γ with A, B, C the parabola's (module doc).
+                    let alpha = yb * yb * f + yb * log + 2.0 * e;
+                    let beta = yb * f + 0.5 * log;
+                    let gamma = f;
+                    let a2 = alpha / (2.0 * e * e);
+                    let b2 = beta / (2.0 * e);
+                    [c * (a2 - b2), c * (gamma - 2.0 * a2), c * (a2 + b2)]
+                };
+                weights.push([w(l), w(&l.image())]);
+            }
+        }
+        let mut ys: Vec<f64> = Vec::new();
+        let mut y_index = std::collections::BTreeMap::<u64, usize>::new();
+        let point_y = points
+            .iter()
+            .map(|p| {
+                *y_index.entry(p[1].to_bits()).or_insert_with(|| {
+                    ys.push(p[1]);
+                    ys.len() - 1
+                })
+            })
+            .collect();
+        Geometry {
+            points,
+            taps,
+            weights,
+            pairs,
+            ys,
+            point_y,
+        }
+    }
 }
 
 impl Dlm {
@@ -385,6 +664,14 @@ impl Dlm {
             return Err(PanelError::Untrusted(mach, "doublet lattice"));
         }
         let steady = vlm::influence_matrix(lattice, mach)?;
+        let lines: Vec<Line> = lattice
+            .panels
+            .iter()
+            .map(|p| Line::from_ends(p.bound[0], p.bound[1]))
+            .collect();
+        let eval: Vec<[f64; 2]> = lattice.panels.iter().map(|p| p.control).collect();
+        let bounds: Vec<[[f64; 2]; 2]> = lattice.panels.iter().map(|p| p.bound).collect();
+        let geometry = Geometry::new(&bounds, &lines, &eval, mach);
         let mut max_box_chord: f64 = 0.0;
         for p in &lattice.panels {
             for (a, b) in [(0, 3), (1, 2)] {
@@ -395,15 +682,12 @@ impl Dlm {
             n: lattice.len(),
             mach,
             steady,
-            lines: lattice
-                .panels
-                .iter()
-                .map(|p| Line::from_ends(p.bound[0], p.bound[1]))
-                .collect(),
+            lines,
             widths: lattice.panels.iter().map(|p| p.width).collect(),
-            eval: lattice.panels.iter().map(|p| p.control).collect(),
+            eval,
             force: lattice.panels.iter().map(|p| p.bound_mid()).collect(),
             max_box_chord,
+            geometry,
         })
     }
 
@@ -432,7 +716,63 @@ impl Dlm {
     }
 
     /// The complex influence matrix `A(ν) = a^VLM + d(ν)` (module doc), images included.
+    ///
+    /// # Cost
+    ///
+    /// The sum of the module doc evaluated as written needs `6 n²` kernel numerators per
+    /// frequency. Three identities make it cheaper without changing the formulas (the
+    /// results agree with [`Self::influence_direct`] to round-off, test
+    /// `fast_influence_is_the_direct_sum`):
+    ///
+    /// - neighbouring boxes of a chordwise row share the end points of their doublet lines
+    ///   (the lattice's strip edges), so `P` is evaluated once per distinct point: `2 n_s + 1`
+    ///   per row instead of `3 n_s`, for the lines and for their images;
+    /// - everything in `P` but the frequency is geometry (`R`, `u1`, `K10`, `sqrt(1 + u1²)`,
+    ///   Desmarais' `e^{-p_n |u1|}`), and the parabolic integral is linear in the three
+    ///   samples, `∫ = A α + B β + C γ` with `α = ȳ² f + ȳ L + 2e`, `β = ȳ f + L/2`, `γ = f`,
+    ///   `f = 2e/(ȳ² - e²)`, `L = ln[(ȳ - e)²/(ȳ + e)²]` (rearranging the module doc's
+    ///   closed form), so those and the three weights are computed once per Mach;
+    /// - `e^{-iν x0} = e^{-iν x_r} e^{iν ξ}` factors into one phase per receiving point and
+    ///   one per sampling point.
     pub fn influence(&self, nu: f64) -> Mat<c64> {
+        let n = self.n;
+        let g = &self.geometry;
+        let np = g.points.len();
+        let phase = |x: f64, sign: f64| {
+            let (s, c) = (nu * x).sin_cos();
+            c64::new(c, sign * s)
+        };
+        let er: Vec<c64> = self.eval.iter().map(|p| phase(p[0], -1.0)).collect();
+        let es: Vec<c64> = g.points.iter().map(|p| phase(p[0], 1.0)).collect();
+        let mut a = Mat::<c64>::from_fn(n, n, |r, s| c64::new(self.steady[r * n + s], 0.0));
+        let mut num = vec![c64::new(0.0, 0.0); np];
+        let mut stations: Vec<Station> = Vec::with_capacity(g.ys.len());
+        for r in 0..n {
+            let yr = self.eval[r][1];
+            stations.clear();
+            stations.extend(g.ys.iter().map(|&y| Station::new(nu * (yr - y).abs())));
+            let pairs = &g.pairs[r * np..(r + 1) * np];
+            for (((v, pair), e), &yi) in num.iter_mut().zip(pairs).zip(&es).zip(&g.point_y) {
+                *v = pair.numerator(er[r] * *e, &stations[yi]);
+            }
+            for s in 0..n {
+                let w = &g.weights[r * n + s];
+                let t = &g.taps[s];
+                let mut d = c64::new(0.0, 0.0);
+                for side in 0..2 {
+                    for i in 0..3 {
+                        d += num[t[side][i]] * w[side][i];
+                    }
+                }
+                a[(r, s)] += d;
+            }
+        }
+        a
+    }
+
+    /// [`Self::influence`] by the module doc's sum as written (the reference of the test
+    /// `fast_influence_is_the_direct_sum`).
+    pub fn influence_direct(&self, nu: f64) -> Mat<c64> {
         let n = self.n;
         let mut a = Mat::<c64>::from_fn(n, n, |r, s| c64::new(self.steady[r * n + s], 0.0));
         for (s, line) in self.lines.iter().enumerate() {

@@ -350,3 +350,91 @@ fn wall_image_is_the_mirrored_line() {
         assert_eq!(f(y0), f(-y0));
     }
 }
+
+/// The influence matrix of [`Dlm::influence`] (shared sampling points, geometry once per
+/// Mach, factored phases: its doc, "Cost") is the module doc's sum as written
+/// ([`Dlm::influence_direct`]) to round-off, on a tapered swept fin with uniform and cosine
+/// strips, at low and high reduced frequency and Mach.
+#[test]
+fn fast_influence_is_the_direct_sum() {
+    for (p, nc, ns, spacing) in [
+        (sphads1(), 8, 12, Spacing::Cosine),
+        (trapezoid(1.0, 1.0, 0.5, 0.5), 6, 10, Spacing::Uniform),
+    ] {
+        let l = Lattice::new(&p, nc, ns, spacing).unwrap();
+        let n = l.len();
+        for mach in [0.0, 0.5, 0.9] {
+            let dl = Dlm::new(&l, mach).unwrap();
+            for nu in [0.0, 0.3, 3.0, 12.0] {
+                let fast = dl.influence(nu);
+                let direct = dl.influence_direct(nu);
+                let mut scale: f64 = 0.0;
+                let mut worst: f64 = 0.0;
+                for r in 0..n {
+                    for s in 0..n {
+                        scale = scale.max(direct[(r, s)].norm());
+                        worst = worst.max((fast[(r, s)] - direct[(r, s)]).norm());
+                    }
+                }
+                println!(
+                    "M {mach}, nu {nu}: worst |fast - direct| / max|A| = {:.2e}",
+                    worst / scale
+                );
+                assert!(
+                    worst <= 1e-14 * scale,
+                    "M {mach} nu {nu}: {}",
+                    worst / scale
+                );
+            }
+        }
+    }
+}
+
+/// The automatic strips of the doublet lattice ([`dlm::spanwise_for`]) meet the box
+/// aspect-ratio rule and are the fewest that do (one strip fewer breaks it, or is below the
+/// least count asked), on a trapezoid (uniform and cosine strips), SPHADS-1's fin and an
+/// elliptical outline; a tip ending in a point along straight edges cannot meet it and is
+/// refused with `WideBoxes`.
+#[test]
+fn automatic_strips_meet_the_box_rule_and_are_the_fewest() {
+    use crate::check::ir::FinOutline;
+    let mut elliptic = trapezoid(0.3, 0.4, 0.0, 0.0);
+    elliptic.outline = FinOutline::Elliptical;
+    for (p, nc, least, spacing) in [
+        (trapezoid(1.0, 1.0, 0.5, 0.5), 16, 2, Spacing::Uniform),
+        (trapezoid(1.0, 1.0, 0.5, 0.5), 16, 2, Spacing::Cosine),
+        (sphads1(), 32, 12, Spacing::Cosine),
+        (sphads1(), 32, 1, Spacing::Cosine),
+        (elliptic.clone(), 24, 1, Spacing::Cosine),
+    ] {
+        let ns = dlm::spanwise_for(&p, nc, least, spacing).unwrap();
+        let l = Lattice::new(&p, nc, ns, spacing).unwrap();
+        let ratio = dlm::max_box_aspect(&l);
+        println!(
+            "{:?} {nc} chordwise, {spacing:?}: {ns} strips, aspect {ratio:.3}",
+            p.outline
+        );
+        assert!(ratio <= dlm::MAX_BOX_ASPECT);
+        assert!(dlm::check_boxes(&l).is_ok());
+        assert!(ns >= least);
+        if ns > least {
+            let fewer = Lattice::new(&p, nc, ns - 1, spacing).unwrap();
+            assert!(dlm::max_box_aspect(&fewer) > dlm::MAX_BOX_ASPECT);
+        }
+    }
+    let mut pointed = trapezoid(0.3, 0.4, 0.0, 0.3);
+    pointed.outline = FinOutline::Freeform {
+        leading: vec![[0.0, 0.0], [0.3, 0.3]],
+        trailing: vec![[0.0, 0.4], [0.3, 0.3]],
+    };
+    match dlm::spanwise_for(&pointed, 16, 1, Spacing::Cosine) {
+        Err(super::PanelError::WideBoxes { ratio, limit }) => {
+            println!(
+                "pointed tip: aspect {ratio:.3} at {} strips",
+                dlm::MAX_AUTO_STRIPS
+            );
+            assert!(ratio > limit);
+        }
+        other => panic!("{other:?}"),
+    }
+}

@@ -110,6 +110,12 @@ pub enum PanelError {
     BadWake { what: &'static str, value: f64 },
     #[error("normalwash columns have {got} entries, expected {expected}")]
     Shape { expected: usize, got: usize },
+    /// The doublet lattice's boxes are too wide for its parabolic kernel approximation
+    /// ([`dlm::MAX_BOX_ASPECT`]).
+    #[error(
+        "the doublet-lattice boxes reach an aspect ratio (width over chord) of {ratio:.2}, above {limit}, where the parabolic approximation of the kernel across a box is poor (Rodden, Taylor & McIntosh 1998)"
+    )]
+    WideBoxes { ratio: f64, limit: f64 },
 }
 
 /// One lattice panel in fin coordinates (see the module doc), metres.

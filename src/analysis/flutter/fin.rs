@@ -38,7 +38,11 @@
 //! harmonic wake; piston theory, being local, has the same map in both); a third,
 //! [`FinAero::DoubletLattice`], replaces the subsonic harmonic vortex lattice by the
 //! doublet-lattice method of `panel::dlm` (the compressible unsteady kernel instead of
-//! Göthert's stretch; `n` force points at the box quarter chords).
+//! Göthert's stretch; `n` force points at the box quarter chords). The doublet lattice is the
+//! default of `analyze flutter` and of the flight margin (issue 33: the better validated of
+//! the two, docs/validation.md); their lattices add spanwise strips until every box meets
+//! its aspect-ratio rule (`panel::dlm::spanwise_for`), while a lattice given here explicitly
+//! ([`FinFlutterSettings`]) is used as given and refused if its boxes are too wide.
 //!
 //! # The transonic band: a bridge in the aerodynamic matrices (issue 33)
 //!

@@ -109,7 +109,7 @@ pub const CRITERION: f64 = 1.15;
 
 /// Revision of the boundary's computation, part of its cache key: change it whenever the
 /// solution of a given [`BoundarySpec`] would change.
-pub const BOUNDARY_REVISION: &str = "flight flutter boundary r6 (r5 plus the p-k first-order form scaled by the highest modal frequency, a branch unstable at the lowest speed only above the round-off damping G_NOISE): transonic nodes 0.95, 1.0, 1.05 and 1.1 on Q(k, M) bridged linearly in Mach between the band's ends (fin::bridged) with the stated speed uncertainty per Mach node, the band's nodes and ends on one k grid (the band's lowest speed); Mach box (panel::machbox) above Mach 1.1 where piston theory's criterion fails, its nodes floored by the box rule as the subsonic ones; clamped fin (fin::clamped_fin_modes), unmatched p-k per (Mach, altitude) node (pk_solve_cut), node speeds [max(0.1 v_hi, box-rule floor), v_hi], a node not converging at its lowest speed started at the next, k table to 1.2 omega_max b / v_lo, the leading-mode screen below the first speed (pk::screen_below) and the answer rule (pk::PkSolution::answer), US Standard Atmosphere 1976";
+pub const BOUNDARY_REVISION: &str = "flight flutter boundary r6 (r5 plus the p-k first-order form scaled by the highest modal frequency, a branch unstable at the lowest speed only above the round-off damping G_NOISE, the doublet lattice the default subsonic method with automatic strips and its own 0.95 node floored by the box rule): transonic nodes 0.95, 1.0, 1.05 and 1.1 on Q(k, M) bridged linearly in Mach between the band's ends (fin::bridged) with the stated speed uncertainty per Mach node, the band's nodes and ends on one k grid (the band's lowest speed); Mach box (panel::machbox) above Mach 1.1 where piston theory's criterion fails, its nodes floored by the box rule as the subsonic ones; clamped fin (fin::clamped_fin_modes), unmatched p-k per (Mach, altitude) node (pk_solve_cut), node speeds [max(0.1 v_hi, box-rule floor), v_hi], a node not converging at its lowest speed started at the next, k table to 1.2 omega_max b / v_lo, the leading-mode screen below the first speed (pk::screen_below) and the answer rule (pk::PkSolution::answer), US Standard Atmosphere 1976";
 
 /// The ceiling of the margin's altitude grid, m (the built-in estimator's table top).
 pub const CEILING: f64 = 30_000.0;
@@ -143,7 +143,8 @@ pub struct BoundarySpec {
     pub modes: usize,
     /// The panel aerodynamics.
     pub aero: FinAero,
-    /// Lattice panels.
+    /// Lattice panels (for the doublet lattice `spanwise` is the least count: strips are
+    /// added until its boxes meet their aspect-ratio rule, `dlm::spanwise_for`).
     pub chordwise: usize,
     pub spanwise: usize,
     /// Ackeret's correction of piston theory (`piston::Correction::Ackeret`) or none.
@@ -294,9 +295,21 @@ pub fn vehicle_spec(
             FinAero::Unsteady | FinAero::DoubletLattice => MARGIN_CHORDWISE,
             FinAero::QuasiSteady => d.chordwise,
         },
-        spanwise: d.spanwise,
+        // The doublet lattice's strips follow its box rule alone (`dlm::spanwise_for` from
+        // one strip in `solve_boundary`: the fewest with no box more than 3 times wider than
+        // long); the vortex lattice keeps its 12 cosine strips.
+        spanwise: match aero {
+            FinAero::DoubletLattice => 1,
+            FinAero::Unsteady | FinAero::QuasiSteady => d.spanwise,
+        },
         piston_ackeret: d.correction == Correction::Ackeret,
-        k_count: 40,
+        // 40 reduced frequencies for the vortex lattice; 20 for the doublet lattice, whose
+        // tables cost about twice as much per frequency (its kernel fill besides the solve);
+        // the effect on the thesis vehicle's margin and cold boundary: docs/performance.md.
+        k_count: match aero {
+            FinAero::DoubletLattice => 20,
+            FinAero::Unsteady | FinAero::QuasiSteady => 40,
+        },
         k_tolerance: PkSettings::default().k_tolerance,
     })
 }
@@ -355,6 +368,16 @@ pub fn solve_boundary(modes: &FinModes, spec: &BoundarySpec) -> Result<Boundary,
     }
     let atm = Standard1976::new();
     let mut s = spec.fin_settings();
+    if spec.aero == FinAero::DoubletLattice {
+        // `spec.spanwise` is the least count: the doublet lattice's boxes also keep its
+        // aspect-ratio rule (`dlm::spanwise_for`; the key covers the spec and the fin).
+        s.spanwise = panel::dlm::spanwise_for(
+            &modes.planform,
+            s.chordwise,
+            s.spanwise,
+            panel::Spacing::Cosine,
+        )?;
+    }
     let w_max = modes.omega.iter().copied().fold(0.0, f64::max);
     let lattice = fin_lattice(modes, &s)?;
     let floor = match spec.aero {
@@ -389,7 +412,10 @@ pub fn solve_boundary(modes: &FinModes, spec: &BoundarySpec) -> Result<Boundary,
             && m >= panel::machbox::MIN_MACH
             && !panel::machbox::piston_valid(&modes.planform, m);
         let bridge = spec.aero.is_harmonic() && in_bridge(m, spec.aero);
-        let sub = matches!(panel::regime(m)?, Regime::Subsonic) || mach_box || bridge;
+        // The doublet lattice holds to its own limit (0.95), inside the vortex lattice's band.
+        let lattice = matches!(panel::regime(m)?, Regime::Subsonic)
+            || (spec.aero == FinAero::DoubletLattice && m <= panel::dlm::MACH_LIMIT);
+        let sub = lattice || mach_box || bridge;
         Ok(if sub { lo.max(floor) } else { lo })
     };
     // The nodes of the transonic band and its two ends share one reduced-frequency grid (that

@@ -779,6 +779,7 @@ pub fn direct_unsteady_problem(
             Map::Vlm(vlm)
         }
         UnsteadyAero::DoubletLattice => {
+            crate::aero::panel::dlm::check_boxes(&lattice)?;
             let d = Dlm::new(&lattice, mach)?;
             d.check_resolution(settings.k_max / modes.semichord())?;
             Map::Dlm(d)
