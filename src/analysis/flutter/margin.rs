@@ -303,13 +303,12 @@ pub fn vehicle_spec(
             FinAero::Unsteady | FinAero::QuasiSteady => d.spanwise,
         },
         piston_ackeret: d.correction == Correction::Ackeret,
-        // 40 reduced frequencies for the vortex lattice; 20 for the doublet lattice, whose
-        // tables cost about twice as much per frequency (its kernel fill besides the solve);
-        // the effect on the thesis vehicle's margin and cold boundary: docs/performance.md.
-        k_count: match aero {
-            FinAero::DoubletLattice => 20,
-            FinAero::Unsteady | FinAero::QuasiSteady => 40,
-        },
+        // 40 reduced frequencies for either lattice. With 20 for the doublet lattice (its
+        // tables cost about twice as much per frequency) the spline in k put a wiggle of
+        // 7e-5 into the margin as a function of the fin thickness, so a thickness family's
+        // interpolated margin missed its exact one by 7.3e-5 against the stated 5e-6
+        // (tests/montecarlo.rs; 1.5e-6 with 40); cost: docs/performance.md.
+        k_count: 40,
         k_tolerance: PkSettings::default().k_tolerance,
     })
 }
