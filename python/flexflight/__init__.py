@@ -294,7 +294,7 @@ class Project:
         altitude: Optional[float] = None,
         speeds: Optional[Iterable[float]] = None,
         modes: Optional[int] = None,
-        aero: str = "unsteady",
+        aero: str = "doublet-lattice",
     ) -> "FlutterResult":
         """Flutter analysis of a scenario's fins (``flexflight analyze flutter``).
 
@@ -307,8 +307,8 @@ class Project:
             speeds: the speeds of the sweep, m/s (default: 0.3 a to 3 a, 40 speeds for the
                 clamped fin and 120 for the free vehicle; 0.1 a for ``quasi-steady``).
             modes: clamped-fin modes (default 6).
-            aero: ``"unsteady"`` (vortex lattice / piston theory), ``"doublet-lattice"`` or
-                ``"quasi-steady"``.
+            aero: ``"doublet-lattice"`` (the default, as the CLI's), ``"vortex-lattice"``
+                (also ``"unsteady"``) or ``"quasi-steady"``.
 
         Returns:
             The :class:`FlutterResult` (``summary`` as ``flutter.json``, ``table`` as

@@ -27,7 +27,7 @@ class NativeProject:
         mach: Optional[float] = None,
         speeds: Optional[Sequence[float]] = None,
         modes: Optional[int] = None,
-        aero: str = "unsteady",
+        aero: str = "doublet-lattice",
     ) -> Tuple[Dict[str, Any], str, List[str]]: ...
     def linear(self, scenario: str, frozen_gravity: bool = False) -> Tuple[Dict[str, Any], List[str]]: ...
     def sweep(

@@ -496,7 +496,7 @@ impl NativeProject {
 
     /// `analyze flutter` of `scenario` (`ops::flutter::solve_request`): the JSON of
     /// `flutter.json`, the text of `vg.csv` and the warnings.
-    #[pyo3(signature = (scenario, clamped, altitude=None, mach=None, speeds=None, modes=None, aero="unsteady"))]
+    #[pyo3(signature = (scenario, clamped, altitude=None, mach=None, speeds=None, modes=None, aero="doublet-lattice"))]
     #[allow(clippy::too_many_arguments)]
     fn flutter(
         &self,
@@ -510,14 +510,14 @@ impl NativeProject {
         aero: &str,
     ) -> PyResult<(PyObject, String, Vec<String>)> {
         let aero = match aero {
-            "unsteady" => AeroChoice::Unsteady,
+            "unsteady" | "vortex-lattice" | "vortex_lattice" => AeroChoice::Unsteady,
             "quasi-steady" | "quasi_steady" => AeroChoice::QuasiSteady,
             "doublet-lattice" | "doublet_lattice" => AeroChoice::DoubletLattice,
             other => {
                 return Err(error(
                     py,
                     format!(
-                        "aero must be `unsteady`, `quasi-steady` or `doublet-lattice`, not `{other}`"
+                        "aero must be `doublet-lattice`, `vortex-lattice` (or `unsteady`) or `quasi-steady`, not `{other}`"
                     ),
                     Some("usage"),
                     serde_json::json!([]),
