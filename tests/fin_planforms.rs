@@ -438,3 +438,80 @@ fn a_pointed_freeform_fin_compiles_with_finite_tables_and_panels() {
     let p = planform(f, 0.0635);
     assert!(rel(p.area(), 0.5 * 0.32468 * 0.12723) < 1e-14);
 }
+
+/// A rocket whose freeform fins end in a point along straight edges: the doublet lattice's
+/// automatic strips cannot meet its box rule there (`dlm::spanwise_for`: the last strip's
+/// aspect ratio is `2 s n_c / c_r` whatever the strip count), so the flight's flutter margin
+/// falls back to the vortex lattice and says so, instead of "not computed". The hpr_k1000
+/// example with its fins made a clipped delta ending in a point on the same root chord and
+/// span.
+#[test]
+fn a_pointed_fins_flight_margin_falls_back_to_the_vortex_lattice_and_says_so() {
+    let src = root("examples/hpr_k1000");
+    let dir = tempfile::tempdir().unwrap();
+    for e in std::fs::read_dir(&src).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_file() {
+            std::fs::copy(&p, dir.path().join(p.file_name().unwrap())).unwrap();
+        }
+    }
+    let file = dir.path().join("hpr_k1000.vdl");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let old = "    span = 120 mm\n    root_chord = 250 mm\n    tip_chord = 100 mm\n    trailing_edge_sweep = 0 deg\n";
+    assert_eq!(text.matches(old).count(), 1);
+    std::fs::write(
+        &file,
+        text.replacen(
+            old,
+            "    planform = freeform\n    points = [(0, 0) mm, (200, 120) mm, (250, 0) mm]\n",
+            1,
+        ),
+    )
+    .unwrap();
+    // The premise: no strip count meets the doublet lattice's box rule on this fin.
+    let checked = check_files(std::slice::from_ref(&file), &[], &DiskLoader);
+    assert!(checked.diagnostics.is_empty());
+    let f = checked.program.vehicles[0].fins.clone().unwrap();
+    let pf = planform(&f, 0.0);
+    assert!(matches!(
+        flexflight::aero::panel::dlm::spanwise_for(
+            &pf,
+            flexflight::analysis::flutter::margin::MARGIN_CHORDWISE,
+            1,
+            flexflight::aero::panel::Spacing::Cosine
+        ),
+        Err(flexflight::aero::panel::PanelError::WideBoxes { .. })
+    ));
+    let out = dir.path().join("out");
+    let o = Command::new(env!("CARGO_BIN_EXE_flexflight"))
+        .arg("run")
+        .arg(&file)
+        .args(["--scenario", "k1000", "--out"])
+        .arg(&out)
+        .arg("--cache-dir")
+        .arg(dir.path().join("cache"))
+        .args(["--set", "run.stop_time = 6 s"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let m = &summary["flutter_margin"];
+    assert_eq!(m["computed"], serde_json::json!(true), "{m}");
+    assert_eq!(m["aero"], serde_json::json!("unsteady"), "{m}");
+    assert!(
+        m["aero_fallback"]
+            .as_str()
+            .is_some_and(|s| s.contains("box rule")),
+        "{m}"
+    );
+    assert!(m["minimum"]["speed_margin"].as_f64().unwrap() > 0.0, "{m}");
+    assert!(
+        stdout.contains("vortex lattice") || err.contains("vortex lattice"),
+        "{stdout}\n{err}"
+    );
+    let margin = std::fs::read_to_string(out.join("flutter_margin.csv")).unwrap();
+    assert!(margin.lines().count() > 10);
+}

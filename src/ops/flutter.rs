@@ -1092,13 +1092,31 @@ pub fn margin_spec(
     sc: &ir::Scenario,
     table_machs: &[f64],
 ) -> Result<BoundarySpec, FinFlutterError> {
-    vehicle_spec(
+    margin_spec_and_fallback(sc, table_machs).map(|(s, _)| s)
+}
+
+/// [`margin_spec`] and, where the fin's outline keeps the doublet lattice from meeting its
+/// box rule, why the spec takes the vortex lattice instead
+/// ([`crate::analysis::flutter::margin::margin_aero`]).
+pub fn margin_spec_and_fallback(
+    sc: &ir::Scenario,
+    table_machs: &[f64],
+) -> Result<(BoundarySpec, Option<String>), FinFlutterError> {
+    let (aero, fallback) = match &sc.vehicle.fins {
+        Some(f) => crate::analysis::flutter::margin::margin_aero(
+            &crate::aero::estimator::planform(f, 0.0),
+            MARGIN_AERO,
+        ),
+        None => (MARGIN_AERO, None),
+    };
+    let spec = vehicle_spec(
         table_machs,
         scenario_altitude(sc),
         sc.launch.is_some(),
         MARGIN_MODES,
-        MARGIN_AERO,
-    )
+        aero,
+    )?;
+    Ok((spec, fallback))
 }
 
 /// The flutter margin at every output row of `o` (module doc of
@@ -1138,7 +1156,7 @@ pub fn flight_margin_with(
     if !matches!(sc.vehicle.structure, ir::Structure::Generate(_)) {
         return margin_skipped(FinFlutterError::NotGenerated.to_string());
     }
-    let spec = match margin_spec(sc, table_machs) {
+    let (spec, aero_fallback) = match margin_spec_and_fallback(sc, table_machs) {
         Ok(s) => s,
         Err(e) => return margin_skipped(e.to_string()),
     };
@@ -1293,6 +1311,9 @@ pub fn flight_margin_with(
     };
     let story_text = story.text(o, &points, cm, ch);
     let mut warnings = String::new();
+    if let Some(why) = &aero_fallback {
+        let _ = write!(warnings, "; warning: {why}");
+    }
     if untrusted > 0 {
         let _ = write!(
             warnings,
@@ -1359,8 +1380,13 @@ pub fn flight_margin_with(
     };
     let json = serde_json::json!({
         "computed": true,
-        "model": "fin clamped at its root, p-k with the unsteady fin panels (harmonic vortex lattice with a convected wake, subsonic; unsteady piston theory, supersonic; analysis::flutter::fin), on a cached Mach x altitude boundary of the vehicle (analysis::flutter::margin)",
+        "model": format!("fin clamped at its root, p-k with the unsteady fin panels ({}, subsonic; the transonic band bridged in Q(k, M); the Mach box or unsteady piston theory by its validity criterion, supersonic; analysis::flutter::fin), on a cached Mach x altitude boundary of the vehicle (analysis::flutter::margin)", match spec.aero {
+            FinAero::DoubletLattice => "doublet lattice",
+            FinAero::Unsteady => "harmonic vortex lattice with a convected wake",
+            FinAero::QuasiSteady => "quasi-steady panels",
+        }),
         "aero": spec.aero,
+        "aero_fallback": aero_fallback,
         "criterion_speed_margin": CRITERION,
         "criterion_source": "15 % on equivalent airspeed (14 CFR 25.629(b)(1), MIL-A-8870C 3.1.1)",
         "meets_criterion": meets,

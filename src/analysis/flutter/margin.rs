@@ -313,6 +313,33 @@ pub fn vehicle_spec(
     })
 }
 
+/// The aerodynamics of a flight margin on the fin `planform`: `preferred`, unless that is the
+/// doublet lattice and its automatic strips ([`panel::dlm::spanwise_for`] with
+/// [`MARGIN_CHORDWISE`] boxes along the chord) cannot meet its box rule on this fin; then the
+/// vortex lattice ([`FinAero::Unsteady`], the method the doublet lattice replaced as the
+/// default, validated on the same cases: docs/validation.md) and the reason, which the margin
+/// reports. Which fins: an outline ending in a point along straight edges, whose last strip's
+/// box aspect ratio is `2 s n_c / c_r` whatever the strip count (`spanwise_for`'s doc), or
+/// one that would need more than [`panel::dlm::MAX_AUTO_STRIPS`] strips. Any other error of
+/// the lattice is left to the boundary, which reports it.
+pub fn margin_aero(
+    planform: &crate::aero::estimator::FinPlanform,
+    preferred: FinAero,
+) -> (FinAero, Option<String>) {
+    if preferred != FinAero::DoubletLattice {
+        return (preferred, None);
+    }
+    match panel::dlm::spanwise_for(planform, MARGIN_CHORDWISE, 1, panel::Spacing::Cosine) {
+        Err(panel::PanelError::WideBoxes { ratio, limit }) => (
+            FinAero::Unsteady,
+            Some(format!(
+                "the doublet lattice's box rule cannot be met on this fin (its boxes stay {ratio:.1} times wider than long against at most {limit}, whatever the strip count: a fin ending in a point), so the margin uses the vortex lattice"
+            )),
+        ),
+        _ => (preferred, None),
+    }
+}
+
 /// The boundary of the clamped fin `modes` over `machs` x `altitudes`, speeds up to
 /// `largest_speed` (30 speeds from 10 % of it).
 pub fn boundary(
