@@ -212,6 +212,17 @@ fn rocksim_designs_are_read_and_what_cannot_be_said_is_refused_by_name() {
     assert_eq!(o.status.code(), Some(1));
     let e = flat(&stderr(&o));
     assert!(e.contains("import::xml") && e.contains("cut.rkt:"), "{e}");
+    // It names the element the file was cut inside, at its line, and points at the end of
+    // the file rather than at 1:1 (the root, which roxmltree reports as never closed).
+    assert!(
+        e.contains("`<NoseCone>`")
+            && e.contains(
+                "RockSimDocument > DesignInformation > RocketDesign > Stage3Parts > NoseCone"
+            )
+            && e.contains("cut.rkt:33:")
+            && !e.contains("cut.rkt:1:1"),
+        "{e}"
+    );
     assert_eq!(files_in(dir.path()), ["cut.rkt"]);
 }
 

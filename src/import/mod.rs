@@ -138,6 +138,34 @@ pub fn import_design(
     let doc = match roxmltree::Document::parse(&xml) {
         Ok(d) => d,
         Err(e) => {
+            // A file cut short: roxmltree reports the root as never closed, at 1:1; name the
+            // innermost element the file ends inside, at its start tag, and the end.
+            let open = open_at_end(&xml);
+            if let (true, Some(&(name, at))) = (
+                matches!(
+                    e,
+                    roxmltree::Error::UnexpectedEndOfStream | roxmltree::Error::UnclosedRootNode
+                ),
+                open.last(),
+            ) {
+                let path: Vec<&str> = open.iter().map(|(n, _)| *n).collect();
+                let end = xml.len();
+                return Err(vec![
+                    Diagnostic::error(
+                        "import::xml",
+                        format!(
+                            "the design ends inside `<{name}>` ({}): the file is cut short",
+                            path.join(" > ")
+                        ),
+                    )
+                    .label(
+                        Span::new(file, at, at + name.len() + 1),
+                        "opened here, never closed",
+                    )
+                    .label(Span::new(file, end, end), "the file ends here")
+                    .with_help("the file may be truncated: save or download it again"),
+                ]);
+            }
             let pos = e.pos();
             let off = offset_of(&xml, pos.row as usize, pos.col as usize);
             return Err(vec![
@@ -173,6 +201,65 @@ pub fn import_design(
         motors,
         warnings: cx.diags,
     })
+}
+
+/// The elements still open where `xml` ends, outermost first, each with the byte offset of
+/// its start tag's `<`: a scan of the tags alone (comments, CDATA sections, processing
+/// instructions and declarations skipped; an end tag closes the innermost open element, a
+/// tag cut short by the end of the file is not counted), for the diagnostic of a file cut
+/// short, whose well-formedness error roxmltree reports at the root.
+fn open_at_end(xml: &str) -> Vec<(&str, usize)> {
+    let b = xml.as_bytes();
+    let mut open: Vec<(&str, usize)> = Vec::new();
+    let mut i = 0;
+    while let Some(k) = xml[i..].find('<') {
+        let at = i + k;
+        let rest = &xml[at..];
+        let skip = [
+            ("<!--", "-->"),
+            ("<![CDATA[", "]]>"),
+            ("<?", "?>"),
+            ("<!", ">"),
+        ]
+        .iter()
+        .find(|(o, _)| rest.starts_with(o));
+        if let Some((o, c)) = skip {
+            match rest[o.len()..].find(c) {
+                Some(e) => i = at + o.len() + e + c.len(),
+                None => break,
+            }
+            continue;
+        }
+        // The tag's end, outside quoted attribute values.
+        let mut j = at + 1;
+        let mut quote = None;
+        while j < b.len() {
+            match (quote, b[j]) {
+                (None, b'"' | b'\'') => quote = Some(b[j]),
+                (Some(q), c) if c == q => quote = None,
+                (None, b'>') => break,
+                _ => {}
+            }
+            j += 1;
+        }
+        if j >= b.len() {
+            break;
+        }
+        let tag = &xml[at + 1..j];
+        if let Some(name) = tag.strip_prefix('/') {
+            let name = name.trim();
+            if let Some(p) = open.iter().rposition(|(n, _)| *n == name) {
+                open.truncate(p);
+            }
+        } else if !tag.ends_with('/') {
+            let end = tag
+                .find(|c: char| c.is_whitespace() || c == '/')
+                .unwrap_or(tag.len());
+            open.push((&tag[..end], at));
+        }
+        i = j + 1;
+    }
+    open
 }
 
 fn offset_of(text: &str, row: usize, col: usize) -> usize {
