@@ -149,13 +149,18 @@ impl PyCountProgress {
     fn report(&self, force: bool) {
         let Some(cb) = &self.callback else { return };
         let mut s = self.state.lock().unwrap_or_else(|p| p.into_inner());
-        if s.failed.is_some() || (!force && s.last.is_some_and(|l| l.elapsed().as_secs_f64() < 0.1)) {
+        if s.failed.is_some() || (!force && s.last.is_some_and(|l| l.elapsed().as_secs_f64() < 0.1))
+        {
             return;
         }
         s.last = Some(Instant::now());
         let (done, total) = (s.done, s.total);
         // The state's lock is held through the call: calls never overlap, in order.
-        let r = Python::with_gil(|py| cb.call1(py, (done, total)).and_then(|_| py.check_signals()).err());
+        let r = Python::with_gil(|py| {
+            cb.call1(py, (done, total))
+                .and_then(|_| py.check_signals())
+                .err()
+        });
         if let Some(e) = r {
             s.failed = Some(e);
         }
@@ -191,6 +196,9 @@ impl flexflight::ops::Progress for PyCountProgress {
     }
 }
 
+/// A zero-lift drag curve: the altitude, m, and its `(mach, cd)` points.
+type DragCurve = (f64, Vec<(f64, f64)>);
+
 #[pymethods]
 impl NativeProject {
     /// Checks `files` with the `--set` overrides `sets`; raises on errors.
@@ -202,13 +210,20 @@ impl NativeProject {
         sets: Vec<String>,
         cache_dir: Option<PathBuf>,
     ) -> PyResult<Self> {
-        match py.allow_threads(|| Project::open(&files, &sets, cache_dir.as_deref())) {
+        // The error (the ops error and the check it came from) is boxed across the thread
+        // boundary: it is large, the success small.
+        match py
+            .allow_threads(|| Project::open(&files, &sets, cache_dir.as_deref()).map_err(Box::new))
+        {
             Ok(p) => Ok(NativeProject {
                 inner: Mutex::new(p),
                 files,
                 sets,
             }),
-            Err((e, checked)) => Err(ops_error(py, e, checked.as_ref().map(|c| &c.sources))),
+            Err(b) => {
+                let (e, checked) = *b;
+                Err(ops_error(py, e, checked.as_ref().map(|c| &c.sources)))
+            }
         }
     }
 
@@ -342,7 +357,10 @@ impl NativeProject {
         use flexflight::analysis::sweep::Shard;
         let usage = |py: Python<'_>, m: String| error(py, m, Some("usage"), serde_json::json!([]));
         let [file] = self.files.as_slice() else {
-            return Err(usage(py, "a sweep runs on a project opened from one file".into()));
+            return Err(usage(
+                py,
+                "a sweep runs on a project opened from one file".into(),
+            ));
         };
         let shard = match shard.map(|s| Shard::parse(&s, |k| std::env::var(k).ok())) {
             None => Shard::ALL,
@@ -362,8 +380,15 @@ impl NativeProject {
             );
             return Err(ops_error(py, e, Some(&p.checked.sources)));
         };
-        let Some(scenario) = program.scenarios.get(sweep.scenario).map(|s| s.name.value.clone()) else {
-            return Err(usage(py, format!("sweep `{name}` names a scenario that did not check")));
+        let Some(scenario) = program
+            .scenarios
+            .get(sweep.scenario)
+            .map(|s| s.name.value.clone())
+        else {
+            return Err(usage(
+                py,
+                format!("sweep `{name}` names a scenario that did not check"),
+            ));
         };
         let cache_dir = p.cache_dir.clone();
         drop(p);
@@ -372,7 +397,8 @@ impl NativeProject {
             state: Mutex::new(CountState::default()),
         });
         let opts = flexflight::ops::sweep::SweepOptions {
-            jobs: jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from)),
+            jobs: jobs
+                .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from)),
             shard,
             cache_dir,
             sets: self.sets.clone(),
@@ -429,7 +455,10 @@ impl NativeProject {
         use flexflight::ops::montecarlo::runner::{MonteCarloOptions, run_dispersion};
         let usage = |py: Python<'_>, m: String| error(py, m, Some("usage"), serde_json::json!([]));
         let [file] = self.files.as_slice() else {
-            return Err(usage(py, "a Monte Carlo runs on a project opened from one file".into()));
+            return Err(usage(
+                py,
+                "a Monte Carlo runs on a project opened from one file".into(),
+            ));
         };
         let shard = match shard.map(|s| Shard::parse(&s, |k| std::env::var(k).ok())) {
             None => Shard::ALL,
@@ -449,8 +478,15 @@ impl NativeProject {
             );
             return Err(ops_error(py, e, Some(&p.checked.sources)));
         };
-        let Some(scenario) = program.scenarios.get(d.scenario).map(|s| s.name.value.clone()) else {
-            return Err(usage(py, format!("dispersion `{name}` names a scenario that did not check")));
+        let Some(scenario) = program
+            .scenarios
+            .get(d.scenario)
+            .map(|s| s.name.value.clone())
+        else {
+            return Err(usage(
+                py,
+                format!("dispersion `{name}` names a scenario that did not check"),
+            ));
         };
         let cache_dir = p.cache_dir.clone();
         drop(p);
@@ -460,7 +496,8 @@ impl NativeProject {
         });
         let opts = MonteCarloOptions {
             samples: samples.unwrap_or(d.samples),
-            jobs: jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from)),
+            jobs: jobs
+                .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from)),
             shard,
             cache_dir,
             sets: self.sets.clone(),
@@ -619,7 +656,7 @@ impl NativeRun {
 
     /// The zero-lift drag curve `(altitude, [(mach, cd)])` at the scenario's initial
     /// altitude (`ops::run::drag_curve`); `None` without coefficient tables.
-    fn drag_curve(&self, py: Python<'_>) -> PyResult<Option<(f64, Vec<(f64, f64)>)>> {
+    fn drag_curve(&self, py: Python<'_>) -> PyResult<Option<DragCurve>> {
         match &self.drag {
             None => Ok(None),
             Some(Ok(c)) => Ok(Some((self.drag_altitude, c.clone()))),
