@@ -346,11 +346,9 @@ fn freeform_polygon_equal_to_the_trapezoid_gives_the_same_tables_modes_and_panel
     assert!(rel(ap.mass, at.mass) < 1e-14);
 }
 
-/// An elliptical-finned vehicle checks, compiles and flies (the built-in tables, the fin
-/// panel model and the structure on the true planform): the hpr_k1000 example with its fins
-/// made a half ellipse on the same root chord and span.
-#[test]
-fn an_elliptical_finned_rocket_checks_compiles_and_flies() {
+/// The hpr_k1000 example copied into a temporary directory with its trapezoid's four fields
+/// replaced by `fins`: the directory and the vehicle file.
+fn hpr_k1000_with_fins(fins: &str) -> (tempfile::TempDir, PathBuf) {
     let src = root("examples/hpr_k1000");
     let dir = tempfile::tempdir().unwrap();
     for e in std::fs::read_dir(&src).unwrap() {
@@ -363,15 +361,18 @@ fn an_elliptical_finned_rocket_checks_compiles_and_flies() {
     let text = std::fs::read_to_string(&file).unwrap();
     let old = "    span = 120 mm\n    root_chord = 250 mm\n    tip_chord = 100 mm\n    trailing_edge_sweep = 0 deg\n";
     assert_eq!(text.matches(old).count(), 1);
-    std::fs::write(
-        &file,
-        text.replacen(
-            old,
-            "    planform = elliptical\n    span = 120 mm\n    root_chord = 250 mm\n",
-            1,
-        ),
-    )
-    .unwrap();
+    std::fs::write(&file, text.replacen(old, fins, 1)).unwrap();
+    (dir, file)
+}
+
+/// An elliptical-finned vehicle checks, compiles and flies (the built-in tables, the fin
+/// panel model and the structure on the true planform): the hpr_k1000 example with its fins
+/// made a half ellipse on the same root chord and span.
+#[test]
+fn an_elliptical_finned_rocket_checks_compiles_and_flies() {
+    let (dir, file) = hpr_k1000_with_fins(
+        "    planform = elliptical\n    span = 120 mm\n    root_chord = 250 mm\n",
+    );
     let out = dir.path().join("out");
     let cache = dir.path().join("cache");
     let o = Command::new(env!("CARGO_BIN_EXE_flexflight"))
@@ -447,27 +448,9 @@ fn a_pointed_freeform_fin_compiles_with_finite_tables_and_panels() {
 /// span.
 #[test]
 fn a_pointed_fins_flight_margin_falls_back_to_the_vortex_lattice_and_says_so() {
-    let src = root("examples/hpr_k1000");
-    let dir = tempfile::tempdir().unwrap();
-    for e in std::fs::read_dir(&src).unwrap() {
-        let p = e.unwrap().path();
-        if p.is_file() {
-            std::fs::copy(&p, dir.path().join(p.file_name().unwrap())).unwrap();
-        }
-    }
-    let file = dir.path().join("hpr_k1000.vdl");
-    let text = std::fs::read_to_string(&file).unwrap();
-    let old = "    span = 120 mm\n    root_chord = 250 mm\n    tip_chord = 100 mm\n    trailing_edge_sweep = 0 deg\n";
-    assert_eq!(text.matches(old).count(), 1);
-    std::fs::write(
-        &file,
-        text.replacen(
-            old,
-            "    planform = freeform\n    points = [(0, 0) mm, (200, 120) mm, (250, 0) mm]\n",
-            1,
-        ),
-    )
-    .unwrap();
+    let (dir, file) = hpr_k1000_with_fins(
+        "    planform = freeform\n    points = [(0, 0) mm, (200, 120) mm, (250, 0) mm]\n",
+    );
     // The premise: no strip count meets the doublet lattice's box rule on this fin.
     let checked = check_files(std::slice::from_ref(&file), &[], &DiskLoader);
     assert!(checked.diagnostics.is_empty());
