@@ -457,6 +457,21 @@ impl Precomputed {
     fn rebuild(&mut self, md: &ReducedModel) {
         let n = self.n;
         for m in 0..n {
+            for p in 0..n {
+                self.k_t[p * n + m] = md.modal_stiffness[m * n + p];
+                self.c_t[p * n + m] = md.modal_damping[m * n + p];
+            }
+        }
+        self.rebuild_mass_terms(md);
+    }
+
+    /// Recomputes the arrays that depend on the mass distribution, all but `K̄ᵀ` and `C̄ᵀ`:
+    /// what a burning motor's propellant fraction moves (`motor::combine_into` leaves the
+    /// stiffness and damping of the compiled vehicle as they are), at every right-hand side
+    /// of the burn. The same arithmetic as before the split, so the same bits.
+    fn rebuild_mass_terms(&mut self, md: &ReducedModel) {
+        let n = self.n;
+        for m in 0..n {
             for i in 0..3 {
                 for k in 0..3 {
                     self.a_lin[m * 9 + 3 * i + k] = md.j_ru[m][i][k] + md.j_ru[m][k][i];
@@ -474,10 +489,6 @@ impl Precomputed {
                 for p in 0..n {
                     self.h_prime_t[(i * n + p) * n + m] = md.h_prime[(m * 3 + i) * n + p];
                 }
-            }
-            for p in 0..n {
-                self.k_t[p * n + m] = md.modal_stiffness[m * n + p];
-                self.c_t[p * n + m] = md.modal_damping[m * n + p];
             }
         }
         // M̄ = L Lᵀ, then L⁻¹ column by column (forward substitution on unit vectors).
@@ -818,7 +829,7 @@ impl<'m, F: ForceModel> Eom<'m, F> {
     fn sync_precomputed(&mut self) {
         if let Some(p) = &self.propulsion {
             if p.fraction != self.pre_fraction {
-                self.pre.rebuild(&p.current);
+                self.pre.rebuild_mass_terms(&p.current);
                 self.pre_fraction = p.fraction;
             }
         }
