@@ -69,8 +69,8 @@ fn states(plan: &Plan, count: usize, seed: u64) -> Vec<Vec<f64>> {
             x[7] = speed * incidence.cos();
             x[8] = speed * incidence.sin() * roll.cos();
             x[9] = speed * incidence.sin() * roll.sin();
-            for i in 10..13 {
-                x[i] = 2.0 * r.next();
+            for w in &mut x[10..13] {
+                *w = 2.0 * r.next();
             }
             for m in 0..n {
                 x[13 + m] = 3e-4 * r.next();
