@@ -363,22 +363,50 @@ impl AeroProbe {
 
     /// Evaluates the blocks at `(t, state)`; returns a stop condition they raise, with a note.
     fn evaluate(&mut self, t: f64, s: &StateView, yield_limit: bool) -> Option<(RunStop, String)> {
+        self.evaluate_with::<true>(t, s, yield_limit)
+    }
+
+    /// The stop check of an accepted state: the stop condition [`Self::evaluate`] would
+    /// return, from the blocks' check-only evaluations (`BodyAero::check_with`,
+    /// `FinAero::check_with`: the faults and the fin root stresses with the same bits, no
+    /// loads). The loads and fin samples are not updated: a row reads them after its own
+    /// evaluation ([`Monitor::row`]).
+    fn check(&mut self, t: f64, s: &StateView, yield_limit: bool) -> Option<(RunStop, String)> {
+        self.evaluate_with::<false>(t, s, yield_limit)
+    }
+
+    fn evaluate_with<const LOADS: bool>(
+        &mut self,
+        t: f64,
+        s: &StateView,
+        yield_limit: bool,
+    ) -> Option<(RunStop, String)> {
         use crate::runtime::eom::ForceModel;
         let mut hit = None;
+        // One memo for both blocks of a check (the air at one altitude, the same values).
+        let mut memo = crate::aero::atmosphere::AirMemo::default();
         if let Some(b) = &mut self.body {
             b.clear_fault();
-            self.buf.fill(0.0);
-            b.generalized_forces(t, s, &mut self.buf);
-            self.body_load = Self::load_about_cm(&self.cm, &self.buf);
+            if LOADS {
+                self.buf.fill(0.0);
+                b.generalized_forces(t, s, &mut self.buf);
+                self.body_load = Self::load_about_cm(&self.cm, &self.buf);
+            } else {
+                b.check_with(t, s, &mut memo);
+            }
             if let Some(f) = b.fault() {
                 hit = hit.or_else(|| fault_stop(f, "body"));
             }
         }
         if let Some(b) = &mut self.fin {
             b.clear_fault();
-            self.buf.fill(0.0);
-            b.generalized_forces(t, s, &mut self.buf);
-            self.fin_load = Self::load_about_cm(&self.cm, &self.buf);
+            if LOADS {
+                self.buf.fill(0.0);
+                b.generalized_forces(t, s, &mut self.buf);
+                self.fin_load = Self::load_about_cm(&self.cm, &self.buf);
+            } else {
+                b.check_with(t, s, &mut memo);
+            }
             if let Some(f) = b.fault() {
                 hit = hit.or_else(|| fault_stop(f, "fin"));
             }
@@ -532,7 +560,7 @@ impl Monitor<'_> {
         }
         // Under a canopy the vehicle's own aerodynamics are off (crate::runtime::flight).
         if self.phase != Phase::Descent {
-            if let Some((stop, note)) = self.aero.evaluate(t, &s, st.model_limits.fin_yield) {
+            if let Some((stop, note)) = self.aero.check(t, &s, st.model_limits.fin_yield) {
                 self.stop_note = Some(note);
                 return Some(stop);
             }

@@ -457,27 +457,51 @@ impl Precomputed {
     fn rebuild(&mut self, md: &ReducedModel) {
         let n = self.n;
         for m in 0..n {
-            for i in 0..3 {
-                for k in 0..3 {
-                    self.a_lin[m * 9 + 3 * i + k] = md.j_ru[m][i][k] + md.j_ru[m][k][i];
-                }
-            }
-            for p in 0..n {
-                let (a, b) = (&md.j_uu[m * n + p], &md.j_uu[p * n + m]);
-                for i in 0..3 {
-                    for k in 0..3 {
-                        self.s_quad[p * 9 * n + m * 9 + 3 * i + k] = a[i][k] + b[i][k];
-                    }
-                }
-            }
-            for i in 0..3 {
-                for p in 0..n {
-                    self.h_prime_t[(i * n + p) * n + m] = md.h_prime[(m * 3 + i) * n + p];
-                }
-            }
             for p in 0..n {
                 self.k_t[p * n + m] = md.modal_stiffness[m * n + p];
                 self.c_t[p * n + m] = md.modal_damping[m * n + p];
+            }
+        }
+        self.rebuild_mass_terms(md);
+    }
+
+    /// Recomputes the arrays that depend on the mass distribution, all but `K̄ᵀ` and `C̄ᵀ`:
+    /// what a burning motor's propellant fraction moves (`motor::combine_into` leaves the
+    /// stiffness and damping of the compiled vehicle as they are), at every right-hand side
+    /// of the burn. The same arithmetic as before the split, so the same bits.
+    fn rebuild_mass_terms(&mut self, md: &ReducedModel) {
+        let n = self.n;
+        // Entry by entry as before (each a single addition or a copy), in the order of the
+        // destination arrays, without the index arithmetic's bounds checks.
+        for (a, jr) in self.a_lin.chunks_exact_mut(9).zip(&md.j_ru) {
+            for i in 0..3 {
+                for k in 0..3 {
+                    a[3 * i + k] = jr[i][k] + jr[k][i];
+                }
+            }
+        }
+        if n > 0 {
+            // S_mp at p 9n + m 9: block (p, m) is J̄''_mp + J̄''_pm, and J̄''_pm is
+            // `j_uu[p n + m]`, the p-th row of blocks in order.
+            for (p, (dst, row_p)) in self
+                .s_quad
+                .chunks_exact_mut(9 * n)
+                .zip(md.j_uu.chunks_exact(n))
+                .enumerate()
+            {
+                for (m, (s9, b)) in dst.chunks_exact_mut(9).zip(row_p).enumerate() {
+                    let a = md.j_uu[m * n + p].as_flattened();
+                    for ((o, x), y) in s9.iter_mut().zip(a).zip(b.as_flattened()) {
+                        *o = x + y;
+                    }
+                }
+            }
+            // (H̄'_m)_ip at (i n + p) n + m from `h_prime[(m 3 + i) n + p]`: the transpose
+            // of `h_prime` read as n rows of 3n.
+            for (ip, dst) in self.h_prime_t.chunks_exact_mut(n).enumerate() {
+                for (o, row) in dst.iter_mut().zip(md.h_prime.chunks_exact(3 * n)) {
+                    *o = row[ip];
+                }
             }
         }
         // M̄ = L Lᵀ, then L⁻¹ column by column (forward substitution on unit vectors).
@@ -503,9 +527,12 @@ impl Precomputed {
             }
         }
         for p in 0..n {
+            let l_row = &self.linv[p * n..p * n + p + 1];
             for i in 0..3 {
-                self.w_p[3 * p + i] = (0..=p)
-                    .map(|q| self.linv[p * n + q] * md.p_bar[i * n + q])
+                self.w_p[3 * p + i] = l_row
+                    .iter()
+                    .zip(&md.p_bar[i * n..i * n + p + 1])
+                    .map(|(l, b)| l * b)
                     .sum();
             }
         }
@@ -594,6 +621,8 @@ pub struct Propulsion {
     mp_matrix: Vec<f64>,
     mp_h: Vec<f64>,
     mp_v: Vec<f64>,
+    /// `v = (V_B, ω_B, η̇)`.
+    mp_vel: Vec<f64>,
     /// Thrust generalised forces.
     thrust_forces: Vec<f64>,
     last: PropulsionSample,
@@ -650,6 +679,9 @@ impl Propulsion {
             }
         }
         let d = 6 + n;
+        // M_p at η = 0: its constant entries stay, `refresh_eta_terms` rewrites the others.
+        let (mut mp_h, mut mp_matrix) = (vec![0.0; 3 * n], vec![0.0; d * d]);
+        assemble(&prop, &vec![0.0; n], &mut mp_h, &mut mp_matrix);
         Ok(Self {
             dry: dry_model(full, &prop),
             current: full.clone(),
@@ -659,9 +691,10 @@ impl Propulsion {
             exit,
             s_exit: s_exit.to_vec(),
             fraction: 1.0,
-            mp_matrix: vec![0.0; d * d],
-            mp_h: vec![0.0; 3 * n],
+            mp_matrix,
+            mp_h,
             mp_v: vec![0.0; d],
+            mp_vel: vec![0.0; d],
             thrust_forces: vec![0.0; d],
             last: PropulsionSample::default(),
         })
@@ -818,7 +851,7 @@ impl<'m, F: ForceModel> Eom<'m, F> {
     fn sync_precomputed(&mut self) {
         if let Some(p) = &self.propulsion {
             if p.fraction != self.pre_fraction {
-                self.pre.rebuild(&p.current);
+                self.pre.rebuild_mass_terms(&p.current);
                 self.pre_fraction = p.fraction;
             }
         }
@@ -971,6 +1004,55 @@ fn assemble(md: &ReducedModel, eta: &[f64], h: &mut [f64], mass_matrix: &mut [f6
     Inertia { c_tot: c, j_tot: j }
 }
 
+/// [`assemble`] into a matrix that already holds `M_tot` of `md` at some `η` (built by
+/// [`assemble`] once): `c̄_tot`, `J̄_tot` and `H̄_tot` by the same arithmetic, and only the
+/// entries that depend on `η` rewritten (the `∓c̄_tot^×` and `J̄_tot` blocks, `H̄_tot` and
+/// its transpose); the mass, `P̄` and `M̄` entries are constant. The same matrix, bit for
+/// bit, as [`assemble`]'s.
+fn refresh_eta_terms(md: &ReducedModel, eta: &[f64], h: &mut [f64], mass_matrix: &mut [f64]) {
+    let n = md.n();
+    let d = 6 + n;
+    let mut c = md.first_moment;
+    for i in 0..3 {
+        for m in 0..n {
+            c[i] += md.p_bar[i * n + m] * eta[m];
+        }
+    }
+    let mut j = md.inertia;
+    for m in 0..n {
+        let (jr, em) = (&md.j_ru[m], eta[m]);
+        for i in 0..3 {
+            for k in 0..3 {
+                j[i][k] += em * (jr[i][k] + jr[k][i]);
+            }
+        }
+        for p in 0..n {
+            let (ju, w) = (&md.j_uu[m * n + p], em * eta[p]);
+            for i in 0..3 {
+                for k in 0..3 {
+                    j[i][k] += w * ju[i][k];
+                }
+            }
+        }
+    }
+    if md.h_tot_into(eta, h).is_err() {
+        h.fill(f64::NAN);
+    }
+    // `ReducedModel::assemble_mass_matrix`'s writes of these blocks.
+    let x = [[0.0, -c[2], c[1]], [c[2], 0.0, -c[0]], [-c[1], c[0], 0.0]];
+    for i in 0..3 {
+        for k in 0..3 {
+            mass_matrix[i * d + 3 + k] = -x[i][k];
+            mass_matrix[(3 + i) * d + k] = x[i][k];
+            mass_matrix[(3 + i) * d + 3 + k] = j[i][k];
+        }
+        for p in 0..n {
+            mass_matrix[(3 + i) * d + 6 + p] = h[i * n + p];
+            mass_matrix[(6 + p) * d + 3 + i] = h[i * n + p];
+        }
+    }
+}
+
 /// Momenta `p_V = m V + ω × c̄_tot + P̄ η̇`, `p_ω = c̄_tot × V + J̄_tot ω + H̄_tot η̇`
 /// (rows of `M_tot v`) of `md`, with `inr` and `h_tot` from [`assemble`].
 #[inline(always)]
@@ -1048,22 +1130,21 @@ fn propulsion_terms(p: &mut Propulsion, t: f64, s: &StateView, r: &mut [f64]) ->
     if mdot == 0.0 {
         return power;
     }
-    // (ṁ_e/m_p) M_p(η) v.
+    // (ṁ_e/m_p) M_p(η) v: only the η-dependent entries of M_p are written (its constant
+    // ones since `Propulsion::new`), the product summed over each row in column order.
     let d = 6 + n;
-    assemble(&p.prop, s.eta, &mut p.mp_h, &mut p.mp_matrix);
-    let vk = |k: usize| match k {
-        0..=2 => v[k],
-        3..=5 => w[k - 3],
-        _ => s.eta_dot[k - 6],
-    };
-    for i in 0..d {
-        p.mp_v[i] = (0..d).map(|k| p.mp_matrix[i * d + k] * vk(k)).sum();
+    refresh_eta_terms(&p.prop, s.eta, &mut p.mp_h, &mut p.mp_matrix);
+    p.mp_vel[..3].copy_from_slice(&v);
+    p.mp_vel[3..6].copy_from_slice(&w);
+    p.mp_vel[6..].copy_from_slice(s.eta_dot);
+    for (o, row) in p.mp_v.iter_mut().zip(p.mp_matrix.chunks_exact(d)) {
+        *o = row.iter().zip(&p.mp_vel).map(|(m, x)| m * x).sum();
     }
     let k = mdot / p.schedule.propellant_mass();
     let mut vmv = 0.0;
-    for i in 0..d {
-        r[i] += k * p.mp_v[i];
-        vmv += vk(i) * p.mp_v[i];
+    for ((ri, mv), x) in r.iter_mut().zip(&p.mp_v).zip(&p.mp_vel) {
+        *ri += k * mv;
+        vmv += x * mv;
     }
     // -ṁ_e Ψ_eᵀ v_e = -ṁ_e (v_e, r_e × v_e, Φ_eᵀ v_e).
     let rxv = cross(&r_e, &v_e);
@@ -1634,6 +1715,80 @@ mod schur_tests {
             }
         }
         md
+    }
+
+    /// The loops of [`Precomputed::rebuild_mass_terms`] before they were rewritten without
+    /// the index arithmetic (issue 35): `a_lin`, `s_quad`, `h_prime_t`, `w_p` by index.
+    fn rebuild_by_index(md: &ReducedModel) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>) {
+        let n = md.n();
+        let (mut a_lin, mut s_quad, mut h_prime_t) =
+            (vec![0.0; 9 * n], vec![0.0; 9 * n * n], vec![0.0; 3 * n * n]);
+        for m in 0..n {
+            for i in 0..3 {
+                for k in 0..3 {
+                    a_lin[m * 9 + 3 * i + k] = md.j_ru[m][i][k] + md.j_ru[m][k][i];
+                }
+            }
+            for p in 0..n {
+                let (a, b) = (&md.j_uu[m * n + p], &md.j_uu[p * n + m]);
+                for i in 0..3 {
+                    for k in 0..3 {
+                        s_quad[p * 9 * n + m * 9 + 3 * i + k] = a[i][k] + b[i][k];
+                    }
+                }
+            }
+            for i in 0..3 {
+                for p in 0..n {
+                    h_prime_t[(i * n + p) * n + m] = md.h_prime[(m * 3 + i) * n + p];
+                }
+            }
+        }
+        let pre = Precomputed::new(md);
+        let mut w_p = vec![0.0; 3 * n];
+        for p in 0..n {
+            for i in 0..3 {
+                w_p[3 * p + i] = (0..=p)
+                    .map(|q| pre.linv[p * n + q] * md.p_bar[i * n + q])
+                    .sum();
+            }
+        }
+        (a_lin, s_quad, h_prime_t, w_p)
+    }
+
+    fn same_bits(a: &[f64], b: &[f64], what: &str) {
+        assert_eq!(a.len(), b.len(), "{what}");
+        for (k, (x, y)) in a.iter().zip(b).enumerate() {
+            assert_eq!(x.to_bits(), y.to_bits(), "{what}[{k}]: {x} {y}");
+        }
+    }
+
+    /// The burn's per-evaluation work in its cheaper forms has the bits of the forms it
+    /// replaced: the precomputed arrays of a model (rebuilt at every right-hand side of a
+    /// burn) and the propellant's mass matrix `M_p(η)` refreshed in its `η`-dependent
+    /// entries only, against [`assemble`] from zero, over a sequence of deflections.
+    #[test]
+    fn the_burns_cheaper_forms_have_the_bits_of_the_old_ones() {
+        for (case, &n) in [1usize, 3, 8, 10, 16].iter().enumerate() {
+            let md = point_mass_model(n, 4 * n + 6, 31 + case as u64);
+            let pre = Precomputed::new(&md);
+            let (a_lin, s_quad, h_prime_t, w_p) = rebuild_by_index(&md);
+            same_bits(&pre.a_lin, &a_lin, "a_lin");
+            same_bits(&pre.s_quad, &s_quad, "s_quad");
+            same_bits(&pre.h_prime_t, &h_prime_t, "h_prime_t");
+            same_bits(&pre.w_p, &w_p, "w_p");
+            let d = 6 + n;
+            let (mut h0, mut m0) = (vec![0.0; 3 * n], vec![0.0; d * d]);
+            assemble(&md, &vec![0.0; n], &mut h0, &mut m0);
+            let mut s = NormalSource::new(77 + case as u64);
+            for _ in 0..10 {
+                let eta: Vec<f64> = (0..n).map(|_| 0.2 * uniform(&mut s)).collect();
+                let (mut h1, mut m1) = (vec![0.0; 3 * n], vec![0.0; d * d]);
+                assemble(&md, &eta, &mut h1, &mut m1);
+                refresh_eta_terms(&md, &eta, &mut h0, &mut m0);
+                same_bits(&m0, &m1, "M_p");
+                same_bits(&h0, &h1, "H_tot");
+            }
+        }
     }
 
     /// The block-Cholesky Schur solve ([`Precomputed`], "The solve") against the dense

@@ -564,6 +564,26 @@ impl BodyAero {
     /// [`ForceModel::generalized_forces`] with the air read through `memo` (shared by the
     /// blocks of one right-hand side, [`super::ForceBlocks`]).
     pub fn forces_with(&mut self, t: f64, state: &StateView, memo: &mut AirMemo, out: &mut [f64]) {
+        self.evaluate::<true>(t, state, memo, out);
+    }
+
+    /// What a run's stop check needs at an accepted state, and only that: the block's fault
+    /// (non-finite airspeed, the atmosphere, a table query outside a `stop` table, a failed
+    /// lookup), raised by the code of [`Self::forces_with`] up to the table lookup; no
+    /// loads, and the last sample is not updated.
+    pub fn check_with(&mut self, t: f64, state: &StateView, memo: &mut AirMemo) {
+        self.evaluate::<false>(t, state, memo, &mut []);
+    }
+
+    /// [`Self::forces_with`] (`LOADS`) or [`Self::check_with`].
+    #[inline(always)]
+    fn evaluate<const LOADS: bool>(
+        &mut self,
+        t: f64,
+        state: &StateView,
+        memo: &mut AirMemo,
+        out: &mut [f64],
+    ) {
         let [u, theta, u_dot, theta_dot] = self.key.apply_pair(state.eta, state.eta_dot);
         let p = [0, 1, 2].map(|k| self.key.position[k] + u[k]);
         let wind = self.stimuli.wind_at(t, -state.position[2]);
@@ -578,7 +598,9 @@ impl BodyAero {
             return;
         }
         if speed == 0.0 {
-            self.last = BodyAeroSample::default();
+            if LOADS {
+                self.last = BodyAeroSample::default();
+            }
             return;
         }
         let Ok(air) = memo.at(&self.atmosphere, altitude) else {
@@ -611,6 +633,13 @@ impl BodyAero {
             self.fault.get_or_insert(AeroFault::NonFinite);
             return;
         };
+        if !LOADS {
+            // A missing rate column is the one fault left below.
+            if self.rate_terms && rates.is_none() {
+                self.fault.get_or_insert(AeroFault::NonFinite);
+            }
+            return;
+        }
         let (cn, cm) = (coef.cn, coef.cm);
         // Coefficient frame (5.3.27) and back to ba (5.3.28): F_ba = diag(-1,-1,1) F_co.
         let qs = q * self.area;

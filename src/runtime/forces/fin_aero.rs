@@ -378,6 +378,36 @@ fn strips_product<const K: usize>(
     }
 }
 
+/// Output `row` of [`StripProduct`] alone, `Σ_c (T_lo[row][c] u_c + T_hi[row][c] u_hi_c)`
+/// (the second term only with `hi`): the same products and additions, in the same column
+/// order from `0.0`, as the row's lane in [`strips_product`], so the same bits (tested).
+fn strip_row(
+    lo: &[f64],
+    hi: Option<&[f64]>,
+    u: &[f64],
+    u_hi: &[f64],
+    cols: usize,
+    row: usize,
+) -> f64 {
+    let block = cols * LANES;
+    let base = (row / LANES) * block + row % LANES;
+    let mut acc = 0.0;
+    match hi {
+        Some(hi) => {
+            for c in 0..cols {
+                let k = base + c * LANES;
+                acc += lo[k] * u[c] + hi[k] * u_hi[c];
+            }
+        }
+        None => {
+            for (c, &xa) in u.iter().enumerate().take(cols) {
+                acc += lo[base + c * LANES] * xa;
+            }
+        }
+    }
+    acc
+}
+
 /// The fin aerodynamic force block (thesis 5.4, 5.6); see the module doc.
 #[derive(Clone, Debug)]
 pub struct FinAero {
@@ -859,6 +889,29 @@ impl FinAero {
     /// [`ForceModel::generalized_forces`] with the air read through `memo` (shared by the
     /// blocks of one right-hand side, [`super::ForceBlocks`]).
     pub fn forces_with(&mut self, t: f64, state: &StateView, memo: &mut AirMemo, out: &mut [f64]) {
+        self.evaluate::<true>(t, state, memo, out);
+    }
+
+    /// What a run's stop check needs at an accepted state, and only that: every fin's
+    /// root stress and the block's fault, with the bits [`Self::forces_with`] gives them
+    /// (the same code, monomorphised without the loads: the load-weighted position, the
+    /// generalised forces and all rows of the panel product but the root moment's are
+    /// skipped; the root moment's row is summed over the columns in the same order as in
+    /// the strip product). The samples' `force_fin` and `force_body` are not computed
+    /// (zero): read them after [`Self::forces_with`] only.
+    pub fn check_with(&mut self, t: f64, state: &StateView, memo: &mut AirMemo) {
+        self.evaluate::<false>(t, state, memo, &mut []);
+    }
+
+    /// [`Self::forces_with`] (`LOADS`) or [`Self::check_with`].
+    #[inline(always)]
+    fn evaluate<const LOADS: bool>(
+        &mut self,
+        t: f64,
+        state: &StateView,
+        memo: &mut AirMemo,
+        out: &mut [f64],
+    ) {
         let altitude = -state.position[2];
         if !altitude.is_finite() {
             self.fault.get_or_insert(AeroFault::NonFinite);
@@ -984,22 +1037,24 @@ impl FinAero {
                 continue;
             }
             let (sw, rest) = fin.lumped_now.split_at(3 * n);
-            // Load-weighted deformed position Σ w_k (r_k + S_k η) and its moment (5.4.16).
-            let mut pos = [rest[0], rest[1], rest[2]];
-            for (d, p) in pos.iter_mut().enumerate() {
-                *p += sw[d * n..(d + 1) * n]
-                    .iter()
-                    .zip(state.eta)
-                    .map(|(s, e)| s * e)
-                    .sum::<f64>();
-            }
-            let m_b = cross(&pos, &f_b);
-            for d in 0..3 {
-                out[d] += f_b[d];
-                out[3 + d] += m_b[d];
-                // Modal forces (5.4.21): (Σ w_k S_k)ᵀ F_Bf.
-                for (qm, s) in out[6..6 + n].iter_mut().zip(&sw[d * n..(d + 1) * n]) {
-                    *qm += s * f_b[d];
+            if LOADS {
+                // Load-weighted deformed position Σ w_k (r_k + S_k η) and its moment (5.4.16).
+                let mut pos = [rest[0], rest[1], rest[2]];
+                for (d, p) in pos.iter_mut().enumerate() {
+                    *p += sw[d * n..(d + 1) * n]
+                        .iter()
+                        .zip(state.eta)
+                        .map(|(s, e)| s * e)
+                        .sum::<f64>();
+                }
+                let m_b = cross(&pos, &f_b);
+                for d in 0..3 {
+                    out[d] += f_b[d];
+                    out[3 + d] += m_b[d];
+                    // Modal forces (5.4.21): (Σ w_k S_k)ᵀ F_Bf.
+                    for (qm, s) in out[6..6 + n].iter_mut().zip(&sw[d * n..(d + 1) * n]) {
+                        *qm += s * f_b[d];
+                    }
                 }
             }
             let mut root_moment = f_f[2] * rest[3];
@@ -1038,6 +1093,21 @@ impl FinAero {
                     (*a, *b) = (wl * x, wh * x);
                 }
                 let hi = (tg > 0.0).then(|| &t[(g + 1) * block..(g + 2) * block]);
+                if !LOADS {
+                    // The root moment's row alone (the stop check reads only the stress).
+                    root_moment -= strip_row(lo, hi, u, u_hi, cols, n + 1);
+                    fin.last = FinSample {
+                        alpha,
+                        mach,
+                        dynamic_pressure: q,
+                        leeward_factor,
+                        force_fin: [0.0; 3],
+                        force_body: [0.0; 3],
+                        root_moment,
+                        root_stress: fin.stress.stress(root_moment),
+                    };
+                    continue;
+                }
                 // Compiled for the widest vector unit found at run time (pulp's dispatch):
                 // the strip's lanes are independent and Rust never contracts `a * b + c`
                 // into a fused multiply-add, so every width gives the same bits.
@@ -1064,6 +1134,9 @@ impl FinAero {
                 // Panel +z_p is -z_f.
                 force_fin[2] -= nf;
                 root_moment -= my;
+            }
+            if !LOADS {
+                (force_fin, force_body) = ([0.0; 3], [0.0; 3]);
             }
             fin.last = FinSample {
                 alpha,
@@ -1161,6 +1234,13 @@ mod tests {
                     y_base[r].to_bits(),
                     plain.to_bits(),
                     "row {r}, two Machs {two}"
+                );
+                // The stop check's single row (`FinAero::check_with`).
+                let one = strip_row(&s_lo, hi, &u, &u_hi, cols, r);
+                assert_eq!(
+                    one.to_bits(),
+                    plain.to_bits(),
+                    "row {r} alone, two Machs {two}"
                 );
             }
         }
