@@ -489,6 +489,11 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
             None
         }
     };
+    let mut notes = vec![format!(
+        "RockSim file version {version}: lengths in mm, masses in g; RockSim's stored simulation results and launch conditions are not read (a default scenario is written)"
+    )];
+    let found = finishes(cx, parts);
+    let finish = super::choose_finish(cx, &found, &mut notes);
     if cx.diags.iter().any(Diagnostic::is_error) {
         return None;
     }
@@ -508,10 +513,43 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
         simulations: Vec::new(),
         default_config: configs.first().cloned(),
         configs,
-        notes: vec![format!(
-            "RockSim file version {version}: lengths in mm, masses in g; RockSim's stored simulation results and launch conditions are not read (a default scenario is written)"
-        )],
+        notes,
+        finish,
+        // RockSim's launch lugs are kept as masses with a warning (their drag not mapped yet).
+        guides: Vec::new(),
     })
+}
+
+/// The `<FinishCode>` of each part, as OpenRocket's RockSim reader maps them
+/// (`RockSimFinishCode`: 0 polished -> OpenRocket's POLISHED, 2 um; 1 gloss -> SMOOTH,
+/// 20 um; 2 matt -> NORMAL, 60 um; 3 unfinished -> UNFINISHED, 150 um). OpenRocket takes
+/// any other code as matt; we say so in a warning.
+fn finishes<'a, 'i>(
+    cx: &mut Cx,
+    parts: Node<'a, 'i>,
+) -> Vec<(String, Node<'a, 'i>, &'static str, String)> {
+    let mut found = Vec::new();
+    for f in parts.descendants().filter(|n| n.has_tag_name("FinishCode")) {
+        let Some(comp) = f.parent_element() else {
+            continue;
+        };
+        let text = f.text().unwrap_or("").trim().to_string();
+        let (name, said) = match text.as_str() {
+            "0" => ("sheet_metal", "polished (FinishCode 0)"),
+            "1" => ("smooth_paint", "gloss (FinishCode 1)"),
+            "2" => ("regular_paint", "matt (FinishCode 2)"),
+            "3" => ("unfinished", "unfinished (FinishCode 3)"),
+            _ => {
+                cx.warn(
+                    f,
+                    format!("`{}`: unknown RockSim FinishCode `{text}`, taken as matt (regular paint, 60 um) as OpenRocket does", name_of(comp)),
+                );
+                ("regular_paint", "matt (an unknown FinishCode)")
+            }
+        };
+        found.push((name_of(comp), f, name, said.to_string()));
+    }
+    found
 }
 
 /// The parts attached to a body part spanning [top, top + len] (module doc): fin sets, inner
