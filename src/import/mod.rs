@@ -10,8 +10,10 @@
 //! flight would be a different rocket (a second stage, a step in diameter without a transition,
 //! a second fin set, an assembly mass override, a material without stiffness, a motor
 //! not in the catalogue), a warning where the rocket is kept and one property is approximated
-//! (a nose shape other than a cone generated as a cone with its exact mass restored, a launch
-//! lug's or rail button's drag). Nothing is written on an error.
+//! (a nose shape other than a cone generated as a cone with its exact mass restored, a
+//! component's surface finish other than the vehicle's). Launch lugs and rail buttons become
+//! `launch_lug` and `rail_button` blocks (their drag; their masses stay among the masses).
+//! Nothing is written on an error.
 //!
 //! Masses: OpenRocket stores densities and dimensions and computes masses; so does this
 //! importer, with OpenRocket's formulas (component classes under

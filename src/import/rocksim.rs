@@ -188,6 +188,7 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
     let mut fins: Vec<(FinSet, Node)> = Vec::new();
     let mut mounts: Vec<(String, f64, f64)> = Vec::new();
     let mut recovery: Vec<Recovery> = Vec::new();
+    let mut guides: Vec<super::Guide> = Vec::new();
     let mut s = 0.0;
     let mut r_prev: Option<f64> = None;
     let mut ahead = String::new();
@@ -364,6 +365,7 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
                 &mut fins,
                 &mut mounts,
                 &mut recovery,
+                &mut guides,
             );
         }
         s = top + len;
@@ -515,8 +517,7 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
         configs,
         notes,
         finish,
-        // RockSim's launch lugs are kept as masses with a warning (their drag not mapped yet).
-        guides: Vec::new(),
+        guides,
     })
 }
 
@@ -565,6 +566,7 @@ fn attached<'a, 'i>(
     fins: &mut Vec<(FinSet, Node<'a, 'i>)>,
     mounts: &mut Vec<(String, f64, f64)>,
     recovery: &mut Vec<Recovery>,
+    guides: &mut Vec<super::Guide>,
 ) {
     use std::f64::consts::PI;
     for c in ap.children().filter(Node::is_element) {
@@ -684,11 +686,24 @@ fn attached<'a, 'i>(
                 let od = val(cx, c, "OD", MM).ok().flatten().unwrap_or(0.0);
                 let id = val(cx, c, "ID", MM).ok().flatten().unwrap_or(0.0);
                 let m = PI / 4.0 * (od * od - id * id) * own * mat.density;
-                cx.warn(
-                    c,
-                    format!("{what}: its drag is not modelled; its mass is kept"),
-                );
-                mass_item(m, "launch lug (mass only)");
+                mass_item(m, "launch lug (off-axis mass placed on the axis)");
+                if !(od > 0.0 && id >= 0.0 && id < od && own > 0.0) {
+                    cx.error(
+                        "import::value",
+                        c,
+                        format!("{what}: a launch lug needs 0 <= ID < OD and a length"),
+                        "launch lug",
+                    );
+                }
+                guides.push(super::Guide {
+                    name: nm.clone(),
+                    kind: super::GuideKind::Lug {
+                        top: at,
+                        length: own,
+                        outer_diameter: od,
+                        inner_diameter: id,
+                    },
+                });
             }
             "Parachute" | "Streamer" => {
                 let cd = val(cx, c, "DragCoefficient", 1.0)
