@@ -524,7 +524,7 @@ fn launch_guides_check_and_bad_ones_are_errors_at_the_value() {
     }
 }
 
-/// The wave drag of the non-conical profiles (Niskanen 2009, App. B.4; `nose_pressure_drag`):
+/// The wave drag of the non-conical profiles (Niskanen 2009, App. B; `nose_pressure_drag`):
 /// at fineness 3 Stoney's values themselves (NASA TR R-100 as OpenRocket transcribes them),
 /// interpolated linearly in the shape parameter between the tabulated shapes; at fineness 0
 /// the blunt cylinder's 0.85 q_stag/q; in between `C_0 (C_3/C_0)^(log_4 (f + 1))`; below the

@@ -43,7 +43,8 @@
 //!     1.6-2.5 and nose fineness 2-3.5); the other shapes (elliptical, parabolic, power,
 //!     Haack) Stoney's measured pressure drag at fineness 3 (NASA TR R-100, 1961, as
 //!     OpenRocket transcribes it) interpolated in the shape parameter and carried to the
-//!     nose's fineness as Niskanen 2009, App. B.4, does ([`nose_pressure_drag`]; no blend of
+//!     nose's fineness as Niskanen 2009, App. B ("Ellipsoidal, power, parabolic and Haack
+//!     series nose cones"), does ([`nose_pressure_drag`]; no blend of
 //!     ours: the data start below Mach 1);
 //!   - skin friction's wetted area: the nose's true surface (`NoseShape::wetted_area`);
 //!   - launch lugs and rail buttons (`body { launch_lug { } rail_button { } }`) as OpenRocket
@@ -84,7 +85,8 @@
 //!   (-7.0 %) instead of 1137 m (-4.4 %), the simple model rocket's C6 304.1 m against
 //!   316.6 m (-3.9 %) instead of 315.4 m (-0.4 %): for 0.15 m fins on a 2 m rocket at
 //!   75 m/s, regular paint, C_f 0.0067 on the chord against 0.0040 on the length (both
-//!   roughness-limited), a fin drag the OpenRocket comparisons do not bear out. Corrected for the fin's thickness t by (1 + 2 t / c_mac) (Niskanen 2009, sec. 3.4.2,
+//!   roughness-limited), a fin drag the OpenRocket comparisons do not bear out. Corrected
+//!   for the fin's thickness t by (1 + 2 t / c_mac) (Niskanen 2009, sec. 3.4.2,
 //!   OpenRocket's `FinSetCalc`); plus the pressure drag of its edges on the frontal area t s
 //!   (Niskanen 2009, sec. 3.4.4, after Barrowman 1967 pp. 48-57 and Hoerner, *Fluid-Dynamic
 //!   Drag*, 1965): the leading edge, `0.85 q_stag/q` for a square edge (the blunt cylinder,
@@ -676,7 +678,8 @@ pub mod stoney {
     }
 }
 
-/// OpenRocket's conical nose pressure drag on the base area (Niskanen 2009, App. B.3; its
+/// OpenRocket's conical nose pressure drag on the base area (Niskanen 2009, App. B, the conical
+/// nose; its
 /// `SymmetricComponentCalc.calculateOgiveNoseInterpolator` with parameter 0), used here only
 /// as the end of the power and parabolic series where Stoney's data stop: `sin phi` at Mach 1,
 /// `2.1 sin^2 phi + 0.5 sin phi / sqrt(M^2 - 1)` from Mach 1.3, and between them the cubic
@@ -702,7 +705,8 @@ fn or_cone_pressure_drag(sin_phi: f64, m: f64) -> f64 {
 
 /// Transonic and supersonic pressure (wave) drag of an elliptical, parabolic-series,
 /// power-series or Haack nose of fineness `f_n = L/d` on its base area (Niskanen 2009, App.
-/// B.4 "Ellipsoidal, power, parabolic and Haack series nose cones" and B.6; OpenRocket's
+/// B, "Ellipsoidal, power, parabolic and Haack series nose cones" and "Summary of nose cone
+/// drag calculation"; OpenRocket's
 /// `SymmetricComponentCalc.calculateNoseInterpolator`): Stoney's fineness-3 curve of the shape
 /// ([`stoney`]), linearly interpolated in the shape parameter between the tabulated shapes
 /// (power n between the blunt cylinder (n = 0), 1/4, 1/2, 3/4 and the cone (n = 1); parabola
