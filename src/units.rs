@@ -166,6 +166,7 @@ pub const UNITS: &[(&str, f64, Dim)] = &[
     // length
     ("m", 1.0, Dim::LENGTH),
     ("mm", 1e-3, Dim::LENGTH),
+    ("um", 1e-6, Dim::LENGTH),
     ("cm", 1e-2, Dim::LENGTH),
     ("km", 1e3, Dim::LENGTH),
     ("in", 0.0254, Dim::LENGTH),

@@ -36,6 +36,8 @@ fn the_aero_key_follows_the_vehicle_and_not_the_scenario() {
     for s in [
         "aero.reference_point=(-1.5, 0, 0) m",
         "aero.out_of_range=clamp",
+        "aero.finish=smooth_paint",
+        "aero.finish=20 um",
         "forces.fin_aero.distribution=uniform",
         "fins.root_chord=0.3 m",
         "structure.generate.body.diameter=130 mm",

@@ -72,6 +72,18 @@ fn the_simple_model_rocket_imports_checks_and_flies() {
     assert!(text.contains("designation = \"Estes "), "{text}");
     assert!(text.contains("motor.designation = \"Estes A8\""), "{text}");
     assert!(!text.contains("curve = "), "{text}");
+    // The launch lug is mapped with its drag (issue 34), the finish read from the design.
+    assert!(
+        text.contains(
+            "        launch_lug {\n          station = -0.2325 m\n          length = 35 mm\n          outer_diameter = 7 mm\n          inner_diameter = 5 mm\n"
+        ),
+        "{text}"
+    );
+    assert!(!stderr(&o).contains("drag is not"), "{}", stderr(&o));
+    assert!(
+        text.contains("finish = regular_paint # 60 um; the design: normal on 4 of 4 components"),
+        "{text}"
+    );
     assert_eq!(files_in(dir.path()), ["simple.vdl"]);
     // One scenario per stored simulation, each with OpenRocket's result in a comment.
     assert_eq!(text.matches("\nscenario ").count(), 5, "{text}");

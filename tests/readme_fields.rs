@@ -322,11 +322,11 @@ scenario w {
 vehicle ff {
   material = m
   origin = node(1)
-  structure { generate { body { length = 1 m; diameter = 0.1 m; wall = 2 mm; elements = 10; transition { fore_station = -0.3 m; length = 0.1 m; fore_diameter = 0.1 m; aft_diameter = 0.08 m; shape = ogive } } } }
+  structure { generate { body { length = 1 m; diameter = 0.1 m; wall = 2 mm; elements = 10; transition { fore_station = -0.3 m; length = 0.1 m; fore_diameter = 0.1 m; aft_diameter = 0.08 m; shape = ogive }; launch_lug { station = -0.5 m; length = 30 mm; outer_diameter = 6 mm; inner_diameter = 4 mm; mass = 1 g }; rail_button { station = -0.7 m; outer_diameter = 10 mm; height = 8 mm; inner_diameter = 6 mm; inner_height = 3 mm; mass = 2 g } } } }
   fins { count = 3; planform = freeform; points = [(0, 0) mm, (100, 100) mm, (150, 100) mm, (200, 0) mm]; thickness = 1 mm }
   key_nodes { body = node(1); fins = fin_point(span = 0.5, chord = 0.25) }
   modes { fin_flap = per_fin }
-  aero { source = builtin; reference_point = (0, 0, 0) m }
+  aero { source = builtin; finish = smooth_paint; reference_point = (0, 0, 0) m }
   forces { gravity {} }
 }
 sweep p { scenario = a; analysis = planar_pinned; grid { run.stop_time = [1 s] } }

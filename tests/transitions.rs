@@ -175,6 +175,8 @@ fn est_body(transitions: Vec<TransitionGeom>) -> BodyShape {
         nose: EstNose::Cone { length: 0.4 },
         reference_x: -1.2,
         transitions,
+        roughness: flexflight::aero::estimator::DEFAULT_ROUGHNESS,
+        guides: vec![],
     }
 }
 
@@ -226,7 +228,8 @@ fn a_boat_tail_moves_the_centre_of_pressure_forward_by_barrowmans_amount() {
 /// boat tail takes a share of the base drag on its frontal area, all of it up to a fineness
 /// l/(d_f - d_a) of 1, (3 - fineness)/2 between, none from 3 on; the friction follows the
 /// smaller wetted area. Checked at Mach 0.5 against the blunt tube, the friction coefficient
-/// recomputed here from the atmosphere and the Prandtl-Schlichting law.
+/// recomputed here from the atmosphere and the friction law (`skin_friction`, with the body's
+/// fineness correction).
 #[test]
 fn boat_tail_drag_follows_the_base_drag_and_its_fineness() {
     use flexflight::aero::atmosphere::{Atmosphere, Standard1976};
@@ -235,7 +238,8 @@ fn boat_tail_drag_follows_the_base_drag_and_its_fineness() {
     let base_cd = 0.12 + 0.13 * 0.25;
     let air = Standard1976::new().at(0.0).unwrap();
     let re = air.density * 0.5 * air.speed_of_sound * 2.0 / air.viscosity;
-    let cf = flexflight::aero::estimator::skin_friction(re, 0.5);
+    use flexflight::aero::estimator::{DEFAULT_ROUGHNESS, body_friction_correction, skin_friction};
+    let cf = skin_friction(re, 0.5, DEFAULT_ROUGHNESS / 2.0) * body_friction_correction(2.0, 0.102);
     let s_ref = PI * 0.102f64.powi(2) / 4.0;
     let (rf, ra) = (0.051, 0.035);
     let removed = PI * (rf * rf - ra * ra) / s_ref;

@@ -19,10 +19,19 @@
 //! - C_M = sum C_N,part (x_part - x_ref)/b_b about the reference point (5.3.3), positive
 //!   nose up (x forward, so a force ahead of the c.g. pitches the nose up).
 //! - axial force C_A (independent of alpha here):
-//!   - skin friction, turbulent flat plate, Prandtl-Schlichting C_f = 0.455/(log10 Re)^2.58
-//!     on the body length, with the compressibility corrections of Barrowman (1967) as used
-//!     by OpenRocket (Niskanen 2009, eqs. 3.81-3.82): C_f (1 - 0.1 M^2) subsonic,
-//!     C_f/(1 + 0.15 M^2)^0.58 supersonic; times wetted area / S;
+//!   - skin friction by Reynolds number and surface roughness (Niskanen 2009, sec. 3.4.1;
+//!     OpenRocket technical documentation, `doc/techdoc/chapter-aerodynamic-properties.tex`,
+//!     "Skin friction drag"; [`skin_friction`]): the fully turbulent flat plate
+//!     C_f = 1/(1.50 ln Re - 5.6)^2 (its value at Re = 1e4 below it), and above the critical
+//!     Reynolds number R_crit = 51 (R_s/L)^-1.039 the roughness-limited C_f = 0.032
+//!     (R_s/L)^0.2 (R_s the roughness height of `aero { finish }`, OpenRocket's named finishes
+//!     [`FINISHES`], default regular paint 60 um); compressibility factors 1 - 0.1 M^2
+//!     subsonic for both, supersonic 1/(1 + 0.15 M^2)^0.58 turbulent and 1/(1 + 0.18 M^2)
+//!     roughness-limited, linear in Mach on 0.9..1.1 as OpenRocket's `BarrowmanCalculator`
+//!     applies them; the larger of the two corrected values (the source: the roughness value
+//!     is not used where it is below the turbulent one). Re and R_s/L on the body length;
+//!     times wetted area / S and the body's cylindrical correction 1 + 1/(2 f_B), f_B = length
+//!     / largest diameter ([`body_friction_correction`]);
 //!   - base drag (Niskanen 2009, eq. 3.94, after Hoerner): 0.12 + 0.13 M^2 for M < 1,
 //!     0.25/M above;
 //!   - cone nose wave drag above Mach 1 (Fleeman, "Tactical Missile Design", 2nd ed., 2006,
@@ -32,9 +41,17 @@
 //!     2009, App. B.4 and B.5, after the Handbook of Supersonic Aerodynamics, p. 239: the
 //!     tangent ogive k = 1 about the cone's, the secant ogive k = 0.5 18 % below it, at Mach
 //!     1.6-2.5 and nose fineness 2-3.5); the other shapes (elliptical, parabolic, power,
-//!     Haack) take the cone's as well: their shape-specific wave drag (Niskanen's
-//!     interpolation of Stoney's data at fineness 3) is not modelled yet;
-//!   - skin friction's wetted area: the nose's true surface (`NoseShape::wetted_area`).
+//!     Haack) Stoney's measured pressure drag at fineness 3 (NASA TR R-100, 1961, as
+//!     OpenRocket transcribes it) interpolated in the shape parameter and carried to the
+//!     nose's fineness as Niskanen 2009, App. B ("Ellipsoidal, power, parabolic and Haack
+//!     series nose cones"), does ([`nose_pressure_drag`]; no blend of
+//!     ours: the data start below Mach 1);
+//!   - skin friction's wetted area: the nose's true surface (`NoseShape::wetted_area`);
+//!   - launch lugs and rail buttons (`body { launch_lug { } rail_button { } }`) as OpenRocket
+//!     24.12 computes them ([`launch_guide_drag`]): a lug's frontal annulus `0.7 (C_stag +
+//!     C_base)` plus its bore's Darcy-Weisbach pressure loss with the Swamee-Jain friction
+//!     factor; a button's cross-flow cylinder drag (Gowen & Perkins, NACA TN 2960) at the mean
+//!     Mach over its height in the turbulent boundary layer, times C_stag, on its side area.
 //!
 //! Fins (per fin, on S, alpha = the fin's own angle of attack):
 //! - subsonic, Barrowman (1967) / Diederich: C_Nalpha = 2 pi A (A_f/S) / (2 + sqrt(4 +
@@ -59,8 +76,17 @@
 //!   x_f = x_t/3 (c_r + 2 c_t)/(c_r + c_t) + (c_r + c_t - c_r c_t/(c_r + c_t))/6, i.e. the
 //!   quarter point of the mean aerodynamic chord; supersonic the lifting surface's centre of
 //!   pressure; blended linearly on 0.9..1.1 like C_Nalpha;
-//! - C_A: skin friction on both faces (2 A_f / S) with the body's C_f law on the mean chord,
-//!   corrected for the fin's thickness t by (1 + 2 t / c_mac) (Niskanen 2009, sec. 3.4.2,
+//! - C_A: skin friction on both faces (2 A_f / S) with the body's C_f, at the rocket's
+//!   Reynolds number and relative roughness R_s/L (L the body length), as the source gives it:
+//!   one C_f for the whole wetted area (Niskanen 2009, sec. 3.4.1, eq. of (C_D)_friction;
+//!   OpenRocket's `calculateFrictionCD`). The fin's own chord would be the flat plate its
+//!   boundary layer grows on, and issue 34 asked for it; measured (dev build, same binary,
+//!   the fins' Re and R_s on c_mac instead): Bella Lui 1107 m against OpenRocket's 1190 m
+//!   (-7.0 %) instead of 1137 m (-4.4 %), the simple model rocket's C6 304.1 m against
+//!   316.6 m (-3.9 %) instead of 315.4 m (-0.4 %): for 0.15 m fins on a 2 m rocket at
+//!   75 m/s, regular paint, C_f 0.0067 on the chord against 0.0040 on the length (both
+//!   roughness-limited), a fin drag the OpenRocket comparisons do not bear out. Corrected
+//!   for the fin's thickness t by (1 + 2 t / c_mac) (Niskanen 2009, sec. 3.4.2,
 //!   OpenRocket's `FinSetCalc`); plus the pressure drag of its edges on the frontal area t s
 //!   (Niskanen 2009, sec. 3.4.4, after Barrowman 1967 pp. 48-57 and Hoerner, *Fluid-Dynamic
 //!   Drag*, 1965): the leading edge, `0.85 q_stag/q` for a square edge (the blunt cylinder,
@@ -69,9 +95,14 @@
 //!   Mach 0.9, 1 - 1.785 (M - 0.9) to Mach 1, 1.214 - 0.502/M^2 + 0.1095/M^4 above), times
 //!   cos^2 Gamma_L (Gamma_L the leading-edge sweep; Hoerner's cross-flow principle); the
 //!   trailing edge, the body's base drag for a square edge, half of it for a rounded one,
-//!   zero for an airfoil's tapering edge. The supersonic thickness wave drag of the fin's
-//!   faces beyond these edge terms is not modelled (Niskanen leaves it open as well, sec.
-//!   3.4.4). Without a profile (`EstimatedTables::estimate`) the fin is a flat plate of no
+//!   zero for an airfoil's tapering edge; and the supersonic thickness wave drag of the
+//!   `airfoil` section, taken as biconvex, on the planform area A_f
+//!   ([`thickness_wave_drag`]): Ackeret's `(16/3) tau^2 / sqrt(M^2 - 1)` with simple sweep
+//!   theory, `(16/3) tau^2 cos Lambda_c / sqrt(M^2 cos^2 Lambda_c - 1)` (tau = t/c_mac, derived
+//!   in the function's doc), zero below a normal Mach of 1, ramped from 0 at M_n = 1 to its
+//!   value where linear theory becomes valid (transonic similarity parameter 1); the square
+//!   and rounded sections' faces are parallel to the flow and have no thickness drag beyond
+//!   their edges' (Niskanen leaves the supersonic fin wave drag open, sec. 3.4.4). Without a profile (`EstimatedTables::estimate`) the fin is a flat plate of no
 //!   thickness: friction only.
 //!
 //! Rate derivatives (the optional `cn_q`, `cm_q` columns of the body table, used by
@@ -147,6 +178,144 @@ pub struct BodyShape {
     pub reference_x: f64,
     /// Transitions and boat tails, fore to aft (`check::transition`).
     pub transitions: Vec<crate::check::transition::TransitionGeom>,
+    /// Surface roughness height R_s of the body and fins, m (`aero { finish }`; OpenRocket's
+    /// default [`DEFAULT_ROUGHNESS`]).
+    pub roughness: f64,
+    /// Launch lugs and rail buttons on the body ([`launch_guide_drag`]).
+    pub guides: Vec<LaunchGuide>,
+}
+
+/// A launch lug or rail button on the body, for its drag ([`launch_guide_drag`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LaunchGuide {
+    /// A tube along the body: length, outer and inner (bore) diameter, m.
+    Lug {
+        length: f64,
+        outer_diameter: f64,
+        inner_diameter: f64,
+    },
+    /// A rail button: its distance aft of the nose tip, its outer diameter and total height
+    /// above the body, and the notch's (inner) diameter and height (0 and 0: a plain pin), m.
+    Button {
+        from_tip: f64,
+        outer_diameter: f64,
+        height: f64,
+        inner_diameter: f64,
+        inner_height: f64,
+    },
+}
+
+/// The blunt cylinder's pressure drag on its frontal area, `0.85 q_stag/q` (Niskanen 2009,
+/// App. B.1; OpenRocket's `BarrowmanCalculator.calculateStagnationCD`).
+pub fn stagnation_drag(mach: f64) -> f64 {
+    0.85 * stagnation_pressure_ratio(mach)
+}
+
+/// Rail button drag coefficient of a circular cylinder in cross flow against Mach, as
+/// OpenRocket 24.12 transcribes it (`RailButtonCalc`, "from Gowen and Perkins, Drag of
+/// Circular Cylinders for a Wide Range of Reynolds Numbers and Mach Numbers, NACA TN 2960,
+/// Figure 7"; we have read OpenRocket's transcription, not the report): (Mach, C_D),
+/// interpolated linearly.
+pub const CYLINDER_CROSSFLOW_CD: [(f64, f64); 12] = [
+    (0.0, 1.2),
+    (0.2, 1.22),
+    (0.3, 1.25),
+    (0.4, 1.3),
+    (0.5, 1.4),
+    (0.6, 1.5),
+    (0.7, 1.6),
+    (1.0, 2.1),
+    (1.6, 1.5),
+    (2.0, 1.45),
+    (2.8, 1.33),
+    (100.0, 1.33),
+];
+
+fn cylinder_crossflow_cd(m: f64) -> f64 {
+    let t = &CYLINDER_CROSSFLOW_CD;
+    let m = m.clamp(t[0].0, t[t.len() - 1].0);
+    let i = t
+        .iter()
+        .position(|p| p.0 >= m)
+        .unwrap_or(t.len() - 1)
+        .max(1);
+    let (a, b) = (t[i - 1], t[i]);
+    a.1 + (b.1 - a.1) * (m - a.0) / (b.0 - a.0)
+}
+
+/// The axial coefficient of a launch lug or rail button on the reference area `s_ref`, at
+/// Mach `mach` with the air's speed of sound `sound`, m/s, and kinematic viscosity `nu`,
+/// m^2/s, on a surface of roughness `roughness`, m. As OpenRocket 24.12 computes them (read in
+/// its source at commit 8fa969d8; its technical documentation, sec. "Parasitic drag",
+/// still describes the older model of Niskanen 2009, sec. 3.4.6, `max(1.3 - 0.3 l/d, 1)
+/// C_stag` on `pi r_o^2 - pi r_i^2 max(1 - l/d, 0)`):
+/// - a lug (`TubeCalc`): the pressure drag `0.7 (C_stag + C_base)` on its frontal annulus
+///   `pi (r_o^2 - r_i^2)` ([`stagnation_drag`], [`base_drag`]) plus the pressure loss of the
+///   flow through its bore, Darcy-Weisbach `Delta p = f (l/d_i) rho v^2/2` on the bore's
+///   area, i.e. `C_D = f l/d_i` on `pi r_i^2`, with the Swamee-Jain friction factor
+///   `f = 0.25/[log10(eps/(3.7 d_i) + 5.74/Re^0.9)]^2` (Swamee & Jain, *J. Hydraulics Div.
+///   ASCE* 102, 1976), `Re = v d_i/nu`, eps the surface roughness;
+/// - a button (`RailButtonCalc`): the cross-flow cylinder's C_D ([`CYLINDER_CROSSFLOW_CD`])
+///   at the mean Mach over its height in the body's boundary layer, whose thickness is the
+///   turbulent flat plate's `delta = 0.37 x Re_x^-0.2` at its distance x from the tip
+///   (linear velocity profile: mean Mach `(h - delta/2) M/h` when it stands out of the
+///   layer, `(h/2)/delta M` inside), times `(M_mean/M)^2` (the force on the free stream's
+///   dynamic pressure) and [`stagnation_drag`], on its side area `h d_o - (d_o - d_i) h_i`.
+///
+/// The Reynolds numbers are taken at `max(M, FRICTION_REYNOLDS_MIN_MACH)`, like the skin
+/// friction's, so the tables start at Mach 0 with the values of Mach 0.1.
+pub fn launch_guide_drag(
+    g: &LaunchGuide,
+    roughness: f64,
+    s_ref: f64,
+    mach: f64,
+    sound: f64,
+    nu: f64,
+) -> f64 {
+    let pi = std::f64::consts::PI;
+    let m = mach.max(FRICTION_REYNOLDS_MIN_MACH);
+    let v = m * sound;
+    match *g {
+        LaunchGuide::Lug {
+            length,
+            outer_diameter,
+            inner_diameter,
+        } => {
+            let (ro, ri) = (0.5 * outer_diameter, 0.5 * inner_diameter);
+            let frontal = pi * (ro * ro - ri * ri);
+            let pressure = 0.7 * (stagnation_drag(mach) + base_drag(mach)) * frontal;
+            let bore = if inner_diameter > 0.0 {
+                let re = v * inner_diameter / nu;
+                let f = 0.25
+                    / (roughness / (3.7 * inner_diameter) + 5.74 / re.powf(0.9))
+                        .log10()
+                        .powi(2);
+                f * length / inner_diameter * pi * ri * ri
+            } else {
+                0.0
+            };
+            (pressure + bore) / s_ref
+        }
+        LaunchGuide::Button {
+            from_tip,
+            outer_diameter,
+            height,
+            inner_diameter,
+            inner_height,
+        } => {
+            let area = height * outer_diameter - (outer_diameter - inner_diameter) * inner_height;
+            let x = from_tip.max(1e-6);
+            let re_x = v * x / nu;
+            let delta = 0.37 * x / re_x.powf(0.2);
+            let ratio = if height > delta {
+                (height - 0.5 * delta) / height
+            } else {
+                0.5 * height / delta
+            };
+            let cd = cylinder_crossflow_cd(ratio * mach) * ratio * ratio;
+            cd * stagnation_drag(mach) * area / s_ref
+        }
+    }
 }
 
 impl BodyShape {
@@ -388,6 +557,263 @@ fn transonic_blend(mach: f64, sub: impl Fn(f64) -> f64, sup: impl Fn(f64) -> f64
     }
 }
 
+/// Zero-lift pressure drag of noses of fineness ratio 3 against Mach, (Mach, C_D on the base
+/// area), from Stoney, "Collection of Zero-Lift Drag Data on Bodies of Revolution from
+/// Free-Flight Investigations", NASA TR R-100, 1961, p. 16, as OpenRocket 24.12 transcribes
+/// them (`SymmetricComponentCalc`; we have read OpenRocket's transcription, not the report):
+/// the ellipsoid, the power series x^(1/4), x^(1/2), x^(3/4), the von Kármán and LV-Haack
+/// noses, the parabola and the 1/2 and 3/4 parabolas. Linear between points, the end values
+/// beyond them (OpenRocket's `LinearInterpolator`).
+pub mod stoney {
+    pub const ELLIPSOID: &[(f64, f64)] = &[
+        (1.2, 0.110),
+        (1.25, 0.128),
+        (1.3, 0.140),
+        (1.4, 0.148),
+        (1.6, 0.152),
+        (2.0, 0.159),
+        (2.4, 0.162),
+    ];
+    pub const X14: &[(f64, f64)] = &[
+        (1.2, 0.140),
+        (1.3, 0.156),
+        (1.4, 0.169),
+        (1.6, 0.192),
+        (1.8, 0.206),
+        (2.2, 0.227),
+        (2.6, 0.241),
+        (3.0, 0.249),
+        (3.6, 0.252),
+    ];
+    pub const X12: &[(f64, f64)] = &[
+        (0.925, 0.0),
+        (0.95, 0.014),
+        (1.0, 0.050),
+        (1.05, 0.060),
+        (1.1, 0.059),
+        (1.2, 0.081),
+        (1.3, 0.084),
+        (1.7, 0.085),
+        (2.0, 0.078),
+    ];
+    pub const X34: &[(f64, f64)] = &[
+        (0.8, 0.0),
+        (0.9, 0.015),
+        (1.0, 0.078),
+        (1.06, 0.121),
+        (1.2, 0.110),
+        (1.4, 0.098),
+        (1.6, 0.090),
+        (2.0, 0.084),
+        (2.8, 0.078),
+        (3.4, 0.074),
+    ];
+    pub const VON_KARMAN: &[(f64, f64)] = &[
+        (0.9, 0.0),
+        (0.95, 0.010),
+        (1.0, 0.027),
+        (1.05, 0.055),
+        (1.1, 0.070),
+        (1.2, 0.081),
+        (1.4, 0.095),
+        (1.6, 0.097),
+        (2.0, 0.091),
+        (3.0, 0.083),
+    ];
+    pub const LV_HAACK: &[(f64, f64)] = &[
+        (0.9, 0.0),
+        (0.95, 0.010),
+        (1.0, 0.024),
+        (1.05, 0.066),
+        (1.1, 0.084),
+        (1.2, 0.100),
+        (1.4, 0.114),
+        (1.6, 0.117),
+        (2.0, 0.113),
+    ];
+    pub const PARABOLIC: &[(f64, f64)] = &[
+        (0.95, 0.0),
+        (0.975, 0.016),
+        (1.0, 0.041),
+        (1.05, 0.092),
+        (1.1, 0.109),
+        (1.2, 0.119),
+        (1.4, 0.113),
+        (1.7, 0.108),
+    ];
+    pub const PARABOLIC_12: &[(f64, f64)] = &[
+        (0.8, 0.0),
+        (0.9, 0.016),
+        (0.95, 0.042),
+        (1.0, 0.100),
+        (1.05, 0.126),
+        (1.1, 0.125),
+        (1.3, 0.100),
+        (1.5, 0.090),
+        (1.8, 0.088),
+    ];
+    pub const PARABOLIC_34: &[(f64, f64)] = &[
+        (0.9, 0.0),
+        (0.95, 0.023),
+        (1.0, 0.073),
+        (1.05, 0.098),
+        (1.1, 0.107),
+        (1.2, 0.106),
+        (1.4, 0.089),
+        (1.7, 0.082),
+    ];
+
+    /// Linear interpolation in a table, the end values beyond it.
+    pub fn at(t: &[(f64, f64)], m: f64) -> f64 {
+        if m <= t[0].0 {
+            return t[0].1;
+        }
+        for w in t.windows(2) {
+            if m <= w[1].0 {
+                let (a, b) = (w[0], w[1]);
+                return a.1 + (b.1 - a.1) * (m - a.0) / (b.0 - a.0);
+            }
+        }
+        t[t.len() - 1].1
+    }
+}
+
+/// OpenRocket's conical nose pressure drag on the base area (Niskanen 2009, App. B, the conical
+/// nose; its
+/// `SymmetricComponentCalc.calculateOgiveNoseInterpolator` with parameter 0), used here only
+/// as the end of the power and parabolic series where Stoney's data stop: `sin phi` at Mach 1,
+/// `2.1 sin^2 phi + 0.5 sin phi / sqrt(M^2 - 1)` from Mach 1.3, and between them the cubic
+/// with those values and the slopes `4/(gamma + 1) (1 - 0.5 sin phi)` at Mach 1 and
+/// `-1.1341 sin phi` at 1.3 (phi the cone's half-angle); below Mach 1 its Mach-1 value (the
+/// constant extension of OpenRocket's table, which starts at Mach 1).
+fn or_cone_pressure_drag(sin_phi: f64, m: f64) -> f64 {
+    let (c1, c13) = (sin_phi, 2.1 * sin_phi * sin_phi + 0.6019 * sin_phi);
+    if m >= 1.3 {
+        return 2.1 * sin_phi * sin_phi + 0.5 * sin_phi / (m * m - 1.0).sqrt();
+    }
+    let m = m.max(1.0);
+    let (d1, d13) = (4.0 / 2.4 * (1.0 - 0.5 * c1), -1.1341 * sin_phi);
+    // Cubic Hermite on [1, 1.3].
+    let h = 0.3;
+    let t = (m - 1.0) / h;
+    let (t2, t3) = (t * t, t * t * t);
+    (2.0 * t3 - 3.0 * t2 + 1.0) * c1
+        + (t3 - 2.0 * t2 + t) * h * d1
+        + (-2.0 * t3 + 3.0 * t2) * c13
+        + (t3 - t2) * h * d13
+}
+
+/// Transonic and supersonic pressure (wave) drag of an elliptical, parabolic-series,
+/// power-series or Haack nose of fineness `f_n = L/d` on its base area (Niskanen 2009, App.
+/// B, "Ellipsoidal, power, parabolic and Haack series nose cones" and "Summary of nose cone
+/// drag calculation"; OpenRocket's
+/// `SymmetricComponentCalc.calculateNoseInterpolator`): Stoney's fineness-3 curve of the shape
+/// ([`stoney`]), linearly interpolated in the shape parameter between the tabulated shapes
+/// (power n between the blunt cylinder (n = 0), 1/4, 1/2, 3/4 and the cone (n = 1); parabola
+/// K between the cone (K = 0), 1/2, 3/4 and 1; Haack C between von Kármán (0) and LV-Haack
+/// (1/3); C above 1/3, which OpenRocket does not take, the LV-Haack curve); then carried to
+/// the nose's fineness by `C_0 (C_3/C_0)^(log_4 (f_n + 1))` with `C_0` the blunt cylinder's
+/// [`stagnation_drag`]; below the first Mach of the curve, if its value there is 0.001 or
+/// more, `a M^b + 0.8 sin^2 phi` fitted to its value and slope there (phi the joint angle at
+/// the base from the profile's radius at 0.99 L, as OpenRocket takes it). OpenRocket tabulates
+/// the result on its curves' Mach points and interpolates linearly; this evaluates it at the
+/// Mach asked.
+pub fn nose_pressure_drag(
+    shape: crate::check::ir::NoseShape,
+    f_n: f64,
+    r: f64,
+    l: f64,
+    mach: f64,
+) -> f64 {
+    use crate::check::ir::NoseShape as S;
+    let cone_sin = 1.0 / (1.0 + 4.0 * f_n * f_n).sqrt();
+    let blunt = stagnation_drag;
+    // The fineness-3 curve at Mach m, and the Mach where its tabulated part starts.
+    let curve = |m: f64| -> f64 {
+        let lerp = |a: f64, b: f64, p: f64| p * b + (1.0 - p) * a;
+        match shape {
+            S::Elliptical => stoney::at(stoney::ELLIPSOID, m),
+            S::Power { n } if n <= 0.25 => lerp(blunt(m), stoney::at(stoney::X14, m), n * 4.0),
+            S::Power { n } if n <= 0.5 => lerp(
+                stoney::at(stoney::X14, m),
+                stoney::at(stoney::X12, m),
+                (n - 0.25) * 4.0,
+            ),
+            S::Power { n } if n <= 0.75 => lerp(
+                stoney::at(stoney::X12, m),
+                stoney::at(stoney::X34, m),
+                (n - 0.5) * 4.0,
+            ),
+            S::Power { n } => lerp(
+                stoney::at(stoney::X34, m),
+                or_cone_pressure_drag(cone_sin, m),
+                (n - 0.75) * 4.0,
+            ),
+            S::Parabolic { k } if k <= 0.5 => lerp(
+                or_cone_pressure_drag(cone_sin, m),
+                stoney::at(stoney::PARABOLIC_12, m),
+                k * 2.0,
+            ),
+            S::Parabolic { k } if k <= 0.75 => lerp(
+                stoney::at(stoney::PARABOLIC_12, m),
+                stoney::at(stoney::PARABOLIC_34, m),
+                (k - 0.5) * 4.0,
+            ),
+            S::Parabolic { k } => lerp(
+                stoney::at(stoney::PARABOLIC_34, m),
+                stoney::at(stoney::PARABOLIC, m),
+                (k - 0.75) * 4.0,
+            ),
+            S::Haack { c } => lerp(
+                stoney::at(stoney::VON_KARMAN, m),
+                stoney::at(stoney::LV_HAACK, m),
+                (c * 3.0).min(1.0),
+            ),
+            // Cones and ogives take the Fleeman fit (module doc); not called for them.
+            S::Conical | S::Ogive { .. } => f64::NAN,
+        }
+    };
+    // The first Mach of the blended curve: the smaller of its tables' first points (the blunt
+    // cylinder's and the cone's start at 0 and 1).
+    let first = match shape {
+        S::Elliptical => 1.2,
+        S::Power { n } if n <= 0.25 => 0.0,
+        S::Power { n } if n <= 0.5 => 0.925,
+        S::Power { n } if n <= 0.75 => 0.8,
+        S::Power { .. } => 0.8,
+        S::Parabolic { k } if k <= 0.5 => 0.8,
+        S::Parabolic { k } if k <= 0.75 => 0.8,
+        S::Parabolic { .. } => 0.9,
+        S::Haack { .. } => 0.9,
+        S::Conical | S::Ogive { .. } => 0.0,
+    };
+    let log4 = (f_n + 1.0).ln() / 4f64.ln();
+    let scaled = |m: f64| {
+        let stag = blunt(m);
+        stag * (curve(m) / stag).powf(log4)
+    };
+    if mach >= first {
+        return scaled(mach);
+    }
+    let v0 = scaled(first);
+    if v0 < 0.001 {
+        return 0.0;
+    }
+    let joint = {
+        let rr = shape.radius(0.99 * l, r, l);
+        (r - rr) / (r - rr).hypot(0.01 * l)
+    };
+    let cd0 = 0.8 * joint * joint;
+    let deriv = (scaled(first + 0.01) - v0) / 0.01;
+    if cd0 >= v0 - 0.01 || deriv <= 0.01 {
+        // OpenRocket leaves the curve's first value below its first Mach then.
+        return v0;
+    }
+    let b = first * deriv / (v0 - cd0);
+    let a = (v0 - cd0) / first.powf(b);
+    a * mach.powf(b) + cd0
+}
+
 /// Temperature K, density kg/m^3, speed of sound m/s and dynamic viscosity Pa s from the
 /// runtime's U.S. Standard Atmosphere 1976 (thesis 4.5.1), for Reynolds numbers; the altitude
 /// is clamped to the model's range (-0.5 km to 86 km), so the lookup cannot fail.
@@ -405,15 +831,124 @@ fn atmosphere(h: f64) -> (f64, f64, f64, f64) {
 /// Mach). So the tables start at Mach 0 with the friction of M = 0.1.
 pub const FRICTION_REYNOLDS_MIN_MACH: f64 = 0.1;
 
-/// Turbulent skin-friction coefficient (Prandtl-Schlichting, compressibility-corrected; see
-/// the module doc) for Reynolds number `re` at Mach `mach`.
-pub fn skin_friction(re: f64, mach: f64) -> f64 {
-    let cf = 0.455 / re.max(1e4).log10().powf(2.58);
-    if mach < 1.0 {
-        cf * (1.0 - 0.1 * mach * mach)
+/// OpenRocket's named surface finishes and their roughness heights R_s, m (OpenRocket
+/// 24.12, `ExternalComponent.Finish`; the heights after Hoerner, *Fluid-Dynamic Drag*, 1965,
+/// p. 5-3, as the technical documentation's table of roughness heights gives them): the
+/// language's `aero { finish = "..." }` names (docs/language.md) with OpenRocket's enum
+/// names for the importer.
+pub const FINISHES: [(&str, &str, f64); 9] = [
+    ("rough", "ROUGH", 500.0e-6),
+    ("rough_unfinished", "ROUGHUNFINISHED", 250.0e-6),
+    ("unfinished", "UNFINISHED", 150.0e-6),
+    ("regular_paint", "NORMAL", 60.0e-6),
+    ("smooth_paint", "SMOOTH", 20.0e-6),
+    ("optimum_paint", "OPTIMUM", 5.0e-6),
+    ("sheet_metal", "POLISHED", 2.0e-6),
+    ("polished", "FINISHPOLISHED", 0.5e-6),
+    ("mirror", "MIRROR", 0.0),
+];
+
+/// The default surface roughness height, m: OpenRocket's default finish, regular paint
+/// (`ExternalComponent.finish = Finish.NORMAL`, 60 um).
+pub const DEFAULT_ROUGHNESS: f64 = 60.0e-6;
+
+/// The roughness height of a finish by the language's name ([`FINISHES`]), m.
+pub fn finish_roughness(name: &str) -> Option<f64> {
+    FINISHES.iter().find(|f| f.0 == name).map(|f| f.2)
+}
+
+/// The language's name and the roughness height, m, of an OpenRocket finish by its enum name
+/// in any case (`normal`, as its `.ork` files store it); OpenRocket's `POLISHED` is our
+/// `sheet_metal` (2 um: OpenRocket shows it as "aircraft sheet-metal") and its
+/// `FINISHPOLISHED` our `polished` (0.5 um).
+pub fn openrocket_finish(name: &str) -> Option<(&'static str, f64)> {
+    FINISHES
+        .iter()
+        .find(|f| f.1.eq_ignore_ascii_case(name))
+        .map(|f| (f.0, f.2))
+}
+
+/// The turbulent flat-plate friction coefficient before any correction (Niskanen 2009, sec.
+/// 3.4.1; OpenRocket technical documentation, "Skin friction coefficients"):
+/// `C_f = 1/(1.50 ln R - 5.6)^2` from `R = 1e4`, and below it the value at `1e4`, which the
+/// source gives as `1.48e-2` (the formula's own value there is 0.014818; we use the
+/// formula's, so the law is continuous).
+pub fn turbulent_friction(re: f64) -> f64 {
+    let r = re.max(1.0e4);
+    1.0 / (1.50 * r.ln() - 5.6).powi(2)
+}
+
+/// The roughness-limited friction coefficient `C_f = 0.032 (R_s/L)^0.2` (same sources),
+/// independent of the Reynolds number; it takes over above the critical Reynolds number
+/// [`critical_reynolds`]. Zero for a perfectly smooth surface (`R_s = 0`).
+pub fn roughness_limited_friction(roughness_ratio: f64) -> f64 {
+    if roughness_ratio > 0.0 {
+        0.032 * roughness_ratio.powf(0.2)
     } else {
-        cf / (1.0 + 0.15 * mach * mach).powf(0.58)
+        0.0
     }
+}
+
+/// The critical Reynolds number of the roughness `R_crit = 51 (R_s/L)^-1.039` (same
+/// sources), above which the friction is the roughness-limited value; infinite for `R_s = 0`.
+pub fn critical_reynolds(roughness_ratio: f64) -> f64 {
+    if roughness_ratio > 0.0 {
+        51.0 * roughness_ratio.powf(-1.039)
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The compressibility factors of the friction coefficient (Niskanen 2009, sec. 3.4.1;
+/// technical documentation, "Compressibility corrections"): `(turbulent, roughness-limited)`,
+/// both `1 - 0.1 M^2` subsonic, `1/(1 + 0.15 M^2)^0.58` and `1/(1 + 0.18 M^2)` supersonic,
+/// linear in Mach between their values at 0.9 and 1.1, as OpenRocket applies them "continuously
+/// around Mach 1" (`BarrowmanCalculator.calculateFrictionCoefficient` and
+/// `calculateRoughnessCorrection`; the documentation is silent on the band).
+pub fn friction_compressibility(mach: f64) -> (f64, f64) {
+    let sub = |m: f64| 1.0 - 0.1 * m * m;
+    let turb = |m: f64| 1.0 / (1.0 + 0.15 * m * m).powf(0.58);
+    let rough = |m: f64| 1.0 / (1.0 + 0.18 * m * m);
+    if mach < 0.9 {
+        (sub(mach), sub(mach))
+    } else if mach > 1.1 {
+        (turb(mach), rough(mach))
+    } else {
+        // OpenRocket blends the turbulent factors evaluated at the Mach itself, the
+        // roughness factors at the band's ends; we write it as it does.
+        let t = (mach - 0.9) / 0.2;
+        (
+            (1.0 - t) * sub(mach) + t * turb(mach),
+            (1.0 - t) * sub(0.9) + t * rough(1.1),
+        )
+    }
+}
+
+/// Skin-friction coefficient for Reynolds number `re` (on the length `L` of the surface) at
+/// Mach `mach` on a surface of relative roughness `roughness_ratio = R_s/L`: the larger of
+/// the compressibility-corrected turbulent and roughness-limited values (Niskanen 2009, sec.
+/// 3.4.1: "the corrected roughness-limited value should not be used if it would yield a
+/// value smaller than the corresponding turbulent value"; OpenRocket takes
+/// `max(C_f, C_f,rough)` for its default, fully turbulent boundary layer). The two cross near
+/// [`critical_reynolds`] (within 0.63 to 1.33 R_crit for R_s/L from 1e-6 to 1e-3, the
+/// roughness ratios of rockets and their fins; the source's two fits part further outside
+/// it), so the maximum is the source's piecewise law made continuous. OpenRocket's optional
+/// "perfect finish" (laminar flow up to Re 5.39e5) is not modelled: its default, and this
+/// law, assume a fully turbulent boundary layer.
+pub fn skin_friction(re: f64, mach: f64, roughness_ratio: f64) -> f64 {
+    let (kt, kr) = friction_compressibility(mach);
+    (turbulent_friction(re) * kt).max(roughness_limited_friction(roughness_ratio) * kr)
+}
+
+/// The body's wetted-area correction for its cylindrical geometry `1 + 1/(2 f_B)`, `f_B` the
+/// fineness ratio length / largest diameter (Niskanen 2009, sec. 3.4.1; technical
+/// documentation, "Skin friction drag coefficient", with the fineness ratio as its "Flow and
+/// geometry parameters" defines it). OpenRocket's code (`BarrowmanCalculator.calculateFrictionCD`) divides the
+/// length by the largest radius instead, which halves the correction; we follow the
+/// documented definition (on a body of fineness 15 the two differ by 1.7 % of the body's
+/// friction).
+pub fn body_friction_correction(length: f64, max_diameter: f64) -> f64 {
+    1.0 + max_diameter / (2.0 * length)
 }
 
 /// The nose's length and the body x of its centre of pressure (<= 0) on a body of diameter
@@ -507,7 +1042,10 @@ pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f
     for &(_, _, w) in &pieces {
         wetted += w;
     }
-    let friction = skin_friction(re, mach) * wetted / s_ref;
+    let friction = skin_friction(re, mach, b.roughness / b.length)
+        * body_friction_correction(b.length, d_ref)
+        * wetted
+        / s_ref;
     let base_cd = if mach < 1.0 {
         0.12 + 0.13 * mach * mach
     } else {
@@ -558,6 +1096,10 @@ pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f
                 let factor = 0.72 * (k - 0.5) * (k - 0.5) + 0.82;
                 transonic_blend(mach, |_| 0.0, |m| factor * fit(m))
             }
+            // The other profiles: Stoney's data at fineness 3 (module doc).
+            NoseShape::Profile { length, shape } => {
+                nose_pressure_drag(shape, length / d, 0.5 * d, length, mach)
+            }
             _ => transonic_blend(mach, |_| 0.0, fit),
         }
     } else {
@@ -565,10 +1107,15 @@ pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f
     };
     // The nose's wave drag is on its base area.
     let wave = nose_area_ratio * wave;
+    let guides: f64 = b
+        .guides
+        .iter()
+        .map(|g| launch_guide_drag(g, b.roughness, s_ref, mach, sound, mu / rho))
+        .sum();
     if b.transitions.is_empty() {
-        [cn, friction + base + wave, cm]
+        [cn, friction + base + wave + guides, cm]
     } else {
-        [cn, friction + base + wave + transition_drag, cm]
+        [cn, friction + base + wave + transition_drag + guides, cm]
     }
 }
 
@@ -786,22 +1333,29 @@ pub fn trailing_edge_drag(section: crate::check::ir::FinSection, mach: f64) -> f
 }
 
 /// The axial coefficient of one fin on reference area `s_ref` (module doc): skin friction
-/// (thickness-corrected with a profile) plus, with a profile, the pressure drag of the
-/// leading edge (times cos^2 of its sweep) and the trailing edge on the frontal area t s.
+/// (the rocket's C_f, at the Reynolds number and relative roughness of its length
+/// `rocket_length`, m; thickness-corrected with a profile) plus, with a profile, the pressure
+/// drag of the leading edge (times cos^2 of its sweep) and the trailing edge on the frontal
+/// area t s, and the `airfoil` section's thickness wave drag on the planform.
+#[allow(clippy::too_many_arguments)]
 pub fn fin_axial(
     f: &FinPlanform,
     profile: Option<FinProfile>,
+    roughness: f64,
+    rocket_length: f64,
     s_ref: f64,
     mach: f64,
     altitude_m: f64,
 ) -> f64 {
     let (_, rho, sound, mu) = atmosphere(altitude_m);
     let (mac, _) = f.mean_aerodynamic_chord();
-    let re = rho * mach.max(FRICTION_REYNOLDS_MIN_MACH) * sound * mac / mu;
+    // The rocket's Reynolds number and relative roughness (module doc).
+    let re = rho * mach.max(FRICTION_REYNOLDS_MIN_MACH) * sound * rocket_length / mu;
+    let cf = skin_friction(re, mach, roughness / rocket_length);
     let Some(p) = profile else {
-        return skin_friction(re, mach) * 2.0 * f.area() / s_ref;
+        return cf * 2.0 * f.area() / s_ref;
     };
-    let friction = skin_friction(re, mach) * (1.0 + 2.0 * p.thickness / mac) * 2.0 * f.area();
+    let friction = cf * (1.0 + 2.0 * p.thickness / mac) * 2.0 * f.area();
     // cos^2 of the leading-edge sweep; its span average along a curved or broken edge.
     let cos2_le = if f.outline.is_trapezoidal() {
         let cos_le = (f.span / f.span.hypot(f.tip_le_offset)).min(1.0);
@@ -811,24 +1365,101 @@ pub fn fin_axial(
     };
     let pressure =
         leading_edge_drag(p.section, mach) * cos2_le + trailing_edge_drag(p.section, mach);
-    (friction + pressure * p.thickness * f.span) / s_ref
+    let wave = thickness_wave_drag(p.section, p.thickness / mac, f.mid_chord_sweep(), mach);
+    (friction + pressure * p.thickness * f.span + wave * f.area()) / s_ref
 }
 
-/// Coefficients of one fin (C_N, C_A, x_cp) at one condition on reference area `s_ref`.
+/// Ackeret's constant K of the thickness wave drag `K tau^2 / beta` of a thin symmetric
+/// section in two-dimensional supersonic flow: `16/3` for the biconvex (parabolic-arc)
+/// section, our `airfoil` cross-section; 0 for the `square` and `rounded` sections, whose
+/// faces are parallel to the flow (their edges' pressure drag is the edge terms). Derivation:
+/// Ackeret's linear theory gives the surface pressure `C_p = 2 theta / beta` (theta the
+/// local surface slope against the free stream, beta = sqrt(M^2 - 1); J. Ackeret,
+/// "Luftkräfte auf Flügel, die mit größerer als Schallgeschwindigkeit bewegt werden", ZFM 16,
+/// 1925; the integral below is derived here), so the drag of one
+/// surface per unit span is `q int C_p theta dx = (2 q / beta) int theta^2 dx`; for the
+/// parabolic arc `y = 2 t x (c - x)/c^2` on each face, `int_0^c theta^2 dx = 4 t^2/(3 c)`, and
+/// both faces give `C_d = (2/beta) 2 (4/3) tau^2 = (16/3) tau^2/beta` on the chord (the
+/// double wedge's is 4 tau^2/beta the same way).
+pub fn thickness_wave_constant(section: crate::check::ir::FinSection) -> f64 {
+    use crate::check::ir::FinSection;
+    match section {
+        FinSection::Airfoil => 16.0 / 3.0,
+        FinSection::Square | FinSection::Rounded => 0.0,
+    }
+}
+
+/// Thickness wave drag of a fin on its planform area (see [`thickness_wave_constant`]) with
+/// simple sweep theory (the infinite swept wing, derived here): the section sees the normal Mach `M_n = M cos Lambda` and the thickness ratio
+/// `tau / cos Lambda` on the normal chord `c cos Lambda`, so per unit length of the crest line
+/// its drag along the normal is `q cos^2 Lambda (c cos Lambda) K (tau/cos Lambda)^2 / beta_n`
+/// (`beta_n = sqrt(M_n^2 - 1)`; no pressure acts along the crest); the free-stream component
+/// is that times cos Lambda, and on the strip's planform area `c cos Lambda` and `q`:
+/// `C_D = K tau^2 cos Lambda / sqrt(M^2 cos^2 Lambda - 1)` (Lambda = 0: Ackeret's). Lambda is the
+/// mid-chord sweep (the biconvex section's crest line) and tau = t / c_mac. Zero for a
+/// subsonic normal Mach (the infinite swept wing has no wave drag there; a finite fin's tip
+/// and root do, which is not modelled). Linear theory fails as `M_n -> 1`: valid where the
+/// transonic similarity parameter `(M_n^2 - 1)/((gamma + 1) tau_n M_n^2)^(2/3)` is at least 1
+/// (Spreiter; the module doc's criterion for the fins' lifting surface), i.e. from
+/// `M_n*`; between `M_n = 1` and `M_n*` the drag is ramped linearly in `M_n` from 0 to its
+/// value at `M_n*` (our blend, as the body's transonic wave drag is).
+pub fn thickness_wave_drag(
+    section: crate::check::ir::FinSection,
+    tau: f64,
+    sweep: f64,
+    mach: f64,
+) -> f64 {
+    let k = thickness_wave_constant(section);
+    let cos = sweep.cos();
+    let mn = mach * cos;
+    if k == 0.0 || mn <= 1.0 || tau.is_nan() || tau <= 0.0 {
+        return 0.0;
+    }
+    const GAMMA: f64 = 1.4;
+    let tau_n = tau / cos;
+    let value = |m: f64| k * tau * tau * cos / (m * m - 1.0).sqrt();
+    // The similarity parameter is 1 where m^2 - 1 = ((gamma + 1) tau_n m^2)^(2/3): solved by
+    // fixed-point iteration from m = 1 (a contraction: the right side grows slowly with m).
+    let mut m_star: f64 = 1.0;
+    for _ in 0..60 {
+        m_star = (1.0 + ((GAMMA + 1.0) * tau_n * m_star * m_star).powf(2.0 / 3.0)).sqrt();
+    }
+    if mn >= m_star {
+        value(mn)
+    } else {
+        value(m_star) * (mn - 1.0) / (m_star - 1.0)
+    }
+}
+
+/// Coefficients of one fin (C_N, C_A, x_cp) at one condition on reference area `s_ref`, the
+/// fin a flat plate of surface roughness height `roughness`, m, on a rocket of length
+/// `rocket_length`, m (its friction's Reynolds number).
 pub fn fin_coefficients(
     f: &FinPlanform,
+    (roughness, rocket_length): (f64, f64),
     s_ref: f64,
     mach: f64,
     alpha_deg: f64,
     altitude_m: f64,
 ) -> [f64; 3] {
-    fin_coefficients_with(f, None, f.linear(mach), s_ref, mach, alpha_deg, altitude_m)
+    fin_coefficients_with(
+        f,
+        None,
+        (roughness, rocket_length),
+        f.linear(mach),
+        s_ref,
+        mach,
+        alpha_deg,
+        altitude_m,
+    )
 }
 
 /// [`fin_coefficients`] with the Mach's (slope on A_f, x_cp) computed once by the caller.
+#[allow(clippy::too_many_arguments)]
 fn fin_coefficients_with(
     f: &FinPlanform,
     profile: Option<FinProfile>,
+    (roughness, rocket_length): (f64, f64),
     (slope, x_cp): (f64, f64),
     s_ref: f64,
     mach: f64,
@@ -836,7 +1467,15 @@ fn fin_coefficients_with(
     altitude_m: f64,
 ) -> [f64; 3] {
     let cn = f.interference() * slope * f.area() / s_ref * alpha_deg.to_radians();
-    let ca = fin_axial(f, profile, s_ref, mach, altitude_m);
+    let ca = fin_axial(
+        f,
+        profile,
+        roughness,
+        rocket_length,
+        s_ref,
+        mach,
+        altitude_m,
+    );
     [cn, ca, x_cp]
 }
 
@@ -857,7 +1496,8 @@ pub struct EstimatedTables {
 
 impl EstimatedTables {
     /// Estimates both tables (reference area pi d^2/4 of the body) with the given policy, the
-    /// fin a flat plate of no thickness (friction only; [`Self::estimate_with_profile`]).
+    /// fin a flat plate of no thickness (friction only; [`Self::estimate_with_profile`]). The
+    /// fins take the body's surface roughness ([`BodyShape::roughness`]).
     pub fn estimate(
         body: &BodyShape,
         fin: &FinPlanform,
@@ -890,7 +1530,16 @@ impl EstimatedTables {
                 for &h in &ESTIMATOR_ALTITUDE {
                     bp.push(body_coefficients(body, m, a, h));
                     br.push(body_rate_derivatives(body, a));
-                    fp.push(fin_coefficients_with(fin, profile, lin, s_ref, m, a, h));
+                    fp.push(fin_coefficients_with(
+                        fin,
+                        profile,
+                        (body.roughness, body.length),
+                        lin,
+                        s_ref,
+                        m,
+                        a,
+                        h,
+                    ));
                 }
             }
         }

@@ -71,6 +71,10 @@ pub struct Fields<'b> {
     required_names: Vec<&'static str>,
 }
 
+/// Unnamed blocks a body may hold any number of times (`body { launch_lug { } launch_lug
+/// { } }`): not duplicates.
+const REPEATABLE: [&str; 2] = ["launch_lug", "rail_button"];
+
 impl<'b> Fields<'b> {
     /// Wrap a body; reports duplicated fields and blocks at once.
     pub fn new(cx: &mut Cx, what: impl Into<String>, header: Span, body: &'b Body) -> Self {
@@ -89,7 +93,10 @@ impl<'b> Fields<'b> {
                 )),
                 EntryKind::Import { .. } => None,
             };
-            if let Some((key, span)) = key {
+            // Unnamed blocks that may be given any number of times.
+            let repeats = matches!(&e.kind, EntryKind::Block(b)
+                if b.name.is_none() && REPEATABLE.contains(&b.kind.name.as_str()));
+            if let Some((key, span)) = key.filter(|_| !repeats) {
                 if let Some(first) = seen.get(&key) {
                     cx.push(
                         Diagnostic::error(

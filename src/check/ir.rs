@@ -216,6 +216,41 @@ pub struct BodyGeometry {
     /// Transitions and boat tails, fore to aft (`check::transition`; none: one diameter).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub transitions: Vec<Transition>,
+    /// Launch lugs (`body { launch_lug { ... } }`; `check::launch_guide`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub launch_lugs: Vec<LaunchLug>,
+    /// Rail buttons (`body { rail_button { ... } }`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub rail_buttons: Vec<RailButton>,
+}
+
+/// A launch lug on the generated body: its drag in the built-in aerodynamics, its mass a
+/// point mass on the axis at its middle.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LaunchLug {
+    pub span: Span,
+    /// Body-x station of its fore end (< 0).
+    pub station: Q,
+    pub length: Q,
+    pub outer_diameter: Q,
+    /// The bore (0: a solid rod).
+    pub inner_diameter: Q,
+    pub mass: Q,
+}
+
+/// A rail button on the generated body: its drag in the built-in aerodynamics, its mass a
+/// point mass on the axis at its station.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RailButton {
+    pub span: Span,
+    /// Body-x station of its centre (< 0).
+    pub station: Q,
+    pub outer_diameter: Q,
+    /// Total height above the body.
+    pub height: Q,
+    /// The notch between the flanges, its diameter and height (none: a plain pin).
+    pub notch: Option<(Q, Q)>,
+    pub mass: Q,
 }
 
 /// A transition or boat tail of the generated body (`body { transition { ... } }`).
@@ -459,7 +494,12 @@ pub struct Aero {
 pub enum AeroSource {
     /// The built-in estimator (slender body + Barrowman/linear supersonic theory); its
     /// tables clamp outside their grid unless `out_of_range = stop` is written.
-    Builtin { out_of_range: Spanned<OutOfRange> },
+    /// `roughness` is the surface roughness height R_s of body and fins, m (`finish = "name"`
+    /// or `finish = 60 um`; OpenRocket's default regular paint, 60 um, when not written).
+    Builtin {
+        out_of_range: Spanned<OutOfRange>,
+        roughness: Spanned<f64>,
+    },
     /// CSV coefficient tables.
     Tables {
         body: Spanned<PathBuf>,

@@ -12,6 +12,7 @@ pub mod fields;
 pub mod fin_outline;
 mod fixture;
 pub mod ir;
+mod launch_guide;
 mod motor;
 pub mod nose;
 pub mod overrides;

@@ -475,7 +475,16 @@ fn check_generate(cx: &mut Cx, b: &Block) -> Option<Generate> {
             None => Some(Spanned::new(BeamTheory::EulerBernoulli, bb.header)),
         };
         let transition_blocks = fl.blocks("transition");
+        let lug_blocks = fl.blocks("launch_lug");
+        let button_blocks = fl.blocks("rail_button");
         fl.finish(cx);
+        let guides = super::launch_guide::check_launch_guides(
+            cx,
+            &lug_blocks,
+            &button_blocks,
+            nose.as_ref().map(|n| n.value),
+            length.as_ref().map(|l| l.value),
+        );
         let transitions = super::transition_check::check_transitions(
             cx,
             &transition_blocks,
@@ -536,6 +545,8 @@ fn check_generate(cx: &mut Cx, b: &Block) -> Option<Generate> {
             elements: Spanned::new(elements?, bb.header),
             theory: theory?,
             transitions: transitions?,
+            launch_lugs: guides.as_ref()?.0.clone(),
+            rail_buttons: guides?.1,
         })
     });
 
@@ -648,9 +659,14 @@ fn check_generate(cx: &mut Cx, b: &Block) -> Option<Generate> {
             });
         }
     }
+    let body = body?;
+    point_masses.extend(super::launch_guide::guide_masses(
+        &body.launch_lugs,
+        &body.rail_buttons,
+    ));
     Some(Generate {
         span: b.header,
-        body: body?,
+        body,
         fin_span_elements: span_el?,
         fin_chord_elements: chord_el?,
         point_masses,
@@ -1628,9 +1644,21 @@ fn check_aero(cx: &mut Cx, b: &Block, diameter: Option<Option<f64>>) -> Option<A
         .map(|k| Spanned::new(k, v.span)),
         None => Some(Spanned::new(default, b.header)),
     };
+    // Some(true): the built-in estimator; Some(false): tables or DATCOM; None: no source.
+    let builtin = match (source_kind, datcom_v) {
+        (Some(k), _) => Some(!k),
+        (None, Some(_)) => Some(false),
+        (None, None) => None,
+    };
+    let finish = check_finish(cx, &mut fl, b.header, builtin);
     let source = match source_kind {
-        Some(false) => policy(cx, &mut fl, OutOfRange::Clamp)
-            .map(|out_of_range| AeroSource::Builtin { out_of_range }),
+        Some(false) => match (policy(cx, &mut fl, OutOfRange::Clamp), finish) {
+            (Some(out_of_range), Some(roughness)) => Some(AeroSource::Builtin {
+                out_of_range,
+                roughness,
+            }),
+            _ => None,
+        },
         Some(true) => {
             let table = |cx: &mut Cx, fl: &mut Fields, name: &'static str| {
                 let v = fl.required(cx, name, "\"aero/table.csv\"")?;
@@ -1702,6 +1730,44 @@ fn check_aero(cx: &mut Cx, b: &Block, diameter: Option<Option<f64>>) -> Option<A
         reference_length: length?,
         reference_point: point?,
     })
+}
+
+/// `aero { finish = regular_paint }` (a named finish of `aero::estimator::FINISHES`) or
+/// `finish = 60 um` (a roughness height, 0 to 10 mm): the surface roughness of the built-in
+/// drag model, OpenRocket's default regular paint (60 um) when not written. With another
+/// source it would have no effect: `vdl::aero::finish` (only when the source was read).
+fn check_finish(
+    cx: &mut Cx,
+    fl: &mut Fields,
+    header: Span,
+    builtin: Option<bool>,
+) -> Option<Spanned<f64>> {
+    use crate::aero::estimator::{DEFAULT_ROUGHNESS, FINISHES};
+    let Some(v) = fl.value("finish") else {
+        return Some(Spanned::new(DEFAULT_ROUGHNESS, header));
+    };
+    if builtin != Some(true) {
+        builtin?;
+        cx.push(
+            Diagnostic::error(
+                "vdl::aero::finish",
+                "`finish` is the surface roughness of the built-in drag model; this `aero` block reads its coefficients from files",
+            )
+            .label(v.span, "no effect with this source")
+            .with_help("remove `finish`, or use `source = builtin`"),
+        );
+        return None;
+    }
+    if let ValueKind::Name(_) = &v.kind {
+        let options: Vec<(&'static str, f64)> = FINISHES.iter().map(|f| (f.0, f.2)).collect();
+        return f::keyword(cx, v, &options).map(|r| Spanned::new(r, v.span));
+    }
+    f::check_range(
+        f::quantity(cx, v, Dim::LENGTH),
+        cx,
+        |x| (0.0..=0.01).contains(&x),
+        "a roughness height 0 <= R_s <= 10 mm",
+    )
 }
 
 /// `enabled = false` turns a force block off (useful in overrides).

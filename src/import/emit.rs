@@ -16,7 +16,7 @@ use std::fmt::Write;
 
 use super::catalogue::{self, Entry, Lookup};
 use super::shapes::NoseShape;
-use super::{Cx, Deploy, Design, MassItem, MotorRef, Options, OrMaterial};
+use super::{Cx, Deploy, Design, GuideKind, MassItem, MotorRef, Options, OrMaterial};
 use crate::diagnostics::Diagnostic;
 
 /// Standard-library materials the names rocketeers use map to (case-insensitive substring,
@@ -568,10 +568,7 @@ pub(crate) fn emit(
         o,
         "# design's dimensions and densities as OpenRocket does. Not imported: appearance,"
     );
-    let _ = writeln!(
-        o,
-        "# surface finish (the built-in drag model has no roughness), decals."
-    );
+    let _ = writeln!(o, "# decals.");
     for w in cx.diags.iter().filter(|w| !w.is_error()) {
         let _ = writeln!(o, "# Approximation: {}", comment_safe(&w.message));
     }
@@ -653,6 +650,52 @@ pub(crate) fn emit(
             let _ = writeln!(o, "          shape = {}", g.shape.source_text());
         }
         let _ = writeln!(o, "        }}");
+    }
+    for g in &d.guides {
+        match g.kind {
+            GuideKind::Lug {
+                top,
+                length,
+                outer_diameter,
+                inner_diameter,
+            } => {
+                let _ = writeln!(
+                    o,
+                    "        # launch lug `{}`: its drag; its mass is among the masses below",
+                    comment_safe(&g.name)
+                );
+                let _ = writeln!(o, "        launch_lug {{");
+                let _ = writeln!(o, "          station = {} m", f(-top, 5));
+                let _ = writeln!(o, "          length = {}", mm(length));
+                let _ = writeln!(o, "          outer_diameter = {}", mm(outer_diameter));
+                let _ = writeln!(o, "          inner_diameter = {}", mm(inner_diameter));
+                let _ = writeln!(o, "          mass = 0 kg");
+                let _ = writeln!(o, "        }}");
+            }
+            GuideKind::Button {
+                centre,
+                outer_diameter,
+                height,
+                inner_diameter,
+                inner_height,
+            } => {
+                let _ = writeln!(
+                    o,
+                    "        # rail button `{}`: its drag; its mass (if the design overrides it) is among the masses below",
+                    comment_safe(&g.name)
+                );
+                let _ = writeln!(o, "        rail_button {{");
+                let _ = writeln!(o, "          station = {} m", f(-centre, 5));
+                let _ = writeln!(o, "          outer_diameter = {}", mm(outer_diameter));
+                let _ = writeln!(o, "          height = {}", mm(height));
+                if inner_height > 0.0 {
+                    let _ = writeln!(o, "          inner_diameter = {}", mm(inner_diameter));
+                    let _ = writeln!(o, "          inner_height = {}", mm(inner_height));
+                }
+                let _ = writeln!(o, "          mass = 0 kg");
+                let _ = writeln!(o, "        }}");
+            }
+        }
     }
     let _ = writeln!(o, "      }}");
     let _ = writeln!(o);
@@ -842,6 +885,13 @@ pub(crate) fn emit(
     let _ = writeln!(o);
     let _ = writeln!(o, "  aero {{");
     let _ = writeln!(o, "    source = builtin");
+    let _ = writeln!(
+        o,
+        "    finish = {} # {} um; the design: {}",
+        d.finish.name,
+        d.finish.roughness * 1e6,
+        comment_safe(&d.finish.said)
+    );
     let r_max = generated_transitions
         .iter()
         .fold(r, |m, (_, g)| m.max(g.r_fore).max(g.r_aft));

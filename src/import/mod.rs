@@ -10,8 +10,10 @@
 //! flight would be a different rocket (a second stage, a step in diameter without a transition,
 //! a second fin set, an assembly mass override, a material without stiffness, a motor
 //! not in the catalogue), a warning where the rocket is kept and one property is approximated
-//! (a nose shape other than a cone generated as a cone with its exact mass restored, a launch
-//! lug's or rail button's drag). Nothing is written on an error.
+//! (a nose shape other than a cone generated as a cone with its exact mass restored, a
+//! component's surface finish other than the vehicle's). Launch lugs and rail buttons become
+//! `launch_lug` and `rail_button` blocks (their drag; their masses stay among the masses).
+//! Nothing is written on an error.
 //!
 //! Masses: OpenRocket stores densities and dimensions and computes masses; so does this
 //! importer, with OpenRocket's formulas (component classes under
@@ -502,6 +504,129 @@ pub struct Design {
     pub configs: Vec<String>,
     /// Notes for the file's header comment.
     pub notes: Vec<String>,
+    /// The surface finish of the built-in drag model ([`choose_finish`]).
+    pub finish: Finish,
+    /// Launch lugs and rail buttons (their drag; their masses are among `masses`).
+    pub guides: Vec<Guide>,
+}
+
+/// A launch lug or rail button of the design, in metres from the nose tip.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Guide {
+    pub name: String,
+    pub kind: GuideKind,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum GuideKind {
+    /// Fore end, length, outer and inner diameter.
+    Lug {
+        top: f64,
+        length: f64,
+        outer_diameter: f64,
+        inner_diameter: f64,
+    },
+    /// Centre, outer diameter, total height, the notch's diameter and height.
+    Button {
+        centre: f64,
+        outer_diameter: f64,
+        height: f64,
+        inner_diameter: f64,
+        inner_height: f64,
+    },
+}
+
+/// The vehicle's surface finish (`aero { finish }`): a name of
+/// `aero::estimator::FINISHES`, and what the design said, for the comment.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Finish {
+    pub name: &'static str,
+    pub roughness: f64,
+    pub said: String,
+}
+
+/// The vehicle's finish from the finishes its components store (`found`: the component's
+/// name, the finish's element, the finish's name in `aero::estimator::FINISHES` and the
+/// design's own word for it): the one most components carry (the first of a tie, in design
+/// order), with a warning naming each component whose finish differs (flexflight has one
+/// surface finish per vehicle); OpenRocket's default, regular paint, with a note when the
+/// design stores none.
+pub(crate) fn choose_finish(
+    cx: &mut Cx,
+    found: &[(String, Node, &'static str, String)],
+    notes: &mut Vec<String>,
+) -> Finish {
+    use crate::aero::estimator::FINISHES;
+    let roughness = |name: &str| FINISHES.iter().find(|f| f.0 == name).map_or(0.0, |f| f.2);
+    let mut best: Option<(&'static str, usize)> = None;
+    for (_, _, name, _) in found {
+        let n = found.iter().filter(|f| f.2 == *name).count();
+        if best.is_none_or(|(_, m)| n > m) {
+            best = Some((name, n));
+        }
+    }
+    let Some((name, count)) = best else {
+        notes.push(
+            "the design stores no surface finish: OpenRocket's default, regular paint (60 um)"
+                .into(),
+        );
+        return Finish {
+            name: "regular_paint",
+            roughness: crate::aero::estimator::DEFAULT_ROUGHNESS,
+            said: "none stored: OpenRocket's default".into(),
+        };
+    };
+    let said = found
+        .iter()
+        .find(|f| f.2 == name)
+        .map(|f| f.3.clone())
+        .unwrap_or_default();
+    for (comp, fin_node, other, other_said) in found {
+        if *other != name {
+            cx.warn(
+                *fin_node,
+                format!(
+                    "`{comp}`: its surface finish `{other_said}` ({} um) is taken as the vehicle's `{said}` ({} um): flexflight has one finish per vehicle",
+                    roughness(other) * 1e6,
+                    roughness(name) * 1e6
+                ),
+            );
+        }
+    }
+    Finish {
+        name,
+        roughness: roughness(name),
+        said: format!("{said} on {count} of {} components", found.len()),
+    }
+}
+
+/// The `<finish>` elements of an OpenRocket stage's components (lower-case names of
+/// OpenRocket's `ExternalComponent.Finish`, as its `ExternalComponentSaver` writes them); an
+/// unknown one is an error at its element.
+fn ork_finishes<'a, 'i>(
+    cx: &mut Cx,
+    stage: Node<'a, 'i>,
+) -> Vec<(String, Node<'a, 'i>, &'static str, String)> {
+    let mut found = Vec::new();
+    for f in stage.descendants().filter(|n| n.has_tag_name("finish")) {
+        let Some(comp) = f.parent_element() else {
+            continue;
+        };
+        let text = f.text().unwrap_or("").trim().to_string();
+        match crate::aero::estimator::FINISHES
+            .iter()
+            .find(|x| x.1.eq_ignore_ascii_case(&text))
+        {
+            Some(x) => found.push((comp_name(comp), f, x.0, text)),
+            None => cx.error(
+                "import::value",
+                f,
+                format!("`{}`: unknown surface finish `{text}`", comp_name(comp)),
+                "unknown finish",
+            ),
+        }
+    }
+    found
 }
 
 impl Design {
@@ -640,6 +765,7 @@ struct Parent {
 }
 
 struct Reader {
+    guides: Vec<Guide>,
     masses: Vec<MassItem>,
     fins: Vec<FinSet>,
     mounts: Vec<Mount>,
@@ -742,6 +868,7 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
         .map(|s| s.children().filter(Node::is_element).collect())
         .unwrap_or_default();
     let mut rd = Reader {
+        guides: Vec::new(),
         masses: Vec::new(),
         fins: Vec::new(),
         mounts: Vec::new(),
@@ -1115,6 +1242,8 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
         );
     }
     let sims = read_simulations(cx, root);
+    let found = ork_finishes(cx, stage);
+    let finish = choose_finish(cx, &found, &mut notes);
     if cx.diags.iter().any(Diagnostic::is_error) {
         return None;
     }
@@ -1142,6 +1271,8 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
         default_config,
         configs,
         notes,
+        finish,
+        guides: rd.guides,
     })
 }
 
@@ -1362,25 +1493,64 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                     .flatten()
                     .unwrap_or(1.0)
                     .max(1.0);
-                push(
+                let top = push(
                     cx,
                     rd,
                     n * PI * (r * r - ri * ri) * len * rho,
                     len,
                     "launch lug (off-axis mass placed on the axis)",
                 );
-                cx.warn(
-                    c,
-                    format!("{what}: a launch lug's drag is not represented; its mass is kept"),
-                );
+                let sep = num(cx, c, "instanceseparation")
+                    .ok()
+                    .flatten()
+                    .unwrap_or(0.0);
+                for i in 0..n as usize {
+                    rd.guides.push(Guide {
+                        name: nm.clone(),
+                        kind: GuideKind::Lug {
+                            top: top + i as f64 * sep,
+                            length: len,
+                            outer_diameter: 2.0 * r,
+                            inner_diameter: 2.0 * ri,
+                        },
+                    });
+                }
             }
             "railbutton" => {
+                let od = req(cx, c, "outerdiameter", &what).unwrap_or(0.0);
+                let id = num(cx, c, "innerdiameter").ok().flatten().unwrap_or(0.0);
+                let h = req(cx, c, "height", &what).unwrap_or(0.0);
+                let base = num(cx, c, "baseheight").ok().flatten().unwrap_or(0.0);
+                let flange = num(cx, c, "flangeheight").ok().flatten().unwrap_or(0.0);
+                let n = num(cx, c, "instancecount")
+                    .ok()
+                    .flatten()
+                    .unwrap_or(1.0)
+                    .max(1.0);
+                let sep = num(cx, c, "instanceseparation")
+                    .ok()
+                    .flatten()
+                    .unwrap_or(0.0);
                 let has = child(c, "overridemass").is_some();
                 push(cx, rd, 0.0, 0.0, "rail button");
-                if has {
-                    cx.warn(c, format!("{what}: a rail button's drag is not represented; its (overridden) mass is kept"));
-                } else {
-                    cx.warn(c, format!("{what}: a rail button's drag and mass are not represented (give its mass as an override in OpenRocket to keep it)"));
+                // OpenRocket's rail button is `outerdiameter` long along the body.
+                let top = place(c, p.top, p.length, od);
+                if !has {
+                    cx.warn(c, format!("{what}: a rail button's mass is not represented (give its mass as an override in OpenRocket to keep it); its drag is"));
+                }
+                let inner_height = (h - base - flange).max(0.0);
+                let notch = id > 0.0 && id < od && inner_height > 0.0 && inner_height < h;
+                for i in 0..n as usize {
+                    rd.guides.push(Guide {
+                        name: nm.clone(),
+                        kind: GuideKind::Button {
+                            centre: top + 0.5 * od + i as f64 * sep,
+                            outer_diameter: od,
+                            height: h,
+                            inner_diameter: if notch { id } else { 0.0 },
+                            inner_height: if notch { inner_height } else { 0.0 },
+                        },
+                    });
                 }
             }
             "trapezoidfinset" | "ellipticalfinset" | "freeformfinset" => {

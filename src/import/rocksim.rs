@@ -188,6 +188,7 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
     let mut fins: Vec<(FinSet, Node)> = Vec::new();
     let mut mounts: Vec<(String, f64, f64)> = Vec::new();
     let mut recovery: Vec<Recovery> = Vec::new();
+    let mut guides: Vec<super::Guide> = Vec::new();
     let mut s = 0.0;
     let mut r_prev: Option<f64> = None;
     let mut ahead = String::new();
@@ -364,6 +365,7 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
                 &mut fins,
                 &mut mounts,
                 &mut recovery,
+                &mut guides,
             );
         }
         s = top + len;
@@ -489,6 +491,11 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
             None
         }
     };
+    let mut notes = vec![format!(
+        "RockSim file version {version}: lengths in mm, masses in g; RockSim's stored simulation results and launch conditions are not read (a default scenario is written)"
+    )];
+    let found = finishes(cx, parts);
+    let finish = super::choose_finish(cx, &found, &mut notes);
     if cx.diags.iter().any(Diagnostic::is_error) {
         return None;
     }
@@ -508,10 +515,42 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
         simulations: Vec::new(),
         default_config: configs.first().cloned(),
         configs,
-        notes: vec![format!(
-            "RockSim file version {version}: lengths in mm, masses in g; RockSim's stored simulation results and launch conditions are not read (a default scenario is written)"
-        )],
+        notes,
+        finish,
+        guides,
     })
+}
+
+/// The `<FinishCode>` of each part, as OpenRocket's RockSim reader maps them
+/// (`RockSimFinishCode`: 0 polished -> OpenRocket's POLISHED, 2 um; 1 gloss -> SMOOTH,
+/// 20 um; 2 matt -> NORMAL, 60 um; 3 unfinished -> UNFINISHED, 150 um). OpenRocket takes
+/// any other code as matt; we say so in a warning.
+fn finishes<'a, 'i>(
+    cx: &mut Cx,
+    parts: Node<'a, 'i>,
+) -> Vec<(String, Node<'a, 'i>, &'static str, String)> {
+    let mut found = Vec::new();
+    for f in parts.descendants().filter(|n| n.has_tag_name("FinishCode")) {
+        let Some(comp) = f.parent_element() else {
+            continue;
+        };
+        let text = f.text().unwrap_or("").trim().to_string();
+        let (name, said) = match text.as_str() {
+            "0" => ("sheet_metal", "polished (FinishCode 0)"),
+            "1" => ("smooth_paint", "gloss (FinishCode 1)"),
+            "2" => ("regular_paint", "matt (FinishCode 2)"),
+            "3" => ("unfinished", "unfinished (FinishCode 3)"),
+            _ => {
+                cx.warn(
+                    f,
+                    format!("`{}`: unknown RockSim FinishCode `{text}`, taken as matt (regular paint, 60 um) as OpenRocket does", name_of(comp)),
+                );
+                ("regular_paint", "matt (an unknown FinishCode)")
+            }
+        };
+        found.push((name_of(comp), f, name, said.to_string()));
+    }
+    found
 }
 
 /// The parts attached to a body part spanning [top, top + len] (module doc): fin sets, inner
@@ -527,6 +566,7 @@ fn attached<'a, 'i>(
     fins: &mut Vec<(FinSet, Node<'a, 'i>)>,
     mounts: &mut Vec<(String, f64, f64)>,
     recovery: &mut Vec<Recovery>,
+    guides: &mut Vec<super::Guide>,
 ) {
     use std::f64::consts::PI;
     for c in ap.children().filter(Node::is_element) {
@@ -646,11 +686,24 @@ fn attached<'a, 'i>(
                 let od = val(cx, c, "OD", MM).ok().flatten().unwrap_or(0.0);
                 let id = val(cx, c, "ID", MM).ok().flatten().unwrap_or(0.0);
                 let m = PI / 4.0 * (od * od - id * id) * own * mat.density;
-                cx.warn(
-                    c,
-                    format!("{what}: its drag is not modelled; its mass is kept"),
-                );
-                mass_item(m, "launch lug (mass only)");
+                mass_item(m, "launch lug (off-axis mass placed on the axis)");
+                if !(od > 0.0 && id >= 0.0 && id < od && own > 0.0) {
+                    cx.error(
+                        "import::value",
+                        c,
+                        format!("{what}: a launch lug needs 0 <= ID < OD and a length"),
+                        "launch lug",
+                    );
+                }
+                guides.push(super::Guide {
+                    name: nm.clone(),
+                    kind: super::GuideKind::Lug {
+                        top: at,
+                        length: own,
+                        outer_diameter: od,
+                        inner_diameter: id,
+                    },
+                });
             }
             "Parachute" | "Streamer" => {
                 let cd = val(cx, c, "DragCoefficient", 1.0)

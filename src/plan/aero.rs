@@ -36,8 +36,9 @@ use crate::structure::compile::CompiledVehicle;
 /// axial coefficient sees the fin's thickness and cross-section (issue 34; conical noses'
 /// body tables are unchanged). 5: the lifting-surface panel matrices above Mach 1 from the
 /// steady supersonic panels where piston theory's criterion fails, the band 0.9-1.1 bridged
-/// (issue 33).
-pub const AERO_REVISION: u32 = 5;
+/// (issue 33). 6: skin friction by Reynolds number and surface roughness (OpenRocket's law,
+/// the body's fineness correction; issue 34).
+pub const AERO_REVISION: u32 = 6;
 
 /// Source label of the estimated body table (as [`EstimatedTables::estimate`] names it).
 const BUILTIN_BODY: &str = "builtin-body.csv";
@@ -208,7 +209,7 @@ impl AeroArtifact {
     pub fn to_vehicle_aero(&self, v: &ir::Vehicle) -> Result<VehicleAero, AeroForceError> {
         let (tables, estimated) = match (&v.aero.source, &self.body_table_csv, &self.fin_table_csv)
         {
-            (AeroSource::Builtin { out_of_range }, Some(body), Some(fin)) => {
+            (AeroSource::Builtin { out_of_range, .. }, Some(body), Some(fin)) => {
                 let parse = |kind, label: &str, text: &str| {
                     CoefficientTable::parse_csv(kind, Path::new(label), text, out_of_range.value)
                 };

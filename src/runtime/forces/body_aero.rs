@@ -203,7 +203,10 @@ pub fn aero_tables(v: &ir::Vehicle) -> Result<EstimatedTables, AeroForceError> {
                 fin: t.fin,
             })
         }
-        AeroSource::Builtin { out_of_range } => {
+        AeroSource::Builtin {
+            out_of_range,
+            roughness,
+        } => {
             let Structure::Generate(g) = &v.structure else {
                 return Err(AeroForceError::NoBodyGeometry);
             };
@@ -225,6 +228,8 @@ pub fn aero_tables(v: &ir::Vehicle) -> Result<EstimatedTables, AeroForceError> {
                 },
                 reference_x: v.aero.reference_point.value[0],
                 transitions: b.transition_geoms(),
+                roughness: roughness.value,
+                guides: launch_guides(b),
             };
             let fin = match &v.fins {
                 Some(f) => planform(f, b.radius_under(f)),
@@ -243,6 +248,30 @@ pub fn aero_tables(v: &ir::Vehicle) -> Result<EstimatedTables, AeroForceError> {
             )?)
         }
     }
+}
+
+/// The launch lugs and rail buttons of a generated body, for the estimator's drag.
+fn launch_guides(b: &ir::BodyGeometry) -> Vec<crate::aero::estimator::LaunchGuide> {
+    use crate::aero::estimator::LaunchGuide;
+    let lugs = b.launch_lugs.iter().map(|l| LaunchGuide::Lug {
+        length: l.length.value,
+        outer_diameter: l.outer_diameter.value,
+        inner_diameter: l.inner_diameter.value,
+    });
+    let buttons = b.rail_buttons.iter().map(|r| {
+        let (inner_diameter, inner_height) = r
+            .notch
+            .as_ref()
+            .map_or((0.0, 0.0), |(d, h)| (d.value, h.value));
+        LaunchGuide::Button {
+            from_tip: -r.station.value,
+            outer_diameter: r.outer_diameter.value,
+            height: r.height.value,
+            inner_diameter,
+            inner_height,
+        }
+    });
+    lugs.chain(buttons).collect()
 }
 
 /// The six shape rows of one node (translations then rotations), copied at construction.
