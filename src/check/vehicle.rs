@@ -1732,7 +1732,7 @@ fn check_aero(cx: &mut Cx, b: &Block, diameter: Option<Option<f64>>) -> Option<A
     })
 }
 
-/// `aero { finish = regular_paint }` (a named finish of `aero::estimator::FINISHES`) or
+/// `aero { finish = regular_paint }` (a named finish of `check::finish::FINISHES`) or
 /// `finish = 60 um` (a roughness height, 0 to 10 mm): the surface roughness of the built-in
 /// drag model, OpenRocket's default regular paint (60 um) when not written. With another
 /// source it would have no effect: `vdl::aero::finish` (only when the source was read).
@@ -1742,7 +1742,7 @@ fn check_finish(
     header: Span,
     builtin: Option<bool>,
 ) -> Option<Spanned<f64>> {
-    use crate::aero::estimator::{DEFAULT_ROUGHNESS, FINISHES};
+    use super::finish::{DEFAULT_ROUGHNESS, FINISHES};
     let Some(v) = fl.value("finish") else {
         return Some(Spanned::new(DEFAULT_ROUGHNESS, header));
     };
