@@ -371,3 +371,36 @@ fn transitions_check_and_bad_ones_are_errors_at_the_value() {
         );
     }
 }
+
+/// A body of three diameters (docs/language.md: `transition {...}` "any number, fore to
+/// aft"): a payload section widened ahead of the fins and a boat tail behind them, two
+/// unnamed `transition` blocks, checks and compiles; the check refused the second as a
+/// duplicate block (`vdl::duplicate`) after the launch lugs' repeatable blocks came in.
+#[test]
+fn a_body_of_two_transitions_checks_and_compiles() {
+    let dir = tempfile::tempdir().unwrap();
+    let blocks = "        transition {
+          fore_station = -0.6 m
+          length = 50 mm
+          fore_diameter = 98 mm
+          aft_diameter = 110 mm
+        }
+        transition {
+          fore_station = -1.0 m
+          length = 50 mm
+          fore_diameter = 110 mm
+          aft_diameter = 98 mm
+        }
+";
+    let p = hpr_with(dir.path(), blocks);
+    let o = bin().arg("check").arg(&p).output().unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = bin()
+        .arg("compile")
+        .arg(&p)
+        .arg("--cache-dir")
+        .arg(dir.path().join("cache"))
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}

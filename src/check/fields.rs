@@ -72,8 +72,8 @@ pub struct Fields<'b> {
 }
 
 /// Unnamed blocks a body may hold any number of times (`body { launch_lug { } launch_lug
-/// { } }`): not duplicates.
-const REPEATABLE: [&str; 2] = ["launch_lug", "rail_button"];
+/// { } }`, transitions fore to aft): not duplicates.
+const REPEATABLE: [&str; 3] = ["launch_lug", "rail_button", "transition"];
 
 impl<'b> Fields<'b> {
     /// Wrap a body; reports duplicated fields and blocks at once.
