@@ -967,10 +967,9 @@ impl<'m, F: ForceModel> Eom<'m, F> {
     }
 }
 
-/// `c̄_tot`, `J̄_tot`, `H̄_tot` (into `h`) and `M_tot(η)` (into `mass_matrix`) of `md`,
-/// eqs. (3.2.8)-(3.2.12); the same matrix as [`ReducedModel::mass_matrix_into`] without its
-/// allocation.
-fn assemble(md: &ReducedModel, eta: &[f64], h: &mut [f64], mass_matrix: &mut [f64]) -> Inertia {
+/// `c̄_tot(η)` and `J̄_tot(η)` of `md`, eqs. (3.2.8)-(3.2.9), in the one order of sums that
+/// [`assemble`] and [`refresh_eta_terms`] share (so that their matrices have the same bits).
+fn moments(md: &ReducedModel, eta: &[f64]) -> ([f64; 3], [[f64; 3]; 3]) {
     let n = md.n();
     let mut c = md.first_moment;
     for i in 0..3 {
@@ -995,6 +994,14 @@ fn assemble(md: &ReducedModel, eta: &[f64], h: &mut [f64], mass_matrix: &mut [f6
             }
         }
     }
+    (c, j)
+}
+
+/// `c̄_tot`, `J̄_tot`, `H̄_tot` (into `h`) and `M_tot(η)` (into `mass_matrix`) of `md`,
+/// eqs. (3.2.8)-(3.2.12); the same matrix as [`ReducedModel::mass_matrix_into`] without its
+/// allocation.
+fn assemble(md: &ReducedModel, eta: &[f64], h: &mut [f64], mass_matrix: &mut [f64]) -> Inertia {
+    let (c, j) = moments(md, eta);
     // Lengths were checked in `Eom::new`; a failure here poisons the state with NaN so
     // the integrator stops with "non-finite state" instead of going on silently.
     if md.h_tot_into(eta, h).is_err() {
@@ -1012,29 +1019,7 @@ fn assemble(md: &ReducedModel, eta: &[f64], h: &mut [f64], mass_matrix: &mut [f6
 fn refresh_eta_terms(md: &ReducedModel, eta: &[f64], h: &mut [f64], mass_matrix: &mut [f64]) {
     let n = md.n();
     let d = 6 + n;
-    let mut c = md.first_moment;
-    for i in 0..3 {
-        for m in 0..n {
-            c[i] += md.p_bar[i * n + m] * eta[m];
-        }
-    }
-    let mut j = md.inertia;
-    for m in 0..n {
-        let (jr, em) = (&md.j_ru[m], eta[m]);
-        for i in 0..3 {
-            for k in 0..3 {
-                j[i][k] += em * (jr[i][k] + jr[k][i]);
-            }
-        }
-        for p in 0..n {
-            let (ju, w) = (&md.j_uu[m * n + p], em * eta[p]);
-            for i in 0..3 {
-                for k in 0..3 {
-                    j[i][k] += w * ju[i][k];
-                }
-            }
-        }
-    }
+    let (c, j) = moments(md, eta);
     if md.h_tot_into(eta, h).is_err() {
         h.fill(f64::NAN);
     }
