@@ -267,6 +267,12 @@ fn bad_dispersions_are_diagnosed_at_check() {
             "vdl::dispersion::correlation",
             "strictly between -1 and 1",
         ),
+        (
+            GOOD_VARY,
+            "integrator = rk45",
+            "vdl::value::keyword",
+            "`rk45` is not one of `dop853`, `dopri5`, `exponential`, `rk4`, `scenario`",
+        ),
     ];
     for (vary, corr, code, text) in cases {
         let file = write(dir.path(), vary, corr);
@@ -353,6 +359,7 @@ fn dispersion(entries: Vec<DispersionEntry>, corr: &[(usize, usize, f64)]) -> Di
             })
             .collect(),
         cholesky,
+        integrator: None,
     }
 }
 
@@ -617,6 +624,75 @@ fn the_fast_path_gives_the_summary_bits() {
     // One dot per landing point, one for the legend.
     let svg = read(&figures.join("landing.svg"));
     assert_eq!(svg.matches("<circle").count(), 3 + 1, "{svg}");
+}
+
+/// A dispersion's samples fly the exponential integrator unless told otherwise (issue 35
+/// item 4: the fastest accurate integrator; its statistics against a tight reference:
+/// docs/montecarlo.md): the K1000T's scenario names no integrator, so its dispersion's
+/// rows are those of the same samples flown with `--set run.integrator=exponential`, bit for
+/// bit (and on one job as on two), not those with DOPRI5, the scenario's default; a `--set`
+/// names another. A scenario that names its integrator (the tumble's `dopri5`) keeps it;
+/// the dispersion's `integrator` field overrides it, `scenario` keeps it. The manifest and
+/// `statistics.txt` say which integrator flew.
+#[test]
+fn a_dispersion_flies_the_exponential_integrator_unless_told_otherwise() {
+    let dir = tempfile::tempdir().unwrap();
+    let with_sets = |sets: &[&str], jobs: usize| {
+        let mut o = k1000_opts(2, jobs);
+        o.sets = sets.iter().map(|s| s.to_string()).collect();
+        o
+    };
+    let plain = k1000(&dir.path().join("plain"), &with_sets(&[], 1));
+    let exp = k1000(
+        &dir.path().join("exp"),
+        &with_sets(&["run.integrator=exponential"], 2),
+    );
+    let dopri = k1000(
+        &dir.path().join("dopri5"),
+        &with_sets(&["run.integrator=dopri5"], 1),
+    );
+    assert_eq!((plain.ran, plain.failed), (2, 0), "{:?}", plain.rows);
+    assert_eq!(plain.rows, exp.rows);
+    assert_ne!(plain.rows, dopri.rows);
+    assert_eq!(
+        plain.manifest.integrator.as_deref(),
+        Some("exponential, rtol 1e-7, atol 1e-9")
+    );
+    assert_eq!(
+        dopri.manifest.integrator.as_deref(),
+        Some("dopri5, rtol 1e-7, atol 1e-9")
+    );
+    let json = read(&dir.path().join("plain/montecarlo.json"));
+    assert!(
+        json.contains("\"integrator\": \"exponential, rtol 1e-7, atol 1e-9\""),
+        "{json}"
+    );
+    assert!(
+        read(&dir.path().join("plain/statistics.txt"))
+            .contains("\nintegrator: exponential, rtol 1e-7, atol 1e-9\n")
+    );
+    // Shards flown with different integrators are not one run.
+    let merged = flexflight::ops::montecarlo::runner::merge(&[
+        dir.path().join("plain"),
+        dir.path().join("dopri5"),
+    ]);
+    assert!(merged.is_err_and(|e| e.contains("integrator")));
+
+    // The tumble's scenario says `integrator = dopri5`.
+    let integrator = |field: &str| {
+        let d = tempfile::tempdir().unwrap();
+        let f = write(d.path(), GOOD_VARY, field);
+        let mut o = opts(1, Shard::ALL);
+        o.samples = 2;
+        run_in(&f, &d.path().join("out"), &o).manifest.integrator
+    };
+    let dopri5 = Some("dopri5, rtol 1e-6, atol 1e-9".to_string());
+    assert_eq!(integrator(""), dopri5);
+    assert_eq!(integrator("integrator = scenario"), dopri5);
+    assert_eq!(
+        integrator("integrator = exponential"),
+        Some("exponential, rtol 1e-6, atol 1e-9".to_string())
+    );
 }
 
 /// The run without rows under the canopies (`run::run_without_descent_rows`, the Monte

@@ -6,6 +6,7 @@
 //!   scenario = k1000
 //!   samples = 1000
 //!   seed = 2026
+//!   integrator = exponential   # optional (below)
 //!   vary {
 //!     fins.thickness = truncated_normal(mean = 2 mm, sd = 0.05 mm, min = 1.85 mm, max = 2.15 mm)
 //!     wind.speed = uniform(min = 2 m/s, max = 8 m/s)
@@ -24,6 +25,14 @@
 //! field's range is reported at check time with the override's span, exactly as for a sweep
 //! axis. The correlation matrix must be positive definite: its Cholesky factor is computed
 //! here and kept in the IR.
+//!
+//! `integrator` (optional): `scenario` flies every sample with the scenario's own `run {
+//! integrator }`; a name (`dopri5`, `dop853`, `rk4`, `exponential`) flies them with that one.
+//! Absent, the samples fly the exponential integrator unless the scenario's `run` block names
+//! its integrator: a dispersion's outputs are statistics, and the exponential integrator's
+//! differ from a tight-tolerance reference's by orders of magnitude less than their sampling
+//! error, at a quarter of DOPRI5's cost (docs/montecarlo.md; a single `run` keeps DOPRI5 as
+//! its default, docs/performance.md says why).
 
 use crate::diagnostics::{Diagnostic, did_you_mean};
 use crate::syntax::Spanned;
@@ -51,6 +60,7 @@ pub(crate) fn check_dispersion(
     let samples_v = fl.required(cx, "samples", "1000");
     let seed_v = fl.required(cx, "seed", "2026");
     let corr_v = fl.value("correlations");
+    let integrator_v = fl.value("integrator");
     let vary = fl.required_block(cx, "vary");
     fl.finish(cx);
     let samples = samples_v.and_then(|v| f::count(cx, v, 1, MAX_SAMPLES));
@@ -156,6 +166,15 @@ pub(crate) fn check_dispersion(
         None => None,
     };
     let (sb, _) = scenario_block?;
+    let integrator = match integrator_v {
+        Some(v) => {
+            let mut options: Vec<(&'static str, Option<Integrator>)> = vec![("scenario", None)];
+            options.extend(Integrator::NAMES.iter().map(|&(n, i)| (n, Some(i))));
+            f::keyword(cx, v, &options)
+        }
+        None if names_integrator(sb) => Some(None),
+        None => Some(Some(Integrator::Exponential)),
+    };
     let scen_name = sb.name.as_ref().map(|n| n.name.clone());
     let idx = scen_name.and_then(|n| program.scenarios.iter().position(|s| s.name.value == n));
     if !ok {
@@ -170,6 +189,21 @@ pub(crate) fn check_dispersion(
         entries,
         correlations: correlations?,
         cholesky: cholesky?,
+        integrator: integrator?,
+    })
+}
+
+/// Does the scenario's `run` block name its integrator? Then a dispersion without an
+/// `integrator` field keeps it; otherwise its samples fly the exponential integrator, whose
+/// statistics agree with a tight-tolerance reference within their sampling error at a
+/// quarter of DOPRI5's cost (docs/montecarlo.md, `tools/mc_reference.py`).
+fn names_integrator(scenario: &Block) -> bool {
+    scenario.body.entries.iter().any(|e| {
+        matches!(&e.kind, EntryKind::Block(run) if run.kind.name == "run"
+        && run.body.entries.iter().any(|e| {
+            matches!(&e.kind, EntryKind::Assign(a)
+                if a.path.len() == 1 && a.path[0].name == "integrator")
+        }))
     })
 }
 

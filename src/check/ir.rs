@@ -825,6 +825,24 @@ pub enum Integrator {
     Exponential,
 }
 
+impl Integrator {
+    /// Every integrator with its name in the language (`run { integrator = NAME }`).
+    pub const NAMES: [(&'static str, Integrator); 4] = [
+        ("dopri5", Integrator::Dopri5),
+        ("dop853", Integrator::Dop853),
+        ("rk4", Integrator::Rk4),
+        ("exponential", Integrator::Exponential),
+    ];
+
+    /// The integrator's name in the language.
+    pub fn name(self) -> &'static str {
+        Self::NAMES
+            .iter()
+            .find(|(_, i)| *i == self)
+            .map_or("dopri5", |(n, _)| n)
+    }
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunSettings {
     pub span: Span,
@@ -920,6 +938,12 @@ pub struct Dispersion {
     /// Lower-triangular Cholesky factor `L` of the entries' correlation matrix (row-major,
     /// `entries.len()` squared); empty when there are no correlations.
     pub cholesky: Vec<f64>,
+    /// The integrator every sample flies with, over the scenario's `run { integrator }`
+    /// (`None`: the scenario's own): the dispersion's `integrator` field; when it is absent,
+    /// the exponential integrator unless the scenario's `run` block names one
+    /// (`check::dispersion`, docs/montecarlo.md).
+    #[serde(default)]
+    pub integrator: Option<Integrator>,
 }
 
 /// One drawn input: an override path and its distribution, in the unit written.

@@ -854,17 +854,7 @@ fn check_run(cx: &mut Cx, b: &Block) -> Option<RunSettings> {
         cx,
     );
     let integrator = match fl.value("integrator") {
-        Some(v) => f::keyword(
-            cx,
-            v,
-            &[
-                ("dopri5", Integrator::Dopri5),
-                ("dop853", Integrator::Dop853),
-                ("rk4", Integrator::Rk4),
-                ("exponential", Integrator::Exponential),
-            ],
-        )
-        .map(|i| Spanned::new(i, v.span)),
+        Some(v) => f::keyword(cx, v, &Integrator::NAMES).map(|i| Spanned::new(i, v.span)),
         None => Some(Spanned::new(Integrator::Dopri5, b.header)),
     };
     let tol = |cx: &mut Cx, fl: &mut Fields, n: &'static str, default: f64| match fl.value(n) {

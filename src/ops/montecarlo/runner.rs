@@ -88,6 +88,11 @@ pub struct Manifest {
     /// ([`super::family`]); absent when each sample has its own boundary.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub boundary_nodes: Option<Vec<f64>>,
+    /// The integrator the samples flew with and its tolerances (the dispersion's
+    /// `integrator`, or the scenario's; a `--set run.integrator=...` over both), e.g.
+    /// `exponential, rtol 1e-7, atol 1e-9`; absent when no sample checked.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub integrator: Option<String>,
 }
 
 /// What a run did.
@@ -391,6 +396,17 @@ pub fn run_dispersion(
 ) -> Result<MonteCarloReport, MonteCarloError> {
     let started = Instant::now();
     crate::ops::sequential_linear_algebra();
+    // The dispersion's integrator is an override before the user's `--set`s, which may
+    // name another.
+    let opts = &MonteCarloOptions {
+        sets: d
+            .integrator
+            .map(|i| format!("run.integrator={}", i.name()))
+            .into_iter()
+            .chain(opts.sets.iter().cloned())
+            .collect(),
+        ..opts.clone()
+    };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.jobs.max(1))
         .build()
@@ -406,28 +422,6 @@ pub fn run_dispersion(
         thickness_family(file, d, scenario, opts, &loader)
     };
     let boundary = family.as_ref().map(|f| f.describe()).unwrap_or_default();
-    let manifest = Manifest {
-        dispersion: d.name.value.clone(),
-        scenario: scenario.to_string(),
-        seed: d.seed,
-        samples: opts.samples,
-        shard: opts.shard,
-        entries: d.entries.clone(),
-        columns: header.clone(),
-        stream: "u(seed, i, j) = ((mix(mix(mix(seed) ^ i) ^ j) >> 11) + 0.5) / 2^53, mix the \
-                 SplitMix64 output function; normals by Acklam's inverse CDF with a Halley step"
-            .to_string(),
-        boundary_nodes: family.as_ref().map(|f| f.nodes.clone()),
-    };
-    let samples_dir = out.join("samples");
-    std::fs::create_dir_all(&samples_dir).map_err(io_err(&samples_dir))?;
-    let mpath = out.join("montecarlo.json");
-    write_atomic(
-        &mpath,
-        &(serde_json::to_string_pretty(&manifest).unwrap_or_default() + "\n"),
-    )
-    .map_err(io_err(&mpath))?;
-
     let indices: Vec<usize> = (0..opts.samples).filter(|&i| opts.shard.takes(i)).collect();
     let inputs: Vec<Vec<f64>> = indices.iter().map(|&i| draw(d, i as u64)).collect();
     let mut phases = PhaseSeconds::default();
@@ -448,6 +442,32 @@ pub fn run_dispersion(
     });
     phases.check = prepared.iter().map(|p| p.1).sum();
     let prepared: Vec<Result<Prepared, String>> = prepared.into_iter().map(|p| p.0).collect();
+    let manifest = Manifest {
+        dispersion: d.name.value.clone(),
+        scenario: scenario.to_string(),
+        seed: d.seed,
+        samples: opts.samples,
+        shard: opts.shard,
+        entries: d.entries.clone(),
+        columns: header.clone(),
+        stream: "u(seed, i, j) = ((mix(mix(mix(seed) ^ i) ^ j) >> 11) + 0.5) / 2^53, mix the \
+                 SplitMix64 output function; normals by Acklam's inverse CDF with a Halley step"
+            .to_string(),
+        boundary_nodes: family.as_ref().map(|f| f.nodes.clone()),
+        integrator: prepared
+            .iter()
+            .find_map(|p| p.as_ref().ok())
+            .map(|p| integrator_text(&p.scenario.run)),
+    };
+    let samples_dir = out.join("samples");
+    std::fs::create_dir_all(&samples_dir).map_err(io_err(&samples_dir))?;
+    let mpath = out.join("montecarlo.json");
+    write_atomic(
+        &mpath,
+        &(serde_json::to_string_pretty(&manifest).unwrap_or_default() + "\n"),
+    )
+    .map_err(io_err(&mpath))?;
+
     let ids: Vec<String> = indices
         .iter()
         .map(|&i| sample_id(i, opts.samples))
@@ -544,6 +564,16 @@ pub fn run_dispersion(
         summary,
         phases,
     })
+}
+
+/// `exponential, rtol 1e-7, atol 1e-9`.
+fn integrator_text(run: &crate::check::ir::RunSettings) -> String {
+    format!(
+        "{}, rtol {:e}, atol {:e}",
+        run.integrator.value.name(),
+        run.rtol.value,
+        run.atol.value
+    )
 }
 
 /// Write `samples.csv`, `statistics.json`, `statistics.txt` and `figures/` for `rows`;
@@ -729,9 +759,10 @@ pub fn merge(dirs: &[PathBuf]) -> Result<Merged, String> {
                 || f.columns != m.columns
                 || f.entries != m.entries
                 || f.boundary_nodes != m.boundary_nodes
+                || f.integrator != m.integrator
             {
                 return Err(format!(
-                    "`{}` is another dispersion run (dispersion, seed, samples, entries or boundary nodes differ)",
+                    "`{}` is another dispersion run (dispersion, seed, samples, entries, boundary nodes or integrator differ)",
                     dir.display()
                 ));
             }

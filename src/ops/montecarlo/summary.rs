@@ -129,6 +129,9 @@ pub fn text(manifest: &Manifest, s: &serde_json::Value) -> String {
         s["succeeded"],
         s["failed"]
     );
+    if let Some(i) = &manifest.integrator {
+        let _ = writeln!(t, "integrator: {i}");
+    }
     let _ = writeln!(
         t,
         "{:<26} {:>12} {:>12} {:>12} {:>12} {:>12}   (95 % interval of the mean)",
