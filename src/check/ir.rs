@@ -452,6 +452,57 @@ pub struct Fins {
     /// and leading edge of the mean aerodynamic chord), for the analyses that take a trapezoid.
     #[serde(default, skip_serializing_if = "FinOutline::is_trapezoidal")]
     pub outline: FinOutline,
+    /// Root fillets (`fillet_radius`, `fillet_density`): their mass only, as OpenRocket
+    /// counts them ([`Fillet`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fillet: Option<Fillet>,
+}
+
+/// A concave root fillet of radius `r` on each side of every fin, tangent to the fin and to
+/// the body, along the fin's root chord; its mass is a line mass on the body over the root
+/// chord (`structure::compile::generator_spec`). It stiffens the fin's root, which the
+/// structure does not model (the fin's plate is attached to the body along its root as
+/// without a fillet: the conservative side for flutter), and it is not in the aerodynamics
+/// (OpenRocket 24.12 counts a fillet in the mass only: `FinSet.calculateFilletVolumeCentroid`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Fillet {
+    pub radius: Q,
+    pub density: Q,
+}
+
+impl Fillet {
+    /// Cross-section area of one fillet, m², between a body of radius `body_radius`, the fin
+    /// (a plane through the body axis; the fin's thickness left out, as OpenRocket does) and
+    /// the fillet's circular arc of radius `r`.
+    ///
+    /// Derivation (OpenRocket's `FinSet.calculateFilletCrossSection` states the same
+    /// construction without a derivation). In the section plane put the body axis at O and
+    /// the fin along the ray `z = 0, y > 0`. The fillet's circle (centre C, radius r) is
+    /// tangent to the fin, so C is at height r above it, and tangent to the body from
+    /// outside, so `|OC| = R + r`. Its tangent point T on the fin is the foot of C:
+    /// `|OT| = sqrt((R + r)² - r²)`. The fillet is the part of the right triangle O T C
+    /// (legs `|OT|` and `r`, area `r |OT| / 2`) outside both circles: the triangle minus the
+    /// fillet circle's sector at C between CT and CO (angle `acos(r / (R + r))`, area
+    /// `angle r² / 2`) and the body's sector at O between OT and OC (angle
+    /// `asin(r / (R + r))`, area `angle R² / 2`). The two sectors do not overlap (the
+    /// circles touch on OC only). Limits: `R → ∞` gives `r² (1 - π/4)`, the fillet between
+    /// two perpendicular planes; `r → 0` gives 0. Tested against a numerical integration of
+    /// the region (`tests/fin_fillets.rs`).
+    pub fn section_area(body_radius: f64, r: f64) -> f64 {
+        let hyp = body_radius + r;
+        let ot = (hyp * hyp - r * r).sqrt();
+        let at_c = (r / hyp).acos();
+        let at_o = (r / hyp).asin();
+        0.5 * r * ot - 0.5 * at_c * r * r - 0.5 * at_o * body_radius * body_radius
+    }
+
+    /// The fillets' total mass, kg: two per fin along the root chord `root_chord`.
+    pub fn mass(&self, count: usize, root_chord: f64, body_radius: f64) -> f64 {
+        2.0 * count as f64
+            * Self::section_area(body_radius, self.radius.value)
+            * root_chord
+            * self.density.value
+    }
 }
 
 impl Fins {

@@ -1011,6 +1011,7 @@ fn check_fins(
     let rho_fin = fl
         .value("rho")
         .map(|v| f::positive(f::quantity(cx, v, Dim::DENSITY), cx));
+    let fillet = check_fillet(cx, &mut fl, b.header, body_length.is_some());
     fl.finish(cx);
     let material = match material {
         Some(mut m) if e_fin.is_some() || nu_fin.is_some() || rho_fin.is_some() => {
@@ -1203,7 +1204,59 @@ fn check_fins(
         root_trailing_edge_x: station,
         material: material?,
         outline,
+        fillet: fillet?,
     })
+}
+
+/// `fillet_radius` and `fillet_density` of a fin set: both or neither (a fillet's material
+/// is rarely the fin's, and its mass needs a density: never a silent default); only for a
+/// generated structure (a structure read from files holds its own masses). `None` on an
+/// error, `Some(None)` without a fillet.
+fn check_fillet(
+    cx: &mut Cx,
+    fl: &mut Fields,
+    header: Span,
+    generated: bool,
+) -> Option<Option<Fillet>> {
+    let radius_v = fl.value("fillet_radius");
+    let density_v = fl.value("fillet_density");
+    let radius = radius_v.map(|v| f::positive(f::quantity(cx, v, Dim::LENGTH), cx));
+    let density = density_v.map(|v| f::positive(f::quantity(cx, v, Dim::DENSITY), cx));
+    let (radius, density) = match (radius, density) {
+        (None, None) => return Some(None),
+        (Some(r), Some(d)) => (r?, d?),
+        (r, _) => {
+            let (given, missing) = if r.is_some() {
+                ("fillet_radius", "fillet_density = 1150 kg/m^3")
+            } else {
+                ("fillet_density", "fillet_radius = 6 mm")
+            };
+            let at = radius_v.or(density_v).map_or(header, |v| v.span);
+            cx.push(
+                Diagnostic::error(
+                    "vdl::fins::fillet",
+                    format!("`{given}` without the other half of the fillet"),
+                )
+                .label(at, "given alone")
+                .with_help(format!(
+                    "a root fillet needs its radius and its density (its material is rarely the fin's): add e.g. `{missing}` (an epoxy), or remove `{given}`"
+                )),
+            );
+            return None;
+        }
+    };
+    if !generated {
+        cx.push(
+            Diagnostic::error(
+                "vdl::fins::fillet",
+                "a fillet's mass is added to a generated structure; a structure read from files holds its own masses",
+            )
+            .label(radius.span, "fillet")
+            .with_help("put the fillets' mass in the FE model's mass matrix, and remove `fillet_radius` and `fillet_density`"),
+        );
+        return None;
+    }
+    Some(Some(Fillet { radius, density }))
 }
 
 #[derive(Clone, Copy)]

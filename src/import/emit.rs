@@ -459,7 +459,14 @@ pub(crate) fn emit(
     let fins = &d.fins;
     if let Some(om) = fins.override_mass {
         let area = fins.area();
-        let mg = f64::from(fins.count) * area * fins.thickness * fins.material.density;
+        // OpenRocket's fin set mass includes its fillets; so does the generated one.
+        let mg = f64::from(fins.count) * area * fins.thickness * fins.material.density
+            + fins.fillet.as_ref().map_or(0.0, |(rf, m)| {
+                2.0 * f64::from(fins.count)
+                    * crate::check::ir::Fillet::section_area(r, *rf)
+                    * fins.root
+                    * m.density
+            });
         let xc = fins.root_le + fins.root / 2.0;
         add_difference(
             cx,
@@ -809,6 +816,16 @@ pub(crate) fn emit(
     );
     if let Some(fm) = &fin_mat {
         let _ = writeln!(o, "    material = {}", fm.ident);
+    }
+    if let Some((rf, m)) = &fins.fillet {
+        let _ = writeln!(
+            o,
+            "    # Root fillets of `{}` ({} kg/m^3 in the design): their mass only, as OpenRocket counts them.",
+            comment_safe(&m.name),
+            f(m.density, 6)
+        );
+        let _ = writeln!(o, "    fillet_radius = {}", mm(*rf));
+        let _ = writeln!(o, "    fillet_density = {} kg/m^3", f(m.density, 6));
     }
     let _ = writeln!(o, "  }}");
     // The vehicle flies the default configuration's motor (else the first).

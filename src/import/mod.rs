@@ -392,6 +392,8 @@ pub struct FinSet {
     pub override_mass: Option<f64>,
     /// The planform (issue 34): OpenRocket's trapezoidal, elliptical or freeform fin set.
     pub outline: FinShape,
+    /// Root fillets: radius (m) and material (`<filletradius>`, `<filletmaterial>`).
+    pub fillet: Option<(f64, OrMaterial)>,
 }
 
 /// A fin set's planform as OpenRocket stores it.
@@ -1601,9 +1603,11 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                         "square"
                     }
                 };
-                if num(cx, c, "filletradius").ok().flatten().unwrap_or(0.0) > 0.0 {
-                    cx.warn(c, format!("{what}: the root fillet is not represented"));
-                }
+                // Root fillets: their radius and material (only its density is used).
+                let fillet = match num(cx, c, "filletradius").ok().flatten() {
+                    Some(r) if r > 0.0 => material(cx, c, "filletmaterial").map(|m| (r, m)),
+                    _ => None,
+                };
                 if num(cx, c, "tabheight").ok().flatten().unwrap_or(0.0) > 0.0
                     && num(cx, c, "tablength").ok().flatten().unwrap_or(0.0) > 0.0
                 {
@@ -1640,6 +1644,7 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                         material: mat,
                         override_mass: om,
                         outline,
+                        fillet,
                     });
                 }
             }

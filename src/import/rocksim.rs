@@ -632,6 +632,9 @@ fn attached<'a, 'i>(
                         material: mat,
                         override_mass: kn.map(|k| k.0),
                         outline: FinShape::Trapezoidal,
+                        // RockSim's fillets are not read (OpenRocket's RockSim reader does
+                        // not read them either: no element to follow).
+                        fillet: None,
                     },
                     c,
                 ));
@@ -654,6 +657,7 @@ fn attached<'a, 'i>(
                         material: mat,
                         override_mass: None,
                         outline: FinShape::Freeform(Vec::new()),
+                        fillet: None,
                     },
                     c,
                 ));
