@@ -316,6 +316,27 @@ fn bad_dispersions_are_diagnosed_at_check() {
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
+    // A dispersion that names the vehicle instead of a scenario is told so (it was an
+    // unknown scenario), as a sweep is.
+    let text = std::fs::read_to_string(&file).unwrap().replace(
+        "  scenario = tumble\n  samples",
+        "  scenario = sphads1\n  samples",
+    );
+    std::fs::write(&file, text).unwrap();
+    let out = bin()
+        .args(["check"])
+        .arg(&file)
+        .env("NO_COLOR", "1")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("vdl::reference::kind")
+            && err.contains("`sphads1` is a vehicle, not a scenario")
+            && err.contains("a dispersion varies a scenario"),
+        "{err}"
+    );
 }
 
 fn entry(path: &str, distribution: DispersionLaw) -> DispersionEntry {

@@ -42,7 +42,7 @@ use crate::syntax::print::unit_text;
 use super::fields::{self as f, Fields};
 use super::ir::*;
 use super::scenario::check_scenario;
-use super::{Cx, Decls, SetOverride};
+use super::{Cx, Decls, OtherKind, SetOverride};
 
 /// More samples than this in one dispersion is refused.
 pub const MAX_SAMPLES: usize = 10_000_000;
@@ -209,42 +209,13 @@ fn names_integrator(scenario: &Block) -> bool {
 
 /// The scenario block a dispersion names (with its index in `decls.scenarios`).
 fn find_scenario<'t>(cx: &mut Cx, v: &Value, decls: &Decls<'t>) -> Option<(&'t Block, usize)> {
-    let (sb, i) = {
-        let ValueKind::Name(id) = &v.kind else {
-            cx.push(
-                Diagnostic::error(
-                    "vdl::type::mismatch",
-                    format!("expected a scenario name, found {}", v.describe()),
-                )
-                .label(v.span, "should name a `scenario`"),
-            );
-            return None;
-        };
-        let found = decls
-            .scenarios
-            .iter()
-            .position(|s| s.name.as_ref().is_some_and(|n| n.name == id.name));
-        let Some(i) = found else {
-            let mut d = Diagnostic::error(
-                "vdl::reference::unknown",
-                format!("no scenario named `{}`", id.name),
-            )
-            .label(id.span, "unknown scenario");
-            if let Some(s) = did_you_mean(
-                &id.name,
-                decls
-                    .scenarios
-                    .iter()
-                    .filter_map(|s| s.name.as_ref().map(|n| n.name.as_str())),
-            ) {
-                d = d.with_help(format!("did you mean `{s}`?"));
-            }
-            cx.push(d);
-            return None;
-        };
-        (decls.scenarios[i], i)
-    };
-    Some((sb, i))
+    let others = [OtherKind {
+        kind: "vehicle",
+        blocks: &decls.vehicles,
+        label: Some("a dispersion varies a scenario"),
+        help: Some("declare a scenario that flies this vehicle and vary that"),
+    }];
+    super::reference(cx, v, "scenario", &decls.scenarios, &others).map(|i| (decls.scenarios[i], i))
 }
 
 /// A distribution call: the distribution (in the written unit), the unit's text and the

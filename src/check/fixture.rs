@@ -2,7 +2,7 @@
 //! a flutter test) and the scenarios that test one (`scenario NAME { fixture = ...; tunnel
 //! { ... } }`).
 
-use crate::diagnostics::{Diagnostic, did_you_mean};
+use crate::diagnostics::Diagnostic;
 use crate::syntax::Spanned;
 use crate::syntax::ast::{Block, EntryKind, ValueKind};
 use crate::syntax::print::value_text;
@@ -11,7 +11,7 @@ use crate::units::Dim;
 use super::fields::{self as f, Fields};
 use super::ir::*;
 use super::overrides::{self, is_scenario_path};
-use super::{Cx, Decls, SetOverride, patch, vehicle};
+use super::{Cx, Decls, OtherKind, SetOverride, patch, vehicle};
 
 /// The most quads along either side of a fixture's plate mesh.
 pub const MAX_ELEMENTS: usize = 200;
@@ -298,49 +298,13 @@ pub(crate) fn check_tunnel_test(
     let tunnel_b = fl.required_block(cx, "tunnel");
     fl.finish(cx);
     let fixture_block = fixture_v.and_then(|v| {
-        let ValueKind::Name(id) = &v.kind else {
-            cx.push(
-                Diagnostic::error(
-                    "vdl::type::mismatch",
-                    format!("expected a fixture name, found {}", v.describe()),
-                )
-                .label(v.span, "should name a `fixture`"),
-            );
-            return None;
-        };
-        let found = decls
-            .fixtures
-            .iter()
-            .find(|fb| fb.name.as_ref().is_some_and(|n| n.name == id.name));
-        if found.is_none() {
-            let mut d = Diagnostic::error(
-                "vdl::reference::unknown",
-                format!("no fixture named `{}`", id.name),
-            )
-            .label(id.span, "unknown fixture");
-            if decls
-                .vehicles
-                .iter()
-                .any(|x| x.name.as_ref().is_some_and(|n| n.name == id.name))
-            {
-                d = Diagnostic::error(
-                    "vdl::reference::kind",
-                    format!("`{}` is a vehicle, not a fixture", id.name),
-                )
-                .label(id.span, "this names a vehicle")
-                .with_help("a flown scenario writes `vehicle = NAME`");
-            } else if let Some(s) = did_you_mean(
-                &id.name,
-                decls
-                    .fixtures
-                    .iter()
-                    .filter_map(|fb| fb.name.as_ref().map(|n| n.name.as_str())),
-            ) {
-                d = d.with_help(format!("did you mean `{s}`?"));
-            }
-            cx.push(d);
-        }
-        found.copied()
+        let others = [OtherKind {
+            kind: "vehicle",
+            blocks: &decls.vehicles,
+            label: None,
+            help: Some("a flown scenario writes `vehicle = NAME`"),
+        }];
+        super::reference(cx, v, "fixture", &decls.fixtures, &others).map(|i| decls.fixtures[i])
     });
     let mut overrides_applied = Vec::new();
     let fixture = fixture_block.and_then(|fb| {

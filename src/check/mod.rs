@@ -29,7 +29,7 @@ use std::collections::HashMap;
 use std::path::{Component, Path, PathBuf};
 
 use crate::diagnostics::{Diagnostic, did_you_mean};
-use crate::syntax::ast::{Block, EntryKind, Ident, SourceTree, Value};
+use crate::syntax::ast::{Block, EntryKind, Ident, SourceTree, Value, ValueKind};
 use crate::syntax::{FileId, SourceMap, Span, parse_file};
 
 /// The standard library, embedded so `import "std/..."` works from any directory.
@@ -185,6 +185,78 @@ pub(crate) struct Decls<'t> {
     pub sweeps: Vec<&'t Block>,
     pub fixtures: Vec<&'t Block>,
     pub dispersions: Vec<&'t Block>,
+}
+
+/// A block of another kind that a reference may name by mistake: its kind, its blocks, the
+/// label and help of the `vdl::reference::kind` diagnostic (`None`: "this names a KIND", no
+/// help).
+pub(crate) struct OtherKind<'a, 't> {
+    pub kind: &'static str,
+    pub blocks: &'a [&'t Block],
+    pub label: Option<&'static str>,
+    pub help: Option<&'static str>,
+}
+
+/// A reference by name (`vehicle = NAME`, `scenario = NAME`, `fixture = NAME`): the index in
+/// `blocks` (the declarations of `kind`) of the block `v` names, or a diagnostic at `v`: not
+/// a name (`vdl::type::mismatch`), the name of a block of one of the `others` kinds
+/// (`vdl::reference::kind`), or unknown (`vdl::reference::unknown`, with a "did you mean").
+pub(crate) fn reference(
+    cx: &mut Cx,
+    v: &Value,
+    kind: &str,
+    blocks: &[&Block],
+    others: &[OtherKind],
+) -> Option<usize> {
+    let ValueKind::Name(id) = &v.kind else {
+        cx.push(
+            Diagnostic::error(
+                "vdl::type::mismatch",
+                format!("expected a {kind} name, found {}", v.describe()),
+            )
+            .label(v.span, format!("should name a `{kind}`")),
+        );
+        return None;
+    };
+    let named = |b: &&Block| b.name.as_ref().is_some_and(|n| n.name == id.name);
+    if let Some(i) = blocks.iter().position(named) {
+        return Some(i);
+    }
+    let d = match others.iter().find(|o| o.blocks.iter().any(named)) {
+        Some(o) => {
+            let d = Diagnostic::error(
+                "vdl::reference::kind",
+                format!("`{}` is a {}, not a {kind}", id.name, o.kind),
+            )
+            .label(
+                id.span,
+                o.label
+                    .map_or_else(|| format!("this names a {}", o.kind), str::to_string),
+            );
+            match o.help {
+                Some(h) => d.with_help(h),
+                None => d,
+            }
+        }
+        None => {
+            let d = Diagnostic::error(
+                "vdl::reference::unknown",
+                format!("no {kind} named `{}`", id.name),
+            )
+            .label(id.span, format!("unknown {kind}"));
+            match did_you_mean(
+                &id.name,
+                blocks
+                    .iter()
+                    .filter_map(|b| b.name.as_ref().map(|n| n.name.as_str())),
+            ) {
+                Some(s) => d.with_help(format!("did you mean `{s}`?")),
+                None => d,
+            }
+        }
+    };
+    cx.push(d);
+    None
 }
 
 pub const TOP_LEVEL_KINDS: &[&str] = &[

@@ -1,6 +1,6 @@
 //! Checking `scenario` blocks: the vehicle variant, initial conditions, stimuli, run settings.
 
-use crate::diagnostics::{Diagnostic, did_you_mean};
+use crate::diagnostics::Diagnostic;
 use crate::syntax::Spanned;
 use crate::syntax::ast::{Block, EntryKind, ValueKind};
 use crate::syntax::print::value_text;
@@ -9,7 +9,7 @@ use crate::units::Dim;
 use super::fields::{self as f, Fields};
 use super::ir::*;
 use super::overrides::{self, is_scenario_path};
-use super::{Cx, Decls, SetOverride, patch, vehicle};
+use super::{Cx, Decls, OtherKind, SetOverride, patch, vehicle};
 
 pub(crate) fn check_scenario(
     cx: &mut Cx,
@@ -55,55 +55,18 @@ pub(crate) fn check_scenario(
 
     // Resolve the vehicle and build the variant: base AST + `with` + vehicle `--set`.
     let vehicle_block = vehicle_v.and_then(|v| {
-        let ValueKind::Name(id) = &v.kind else {
-            cx.push(
-                Diagnostic::error(
-                    "vdl::type::mismatch",
-                    format!("expected a vehicle name, found {}", v.describe()),
-                )
-                .label(v.span, "should name a `vehicle`"),
-            );
-            return None;
+        let other = |kind, blocks| OtherKind {
+            kind,
+            blocks,
+            label: None,
+            help: None,
         };
-        let found = decls
-            .vehicles
-            .iter()
-            .find(|vb| vb.name.as_ref().is_some_and(|n| n.name == id.name));
-        if found.is_none() {
-            let kind_elsewhere = [
-                ("material", &decls.materials),
-                ("scenario", &decls.scenarios),
-                ("sweep", &decls.sweeps),
-            ]
-            .into_iter()
-            .find(|(_, list)| {
-                list.iter()
-                    .any(|x| x.name.as_ref().is_some_and(|n| n.name == id.name))
-            })
-            .map(|(k, _)| k);
-            let mut d = Diagnostic::error(
-                "vdl::reference::unknown",
-                format!("no vehicle named `{}`", id.name),
-            )
-            .label(id.span, "unknown vehicle");
-            if let Some(k) = kind_elsewhere {
-                d = Diagnostic::error(
-                    "vdl::reference::kind",
-                    format!("`{}` is a {k}, not a vehicle", id.name),
-                )
-                .label(id.span, format!("this names a {k}"));
-            } else if let Some(s) = did_you_mean(
-                &id.name,
-                decls
-                    .vehicles
-                    .iter()
-                    .filter_map(|vb| vb.name.as_ref().map(|n| n.name.as_str())),
-            ) {
-                d = d.with_help(format!("did you mean `{s}`?"));
-            }
-            cx.push(d);
-        }
-        found.copied()
+        let others = [
+            other("material", &decls.materials),
+            other("scenario", &decls.scenarios),
+            other("sweep", &decls.sweeps),
+        ];
+        super::reference(cx, v, "vehicle", &decls.vehicles, &others).map(|i| decls.vehicles[i])
     });
     let mut overrides_applied = Vec::new();
     let variant = vehicle_block.and_then(|vb| {

@@ -2,7 +2,7 @@
 //! to the scenario as an override and checked, so a bad path or value is reported before
 //! any case runs.
 
-use crate::diagnostics::{Diagnostic, did_you_mean};
+use crate::diagnostics::Diagnostic;
 use crate::syntax::Spanned;
 use crate::syntax::ast::{Block, EntryKind, Number, Value, ValueKind, path_string};
 use crate::syntax::print::value_text;
@@ -10,7 +10,7 @@ use crate::syntax::print::value_text;
 use super::fields::{self as f, Fields};
 use super::ir::*;
 use super::scenario::check_scenario;
-use super::{Cx, Decls, SetOverride};
+use super::{Cx, Decls, OtherKind, SetOverride};
 
 /// More cases than this in one sweep is refused (a typo in a range should not fill a disk).
 pub const MAX_CASES: usize = 1_000_000;
@@ -65,49 +65,15 @@ pub(crate) fn check_sweep(
     };
 
     let scenario_block = scen_v.and_then(|v| {
-        let ValueKind::Name(id) = &v.kind else {
-            cx.push(
-                Diagnostic::error(
-                    "vdl::type::mismatch",
-                    format!("expected a scenario name, found {}", v.describe()),
-                )
-                .label(v.span, "should name a `scenario`"),
-            );
-            return None;
-        };
-        let found = decls
-            .scenarios
-            .iter()
-            .position(|s| s.name.as_ref().is_some_and(|n| n.name == id.name));
-        if found.is_none() {
-            let mut d = Diagnostic::error(
-                "vdl::reference::unknown",
-                format!("no scenario named `{}`", id.name),
-            )
-            .label(id.span, "unknown scenario");
-            if decls
-                .vehicles
-                .iter()
-                .any(|x| x.name.as_ref().is_some_and(|n| n.name == id.name))
-            {
-                d = Diagnostic::error(
-                    "vdl::reference::kind",
-                    format!("`{}` is a vehicle, not a scenario", id.name),
-                )
-                .label(id.span, "a sweep varies a scenario")
-                .with_help("declare a scenario that flies this vehicle and sweep that");
-            } else if let Some(s) = did_you_mean(
-                &id.name,
-                decls
-                    .scenarios
-                    .iter()
-                    .filter_map(|s| s.name.as_ref().map(|n| n.name.as_str())),
-            ) {
-                d = d.with_help(format!("did you mean `{s}`?"));
-            }
-            cx.push(d);
-        }
-        found.map(|i| (i, decls.scenarios[i], id.name.clone()))
+        let others = [OtherKind {
+            kind: "vehicle",
+            blocks: &decls.vehicles,
+            label: Some("a sweep varies a scenario"),
+            help: Some("declare a scenario that flies this vehicle and sweep that"),
+        }];
+        let i = super::reference(cx, v, "scenario", &decls.scenarios, &others)?;
+        let name = decls.scenarios[i].name.as_ref()?.name.clone();
+        Some((i, decls.scenarios[i], name))
     });
     let (combine, axes_block) = match (grid, zip) {
         (Some(g), None) => (Combine::Grid, g),
