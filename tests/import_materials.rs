@@ -80,6 +80,8 @@ fn openrocket_names_map_to_materials_of_their_density() {
         "Titanium",
         "Polycarbonate (Lexan)",
         "ABS - 100% infill",
+        "Steel",
+        "Brass",
     ] {
         assert!(mapped.contains(&must), "{must} is not mapped: {mapped:?}");
     }
@@ -99,6 +101,8 @@ fn names_match_as_words_and_sandwiches_are_not_solids() {
     assert_eq!(std_material_for("Lexan"), Some("polycarbonate"));
     assert_eq!(std_material_for(".125 in Fiberglass/Honeycomb"), None);
     assert_eq!(std_material_for("Absorbent paper"), None);
+    assert_eq!(std_material_for("Stainless steel"), None);
+    assert_eq!(std_material_for("Steel"), Some("steel_1020"));
     assert_eq!(std_material_for("Carbon fiber"), None);
     assert_eq!(std_material_for("Plywood (birch)"), None);
 }

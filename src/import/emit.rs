@@ -43,17 +43,20 @@ pub const MATERIAL_MAP: &[(&str, &str)] = &[
     ("polycarbonate", "polycarbonate"),
     ("lexan", "polycarbonate"),
     ("abs", "abs"),
+    ("steel", "steel_1020"),
+    ("brass", "brass_c26000"),
 ];
 
-/// Words that make a name something else than the solid material a key names: a honeycomb
-/// or foam sandwich ("Fiberglass/Honeycomb" in RockSim's lists) is far less stiff than the
-/// laminate, so such a name is asked for.
-const NOT_SOLID: &[&str] = &["honeycomb", "foam", "core"];
+/// Words that make a name something else than the material a key names: a honeycomb or
+/// foam sandwich ("Fiberglass/Honeycomb" in RockSim's lists) is far less stiff than the
+/// laminate, and a stainless steel is another alloy than the carbon steel of `steel_1020`;
+/// such a name is asked for.
+const OTHER_MATERIAL: &[&str] = &["honeycomb", "foam", "core", "stainless"];
 
 /// The standard material a design's material name maps to, if any (`MATERIAL_MAP`).
 pub fn std_material_for(name: &str) -> Option<&'static str> {
     let lname = name.to_ascii_lowercase();
-    if NOT_SOLID.iter().any(|w| has_word(&lname, w)) {
+    if OTHER_MATERIAL.iter().any(|w| has_word(&lname, w)) {
         return None;
     }
     MATERIAL_MAP
