@@ -220,6 +220,12 @@ fn unmapped_names_are_asked_for_by_name() {
             "{name}: {e}"
         );
         assert!(e.contains(&format!("--material '{name}=")), "{name}: {e}");
+        // Plywood is orthotropic: the help says how to choose an isotropic pair.
+        assert_eq!(
+            e.contains("orthotropic"),
+            name.starts_with("Plywood"),
+            "{name}: {e}"
+        );
         assert!(!out.exists());
     }
 }

@@ -83,6 +83,33 @@ fn has_word(hay: &str, key: &str) -> bool {
     false
 }
 
+/// Words naming orthotropic materials (wood, plywood, paper, fibre laminates), for which the
+/// diagnostic asking for E and nu says how to choose an isotropic pair on the safe side.
+const ORTHOTROPIC: &[&str] = &[
+    "wood",
+    "plywood",
+    "balsa",
+    "basswood",
+    "birch",
+    "spruce",
+    "pine",
+    "maple",
+    "paper",
+    "kraft",
+    "cardboard",
+    "phenolic",
+    "carbon",
+    "fiber",
+    "fibre",
+    "blue tube",
+    "quantum",
+];
+
+fn is_orthotropic(name: &str) -> bool {
+    let lname = name.to_ascii_lowercase();
+    ORTHOTROPIC.iter().any(|w| has_word(&lname, w))
+}
+
 /// The density of a standard-library material, kg/m^3, read from the embedded
 /// `std/materials.vdl`.
 pub fn std_density(name: &str) -> Option<f64> {
@@ -227,10 +254,17 @@ fn resolve_material(cx: &mut Cx, m: &OrMaterial, opts: &Options) -> Option<MatOu
                 ),
             )
             .label(m.at, "used here")
-            .with_help(format!(
-                "give them: --material '{}=E GPa,nu' (e.g. from the supplier's data sheet)",
-                m.name
-            )),
+            .with_help(if is_orthotropic(&m.name) {
+                format!(
+                    "give them: --material '{}=E GPa,nu'. Wood, plywood, paper and fibre laminates are orthotropic, and the fin is an isotropic plate whose shear modulus E / (2 (1 + nu)) the flutter margin (NACA TN 4197) rests on: choose E and nu so that E / (2 (1 + nu)) is no more than the material's in-plane shear modulus (std/materials.vdl's header says why)",
+                    m.name
+                )
+            } else {
+                format!(
+                    "give them: --material '{}=E GPa,nu' (e.g. from the supplier's data sheet)",
+                    m.name
+                )
+            }),
         );
         return None;
     };
