@@ -19,9 +19,18 @@ use super::shapes::NoseShape;
 use super::{Cx, Deploy, Design, GuideKind, MassItem, MotorRef, Options, OrMaterial};
 use crate::diagnostics::Diagnostic;
 
-/// Standard-library materials the names rocketeers use map to (case-insensitive substring,
-/// standard material).
+/// Standard-library materials the names rocketeers use map to: (key, standard material).
+/// A key matches a design's material name case-insensitively as a whole word or words
+/// (`std_material_for`), first key first, so the specific keys (an alloy's number) come
+/// before the general ones ("aluminum"). The names are OpenRocket's bulk materials
+/// (`core/src/main/java/info/openrocket/core/database/Databases.java`) and the RockSim
+/// material lists OpenRocket bundles (`datafiles/rocksim_src/*/MATERIAL.CSV`); a name no
+/// key matches is asked for (`--material`), never defaulted.
 pub const MATERIAL_MAP: &[(&str, &str)] = &[
+    ("7075", "aluminium_7075_t6"),
+    ("2024", "aluminium_2024_t3"),
+    ("6061", "aluminium_6061_t6"),
+    ("2014", "aluminium_2014_t6"),
     ("fiberglass", "fibreglass_g10"),
     ("fibreglass", "fibreglass_g10"),
     ("g10", "fibreglass_g10"),
@@ -30,17 +39,101 @@ pub const MATERIAL_MAP: &[(&str, &str)] = &[
     ("fr-4", "fibreglass_g10"),
     ("aluminum", "aluminium_6061_t6"),
     ("aluminium", "aluminium_6061_t6"),
+    ("titanium", "titanium_6al4v"),
+    ("polycarbonate", "polycarbonate"),
+    ("lexan", "polycarbonate"),
+    ("abs", "abs"),
+    ("steel", "steel_1020"),
+    ("brass", "brass_c26000"),
 ];
 
-/// (E, nu) of a standard-library material, read from the embedded `std/materials.vdl`.
-pub fn std_elastic(name: &str) -> Option<(f64, f64)> {
+/// Words that make a name something else than the material a key names: a honeycomb or
+/// foam sandwich ("Fiberglass/Honeycomb" in RockSim's lists) is far less stiff than the
+/// laminate, and a stainless steel is another alloy than the carbon steel of `steel_1020`;
+/// such a name is asked for.
+const OTHER_MATERIAL: &[&str] = &["honeycomb", "foam", "core", "stainless"];
+
+/// The standard material a design's material name maps to, if any (`MATERIAL_MAP`).
+pub fn std_material_for(name: &str) -> Option<&'static str> {
+    let lname = name.to_ascii_lowercase();
+    if OTHER_MATERIAL.iter().any(|w| has_word(&lname, w)) {
+        return None;
+    }
+    MATERIAL_MAP
+        .iter()
+        .find(|(k, _)| has_word(&lname, k))
+        .map(|(_, std)| *std)
+}
+
+/// Whether `key` occurs in `hay` not joined to a letter or digit on either side ("abs" is
+/// in "ABS - 100% infill", not in "Absorbent"; "2024" in "Aluminum 2024").
+fn has_word(hay: &str, key: &str) -> bool {
+    let mut from = 0;
+    while let Some(i) = hay[from..].find(key) {
+        let a = from + i;
+        let b = a + key.len();
+        let before = hay[..a].chars().next_back();
+        let after = hay[b..].chars().next();
+        let joined = |c: Option<char>| c.is_some_and(char::is_alphanumeric);
+        if !joined(before) && !joined(after) {
+            return true;
+        }
+        from = a + key.len().max(1);
+    }
+    false
+}
+
+/// Words naming orthotropic materials (wood, plywood, paper, fibre laminates), for which the
+/// diagnostic asking for E and nu says how to choose an isotropic pair on the safe side.
+const ORTHOTROPIC: &[&str] = &[
+    "wood",
+    "plywood",
+    "balsa",
+    "basswood",
+    "birch",
+    "spruce",
+    "pine",
+    "maple",
+    "paper",
+    "kraft",
+    "cardboard",
+    "phenolic",
+    "carbon",
+    "fiber",
+    "fibre",
+    "blue tube",
+    "quantum",
+];
+
+fn is_orthotropic(name: &str) -> bool {
+    let lname = name.to_ascii_lowercase();
+    ORTHOTROPIC.iter().any(|w| has_word(&lname, w))
+}
+
+/// The density of a standard-library material, kg/m^3, read from the embedded
+/// `std/materials.vdl`.
+pub fn std_density(name: &str) -> Option<f64> {
+    let body = std_block(name)?;
+    body.lines()
+        .map(|l| l.split('#').next().unwrap_or("").trim())
+        .find_map(|l| l.strip_prefix("rho ="))
+        .and_then(|v| v.trim().strip_suffix("kg/m^3"))
+        .and_then(|v| v.trim().parse::<f64>().ok())
+}
+
+fn std_block(name: &str) -> Option<&'static str> {
     let text = crate::check::STDLIB
         .iter()
         .find(|(p, _)| *p == "std/materials.vdl")?
         .1;
     let start = text.find(&format!("material {name} {{"))?;
     let body = &text[start..];
-    let body = &body[..body.find('}')?];
+    Some(&body[..body.find('}')?])
+}
+
+/// (E, nu) of a standard-library material, read from the embedded `std/materials.vdl`.
+pub fn std_elastic(name: &str) -> Option<(f64, f64)> {
+    let body = std_block(name)?;
     let mut e = None;
     let mut nu = None;
     for line in body.lines() {
@@ -103,8 +196,13 @@ struct MatOut {
     block: String,
 }
 
+/// A design's density further than this factor from the standard material's it is mapped to
+/// is warned about (`resolve_material`): OpenRocket's own database densities of the mapped
+/// names are within 1.02 of the standard materials' (tests/import_materials.rs), while a
+/// foam or a partial infill is several times lighter.
+const DENSITY_FACTOR: f64 = 1.5;
+
 fn resolve_material(cx: &mut Cx, m: &OrMaterial, opts: &Options) -> Option<MatOut> {
-    let lname = m.name.to_ascii_lowercase();
     let given = opts
         .materials
         .iter()
@@ -115,12 +213,36 @@ fn resolve_material(cx: &mut Cx, m: &OrMaterial, opts: &Options) -> Option<MatOu
             g.nu,
             "E and nu given on the command line (--material)".to_string(),
         )
-    } else if let Some((_, std)) = MATERIAL_MAP.iter().find(|(k, _)| lname.contains(k)) {
+    } else if let Some(std) = std_material_for(&m.name) {
         let (e, nu) = std_elastic(std)?;
+        let rho = std_density(std)?;
+        let ratio = m.density / rho;
+        if !(1.0 / DENSITY_FACTOR..=DENSITY_FACTOR).contains(&ratio) {
+            cx.diags.push(
+                Diagnostic::warning(
+                    "import::material::density",
+                    format!(
+                        "material `{}` ({} kg/m^3) is taken as `{std}` ({} kg/m^3 in std/materials.vdl) for its E and nu, but its density is {:.2} times that",
+                        m.name,
+                        f(m.density, 4),
+                        f(rho, 4),
+                        ratio
+                    ),
+                )
+                .label(m.at, "used here")
+                .with_help(format!(
+                    "a foam, a core, a partial infill or another material is less stiff than the solid `{std}`: if so, give --material '{}=E GPa,nu'",
+                    m.name
+                )),
+            );
+        }
         (
             e,
             nu,
-            format!("E and nu of `{std}` in std/materials.vdl (see its sources)"),
+            format!(
+                "E and nu of `{std}` ({} kg/m^3) in std/materials.vdl (see its sources there)",
+                f(rho, 4)
+            ),
         )
     } else {
         cx.diags.push(
@@ -132,10 +254,17 @@ fn resolve_material(cx: &mut Cx, m: &OrMaterial, opts: &Options) -> Option<MatOu
                 ),
             )
             .label(m.at, "used here")
-            .with_help(format!(
-                "give them: --material '{}=E GPa,nu' (e.g. from the supplier's data sheet)",
-                m.name
-            )),
+            .with_help(if is_orthotropic(&m.name) {
+                format!(
+                    "give them: --material '{}=E GPa,nu'. Wood, plywood, paper and fibre laminates are orthotropic, and the fin is an isotropic plate whose shear modulus E / (2 (1 + nu)) the flutter margin (NACA TN 4197) rests on: choose E and nu so that E / (2 (1 + nu)) is no more than the material's in-plane shear modulus (std/materials.vdl's header says why)",
+                    m.name
+                )
+            } else {
+                format!(
+                    "give them: --material '{}=E GPa,nu' (e.g. from the supplier's data sheet)",
+                    m.name
+                )
+            }),
         );
         return None;
     };
@@ -143,7 +272,7 @@ fn resolve_material(cx: &mut Cx, m: &OrMaterial, opts: &Options) -> Option<MatOu
     let mut block = String::new();
     let _ = writeln!(
         block,
-        "# OpenRocket material `{}`: density {} kg/m^3 from the design; {source}.",
+        "# The design's material `{}`: density {} kg/m^3 from the design; {source}.",
         comment_safe(&m.name),
         f(m.density, 4)
     );
