@@ -1,0 +1,245 @@
+//! Issue 34, item 2: any number of fin sets. Further sets are named `fins` blocks
+//! (`fins canards { ... }`) beside the unnamed one (the flexible, meshed set), checked by the
+//! same code (`check::fin_sets`), rigid in the flight: their mass a rigid body on the body
+//! (`structure::generate`), their aerodynamics in the built-in estimator's body table
+//! (`aero::estimator`). Checked against hand values (planform area x thickness x density x
+//! count; Barrowman's slope and centre of pressure).
+
+#![allow(clippy::unwrap_used)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use flexflight::check::ir;
+use flexflight::check::{DiskLoader, check_files};
+
+fn repo(p: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(p)
+}
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_flexflight"))
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Four trapezoidal canards of 2.5 mm aluminium, their root trailing edge 0.65 m aft of the
+/// tip (0.2 m behind the nose's base), turned 45 deg from the main fins' first.
+const CANARDS: &str = "  fins canards {
+    count = 4
+    span = 60 mm
+    root_chord = 80 mm
+    tip_chord = 40 mm
+    leading_edge_sweep = 30 deg
+    thickness = 2.5 mm
+    root_trailing_edge = -0.65 m
+    angles = [45 deg, 135 deg, 225 deg, 315 deg]
+    material = aluminium_6061_t6
+  }
+
+";
+
+/// Where the further blocks go: after the unnamed `fins` block of the HPR example.
+const ANCHOR: &str = "  # AeroTech K1000T, 75 mm x 396 mm";
+
+/// The HPR K1000 example (its motor files copied along) with `blocks` inserted after its
+/// `fins` block, written to `dir/name.vdl`.
+fn hpr_with(dir: &Path, name: &str, blocks: &str) -> PathBuf {
+    let text = std::fs::read_to_string(repo("examples/hpr_k1000/hpr_k1000.vdl")).unwrap();
+    for e in std::fs::read_dir(repo("examples/hpr_k1000")).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_file() {
+            std::fs::copy(&p, dir.join(p.file_name().unwrap())).unwrap();
+        }
+    }
+    assert_eq!(text.matches(ANCHOR).count(), 1);
+    let t = text.replacen(ANCHOR, &format!("{blocks}{ANCHOR}"), 1);
+    let p = dir.join(format!("{name}.vdl"));
+    std::fs::write(&p, t).unwrap();
+    p
+}
+
+/// The 1-based line of the last occurrence of `needle` in the file `p`.
+fn line_of(p: &Path, needle: &str) -> usize {
+    let text = std::fs::read_to_string(p).unwrap();
+    let at = text.rfind(needle).unwrap();
+    text[..at].matches('\n').count() + 1
+}
+
+fn checked(p: &Path, sets: &[&str]) -> flexflight::check::Checked {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    check_files(&[p.to_path_buf()], &sets, &DiskLoader)
+}
+
+fn codes(c: &flexflight::check::Checked) -> Vec<(&'static str, String)> {
+    c.diagnostics
+        .iter()
+        .map(|d| (d.code, d.message.clone()))
+        .collect()
+}
+
+fn vehicle(c: &flexflight::check::Checked) -> &ir::Vehicle {
+    assert!(!c.has_errors(), "{:?}", codes(c));
+    &c.program.vehicles[0]
+}
+
+// ---- the language and check ------------------------------------------------------------------
+
+/// A named `fins` block is a further set with the fields of `fins`, checked by the same code
+/// (SI values, the default angles); the unnamed block stays the vehicle's flexible set; a
+/// warning at `check` says the further set is rigid. On the old checker the second block was
+/// read as nothing: no set, no warning.
+#[test]
+fn a_named_fins_block_is_a_further_rigid_set_with_the_fields_of_fins() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = hpr_with(dir.path(), "canards", CANARDS);
+    let c = checked(&p, &[]);
+    let v = vehicle(&c);
+    let primary = v.fins.as_ref().unwrap();
+    assert_eq!(primary.count.value, 3);
+    assert_eq!(v.fin_sets.len(), 1);
+    let s = &v.fin_sets[0];
+    assert_eq!(s.name.value, "canards");
+    let f = &s.fins;
+    assert_eq!(f.count.value, 4);
+    assert!((f.span.value - 0.060).abs() < 1e-15);
+    assert!((f.root_chord.value - 0.080).abs() < 1e-15);
+    assert!((f.tip_chord.value - 0.040).abs() < 1e-15);
+    assert!((f.thickness.value - 0.0025).abs() < 1e-15);
+    assert!((f.leading_edge_sweep.value - 30f64.to_radians()).abs() < 1e-15);
+    assert!((f.root_trailing_edge_x.value + 0.65).abs() < 1e-15);
+    assert_eq!(f.material.name.value, "aluminium_6061_t6");
+    assert!((f.angles[1].value - 135f64.to_radians()).abs() < 1e-15);
+    let warn: Vec<_> = c
+        .diagnostics
+        .iter()
+        .filter(|d| d.code == "vdl::fins::rigid_set")
+        .collect();
+    assert_eq!(warn.len(), 1, "{:?}", codes(&c));
+    assert!(!warn[0].is_error());
+    // The other outlines and fields of `fins` are the same code's: an elliptical, rounded
+    // set with its own E.
+    let ell = CANARDS
+        .replacen("    tip_chord = 40 mm\n", "    planform = elliptical\n", 1)
+        .replacen("    leading_edge_sweep = 30 deg\n", "    cross_section = rounded\n    E = 69 GPa\n", 1);
+    let p = hpr_with(dir.path(), "elliptical", &ell);
+    let c = checked(&p, &[]);
+    let f = &vehicle(&c).fin_sets[0].fins;
+    assert!(!f.outline.is_trapezoidal());
+    assert_eq!(f.cross_section.value, ir::FinSection::Rounded);
+    assert!((f.material.youngs_modulus.value - 69e9).abs() < 1.0);
+}
+
+/// `--set`, `with`, sweeps and dispersions all apply a dotted path to the syntax tree:
+/// `fins.canards.thickness` (and `canards.thickness`) reach the named set, `fins.thickness`
+/// the unnamed one even where a named block is written before it (the old override took the
+/// first block of kind `fins`, whatever its name).
+#[test]
+fn overrides_reach_the_named_set_and_fins_still_means_the_unnamed_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = hpr_with(dir.path(), "canards", CANARDS);
+    let c = checked(&p, &["fins.canards.thickness=3 mm"]);
+    let v = vehicle(&c);
+    assert!((v.fin_sets[0].fins.thickness.value - 0.003).abs() < 1e-15);
+    assert!((v.fins.as_ref().unwrap().thickness.value - 0.002).abs() < 1e-15);
+    let c = checked(&p, &["canards.span=70 mm"]);
+    assert!((vehicle(&c).fin_sets[0].fins.span.value - 0.070).abs() < 1e-15);
+    // A named block written before the unnamed one.
+    let text = std::fs::read_to_string(&p).unwrap();
+    let moved = text.replacen(CANARDS, "", 1).replacen(
+        "  fins {\n    count = 3",
+        &format!("{CANARDS}  fins {{\n    count = 3"),
+        1,
+    );
+    assert_ne!(moved, text);
+    let q = dir.path().join("first.vdl");
+    std::fs::write(&q, moved).unwrap();
+    let c = checked(&q, &["fins.thickness=1.5 mm"]);
+    let v = vehicle(&c);
+    assert!((v.fins.as_ref().unwrap().thickness.value - 0.0015).abs() < 1e-15);
+    assert!((v.fin_sets[0].fins.thickness.value - 0.0025).abs() < 1e-15);
+    assert_eq!(v.fins.as_ref().unwrap().count.value, 3);
+    // An unknown field of the named set is reported at the override.
+    let c = checked(&p, &["fins.canards.thicknes=3 mm"]);
+    assert!(c.has_errors());
+    assert!(
+        c.diagnostics.iter().any(|d| d.message.contains("thicknes")),
+        "{:?}",
+        codes(&c)
+    );
+}
+
+/// Bad further sets are errors at `check` with the file, line and column and exit 1: two sets
+/// that overlap (the same stations and an angle in common), a set on the nose, behind the
+/// tail, a duplicate name; a set whose fins stand between the other set's at the same
+/// stations is no overlap.
+#[test]
+fn bad_fin_sets_are_errors_at_check_with_line_and_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = hpr_with(dir.path(), "ok", CANARDS);
+    let o = bin().arg("check").arg(&p).output().unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stderr(&o).contains("vdl::fins::rigid_set"), "{}", stderr(&o));
+    let cases: [(&str, String, &str, &str); 5] = [
+        // At the main fins' stations, a fin at 0 deg like the main set's first.
+        (
+            "overlap",
+            CANARDS
+                .replacen("root_trailing_edge = -0.65 m", "root_trailing_edge = -1.85 m", 1)
+                .replacen("angles = [45 deg, 135 deg, 225 deg, 315 deg]", "angles = [0 deg, 90 deg, 180 deg, 270 deg]", 1),
+            "vdl::fins::overlap",
+            "root_trailing_edge = -1.85 m",
+        ),
+        (
+            "nose",
+            CANARDS.replacen("root_trailing_edge = -0.65 m", "root_trailing_edge = -0.5 m", 1),
+            "vdl::fins::placement",
+            "root_trailing_edge = -0.5 m",
+        ),
+        (
+            "tail",
+            CANARDS.replacen("root_trailing_edge = -0.65 m", "root_trailing_edge = -1.95 m", 1),
+            "vdl::value::range",
+            "root_trailing_edge = -1.95 m",
+        ),
+        (
+            "duplicate",
+            format!("{CANARDS}{CANARDS}"),
+            "vdl::duplicate",
+            "fins canards {",
+        ),
+        // Two named sets overlapping each other.
+        (
+            "pair",
+            format!(
+                "{CANARDS}{}",
+                CANARDS
+                    .replacen("fins canards", "fins strakes", 1)
+                    .replacen("root_trailing_edge = -0.65 m", "root_trailing_edge = -0.7 m", 1)
+                    .replacen("angles = [45 deg, 135 deg, 225 deg, 315 deg]", "angles = [135 deg, 10 deg, 100 deg, 190 deg]", 1)
+            ),
+            "vdl::fins::overlap",
+            "root_trailing_edge = -0.7 m",
+        ),
+    ];
+    for (name, blocks, code, at) in cases {
+        let p = hpr_with(dir.path(), name, &blocks);
+        let o = bin().arg("check").arg(&p).output().unwrap();
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "{name}: {e}");
+        assert!(e.contains(code), "{name}: {e}");
+        // At the last occurrence (the duplicate: the second header).
+        let line = line_of(&p, at);
+        assert!(e.contains(&format!("{name}.vdl:{line}:")), "{name} at line {line}: {e}");
+    }
+    // Between the main fins (0, 120, 240 deg) at their stations: no overlap.
+    let between = CANARDS
+        .replacen("count = 4", "count = 3", 1)
+        .replacen("root_trailing_edge = -0.65 m", "root_trailing_edge = -1.85 m", 1)
+        .replacen("angles = [45 deg, 135 deg, 225 deg, 315 deg]", "angles = [60 deg, 180 deg, 300 deg]", 1);
+    let p = hpr_with(dir.path(), "between", &between);
+    let o = bin().arg("check").arg(&p).output().unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
