@@ -123,7 +123,11 @@ fn a_named_fins_block_is_a_further_rigid_set_with_the_fields_of_fins() {
     // set with its own E.
     let ell = CANARDS
         .replacen("    tip_chord = 40 mm\n", "    planform = elliptical\n", 1)
-        .replacen("    leading_edge_sweep = 30 deg\n", "    cross_section = rounded\n    E = 69 GPa\n", 1);
+        .replacen(
+            "    leading_edge_sweep = 30 deg\n",
+            "    cross_section = rounded\n    E = 69 GPa\n",
+            1,
+        );
     let p = hpr_with(dir.path(), "elliptical", &ell);
     let c = checked(&p, &[]);
     let f = &vehicle(&c).fin_sets[0].fins;
@@ -181,26 +185,46 @@ fn bad_fin_sets_are_errors_at_check_with_line_and_column() {
     let p = hpr_with(dir.path(), "ok", CANARDS);
     let o = bin().arg("check").arg(&p).output().unwrap();
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(stderr(&o).contains("vdl::fins::rigid_set"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("vdl::fins::rigid_set"),
+        "{}",
+        stderr(&o)
+    );
     let cases: [(&str, String, &str, &str); 5] = [
         // At the main fins' stations, a fin at 0 deg like the main set's first.
         (
             "overlap",
             CANARDS
-                .replacen("root_trailing_edge = -0.65 m", "root_trailing_edge = -1.85 m", 1)
-                .replacen("angles = [45 deg, 135 deg, 225 deg, 315 deg]", "angles = [0 deg, 90 deg, 180 deg, 270 deg]", 1),
+                .replacen(
+                    "root_trailing_edge = -0.65 m",
+                    "root_trailing_edge = -1.85 m",
+                    1,
+                )
+                .replacen(
+                    "angles = [45 deg, 135 deg, 225 deg, 315 deg]",
+                    "angles = [0 deg, 90 deg, 180 deg, 270 deg]",
+                    1,
+                ),
             "vdl::fins::overlap",
             "root_trailing_edge = -1.85 m",
         ),
         (
             "nose",
-            CANARDS.replacen("root_trailing_edge = -0.65 m", "root_trailing_edge = -0.5 m", 1),
+            CANARDS.replacen(
+                "root_trailing_edge = -0.65 m",
+                "root_trailing_edge = -0.5 m",
+                1,
+            ),
             "vdl::fins::placement",
             "root_trailing_edge = -0.5 m",
         ),
         (
             "tail",
-            CANARDS.replacen("root_trailing_edge = -0.65 m", "root_trailing_edge = -1.95 m", 1),
+            CANARDS.replacen(
+                "root_trailing_edge = -0.65 m",
+                "root_trailing_edge = -1.95 m",
+                1,
+            ),
             "vdl::value::range",
             "root_trailing_edge = -1.95 m",
         ),
@@ -217,8 +241,16 @@ fn bad_fin_sets_are_errors_at_check_with_line_and_column() {
                 "{CANARDS}{}",
                 CANARDS
                     .replacen("fins canards", "fins strakes", 1)
-                    .replacen("root_trailing_edge = -0.65 m", "root_trailing_edge = -0.7 m", 1)
-                    .replacen("angles = [45 deg, 135 deg, 225 deg, 315 deg]", "angles = [135 deg, 10 deg, 100 deg, 190 deg]", 1)
+                    .replacen(
+                        "root_trailing_edge = -0.65 m",
+                        "root_trailing_edge = -0.7 m",
+                        1
+                    )
+                    .replacen(
+                        "angles = [45 deg, 135 deg, 225 deg, 315 deg]",
+                        "angles = [135 deg, 10 deg, 100 deg, 190 deg]",
+                        1
+                    )
             ),
             "vdl::fins::overlap",
             "root_trailing_edge = -0.7 m",
@@ -232,14 +264,107 @@ fn bad_fin_sets_are_errors_at_check_with_line_and_column() {
         assert!(e.contains(code), "{name}: {e}");
         // At the last occurrence (the duplicate: the second header).
         let line = line_of(&p, at);
-        assert!(e.contains(&format!("{name}.vdl:{line}:")), "{name} at line {line}: {e}");
+        assert!(
+            e.contains(&format!("{name}.vdl:{line}:")),
+            "{name} at line {line}: {e}"
+        );
     }
     // Between the main fins (0, 120, 240 deg) at their stations: no overlap.
     let between = CANARDS
         .replacen("count = 4", "count = 3", 1)
-        .replacen("root_trailing_edge = -0.65 m", "root_trailing_edge = -1.85 m", 1)
-        .replacen("angles = [45 deg, 135 deg, 225 deg, 315 deg]", "angles = [60 deg, 180 deg, 300 deg]", 1);
+        .replacen(
+            "root_trailing_edge = -0.65 m",
+            "root_trailing_edge = -1.85 m",
+            1,
+        )
+        .replacen(
+            "angles = [45 deg, 135 deg, 225 deg, 315 deg]",
+            "angles = [60 deg, 180 deg, 300 deg]",
+            1,
+        );
     let p = hpr_with(dir.path(), "between", &between);
     let o = bin().arg("check").arg(&p).output().unwrap();
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+// ---- mass ------------------------------------------------------------------------------------
+
+/// The canards' hand values: one fin's area, its centroid's body x (root leading edge at
+/// -0.57 m; the trapezoid's centroid `(x_t (c_r + 2 c_t) + c_r^2 + c_r c_t + c_t^2) / (3 (c_r +
+/// c_t))` aft of it, x_t = s tan 30 deg), and `int c(y) (r + y)^2 dy` over the span (r the
+/// body radius, c linear from c_r to c_t: a polynomial integrated exactly by Simpson's rule).
+fn canard_hand() -> (f64, f64, f64) {
+    let (s, cr, ct) = (0.060, 0.080, 0.040);
+    let xt = s * 30f64.to_radians().tan();
+    let area = 0.5 * (cr + ct) * s;
+    let aft = (xt * (cr + 2.0 * ct) + cr * cr + cr * ct + ct * ct) / (3.0 * (cr + ct));
+    let r = 0.049;
+    let g = |y: f64| (cr + (ct - cr) * y / s) * (r + y).powi(2);
+    let second = s / 6.0 * (g(0.0) + 4.0 * g(0.5 * s) + g(s));
+    (area, -0.57 - aft, second)
+}
+
+/// A further set's exact mass (area x thickness x density x count), centre of mass and
+/// inertia about the axis enter the compiled structure as a rigid body on the nearest body
+/// node: the compiled FE model's rigid-body mass matrix (the flight's mass properties) rises
+/// by the hand values, and it equals the closed-form `analytic_mass_properties` of the whole
+/// vehicle. On the old code the set added no mass at all.
+#[test]
+fn a_further_set_adds_its_exact_mass_centre_and_inertia_to_the_compiled_structure() {
+    use flexflight::structure::compile::{compile, generator_spec};
+    use flexflight::structure::generate::{analytic_mass_properties, rigid_body_projection};
+    let dir = tempfile::tempdir().unwrap();
+    let with = checked(&hpr_with(dir.path(), "canards", CANARDS), &[]);
+    let without = checked(&hpr_with(dir.path(), "plain", ""), &[]);
+    let (vw, vo) = (vehicle(&with), vehicle(&without));
+    let (cw, fw) = compile(vw).unwrap();
+    let (co, fo) = compile(vo).unwrap();
+    let (pw, po) = (rigid_body_projection(&fw), rigid_body_projection(&fo));
+    let (area, x_c, second) = canard_hand();
+    let (rho, t, n) = (2710.0, 0.0025, 4.0);
+    assert_eq!(vw.fin_sets[0].fins.material.density.value, 2710.0);
+    let m_set = n * rho * t * area;
+    let dm = pw[0][0] - po[0][0];
+    assert!((dm - m_set).abs() < 1e-12 * m_set, "{dm} vs {m_set}");
+    // The first moment, from the compiled centres of mass.
+    let (mw, mo) = (pw[0][0], po[0][0]);
+    let first = mw * cw.centre_of_mass[0] - mo * co.centre_of_mass[0];
+    assert!(
+        (first - m_set * x_c).abs() < 1e-9 * (m_set * x_c).abs(),
+        "{first} vs {}",
+        m_set * x_c
+    );
+    // The centre stays on the axis (four fins at 90 deg steps).
+    assert!(cw.centre_of_mass[1].abs() < 1e-12 && cw.centre_of_mass[2].abs() < 1e-12);
+    // Roll inertia about the axis: sum over the fins of rho t (int c (r + y)^2 dy + t^2/12 A).
+    let ixx = n * rho * t * (second + t * t / 12.0 * area);
+    let d_ixx = pw[3][3] - po[3][3];
+    assert!((d_ixx - ixx).abs() < 1e-9 * ixx, "{d_ixx} vs {ixx}");
+    // The set's whole 6 x 6 (products of inertia included) against the closed form of the
+    // generator's spec (the motor, added by `compile`, is in neither difference).
+    let spec = |v: &ir::Vehicle| {
+        let ir::Structure::Generate(g) = &v.structure else {
+            panic!()
+        };
+        generator_spec(v, g)
+    };
+    let (sw, so) = (spec(vw), spec(vo));
+    assert_eq!(sw.rigid_fins.len(), 1);
+    let (ew, eo) = (
+        analytic_mass_properties(&sw).rigid_mass_matrix(),
+        analytic_mass_properties(&so).rigid_mass_matrix(),
+    );
+    for a in 0..6 {
+        for b in 0..6 {
+            let (fe, exact) = (pw[a][b] - po[a][b], ew[a][b] - eo[a][b]);
+            let scale = (ew[a.min(b)][a.min(b)] - eo[a.min(b)][a.min(b)]).abs();
+            assert!(
+                (fe - exact).abs() <= 1e-9 * scale.max(exact.abs()),
+                "({a},{b}) FE {fe} vs {exact}"
+            );
+        }
+    }
+    // Rigid: no node, mode or fin of the compiled model comes from the set.
+    assert_eq!(cw.node_positions.len(), co.node_positions.len());
+    assert_eq!(cw.modes.len(), co.modes.len());
 }

@@ -196,7 +196,11 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
     // (`fins canards { ... }`) are further, rigid sets (`check::fin_sets`).
     let all_fins = fl.blocks("fins");
     let fins_block = all_fins.iter().find(|b| b.name.is_none()).copied();
-    let set_blocks: Vec<&Block> = all_fins.iter().filter(|b| b.name.is_some()).copied().collect();
+    let set_blocks: Vec<&Block> = all_fins
+        .iter()
+        .filter(|b| b.name.is_some())
+        .copied()
+        .collect();
     let key_block = fl.required_block(cx, "key_nodes");
     let modes_block = fl.required_block(cx, "modes");
     let aero_block = fl.required_block(cx, "aero");

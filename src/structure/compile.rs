@@ -129,6 +129,21 @@ pub fn generator_spec(v: &Vehicle, g: &ir::Generate) -> GeneratorSpec {
         poisson: m.poisson.value,
         density: m.density.value,
     };
+    let fin_spec = |f: &ir::Fins| generate::FinSpec {
+        count: f.count.value,
+        span: f.span.value,
+        root_chord: f.root_chord.value,
+        tip_chord: f.tip_chord.value,
+        sweep: f.leading_edge_sweep.value,
+        thickness: f.thickness.value,
+        cant: f.cant.value,
+        angles: f.angles.iter().map(|a| a.value).collect(),
+        root_trailing_edge_x: f.root_trailing_edge_x.value,
+        span_elements: generate::FinSpec::strips_for(&f.outline, g.fin_span_elements.value),
+        chord_elements: g.fin_chord_elements.value,
+        material: mat(&f.material),
+        outline: f.outline.clone(),
+    };
     GeneratorSpec {
         body: generate::BodySpec {
             length: g.body.length.value,
@@ -144,21 +159,8 @@ pub fn generator_spec(v: &Vehicle, g: &ir::Generate) -> GeneratorSpec {
             },
             material: mat(&v.material),
         },
-        fins: v.fins.as_ref().map(|f| generate::FinSpec {
-            count: f.count.value,
-            span: f.span.value,
-            root_chord: f.root_chord.value,
-            tip_chord: f.tip_chord.value,
-            sweep: f.leading_edge_sweep.value,
-            thickness: f.thickness.value,
-            cant: f.cant.value,
-            angles: f.angles.iter().map(|a| a.value).collect(),
-            root_trailing_edge_x: f.root_trailing_edge_x.value,
-            span_elements: generate::FinSpec::strips_for(&f.outline, g.fin_span_elements.value),
-            chord_elements: g.fin_chord_elements.value,
-            material: mat(&f.material),
-            outline: f.outline.clone(),
-        }),
+        fins: v.fins.as_ref().map(&fin_spec),
+        rigid_fins: v.fin_sets.iter().map(|s| fin_spec(&s.fins)).collect(),
         point_masses: g
             .point_masses
             .iter()
