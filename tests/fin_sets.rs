@@ -368,3 +368,171 @@ fn a_further_set_adds_its_exact_mass_centre_and_inertia_to_the_compiled_structur
     assert_eq!(cw.node_positions.len(), co.node_positions.len());
     assert_eq!(cw.modes.len(), co.modes.len());
 }
+
+// ---- aerodynamics ------------------------------------------------------------------------------
+
+/// d/dalpha (per rad) of the body table's C_N and C_M at Mach `m`, sea level, by the difference
+/// over +-2 deg (the estimator's grid; both coefficients of a further set are linear in alpha).
+fn body_slopes(t: &flexflight::aero::EstimatedTables, m: f64) -> (f64, f64, f64) {
+    let p = t.body.lookup(m, 2.0, 0.0).unwrap();
+    let n = t.body.lookup(m, -2.0, 0.0).unwrap();
+    let a0 = t.body.lookup(m, 0.0, 0.0).unwrap();
+    let da = 4f64.to_radians();
+    ((p[0] - n[0]) / da, (p[2] - n[2]) / da, a0[1])
+}
+
+/// The canards in the built-in estimator, against Barrowman by hand (Mach 0.3): the body
+/// table's normal-force slope rises by (N/2) K_T(B) C_Nalpha,1 (Diederich's slope on the fin's
+/// area, K_T(B) = 1 + r/(s + r)), its centre of pressure moves forward to the slope-weighted
+/// mean with the set's at the quarter point of its mean aerodynamic chord (Barrowman's x_f),
+/// its axial coefficient rises by N times one fin's axial coefficient, and the rate
+/// derivatives by the set's pitch damping. The fin table (the flexible set's) is unchanged.
+/// On the old code the body table did not move.
+#[test]
+fn canards_move_the_centre_of_pressure_forward_by_barrowmans_amount_and_add_their_drag() {
+    use flexflight::aero::estimator::{FinProfile, fin_axial, planform};
+    use flexflight::runtime::forces::aero_tables;
+    let dir = tempfile::tempdir().unwrap();
+    let with = checked(&hpr_with(dir.path(), "canards", CANARDS), &[]);
+    let without = checked(&hpr_with(dir.path(), "plain", ""), &[]);
+    let (vw, vo) = (vehicle(&with), vehicle(&without));
+    let (tw, to) = (aero_tables(vw).unwrap(), aero_tables(vo).unwrap());
+    let m = 0.3;
+    let (cn_w, cm_w, ca_w) = body_slopes(&tw, m);
+    let (cn_o, cm_o, ca_o) = body_slopes(&to, m);
+    // Barrowman by hand.
+    let pi = std::f64::consts::PI;
+    let (s, cr, ct, r, n) = (0.060, 0.080, 0.040, 0.049, 4.0);
+    let xt = s * 30f64.to_radians().tan();
+    let area = 0.5 * (cr + ct) * s;
+    let aspect = 2.0 * s * s / area;
+    let tan_mid = (xt + 0.5 * ct - 0.5 * cr) / s;
+    let cos_mid = 1.0 / (1.0 + tan_mid * tan_mid).sqrt();
+    let beta = (1.0 - m * m).sqrt();
+    let k = beta * aspect / cos_mid;
+    let slope = 2.0 * pi * aspect / (2.0 + (4.0 + k * k).sqrt());
+    let s_ref = pi * 0.098 * 0.098 / 4.0;
+    let k_tb = 1.0 + r / (s + r);
+    let d_cn = n / 2.0 * k_tb * slope * area / s_ref;
+    let x_f = xt / 3.0 * (cr + 2.0 * ct) / (cr + ct) + (cr + ct - cr * ct / (cr + ct)) / 6.0;
+    let x_set = -0.57 - x_f;
+    let (x_ref, d) = (-1.25, 0.098);
+    assert!(
+        ((cn_w - cn_o) - d_cn).abs() < 1e-9 * d_cn,
+        "{} vs {d_cn}",
+        cn_w - cn_o
+    );
+    let d_cm = d_cn * (x_set - x_ref) / d;
+    assert!(((cm_w - cm_o) - d_cm).abs() < 1e-9 * d_cm.abs());
+    // The body table's centre of pressure is the slope-weighted mean of the body's and the
+    // set's; the vehicle's (with the three main fins of the fin table, (N/2) their slope at
+    // their own centre of pressure, as `aero::static_margin` sums them) moves forward.
+    let (x_o, x_w) = (x_ref + d * cm_o / cn_o, x_ref + d * cm_w / cn_w);
+    let x_hand = (cn_o * x_o + d_cn * x_set) / (cn_o + d_cn);
+    assert!((x_w - x_hand).abs() < 1e-9, "{x_w} vs {x_hand}");
+    let fp = to.fin.lookup(m, 2.0, 0.0).unwrap();
+    let fm = to.fin.lookup(m, -2.0, 0.0).unwrap();
+    let cn_f = 1.5 * (fp[0] - fm[0]) / 4f64.to_radians();
+    let x_fins = -1.65 - 0.5 * (fp[2] + fm[2]);
+    let vehicle_cp = |cn_b: f64, x_b: f64| (cn_b * x_b + cn_f * x_fins) / (cn_b + cn_f);
+    let (cp_o, cp_w) = (vehicle_cp(cn_o, x_o), vehicle_cp(cn_w, x_w));
+    let cp_hand = (cn_o * x_o + d_cn * x_set + cn_f * x_fins) / (cn_o + d_cn + cn_f);
+    assert!((cp_w - cp_hand).abs() < 1e-9, "{cp_w} vs {cp_hand}");
+    assert!(cp_w > cp_o + 0.05, "forward: {cp_w} vs {cp_o}");
+    println!(
+        "body C_Nalpha {cn_o:.4} -> {cn_w:.4} /rad, vehicle x_cp {cp_o:.4} -> {cp_w:.4} m (Mach {m})"
+    );
+    // Drag: N times one canard's axial coefficient, the unnamed set's function.
+    let f = &vw.fin_sets[0].fins;
+    let per_fin = fin_axial(
+        &planform(f, r),
+        Some(FinProfile {
+            thickness: 0.0025,
+            section: ir::FinSection::Square,
+        }),
+        flexflight::aero::estimator::DEFAULT_ROUGHNESS,
+        1.9,
+        s_ref,
+        m,
+        0.0,
+    );
+    assert!(
+        ((ca_w - ca_o) - n * per_fin).abs() < 1e-12,
+        "{} vs {}",
+        ca_w - ca_o,
+        n * per_fin
+    );
+    println!("C_A {ca_o:.5} -> {ca_w:.5} at Mach {m}");
+    // The flexible set's fin table is untouched.
+    assert_eq!(tw.fin, to.fin);
+}
+
+/// The flight changes accordingly: canards forward of the centre of mass lower the static
+/// margin at the rail exit and, with their drag and mass, the apogee; the check's rigid-set
+/// warning is in `summary.json`. On the old code the two flights were the same.
+#[test]
+fn canards_lower_the_static_margin_and_the_apogee_of_the_flight() {
+    let dir = tempfile::tempdir().unwrap();
+    let fly = |name: &str, blocks: &str| -> serde_json::Value {
+        let p = hpr_with(dir.path(), name, blocks);
+        let out = dir.path().join(format!("out-{name}"));
+        let o = bin()
+            .arg("run")
+            .arg(&p)
+            .args(["--scenario", "k1000", "--out"])
+            .arg(&out)
+            .arg("--cache-dir")
+            .arg(dir.path().join("cache"))
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap()
+    };
+    let plain = fly("plain", "");
+    let canards = fly("canards", CANARDS);
+    let margin = |s: &serde_json::Value| {
+        s["flight"]["static_margin_calibres"]["at_rail_exit"]
+            .as_f64()
+            .unwrap()
+    };
+    let apogee = |s: &serde_json::Value| s["flight"]["apogee"]["altitude"].as_f64().unwrap();
+    println!(
+        "margin at rail exit {:.3} -> {:.3} cal, apogee {:.1} -> {:.1} m",
+        margin(&plain),
+        margin(&canards),
+        apogee(&plain),
+        apogee(&canards)
+    );
+    assert!(margin(&canards) < margin(&plain) - 0.1);
+    assert!(apogee(&canards) < apogee(&plain) - 1.0);
+    let warned = canards["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|w| w["code"] == "vdl::fins::rigid_set");
+    assert!(warned, "{}", canards["warnings"]);
+}
+
+/// Both cache keys see a further set: the structural key (its mass is in the model) and the
+/// aerodynamic key (its coefficients are in the tables) change with its thickness; a vehicle
+/// without sets keeps the keys it had (the field is not serialised when empty).
+#[test]
+fn the_cache_keys_include_the_further_sets() {
+    use flexflight::ops::compile::{aero_cache_key, cache_key};
+    let dir = tempfile::tempdir().unwrap();
+    let p = hpr_with(dir.path(), "canards", CANARDS);
+    let a = checked(&p, &[]);
+    let b = checked(&p, &["fins.canards.thickness=3 mm"]);
+    let (va, vb) = (vehicle(&a), vehicle(&b));
+    let (ka, kb) = (cache_key(va).unwrap(), cache_key(vb).unwrap());
+    assert_ne!(ka, kb);
+    assert_ne!(
+        aero_cache_key(va, &ka).unwrap(),
+        aero_cache_key(vb, &kb).unwrap()
+    );
+    // Without sets the vehicle serialises as before: no `fin_sets` key at all.
+    let plain = checked(&hpr_with(dir.path(), "plain", ""), &[]);
+    let json = serde_json::to_value(vehicle(&plain)).unwrap();
+    assert!(json.get("fin_sets").is_none());
+    assert!(serde_json::to_value(va).unwrap().get("fin_sets").is_some());
+}

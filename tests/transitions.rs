@@ -178,6 +178,7 @@ fn est_body(transitions: Vec<TransitionGeom>) -> BodyShape {
         transitions,
         roughness: flexflight::aero::estimator::DEFAULT_ROUGHNESS,
         guides: vec![],
+        fin_sets: vec![],
     }
 }
 
