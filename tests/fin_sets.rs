@@ -536,3 +536,75 @@ fn the_cache_keys_include_the_further_sets() {
     assert!(json.get("fin_sets").is_none());
     assert!(serde_json::to_value(va).unwrap().get("fin_sets").is_some());
 }
+
+// ---- import ------------------------------------------------------------------------------------
+
+/// OpenRocket's own "Simulation scripting" example (tests/import_designs/README.md: two
+/// canards `CONTROL` on the forward tube and three main fins written as three one-fin sets,
+/// one stage; its hybrid motor replaced by a catalogue AeroTech L1150) imports: the three
+/// one-fin sets merged into one three-fin set at their angles, the aft-most, as the unnamed
+/// `fins` block; the canards a named set; it checks (the rigid-set warning), compiles and
+/// flies. The old importer refused it ("the language has one fin set for now"); the main
+/// fins' 1 deg cant then stopped the flight (their tip nodes found off the planform).
+#[test]
+fn a_design_with_canards_and_three_one_fin_sets_imports_checks_and_flies() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("rc.vdl");
+    let o = bin()
+        .arg("import")
+        .arg(repo("tests/import_designs/roll_control_canards.ork"))
+        .arg("-o")
+        .arg(&out)
+        .args(["--material", "Cardboard=3 GPa,0.3"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        text.contains("merged into one set of their 3 fins"),
+        "{text}"
+    );
+    let c = checked(&out, &[]);
+    let v = vehicle(&c);
+    let main = v.fins.as_ref().unwrap();
+    assert_eq!(main.count.value, 3);
+    let deg: Vec<f64> = main.angles.iter().map(|a| a.value.to_degrees()).collect();
+    for (a, b) in deg.iter().zip([-150.0, -30.0, 90.0]) {
+        assert!((a - b).abs() < 1e-9, "{deg:?}");
+    }
+    assert!((main.root_chord.value - 0.495).abs() < 1e-12);
+    assert_eq!(v.fin_sets.len(), 1);
+    let canards = &v.fin_sets[0];
+    assert_eq!(canards.name.value, "control");
+    assert_eq!(canards.fins.count.value, 2);
+    assert!((canards.fins.span.value - 0.100).abs() < 1e-12);
+    // The canards' root leading edge: the forward tube's top (the 0.53 m nose) + 0.28 m.
+    assert!((canards.fins.root_trailing_edge_x.value + 0.86).abs() < 1e-9);
+    assert!(
+        c.diagnostics
+            .iter()
+            .any(|d| d.code == "vdl::fins::rigid_set")
+    );
+    let run = dir.path().join("run");
+    let o = bin()
+        .arg("run")
+        .arg(&out)
+        .args(["--scenario", "no_controlling", "--out"])
+        .arg(&run)
+        .arg("--cache-dir")
+        .arg(dir.path().join("cache"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.join("summary.json")).unwrap()).unwrap();
+    let apogee = s["flight"]["apogee"]["altitude"].as_f64().unwrap();
+    println!(
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+            .lines()
+            .find(|l| l.contains("apogee"))
+            .unwrap_or("")
+    );
+    assert!(apogee > 100.0, "{apogee}");
+}
