@@ -469,7 +469,9 @@ fn canards_move_the_centre_of_pressure_forward_by_barrowmans_amount_and_add_thei
 
 /// The flight changes accordingly: canards forward of the centre of mass lower the static
 /// margin at the rail exit and, with their drag and mass, the apogee; the check's rigid-set
-/// warning is in `summary.json`. On the old code the two flights were the same.
+/// warning is in `summary.json`; the canards get their own clamped-fin flutter margin
+/// (`flutter_margin.sets`) and the minimum is over both sets. On the old code the two
+/// flights were the same.
 #[test]
 fn canards_lower_the_static_margin_and_the_apogee_of_the_flight() {
     let dir = tempfile::tempdir().unwrap();
@@ -505,6 +507,28 @@ fn canards_lower_the_static_margin_and_the_apogee_of_the_flight() {
     );
     assert!(margin(&canards) < margin(&plain) - 0.1);
     assert!(apogee(&canards) < apogee(&plain) - 1.0);
+    // Each set's flutter margin: the unnamed set's at the top level, the canards' in
+    // `sets`, and the minimum over both.
+    let fm = &canards["flutter_margin"];
+    let speed = |j: &serde_json::Value| j["minimum"]["speed_margin"].as_f64().unwrap();
+    let sets = fm["sets"].as_array().unwrap();
+    assert_eq!(sets.len(), 1);
+    assert_eq!(sets[0]["name"], "canards");
+    assert_eq!(sets[0]["computed"], true);
+    let (main, can) = (speed(fm), speed(&sets[0]));
+    let lowest = fm["minimum_over_sets"]["speed_margin"].as_f64().unwrap();
+    assert_eq!(lowest, main.min(can));
+    assert_eq!(
+        fm["minimum_over_sets"]["set"],
+        if can < main { "canards" } else { "fins" }
+    );
+    assert_eq!(
+        fm["meets_criterion_all_sets"].as_bool().unwrap(),
+        fm["meets_criterion"].as_bool().unwrap() && sets[0]["meets_criterion"].as_bool().unwrap()
+    );
+    // The canards' boundary is their own (another fin: another boundary).
+    assert_ne!(sets[0]["boundary_hash"], fm["boundary_hash"]);
+    println!("flutter margin: fins {main:.3}, canards {can:.3}");
     let warned = canards["warnings"]
         .as_array()
         .unwrap()
@@ -607,4 +631,25 @@ fn a_design_with_canards_and_three_one_fin_sets_imports_checks_and_flies() {
             .unwrap_or("")
     );
     assert!(apogee > 100.0, "{apogee}");
+}
+
+/// A Monte Carlo sample's minimum flutter margin is the minimum over every fin set where the
+/// vehicle has further sets (`flutter_margin.minimum_over_sets`), the unnamed set's otherwise.
+#[test]
+fn the_monte_carlo_minimum_flutter_margin_is_over_all_sets() {
+    use flexflight::analysis::montecarlo::SampleOutputs;
+    let one = serde_json::json!({"flutter_margin": {"minimum": {"speed_margin": 2.0}}});
+    assert_eq!(
+        SampleOutputs::from_summary(&one).flutter_margin_min,
+        Some(2.0)
+    );
+    let sets = serde_json::json!({"flutter_margin": {
+        "minimum": {"speed_margin": 2.0},
+        "sets": [{"name": "canards", "minimum": {"speed_margin": 1.4}}],
+        "minimum_over_sets": {"speed_margin": 1.4, "set": "canards"},
+    }});
+    assert_eq!(
+        SampleOutputs::from_summary(&sets).flutter_margin_min,
+        Some(1.4)
+    );
 }

@@ -17,8 +17,9 @@
 //!
 //! A further set is rigid in the flight: its mass is a rigid body on the nearest body node
 //! (`structure::generate`), its aerodynamics part of the built-in estimator's body table
-//! (`aero::estimator`, no elastic modes, no fin key node, no fin load, no roll moment from
-//! its cant, no clamped-fin flutter boundary). A warning at `check` says so for each set
+//! (`aero::estimator`): no elastic modes, no fin key node, no fin load, no roll moment from
+//! its cant). Its clamped-fin flutter margin is computed as the unnamed set's is
+//! (`ops::flutter::flight_margin_with`). A warning at `check` says so for each set
 //! (`vdl::fins::rigid_set`), and says where the aerodynamics come from tables or DATCOM that
 //! they must hold the set's contribution themselves.
 
@@ -96,7 +97,7 @@ pub(super) fn check_fin_sets(
         let mut d = Diagnostic::warning(
             "vdl::fins::rigid_set",
             format!(
-                "fin set `{}` is rigid in the flight: its mass is a rigid body on the body, its aerodynamics are part of the body's coefficients; it has no elastic modes, no fin loads and no flutter margin",
+                "fin set `{}` is rigid in the flight: its mass is a rigid body on the body, its aerodynamics are part of the body's coefficients; it has no elastic modes and no fin loads (its clamped-fin flutter margin is computed)",
                 name.name
             ),
         )
