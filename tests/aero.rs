@@ -23,6 +23,7 @@ fn sphads_body() -> BodyShape {
         transitions: vec![],
         roughness: flexflight::aero::estimator::DEFAULT_ROUGHNESS,
         guides: vec![],
+        fin_sets: vec![],
     }
 }
 
@@ -202,6 +203,7 @@ fn sphads1_vdl_body() -> BodyShape {
         transitions: vec![],
         roughness: flexflight::aero::estimator::DEFAULT_ROUGHNESS,
         guides: vec![],
+        fin_sets: vec![],
     }
 }
 
@@ -309,6 +311,7 @@ fn conical_nose_tables_are_bit_identical_to_before_nose_shapes() {
             transitions: vec![],
             roughness: flexflight::aero::estimator::DEFAULT_ROUGHNESS,
             guides: vec![],
+            fin_sets: vec![],
         },
         &flexflight::aero::estimator::planform(v.fins.as_ref().unwrap(), r),
         OutOfRange::Clamp,

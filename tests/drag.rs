@@ -170,6 +170,7 @@ fn the_body_friction_is_the_law_times_the_fineness_correction() {
             transitions: vec![],
             roughness,
             guides: vec![],
+            fin_sets: vec![],
         };
         let air = Standard1976::new().at(0.0).unwrap();
         let re = air.density * 0.5 * air.speed_of_sound * l / air.viscosity;
@@ -371,6 +372,7 @@ fn launch_guides_add_their_drag_to_the_body() {
         transitions: vec![],
         roughness: DEFAULT_ROUGHNESS,
         guides,
+        fin_sets: vec![],
     };
     let s = PI * 0.05 * 0.05 / 4.0;
     let air = Standard1976::new().at(0.0).unwrap();

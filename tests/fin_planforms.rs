@@ -139,6 +139,7 @@ fn freeform_fin_mesh_has_the_exact_mass_and_inertia() {
         fins: Some(fin(outline, cr, s, 6, 8)),
         point_masses: vec![],
         distributed_masses: vec![],
+        rigid_fins: vec![],
     };
     let model = generate(&spec).unwrap();
     let fe = rigid_body_projection(&model);
@@ -184,6 +185,7 @@ fn elliptical_fin_area_is_pi_over_four_root_span_to_the_mesh_precision() {
         fins: None,
         point_masses: vec![],
         distributed_masses: vec![],
+        rigid_fins: vec![],
     };
     let bare_mass = rigid_body_projection(&generate(&bare).unwrap())[0][0];
     let mut errors = Vec::new();

@@ -59,6 +59,7 @@ fn free_free_frequencies(body: BodySpec) -> Vec<f64> {
         fins: None,
         point_masses: vec![],
         distributed_masses: vec![],
+        rigid_fins: vec![],
     };
     let model = generate(&spec).unwrap();
     modal::solve(&model, 12).unwrap().frequencies_hz()
@@ -274,6 +275,7 @@ fn full_vehicle(theory: BeamTheory) -> GeneratorSpec {
                 mass: 2.0,
             },
         ],
+        rigid_fins: vec![],
     }
 }
 
@@ -500,6 +502,7 @@ fn every_nose_shape_has_the_mass_and_inertia_of_its_profile() {
             fins: None,
             point_masses: vec![],
             distributed_masses: vec![],
+            rigid_fins: vec![],
         };
         let model = generate(&spec).unwrap();
         let fe = rigid_body_projection(&model);

@@ -127,6 +127,7 @@ fn a_body_with_transitions_has_the_mass_of_its_profile_and_nodes_at_the_section_
         fins: None,
         point_masses: vec![],
         distributed_masses: vec![],
+        rigid_fins: vec![],
     };
     let model = generate(&spec).unwrap();
     let fe = rigid_body_projection(&model);
@@ -177,6 +178,7 @@ fn est_body(transitions: Vec<TransitionGeom>) -> BodyShape {
         transitions,
         roughness: flexflight::aero::estimator::DEFAULT_ROUGHNESS,
         guides: vec![],
+        fin_sets: vec![],
     }
 }
 

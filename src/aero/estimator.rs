@@ -142,6 +142,17 @@
 //! its own half-angle on its frontal area; rate derivatives with A_b the aft end's area.
 //! Fins take the body radius under their root chord for K_T(B) and their root.
 //!
+//! Further fin sets (`fins NAME`, issue 34; [`RigidFinSet`], [`fin_set_coefficients`]) are
+//! rigid and part of the BODY table: each adds `n_eff K_T(B) C_Nalpha,1 alpha` with
+//! `n_eff = N/2` (the pitch-plane sum of its fins, exact for three or more evenly spaced)
+//! at its centre of pressure (the same slope and centre of pressure as the fins above, its
+//! own planform and body radius), N times one fin's C_A (the same friction, edge pressure and
+//! thickness wave drag, its own thickness and cross-section), and to the rate columns its
+//! pitch damping ([`fin_rate_derivatives`] with `n_eff`; it has no fin block to carry it).
+//! No roll moment (the body table has none: a further set's cant rolls nothing), and no
+//! interference between sets (a canard's downwash on the fins behind it), as in OpenRocket
+//! ([`fin_set_coefficients`]). The fin table stays the unnamed set's.
+//!
 //! The thesis itself used Missile DATCOM tables (5.5); these are simple engineering methods.
 
 use std::path::Path;
@@ -183,6 +194,89 @@ pub struct BodyShape {
     pub roughness: f64,
     /// Launch lugs and rail buttons on the body ([`launch_guide_drag`]).
     pub guides: Vec<LaunchGuide>,
+    /// Further, rigid fin sets (`fins NAME`, issue 34): part of the body's coefficients
+    /// ([`fin_set_coefficients`]).
+    pub fin_sets: Vec<RigidFinSet>,
+}
+
+/// A further, rigid fin set of the body (`fins NAME`): its planform (body radius under its
+/// root), thickness and cross-section, fin count, and the body x of its root leading edge.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RigidFinSet {
+    pub planform: FinPlanform,
+    pub profile: FinProfile,
+    pub count: usize,
+    /// Body x of the root leading edge, m (<= 0).
+    pub root_le_x: f64,
+}
+
+impl RigidFinSet {
+    /// A further set of the checked vehicle on the body `b` (`planform` with the body radius
+    /// under its root chord).
+    pub fn of(f: &crate::check::ir::Fins, b: &crate::check::ir::BodyGeometry) -> Self {
+        RigidFinSet {
+            planform: planform(f, b.radius_under(f)),
+            profile: FinProfile {
+                thickness: f.thickness.value,
+                section: f.cross_section.value,
+            },
+            count: f.count.value,
+            root_le_x: f.root_trailing_edge_x.value + f.root_chord.value,
+        }
+    }
+
+    /// The pitch-plane count `n_eff = N/2`: the fin at roll angle delta from the plane of the
+    /// angle of attack sees `alpha cos delta` and puts the share `cos delta` of its normal
+    /// force into that plane, and `sum_i cos^2(phi + delta_i) = N/2` for any roll phi when
+    /// N >= 3 fins are evenly spaced (Barrowman 1967; as [`super::static_margin`] sums the
+    /// unnamed set). For one or two fins, or uneven angles, it is the average over roll of
+    /// that sum (N/2 for any angles: the mean of cos^2 is 1/2); the body table is a body of
+    /// revolution's (no roll, no side force), so the roll dependence is not represented.
+    pub fn pitch_plane_count(&self) -> f64 {
+        0.5 * self.count as f64
+    }
+}
+
+/// The coefficients a further, rigid fin set adds to the body's (C_N, C_A, C_M on the
+/// reference area `s_ref` and length `d_ref`, moment about `reference_x`) at one condition,
+/// with its `(slope on A_f, x_cp)` at this Mach (`FinPlanform::linear`) computed by the
+/// caller. The unnamed set's methods, reused: C_N = n_eff K_T(B) C_Nalpha,1 alpha
+/// ([`RigidFinSet::pitch_plane_count`], Barrowman's K_T(B) at the body radius under its root)
+/// at the centre of pressure `x_le,root - x_cp`; C_A = N times one fin's axial coefficient
+/// ([`fin_axial`]: friction, edge pressure drag by cross-section, thickness wave drag), at
+/// the rocket's Reynolds number as the unnamed set's. The sets do not interfere with each
+/// other's flow: a forward set's downwash on the sets behind it is not modelled. That is
+/// OpenRocket's model (Niskanen 2009, sec. 3.2, OpenRocket's `doc/techdoc/
+/// chapter-aerodynamic-properties.tex`, read): Barrowman's method computes the normal force
+/// and centre of pressure of each component separately and combines them, with the
+/// body-fin interference as its only correction term, and its fin-fin interference factor
+/// counts only the parallel fins of one set (N_tot). That factor for more than four fins
+/// (0.948 to 0.750, after MIL-HDBK-762) is not applied here, as it is not for the unnamed set.
+#[allow(clippy::too_many_arguments)]
+pub fn fin_set_coefficients(
+    set: &RigidFinSet,
+    (slope, x_cp): (f64, f64),
+    (roughness, rocket_length): (f64, f64),
+    (s_ref, d_ref, reference_x): (f64, f64, f64),
+    mach: f64,
+    alpha_deg: f64,
+    altitude_m: f64,
+) -> [f64; 3] {
+    let f = &set.planform;
+    let cn = set.pitch_plane_count() * f.interference() * slope * f.area() / s_ref
+        * alpha_deg.to_radians();
+    let ca = set.count as f64
+        * fin_axial(
+            f,
+            Some(set.profile),
+            roughness,
+            rocket_length,
+            s_ref,
+            mach,
+            altitude_m,
+        );
+    let x = set.root_le_x - x_cp;
+    [cn, ca, cn * (x - reference_x) / d_ref]
 }
 
 /// A launch lug or rail button on the body, for its drag ([`launch_guide_drag`]).
@@ -932,8 +1026,43 @@ pub fn nose_centre_of_pressure(nose: NoseShape, d: f64) -> (f64, f64) {
     }
 }
 
-/// Body coefficients (C_N, C_A, C_M) at one condition; see the module doc.
+/// Body coefficients (C_N, C_A, C_M) at one condition; see the module doc. With further fin
+/// sets ([`BodyShape::fin_sets`]) their coefficients are added ([`fin_set_coefficients`]).
 pub fn body_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f64) -> [f64; 3] {
+    let lins: Vec<(f64, f64)> = b.fin_sets.iter().map(|s| s.planform.linear(mach)).collect();
+    body_coefficients_with(b, &lins, mach, alpha_deg, altitude_m)
+}
+
+/// [`body_coefficients`] with each further set's `(slope, x_cp)` at this Mach given.
+fn body_coefficients_with(
+    b: &BodyShape,
+    lins: &[(f64, f64)],
+    mach: f64,
+    alpha_deg: f64,
+    altitude_m: f64,
+) -> [f64; 3] {
+    let mut c = body_alone_coefficients(b, mach, alpha_deg, altitude_m);
+    let d_ref = b.reference_diameter();
+    let s_ref = std::f64::consts::PI * d_ref * d_ref / 4.0;
+    for (set, &lin) in b.fin_sets.iter().zip(lins) {
+        let s = fin_set_coefficients(
+            set,
+            lin,
+            (b.roughness, b.length),
+            (s_ref, d_ref, b.reference_x),
+            mach,
+            alpha_deg,
+            altitude_m,
+        );
+        for k in 0..3 {
+            c[k] += s[k];
+        }
+    }
+    c
+}
+
+/// The body's own coefficients (C_N, C_A, C_M), without further fin sets.
+fn body_alone_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m: f64) -> [f64; 3] {
     let pi = std::f64::consts::PI;
     let d = b.diameter;
     let d_ref = b.reference_diameter();
@@ -1492,10 +1621,29 @@ impl EstimatedTables {
         let mut fp = Vec::new();
         for &m in &ESTIMATOR_MACH {
             let lin = fin.linear(m);
+            let set_lins: Vec<(f64, f64)> =
+                body.fin_sets.iter().map(|s| s.planform.linear(m)).collect();
+            // The further sets' pitch damping (they have no fin block to carry it through
+            // their velocity): [`fin_rate_derivatives`] with their pitch-plane count.
+            let mut set_rates = [0.0; 2];
+            for s in &body.fin_sets {
+                let r = fin_rate_derivatives(
+                    &s.planform,
+                    s_ref,
+                    d_ref,
+                    s.root_le_x,
+                    body.reference_x,
+                    s.pitch_plane_count(),
+                    m,
+                );
+                set_rates[0] += r[0];
+                set_rates[1] += r[1];
+            }
             for &a in &alpha {
                 for &h in &ESTIMATOR_ALTITUDE {
-                    bp.push(body_coefficients(body, m, a, h));
-                    br.push(body_rate_derivatives(body, a));
+                    bp.push(body_coefficients_with(body, &set_lins, m, a, h));
+                    let r = body_rate_derivatives(body, a);
+                    br.push([r[0] + set_rates[0], r[1] + set_rates[1]]);
                     fp.push(fin_coefficients_with(
                         fin,
                         profile,

@@ -155,6 +155,11 @@ pub struct Vehicle {
     pub key_nodes: KeyNodes,
     pub modes: ModeSelection,
     pub fins: Option<Fins>,
+    /// Further fin sets (`fins NAME { ... }`, issue 34: canards, a second set), fore to aft
+    /// as written: rigid (their mass a rigid body on the nearest body node, their
+    /// aerodynamics in the built-in estimator's body table), never meshed or flexible.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub fin_sets: Vec<FinSet>,
     pub aero: Aero,
     pub forces: Forces,
     /// The motor (propellant burning during the flight), if any.
@@ -505,7 +510,23 @@ impl Fillet {
     }
 }
 
+/// A further, rigid fin set of a vehicle (`fins NAME { ... }`; `check::fin_sets`): the
+/// fields of the `fins` block, checked by the same code.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FinSet {
+    pub name: Spanned<String>,
+    pub fins: Fins,
+}
+
 impl Fins {
+    /// Body-x stations of the root chord's ends: (trailing edge, leading edge), aft < fore.
+    pub fn root_stations(&self) -> (f64, f64) {
+        (
+            self.root_trailing_edge_x.value,
+            self.root_trailing_edge_x.value + self.root_chord.value,
+        )
+    }
+
     /// The fin's edges (`check::fin_outline::Edges`): the true planform.
     pub fn edges(&self) -> super::fin_outline::Edges<'_> {
         super::fin_outline::Edges {

@@ -10,6 +10,7 @@ mod datcom_source;
 mod dispersion;
 pub mod fields;
 pub mod fin_outline;
+mod fin_sets;
 pub mod finish;
 mod fixture;
 pub mod ir;

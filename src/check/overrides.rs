@@ -120,7 +120,14 @@ fn find_block(body: &Body, seg: &str) -> Option<usize> {
     let by_name = body.entries.iter().position(
         |e| matches!(&e.kind, EntryKind::Block(b) if b.name.as_ref().is_some_and(|n| n.name == seg)),
     );
-    by_name.or_else(|| {
+    // A block of that kind: the unnamed one first (`fins.thickness` is the unnamed `fins`
+    // block's, whatever named `fins canards { }` blocks stand before it).
+    let unnamed = || {
+        body.entries.iter().position(
+            |e| matches!(&e.kind, EntryKind::Block(b) if b.kind.name == seg && b.name.is_none()),
+        )
+    };
+    by_name.or_else(unnamed).or_else(|| {
         body.entries
             .iter()
             .position(|e| matches!(&e.kind, EntryKind::Block(b) if b.kind.name == seg))

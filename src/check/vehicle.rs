@@ -192,7 +192,15 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
         .required(cx, "origin", "node(1)")
         .and_then(|v| node_ref(cx, v));
     let structure_block = fl.required_block(cx, "structure");
-    let fins_block = fl.block("fins");
+    // The unnamed `fins` block is the vehicle's flexible, meshed set; named ones
+    // (`fins canards { ... }`) are further, rigid sets (`check::fin_sets`).
+    let all_fins = fl.blocks("fins");
+    let fins_block = all_fins.iter().find(|b| b.name.is_none()).copied();
+    let set_blocks: Vec<&Block> = all_fins
+        .iter()
+        .filter(|b| b.name.is_some())
+        .copied()
+        .collect();
     let key_block = fl.required_block(cx, "key_nodes");
     let modes_block = fl.required_block(cx, "modes");
     let aero_block = fl.required_block(cx, "aero");
@@ -224,6 +232,14 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
     };
     let aero = aero_block.and_then(|ab| check_aero(cx, ab, diameter));
     let forces = forces_block.and_then(|fb| check_forces(cx, fb));
+    let fin_sets = super::fin_sets::check_fin_sets(
+        cx,
+        &set_blocks,
+        fins.as_ref(),
+        structure.as_ref(),
+        aero.as_ref(),
+        |cx, b| check_fins(cx, b, material.as_ref(), materials, body_length),
+    )?;
     if let [_, second, ..] = motor_blocks.as_slice() {
         cx.push(
             Diagnostic::error(
@@ -376,6 +392,7 @@ pub(crate) fn check_vehicle(cx: &mut Cx, b: &Block, materials: &[Material]) -> O
         key_nodes: key_nodes?,
         modes: modes?,
         fins,
+        fin_sets,
         aero: aero?,
         forces: forces?,
         motor,
@@ -883,14 +900,20 @@ pub const MAX_BODY_ELEMENTS: usize = 1000;
 /// a thin fin may taper to a tip as narrow as it is thick).
 pub const MAX_FIN_THICKNESS_RATIO: f64 = 0.2;
 
-fn check_fins(
+/// A `fins` block, unnamed (the vehicle's flexible set) or named (a further set,
+/// `check::fin_sets`): the same fields, the same checks.
+pub(super) fn check_fins(
     cx: &mut Cx,
     b: &Block,
     vehicle_material: Option<&Material>,
     materials: &[Material],
     body_length: Option<f64>,
 ) -> Option<Fins> {
-    let mut fl = Fields::new(cx, "the `fins` block", b.header, &b.body);
+    let what = match &b.name {
+        Some(n) => format!("the `fins {}` block", n.name),
+        None => "the `fins` block".to_string(),
+    };
+    let mut fl = Fields::new(cx, what, b.header, &b.body);
     let count = fl
         .required(cx, "count", "4")
         .and_then(|v| f::count(cx, v, 1, 64).map(|n| Spanned::new(n, v.span)));

@@ -1,5 +1,5 @@
 //! The vehicle file an import writes: materials, the vehicle (generated body with the nose,
-//! one fin set, the masses the body does not contain, the motor) and a scenario per stored
+//! fin sets (the aft-most unnamed, the others named: `arrange_fin_sets`), the masses the body does not contain, the motor) and a scenario per stored
 //! simulation, each with a comment saying where its numbers come from.
 //!
 //! The generated body is a tube of the first body tube's material and wall with a nose shell
@@ -191,6 +191,7 @@ fn mm(x: f64) -> String {
     format!("{} mm", f(x * 1e3, 4))
 }
 
+#[derive(Clone)]
 struct MatOut {
     ident: String,
     block: String,
@@ -353,6 +354,111 @@ fn resolve_motor(cx: &mut Cx, r: &MotorRef, cat: &[Entry]) -> Option<Entry> {
     }
 }
 
+/// One `fins` block (`name`: a further set's) of the importer's set `fins`, with its
+/// material's identifier when it is not the body's, and its angles when they are not the
+/// language's default 360 (i - 1)/n.
+fn write_fin_set(o: &mut String, fins: &super::FinSet, name: Option<&str>, material: Option<&str>) {
+    match &fins.outline {
+        super::FinShape::Trapezoidal => {
+            let _ = writeln!(
+                o,
+                "  # `{}`: {} trapezoidal fins, leading-edge sweep {} over the span.",
+                comment_safe(&fins.name),
+                fins.count,
+                mm(fins.sweep)
+            );
+        }
+        super::FinShape::Elliptical => {
+            let _ = writeln!(
+                o,
+                "  # `{}`: {} elliptical fins (the half ellipse on the root chord).",
+                comment_safe(&fins.name),
+                fins.count
+            );
+        }
+        super::FinShape::Freeform(p) => {
+            let _ = writeln!(
+                o,
+                "  # `{}`: {} freeform fins, the outline of {} points (x aft of the root leading edge, y outward).",
+                comment_safe(&fins.name),
+                fins.count,
+                p.len()
+            );
+        }
+    }
+    match name {
+        Some(n) => {
+            let _ = writeln!(o, "  fins {n} {{");
+        }
+        None => {
+            let _ = writeln!(o, "  fins {{");
+        }
+    }
+    let _ = writeln!(o, "    count = {}", fins.count);
+    match &fins.outline {
+        super::FinShape::Trapezoidal => {
+            let _ = writeln!(o, "    span = {}", mm(fins.span));
+            let _ = writeln!(o, "    root_chord = {}", mm(fins.root));
+            let _ = writeln!(o, "    tip_chord = {}", mm(fins.tip));
+            let _ = writeln!(
+                o,
+                "    leading_edge_sweep = {} deg",
+                f(fins.sweep.atan2(fins.span).to_degrees(), 4)
+            );
+        }
+        super::FinShape::Elliptical => {
+            let _ = writeln!(o, "    planform = elliptical");
+            let _ = writeln!(o, "    span = {}", mm(fins.span));
+            let _ = writeln!(o, "    root_chord = {}", mm(fins.root));
+        }
+        super::FinShape::Freeform(p) => {
+            let _ = writeln!(o, "    planform = freeform");
+            let pts: Vec<String> = p
+                .iter()
+                .map(|&(x, y)| format!("({}, {}) mm", f(x * 1e3, 4), f(y * 1e3, 4)))
+                .collect();
+            let _ = writeln!(o, "    points = [{}]", pts.join(", "));
+        }
+    }
+    let _ = writeln!(o, "    thickness = {}", mm(fins.thickness));
+    let _ = writeln!(o, "    cross_section = {}", fins.cross_section);
+    let _ = writeln!(o, "    cant = {} deg", f(fins.cant, 4));
+    let _ = writeln!(
+        o,
+        "    root_trailing_edge = {} m",
+        f(-(fins.root_le + fins.root), 5)
+    );
+    let default = super::FinSet::default_angles(fins.count, 0.0);
+    if fins.angles.len() == fins.count as usize
+        && fins
+            .angles
+            .iter()
+            .zip(&default)
+            .any(|(a, b)| (a - b).abs() > 1e-9)
+    {
+        let list: Vec<String> = fins
+            .angles
+            .iter()
+            .map(|a| format!("{} deg", f(*a, 4)))
+            .collect();
+        let _ = writeln!(o, "    angles = [{}]", list.join(", "));
+    }
+    if let Some(m) = material {
+        let _ = writeln!(o, "    material = {m}");
+    }
+    if let Some((rf, m)) = &fins.fillet {
+        let _ = writeln!(
+            o,
+            "    # Root fillets of `{}` ({} kg/m^3 in the design): their mass only, as OpenRocket counts them.",
+            comment_safe(&m.name),
+            f(m.density, 6)
+        );
+        let _ = writeln!(o, "    fillet_radius = {}", mm(*rf));
+        let _ = writeln!(o, "    fillet_density = {} kg/m^3", f(m.density, 6));
+    }
+    let _ = writeln!(o, "  }}");
+}
+
 /// The vehicle file and the thrust curves it names; `None` after an error diagnostic.
 pub(crate) fn emit(
     cx: &mut Cx,
@@ -362,13 +468,20 @@ pub(crate) fn emit(
 ) -> Option<(String, Vec<(String, String)>)> {
     let tube0 = &d.tubes[0];
     let body_mat = resolve_material(cx, &tube0.material, opts);
-    let fin_mat = if d.fins.material.name == tube0.material.name
-        && d.fins.material.density == tube0.material.density
-    {
-        None
-    } else {
-        resolve_material(cx, &d.fins.material, opts)
-    };
+    // Each fin set's material, when not the body's (the unnamed set first, then the others).
+    let fin_mats: Vec<Option<MatOut>> = std::iter::once(&d.fins)
+        .chain(&d.more_fins)
+        .map(|fs| {
+            if fs.material.name == tube0.material.name
+                && fs.material.density == tube0.material.density
+            {
+                None
+            } else {
+                resolve_material(cx, &fs.material, opts)
+            }
+        })
+        .collect();
+    let fin_mat = fin_mats[0].clone();
     // Motors of every configuration a scenario flies.
     let mount = d.mount.as_ref();
     let mut motor_for = Vec::new(); // (config, entry, ref)
@@ -584,30 +697,32 @@ pub(crate) fn emit(
         }
         generated_transitions.push((t, g));
     }
-    // Fin mass override.
+    // Fin mass overrides (every set's).
     let fins = &d.fins;
-    if let Some(om) = fins.override_mass {
-        let area = fins.area();
-        // OpenRocket's fin set mass includes its fillets; so does the generated one.
-        let mg = f64::from(fins.count) * area * fins.thickness * fins.material.density
-            + fins.fillet.as_ref().map_or(0.0, |(rf, m)| {
-                2.0 * f64::from(fins.count)
-                    * crate::check::ir::Fillet::section_area(r, *rf)
-                    * fins.root
-                    * m.density
-            });
-        let xc = fins.root_le + fins.root / 2.0;
-        add_difference(
-            cx,
-            &mut masses,
-            &format!("{} (override)", fins.name),
-            om,
-            xc,
-            mg,
-            xc,
-            (fins.root_le, fins.root_le + fins.root),
-            &mut notes,
-        );
+    for fs in std::iter::once(fins).chain(&d.more_fins) {
+        if let Some(om) = fs.override_mass {
+            let area = fs.area();
+            // OpenRocket's fin set mass includes its fillets; so does the generated one.
+            let mg = f64::from(fs.count) * area * fs.thickness * fs.material.density
+                + fs.fillet.as_ref().map_or(0.0, |(rf, m)| {
+                    2.0 * f64::from(fs.count)
+                        * crate::check::ir::Fillet::section_area(r, *rf)
+                        * fs.root
+                        * m.density
+                });
+            let xc = fs.root_le + fs.root / 2.0;
+            add_difference(
+                cx,
+                &mut masses,
+                &format!("{} (override)", fs.name),
+                om,
+                xc,
+                mg,
+                xc,
+                (fs.root_le, fs.root_le + fs.root),
+                &mut notes,
+            );
+        }
     }
 
     let mut aft = mount.map_or(length, |m| m.aft + m.overhang);
@@ -660,9 +775,11 @@ pub(crate) fn emit(
         m_sum += mb;
         mx_sum += mb * (a + b) / 2.0;
     }
-    let mf = f64::from(fins.count) * fins.area() * fins.thickness * fins.material.density;
-    m_sum += mf;
-    mx_sum += mf * (fins.root_le + fins.root / 2.0);
+    for fs in std::iter::once(fins).chain(&d.more_fins) {
+        let mf = f64::from(fs.count) * fs.area() * fs.thickness * fs.material.density;
+        m_sum += mf;
+        mx_sum += mf * (fs.root_le + fs.root / 2.0);
+    }
     for m in &masses {
         m_sum += m.mass;
         mx_sum += m.mass * (m.s0 + m.s1) / 2.0;
@@ -713,10 +830,13 @@ pub(crate) fn emit(
     let _ = writeln!(o);
     o.push_str(&body_mat.block);
     let _ = writeln!(o);
-    if let Some(fm) = &fin_mat {
-        if fm.ident != body_mat.ident {
+    // The fin sets' materials, each once.
+    let mut written = vec![body_mat.ident.clone()];
+    for fm in fin_mats.iter().flatten() {
+        if !written.contains(&fm.ident) {
             o.push_str(&fm.block);
             let _ = writeln!(o);
+            written.push(fm.ident.clone());
         }
     }
     let elements = ((length / (2.0 * r)).round() as i64).clamp(10, 40);
@@ -880,83 +1000,36 @@ pub(crate) fn emit(
     let _ = writeln!(o, "    }}");
     let _ = writeln!(o, "  }}");
     let _ = writeln!(o);
-    match &fins.outline {
-        super::FinShape::Trapezoidal => {
-            let _ = writeln!(
-                o,
-                "  # `{}`: {} trapezoidal fins, leading-edge sweep {} over the span.",
-                comment_safe(&fins.name),
-                fins.count,
-                mm(fins.sweep)
-            );
-        }
-        super::FinShape::Elliptical => {
-            let _ = writeln!(
-                o,
-                "  # `{}`: {} elliptical fins (the half ellipse on the root chord).",
-                comment_safe(&fins.name),
-                fins.count
-            );
-        }
-        super::FinShape::Freeform(p) => {
-            let _ = writeln!(
-                o,
-                "  # `{}`: {} freeform fins, the outline of {} points (x aft of the root leading edge, y outward).",
-                comment_safe(&fins.name),
-                fins.count,
-                p.len()
-            );
-        }
-    }
-    let _ = writeln!(o, "  fins {{");
-    let _ = writeln!(o, "    count = {}", fins.count);
-    match &fins.outline {
-        super::FinShape::Trapezoidal => {
-            let _ = writeln!(o, "    span = {}", mm(fins.span));
-            let _ = writeln!(o, "    root_chord = {}", mm(fins.root));
-            let _ = writeln!(o, "    tip_chord = {}", mm(fins.tip));
-            let _ = writeln!(
-                o,
-                "    leading_edge_sweep = {} deg",
-                f(fins.sweep.atan2(fins.span).to_degrees(), 4)
-            );
-        }
-        super::FinShape::Elliptical => {
-            let _ = writeln!(o, "    planform = elliptical");
-            let _ = writeln!(o, "    span = {}", mm(fins.span));
-            let _ = writeln!(o, "    root_chord = {}", mm(fins.root));
-        }
-        super::FinShape::Freeform(p) => {
-            let _ = writeln!(o, "    planform = freeform");
-            let pts: Vec<String> = p
-                .iter()
-                .map(|&(x, y)| format!("({}, {}) mm", f(x * 1e3, 4), f(y * 1e3, 4)))
-                .collect();
-            let _ = writeln!(o, "    points = [{}]", pts.join(", "));
-        }
-    }
-    let _ = writeln!(o, "    thickness = {}", mm(fins.thickness));
-    let _ = writeln!(o, "    cross_section = {}", fins.cross_section);
-    let _ = writeln!(o, "    cant = {} deg", f(fins.cant, 4));
-    let _ = writeln!(
-        o,
-        "    root_trailing_edge = {} m",
-        f(-(fins.root_le + fins.root), 5)
+    write_fin_set(
+        &mut o,
+        fins,
+        None,
+        fin_mat.as_ref().map(|m| m.ident.as_str()),
     );
-    if let Some(fm) = &fin_mat {
-        let _ = writeln!(o, "    material = {}", fm.ident);
-    }
-    if let Some((rf, m)) = &fins.fillet {
+    // Further sets (canards, ...): named blocks, rigid in the flight (`check::fin_sets`).
+    let mut names: Vec<String> = vec!["fins".into()];
+    for (fs, fm) in d.more_fins.iter().zip(&fin_mats[1..]) {
+        let mut name = ident(&fs.name);
+        while names.contains(&name) {
+            name.push('_');
+        }
+        names.push(name.clone());
+        let _ = writeln!(o);
         let _ = writeln!(
             o,
-            "    # Root fillets of `{}` ({} kg/m^3 in the design): their mass only, as OpenRocket counts them.",
-            comment_safe(&m.name),
-            f(m.density, 6)
+            "  # A further fin set: rigid in the flight (its mass a rigid body, its aerodynamics in the"
         );
-        let _ = writeln!(o, "    fillet_radius = {}", mm(*rf));
-        let _ = writeln!(o, "    fillet_density = {} kg/m^3", f(m.density, 6));
+        let _ = writeln!(
+            o,
+            "  # body's coefficients; no modes or fin loads; its clamped-fin flutter margin: docs/language.md)."
+        );
+        write_fin_set(
+            &mut o,
+            fs,
+            Some(&name),
+            fm.as_ref().map(|m| m.ident.as_str()),
+        );
     }
-    let _ = writeln!(o, "  }}");
     // The vehicle flies the default configuration's motor (else the first).
     let default = d
         .default_config

@@ -8,7 +8,7 @@
 //!
 //! What the language cannot say is a diagnostic naming the component: an error where the
 //! flight would be a different rocket (a second stage, a step in diameter without a transition,
-//! a second fin set, an assembly mass override, a material without stiffness, a motor
+//! an assembly mass override, a material without stiffness, a motor
 //! not in the catalogue), a warning where the rocket is kept and one property is approximated
 //! (a nose shape other than a cone generated as a cone with its exact mass restored, a
 //! component's surface finish other than the vehicle's). Launch lugs and rail buttons become
@@ -394,6 +394,9 @@ pub struct FinSet {
     pub outline: FinShape,
     /// Root fillets: radius (m) and material (`<filletradius>`, `<filletmaterial>`).
     pub fillet: Option<(f64, OrMaterial)>,
+    /// The angle of each fin about the axis, degrees (`count` of them): OpenRocket's
+    /// `<angleoffset>` plus 360 i/count; sets merged by [`arrange_fin_sets`] list their fins'.
+    pub angles: Vec<f64>,
 }
 
 /// A fin set's planform as OpenRocket stores it.
@@ -406,7 +409,69 @@ pub enum FinShape {
     Freeform(Vec<(f64, f64)>),
 }
 
+/// The design's fin sets of one stage as the language's (issue 34): sets that differ only in
+/// their angles (a rocketeer's way to cant or place each fin of one set on its own, as
+/// OpenRocket's "Simulation scripting" example does with three one-fin sets) are merged into
+/// one set listing its fins' angles; the **aft-most** set (its root trailing edge furthest aft;
+/// on a tie the larger planform area times count) becomes the unnamed `fins` block, the
+/// vehicle's flexible, meshed set, and the others named further sets, fore to aft. The aft-most,
+/// not the largest: it is the stabilising set whose flexibility and flutter a rocketeer asks
+/// about, while forward sets are canards (rigid in the flight, `check::fin_sets`). `None` for
+/// no set. Each merge is said in `notes`.
+pub(crate) fn arrange_fin_sets(
+    sets: Vec<FinSet>,
+    notes: &mut Vec<String>,
+) -> Option<(FinSet, Vec<FinSet>)> {
+    let same = |a: &FinSet, b: &FinSet| {
+        a.root == b.root
+            && a.tip == b.tip
+            && a.span == b.span
+            && a.sweep == b.sweep
+            && a.thickness == b.thickness
+            && a.cross_section == b.cross_section
+            && a.cant == b.cant
+            && a.root_le == b.root_le
+            && a.material.name == b.material.name
+            && a.material.density == b.material.density
+            && a.outline == b.outline
+            && a.override_mass.is_none()
+            && b.override_mass.is_none()
+    };
+    let mut merged: Vec<FinSet> = Vec::new();
+    for s in sets {
+        match merged.iter_mut().find(|m| same(m, &s)) {
+            Some(m) => {
+                notes.push(format!(
+                    "fin set `{}` is fin set `{}` at other angles: merged into one set of their {} fins",
+                    s.name,
+                    m.name,
+                    m.count + s.count
+                ));
+                m.count += s.count;
+                m.angles.extend(s.angles);
+                m.angles.sort_by(f64::total_cmp);
+            }
+            None => merged.push(s),
+        }
+    }
+    let key = |f: &FinSet| (f.root_le + f.root, f64::from(f.count) * f.area());
+    let primary = (0..merged.len()).max_by(|&i, &j| {
+        let (a, b) = (key(&merged[i]), key(&merged[j]));
+        a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1))
+    })?;
+    let p = merged.remove(primary);
+    merged.sort_by(|a, b| a.root_le.total_cmp(&b.root_le));
+    Some((p, merged))
+}
+
 impl FinSet {
+    /// The default angles of `count` fins from OpenRocket's `<angleoffset>`, degrees.
+    pub fn default_angles(count: u32, offset: f64) -> Vec<f64> {
+        (0..count)
+            .map(|i| offset + 360.0 * f64::from(i) / f64::from(count.max(1)))
+            .collect()
+    }
+
     /// Planform area of one fin, m².
     pub fn area(&self) -> f64 {
         match &self.outline {
@@ -497,7 +562,10 @@ pub struct Design {
     pub tubes: Vec<Tube>,
     /// Transitions and boat tails, fore to aft.
     pub transitions: Vec<ImpTransition>,
+    /// The flexible, meshed fin set (the aft-most: [`arrange_fin_sets`]).
     pub fins: FinSet,
+    /// Further fin sets on the same stage (canards, ...), fore to aft: named `fins` blocks.
+    pub more_fins: Vec<FinSet>,
     pub masses: Vec<MassItem>,
     pub mount: Option<Mount>,
     pub recovery: Vec<Recovery>,
@@ -1198,35 +1266,15 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
         };
         ahead = name;
     }
-    let fins = match rd.fins.len() {
-        0 => {
-            cx.error(
-                "import::unsupported",
-                stage,
-                "the design has no trapezoidal fin set: flexflight's vehicles have one".into(),
-                "this stage",
-            );
-            None
-        }
-        1 => rd.fins.pop(),
-        _ => {
-            cx.error(
-                "import::unsupported",
-                stage,
-                format!(
-                    "the design has {} fin sets ({}): the language has one fin set for now",
-                    rd.fins.len(),
-                    rd.fins
-                        .iter()
-                        .map(|f| f.name.as_str())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-                "this stage",
-            );
-            None
-        }
-    };
+    let fins = arrange_fin_sets(std::mem::take(&mut rd.fins), &mut notes);
+    if fins.is_none() {
+        cx.error(
+            "import::unsupported",
+            stage,
+            "the design has no trapezoidal fin set: flexflight's vehicles have one".into(),
+            "this stage",
+        );
+    }
     if rd.mounts.len() > 1 {
         cx.error(
             "import::unsupported",
@@ -1265,7 +1313,8 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
         nose,
         tubes,
         transitions,
-        fins: fins?,
+        fins: fins.as_ref()?.0.clone(),
+        more_fins: fins?.1,
         masses: rd.masses,
         mount: rd.mounts.pop(),
         recovery: rd.recovery,
@@ -1630,9 +1679,12 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                         continue;
                     };
                     let le = place(c, p.top, p.length, root);
+                    let count = count.round().max(1.0) as u32;
+                    let offset = num(cx, c, "angleoffset").ok().flatten().unwrap_or(0.0);
                     rd.fins.push(FinSet {
                         name: nm.clone(),
-                        count: count.round().max(1.0) as u32,
+                        count,
+                        angles: FinSet::default_angles(count, offset),
                         root,
                         tip,
                         span,

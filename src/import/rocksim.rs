@@ -370,49 +370,31 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
         }
         s = top + len;
     }
-    let fin = match fins.len() {
-        1 if matches!(&fins[0].0.outline, FinShape::Freeform(p) if p.is_empty()) => {
+    // RockSim's custom (freeform) outlines are not read yet: an error at each custom set.
+    for (f, n) in &fins {
+        if matches!(&f.outline, FinShape::Freeform(p) if p.is_empty()) {
             cx.error(
                 "import::unsupported",
-                fins[0].1,
+                *n,
                 format!(
                     "custom fin set `{}`: RockSim's custom (freeform) fin outlines are not read yet",
-                    fins[0].0.name
+                    f.name
                 ),
                 "custom fin set",
             );
-            None
         }
-        1 => fins.pop().map(|f| f.0),
-        0 => {
-            cx.error(
-                "import::unsupported",
-                parts,
-                "the design has no fin set: flexflight's vehicles have one".into(),
-                "this stage",
-            );
-            None
-        }
-        _ => {
-            let mut d = Diagnostic::error(
-                "import::unsupported",
-                format!(
-                    "the design has {} fin sets ({}): the language has one fin set for now",
-                    fins.len(),
-                    fins.iter()
-                        .map(|f| f.0.name.as_str())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            );
-            d = d.label(
-                cx.span(fins[1].1),
-                format!("second fin set `{}`", fins[1].0.name),
-            );
-            cx.diags.push(d);
-            None
-        }
-    };
+    }
+    // The sets as the language's (`arrange_fin_sets`: the aft-most is the flexible set).
+    let mut fin_notes = Vec::new();
+    let fin = super::arrange_fin_sets(fins.into_iter().map(|f| f.0).collect(), &mut fin_notes);
+    if fin.is_none() {
+        cx.error(
+            "import::unsupported",
+            parts,
+            "the design has no fin set: flexflight's vehicles have one".into(),
+            "this stage",
+        );
+    }
     if cx.diags.iter().any(Diagnostic::is_error) {
         return None;
     }
@@ -494,6 +476,7 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
     let mut notes = vec![format!(
         "RockSim file version {version}: lengths in mm, masses in g; RockSim's stored simulation results and launch conditions are not read (a default scenario is written)"
     )];
+    notes.extend(fin_notes);
     let found = finishes(cx, parts);
     let finish = super::choose_finish(cx, &found, &mut notes);
     if cx.diags.iter().any(Diagnostic::is_error) {
@@ -508,7 +491,8 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
         nose,
         tubes,
         transitions,
-        fins: fin?,
+        fins: fin.as_ref()?.0.clone(),
+        more_fins: fin?.1,
         masses,
         mount,
         recovery,
@@ -613,10 +597,13 @@ fn attached<'a, 'i>(
                 };
                 let root_le = place(cx, c, top, len, root);
                 let cant = val(cx, c, "CantAngle", 1.0).ok().flatten().unwrap_or(0.0);
+                let count = count.max(0.0) as u32;
                 fins.push((
                     FinSet {
                         name: nm.clone(),
-                        count: count.max(0.0) as u32,
+                        count,
+                        // RockSim's radial angle is not read: the fins evenly from 0.
+                        angles: FinSet::default_angles(count, 0.0),
                         root,
                         tip,
                         span,
@@ -658,6 +645,7 @@ fn attached<'a, 'i>(
                         override_mass: None,
                         outline: FinShape::Freeform(Vec::new()),
                         fillet: None,
+                        angles: Vec::new(),
                     },
                     c,
                 ));

@@ -59,6 +59,7 @@ pub fn cache_key(v: &Vehicle) -> std::io::Result<CacheKey> {
         key_nodes,
         modes,
         fins,
+        fin_sets,
         motor,
         // Not structural: the aerodynamics and the force blocks are resolved by the plan
         // and the runtime, never by the compiler.
@@ -79,6 +80,11 @@ pub fn cache_key(v: &Vehicle) -> std::io::Result<CacheKey> {
     canon(&mut b, "material", material)?;
     canon(&mut b, "structure", structure)?;
     canon(&mut b, "fins", fins)?;
+    // The further sets' masses are rigid masses of the generated model. Hashed only when
+    // present, so the key of a vehicle without them is the key it had before they existed.
+    if !fin_sets.is_empty() {
+        canon(&mut b, "fin sets", fin_sets)?;
+    }
     canon(&mut b, "origin", origin)?;
     canon(&mut b, "key_nodes", key_nodes)?;
     canon(&mut b, "modes", modes)?;

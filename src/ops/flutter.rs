@@ -1135,7 +1135,70 @@ pub fn flight_margin(
 
 /// [`flight_margin`] with the boundary from `boundary` instead of [`cached_boundary`] (a Monte
 /// Carlo's thickness family, `ops::montecarlo::family`).
+///
+/// With further fin sets (`fins NAME`, issue 34) each set gets its own margin over the same
+/// flight by the same machinery: the vehicle with that set as its `fins` (the clamped fin's
+/// modes and boundary depend on the `fins` block and the fin mesh density alone,
+/// [`hash_clamped_fin`]), so its planform, thickness and material, its own cached boundary.
+/// The unnamed set's fields stay at the top level of the JSON; `sets` lists each further
+/// set's (its `name` added), `minimum_over_sets` the smallest trusted minimum of all sets
+/// (`speed_margin`, `set`) and `meets_criterion_all_sets` whether every set meets the
+/// criterion; the line gets one line per set. The CSV is the unnamed set's.
 pub fn flight_margin_with(
+    sc: &ir::Scenario,
+    o: &crate::run::RunOutput,
+    table_machs: &[f64],
+    boundary: &dyn Fn(&ir::Vehicle, &BoundarySpec) -> Result<CachedBoundary, FinFlutterError>,
+) -> FlightMargin {
+    let mut m = set_margin(sc, o, table_machs, boundary);
+    if sc.vehicle.fin_sets.is_empty() {
+        return m;
+    }
+    let speed = |j: &serde_json::Value| j["minimum"]["speed_margin"].as_f64();
+    let mut lowest: Option<(f64, String)> = speed(&m.json).map(|x| (x, "fins".to_string()));
+    let mut all_meet = m.json["meets_criterion"].as_bool();
+    let mut sets = Vec::with_capacity(sc.vehicle.fin_sets.len());
+    for s in &sc.vehicle.fin_sets {
+        let mut one = sc.clone();
+        one.vehicle.fins = Some(s.fins.clone());
+        one.vehicle.fin_sets.clear();
+        let sm = set_margin(&one, o, table_machs, boundary);
+        let name = s.name.value.clone();
+        let _ = write!(m.line, "\n  fin set `{name}`: {}", sm.line);
+        m.warnings.extend(sm.warnings);
+        if let Some(x) = speed(&sm.json) {
+            if lowest.as_ref().is_none_or(|(l, _)| x < *l) {
+                lowest = Some((x, name.clone()));
+            }
+        }
+        all_meet = match (all_meet, sm.json["meets_criterion"].as_bool()) {
+            (Some(a), Some(b)) => Some(a && b),
+            _ => None,
+        };
+        let mut j = sm.json;
+        if let Some(map) = j.as_object_mut() {
+            map.insert("name".into(), serde_json::Value::String(name));
+        }
+        sets.push(j);
+    }
+    if let Some(map) = m.json.as_object_mut() {
+        map.insert("sets".into(), serde_json::Value::Array(sets));
+        map.insert(
+            "minimum_over_sets".into(),
+            serde_json::json!(
+                lowest.map(|(x, set)| serde_json::json!({"speed_margin": x, "set": set}))
+            ),
+        );
+        map.insert(
+            "meets_criterion_all_sets".into(),
+            serde_json::json!(all_meet),
+        );
+    }
+    m
+}
+
+/// The flutter margin of the vehicle's unnamed `fins` set over the flight ([`flight_margin_with`]).
+fn set_margin(
     sc: &ir::Scenario,
     o: &crate::run::RunOutput,
     table_machs: &[f64],

@@ -129,6 +129,21 @@ pub fn generator_spec(v: &Vehicle, g: &ir::Generate) -> GeneratorSpec {
         poisson: m.poisson.value,
         density: m.density.value,
     };
+    let fin_spec = |f: &ir::Fins| generate::FinSpec {
+        count: f.count.value,
+        span: f.span.value,
+        root_chord: f.root_chord.value,
+        tip_chord: f.tip_chord.value,
+        sweep: f.leading_edge_sweep.value,
+        thickness: f.thickness.value,
+        cant: f.cant.value,
+        angles: f.angles.iter().map(|a| a.value).collect(),
+        root_trailing_edge_x: f.root_trailing_edge_x.value,
+        span_elements: generate::FinSpec::strips_for(&f.outline, g.fin_span_elements.value),
+        chord_elements: g.fin_chord_elements.value,
+        material: mat(&f.material),
+        outline: f.outline.clone(),
+    };
     GeneratorSpec {
         body: generate::BodySpec {
             length: g.body.length.value,
@@ -144,21 +159,8 @@ pub fn generator_spec(v: &Vehicle, g: &ir::Generate) -> GeneratorSpec {
             },
             material: mat(&v.material),
         },
-        fins: v.fins.as_ref().map(|f| generate::FinSpec {
-            count: f.count.value,
-            span: f.span.value,
-            root_chord: f.root_chord.value,
-            tip_chord: f.tip_chord.value,
-            sweep: f.leading_edge_sweep.value,
-            thickness: f.thickness.value,
-            cant: f.cant.value,
-            angles: f.angles.iter().map(|a| a.value).collect(),
-            root_trailing_edge_x: f.root_trailing_edge_x.value,
-            span_elements: generate::FinSpec::strips_for(&f.outline, g.fin_span_elements.value),
-            chord_elements: g.fin_chord_elements.value,
-            material: mat(&f.material),
-            outline: f.outline.clone(),
-        }),
+        fins: v.fins.as_ref().map(&fin_spec),
+        rigid_fins: v.fin_sets.iter().map(|s| fin_spec(&s.fins)).collect(),
         point_masses: g
             .point_masses
             .iter()
@@ -183,24 +185,34 @@ pub fn generator_spec(v: &Vehicle, g: &ir::Generate) -> GeneratorSpec {
     }
 }
 
-/// The fins' root fillets as a line mass on the body over the root chord
+/// Every fin set's root fillets (the vehicle's `fins` and its further sets) as a line mass on
+/// the body over the set's root chord
 /// ([`ir::Fillet::mass`], at the body's radius under the fins). Like every distributed mass
 /// it is on the body axis: the fillets' own roll inertia, `m (R + r/5)²` with OpenRocket's
 /// radial centroid, is left out (0.5 % of the K1000T vehicle's roll inertia for 10 mm
 /// fillets, docs/language.md).
-fn fillet_mass(v: &Vehicle, g: &ir::Generate) -> Option<generate::DistributedMass> {
-    let f = v.fins.as_ref()?;
-    let fillet = f.fillet.as_ref()?;
-    let x_te = f.root_trailing_edge_x.value;
-    Some(generate::DistributedMass {
-        name: "fin fillets".to_string(),
-        x_from: x_te + f.root_chord.value,
-        x_to: x_te,
-        mass: fillet.mass(
-            f.count.value,
-            f.root_chord.value,
-            g.body.root_radius(Some(f)),
-        ),
+fn fillet_mass<'a>(
+    v: &'a Vehicle,
+    g: &'a ir::Generate,
+) -> impl Iterator<Item = generate::DistributedMass> + 'a {
+    let primary = v.fins.iter().map(|f| ("fin fillets".to_string(), f));
+    let further = v
+        .fin_sets
+        .iter()
+        .map(|s| (format!("fin fillets of `{}`", s.name.value), &s.fins));
+    primary.chain(further).filter_map(move |(name, f)| {
+        let fillet = f.fillet.as_ref()?;
+        let x_te = f.root_trailing_edge_x.value;
+        Some(generate::DistributedMass {
+            name,
+            x_from: x_te + f.root_chord.value,
+            x_to: x_te,
+            mass: fillet.mass(
+                f.count.value,
+                f.root_chord.value,
+                g.body.root_radius(Some(f)),
+            ),
+        })
     })
 }
 

@@ -156,7 +156,9 @@ impl SampleOutputs {
             min_static_margin_cal: num(&f["static_margin_calibres"]["min"]["value"]),
             landing_x_m: num(&f["landing"]["position"][0]),
             landing_y_m: num(&f["landing"]["position"][1]),
-            flutter_margin_min: num(&s["flutter_margin"]["minimum"]["speed_margin"]),
+            // The minimum over every fin set where the vehicle has further sets.
+            flutter_margin_min: num(&s["flutter_margin"]["minimum_over_sets"]["speed_margin"])
+                .or_else(|| num(&s["flutter_margin"]["minimum"]["speed_margin"])),
         }
     }
 }

@@ -230,6 +230,11 @@ pub fn aero_tables(v: &ir::Vehicle) -> Result<EstimatedTables, AeroForceError> {
                 transitions: b.transition_geoms(),
                 roughness: roughness.value,
                 guides: launch_guides(b),
+                fin_sets: v
+                    .fin_sets
+                    .iter()
+                    .map(|s| crate::aero::estimator::RigidFinSet::of(&s.fins, b))
+                    .collect(),
             };
             let fin = match &v.fins {
                 Some(f) => planform(f, b.radius_under(f)),

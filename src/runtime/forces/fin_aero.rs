@@ -537,9 +537,23 @@ impl FinAero {
                     root_le_x - edges.le(eta * f.span.value)
                 };
                 let chord = chord_at(eta);
+                // The node's planform x: on a canted fin its chordwise distance from the cant
+                // pivot (the middle of the root chord) along the canted chord direction
+                // `e_chord = (cos cant, -sin cant sin delta, sin cant cos delta)` (the first
+                // row of `c_nominal`), not its body x, which is that distance times cos(cant)
+                // (a canted, swept fin's tip nodes were found off the planform by
+                // (1 - cos cant) times their distance from the pivot). Uncanted: the body x.
+                let p = c.node_positions[k];
+                let x_node = if sg == 0.0 {
+                    p[0]
+                } else {
+                    let pivot = root_le_x - 0.5 * f.root_chord.value;
+                    let e = c_nominal[0];
+                    pivot + (p[0] - pivot) * e[0] + p[1] * e[1] + p[2] * e[2]
+                };
                 // A pointed tip's node has no chord: its chordwise place is immaterial.
                 let xi = if chord > 0.0 {
-                    (x_le - c.node_positions[k][0]) / chord
+                    (x_le - x_node) / chord
                 } else {
                     0.5
                 };

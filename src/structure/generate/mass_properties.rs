@@ -326,6 +326,23 @@ fn add_fin(out: &mut MassProperties, f: &FinSpec, delta: f64, root_radius: f64) 
     out.add_second_moment(rt * area, rt * (area * p0 + first_local), s);
 }
 
+/// The mass properties of a further, rigid fin set `f` on `body` (all its plates, as
+/// [`analytic_mass_properties`] adds the meshed set's) about the point `(about_x, 0, 0)`:
+/// the set moved by `-about_x` along the axis, its root radius that of its own station. About
+/// a body node this is the 6 x 6 nodal mass block of the set rigidly attached there
+/// ([`MassProperties::rigid_mass_matrix`]: `[[m I, -(m c)^x], [(m c)^x, J]]`, the rigid
+/// body's mass matrix in the node's translations and rotations).
+pub fn rigid_fin_set(body: &BodySpec, f: &FinSpec, about_x: f64) -> MassProperties {
+    let root_radius = super::mesh::fin_root_radius(body, f.pivot_x());
+    let mut moved = f.clone();
+    moved.root_trailing_edge_x -= about_x;
+    let mut out = MassProperties::zero();
+    for delta in moved.fin_angles() {
+        add_fin(&mut out, &moved, delta, root_radius);
+    }
+    out
+}
+
 /// Closed-form mass properties of the vehicle `spec` describes (see the `generate` module
 /// doc for the geometry): tapered tube, trapezoidal plates, line masses, point masses.
 pub fn analytic_mass_properties(spec: &GeneratorSpec) -> MassProperties {
@@ -339,6 +356,16 @@ pub fn analytic_mass_properties(spec: &GeneratorSpec) -> MassProperties {
                 delta,
                 super::mesh::fin_root_radius(&spec.body, f.pivot_x()),
             );
+        }
+    }
+    for f in &spec.rigid_fins {
+        let p = rigid_fin_set(&spec.body, f, 0.0);
+        out.mass += p.mass;
+        for a in 0..3 {
+            out.first_moment[a] += p.first_moment[a];
+            for b in 0..3 {
+                out.inertia_about_origin[a][b] += p.inertia_about_origin[a][b];
+            }
         }
     }
     for d in &spec.distributed_masses {

@@ -10,6 +10,11 @@
 //! - fins: flat trapezoidal plates of constant thickness, root on the tube's outer surface,
 //!   meshed with MITC4 shells (see `shell`) and joined to the body line by rigid links
 //!   (the root row of fin nodes is eliminated; see `assembly`).
+//! - further fin sets (`fins NAME`, `GeneratorSpec::rigid_fins`, issue 34): not meshed; each
+//!   set's plates (the same geometry as the meshed fins', `mass_properties::add_fin`) are one
+//!   rigid body lumped at the body node nearest its centre of mass, its 6 x 6 block the
+//!   set's exact mass, first moment and inertia tensor (products included) about that node
+//!   (`mass_properties::rigid_fin_set`). No node, element or mode comes from it.
 //! - point masses: rigid bodies lumped at the nearest body node with a rigid offset (6 x 6
 //!   block [[m I, -m d^x], [m d^x, I_c - m d^x d^x]]).
 //! - distributed masses: uniform line masses on the body axis (no rotary inertia), through
@@ -30,6 +35,7 @@ pub use assembly::{NodeMap, offset_mass_block, rigid_link, skew};
 pub use beam::{TubeSection, section_at};
 pub use mass_properties::{
     MassProperties, analytic_mass_properties, rigid_body_projection, rigid_body_vectors,
+    rigid_fin_set,
 };
 pub use shell::{Mat24, orthotropic_plane_stress, shell_element, shell_element_lamina};
 pub use spec::{
@@ -242,6 +248,16 @@ pub fn generate(spec: &GeneratorSpec) -> Result<FeModel, GenerateError> {
                 NodeMap::Fixed => None,
             });
         }
+    }
+
+    // Further fin sets: each a rigid body (its plates' exact mass, first moment and inertia
+    // tensor, products included) on the body node nearest its centre of mass.
+    for f in &spec.rigid_fins {
+        let about_tip = mass_properties::rigid_fin_set(body, f, 0.0);
+        let x_c = about_tip.first_moment[0] / about_tip.mass;
+        let node = mesh::nearest_station(&stations, x_c);
+        let block = mass_properties::rigid_fin_set(body, f, stations[node]).rigid_mass_matrix();
+        asm.add_nodal_mass(node, &Matrix6::from_fn(|a, b| block[a][b]));
     }
 
     // Point masses at the nearest body node, with rigid offset.

@@ -212,6 +212,10 @@ pub struct GeneratorSpec {
     pub fins: Option<FinSpec>,
     pub point_masses: Vec<PointMass>,
     pub distributed_masses: Vec<DistributedMass>,
+    /// Further fin sets (`fins NAME`, issue 34): rigid, not meshed; each set's plates are a
+    /// rigid body on the body node nearest its centre of mass, with their exact mass, centre
+    /// and inertia tensor (`mass_properties::rigid_fin_set`). Their mesh densities are not used.
+    pub rigid_fins: Vec<FinSpec>,
 }
 
 fn positive(what: &'static str, value: f64) -> Result<(), GenerateError> {
@@ -435,6 +439,9 @@ pub(crate) fn check_masses(spec: &GeneratorSpec) -> Result<(), GenerateError> {
 pub(crate) fn check(spec: &GeneratorSpec) -> Result<(), GenerateError> {
     check_body(&spec.body)?;
     if let Some(f) = &spec.fins {
+        check_fins(f, &spec.body)?;
+    }
+    for f in &spec.rigid_fins {
         check_fins(f, &spec.body)?;
     }
     check_masses(spec)
