@@ -546,3 +546,61 @@ fn every_nose_shape_has_the_mass_and_inertia_of_its_profile() {
         worst.0, worst.1
     );
 }
+
+/// A canted fin's root nodes sit `(1 - cos cant)` of their distance from the pivot forward of
+/// the root's ends; with the root's trailing edge at the tail, at 1 deg that is 25 um ahead
+/// of it. The body stations no longer take such a root node's x when another hard station
+/// lies within 1e-3 of a division of it (the node is linked to that station with its offset):
+/// no body element is shorter than that. The old mesh's 25 um element made the modal solve
+/// of a canted SPHADS-1 run past 100 s and `hpr_k1000` with `fins.cant = 1 deg` end in
+/// `modal::mechanisms`; it now compiles with the uncanted vehicle's body and fin
+/// frequencies to 1e-3.
+#[test]
+fn a_canted_fins_root_leaves_no_sliver_body_element() {
+    let mut spec = full_vehicle(BeamTheory::EulerBernoulli);
+    let mut fins = spec.fins.take().unwrap();
+    fins.root_trailing_edge_x = -2.75;
+    fins.cant = 1f64.to_radians();
+    spec.fins = Some(fins);
+    let model = generate(&spec).unwrap();
+    let mut xs: Vec<f64> = model
+        .nodes
+        .iter()
+        .filter(|n| n.component == Component::Body)
+        .map(|n| n.position[0])
+        .collect();
+    xs.sort_by(f64::total_cmp);
+    let h = 2.75 / 40.0;
+    let shortest = xs
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .fold(f64::INFINITY, f64::min);
+    assert!(shortest > 1e-3 * h, "shortest body element {shortest} m");
+
+    let file =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/hpr_k1000/hpr_k1000.vdl");
+    let vehicle = |sets: &[String]| {
+        let checked = flexflight::check::check_files(
+            std::slice::from_ref(&file),
+            sets,
+            &flexflight::check::DiskLoader,
+        );
+        assert!(!checked.has_errors(), "{:?}", checked.diagnostics);
+        checked.program.vehicles[0].clone()
+    };
+    let (flat, _) = flexflight::structure::compile::compile(&vehicle(&[])).unwrap();
+    let (canted, _) =
+        flexflight::structure::compile::compile(&vehicle(&["fins.cant=1 deg".to_string()]))
+            .unwrap();
+    assert_eq!(flat.modes.len(), canted.modes.len());
+    for (a, b) in flat.modes.iter().zip(&canted.modes) {
+        assert_eq!(a.class, b.class);
+        assert!(
+            (b.frequency_hz / a.frequency_hz - 1.0).abs() < 1e-3,
+            "{}: {} Hz canted, {} Hz flat",
+            a.class,
+            b.frequency_hz,
+            a.frequency_hz
+        );
+    }
+}

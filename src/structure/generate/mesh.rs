@@ -5,7 +5,9 @@
 //!   tip x = 0, the tail x = -L, the end of the nose x = -l_n, the point where the nose
 //!   stops being solid (r_o = t: x = -t l_n / R on a cone), both ends of every transition,
 //!   both ends of every distributed mass, and
-//!   the x of every fin root node (so each root node has a body node at the same x);
+//!   the x of every fin root node (so each root node has a body node at the same x), unless
+//!   another hard station lies within 1e-3 of a division of it (a canted fin's root ends: the
+//!   root node is then linked to that station with its offset, not given a sliver element);
 //! - the `elements` uniform divisions of [-L, 0], dropping any that falls within 0.3 of a
 //!   division of a hard station (to avoid slivers).
 //!
@@ -41,10 +43,20 @@ pub fn body_stations(spec: &GeneratorSpec) -> Vec<f64> {
         hard.push(d.x_from);
         hard.push(d.x_to);
     }
-    if let Some(f) = &spec.fins {
-        hard.extend(fin_root_stations(f));
-    }
     let h = l / body.elements as f64;
+    // A fin root node's station, unless another hard station lies within `SLIVER` h of it:
+    // the root node is then linked to that station with its small x offset
+    // (`NodeMap::Slave`), where a station of its own would leave a sliver element. A canted
+    // fin's root nodes sit `(1 - cos cant)` of their distance from the pivot forward of the
+    // root's ends: 25 um ahead of SPHADS-1's tail at 1 deg, whose sliver beam's stiffness
+    // swamped the modal solve (it did not finish, or found mechanisms).
+    if let Some(f) = &spec.fins {
+        for x in fin_root_stations(f) {
+            if hard.iter().all(|&s| (s - x).abs() > SLIVER * h) {
+                hard.push(x);
+            }
+        }
+    }
     let mut all = hard.clone();
     for k in 1..body.elements {
         let x = -(k as f64) * h;
@@ -56,6 +68,10 @@ pub fn body_stations(spec: &GeneratorSpec) -> Vec<f64> {
     all.dedup_by(|a, b| (*a - *b).abs() <= 1e-12 * l);
     all
 }
+
+/// Two stations closer than this fraction of the uniform division are one (a fin root
+/// node's and another hard station's: [`body_stations`]).
+pub const SLIVER: f64 = 1e-3;
 
 /// x of the body station under each root node of a fin (chordwise index 0..=chord_elements).
 pub fn fin_root_stations(f: &FinSpec) -> Vec<f64> {
