@@ -213,16 +213,42 @@ fn rocksim_designs_are_read_and_what_cannot_be_said_is_refused_by_name() {
     );
     // The parachutes were read (their deployment is RockSim's simulation setting: a warning).
     assert!(e.contains("Main Parachute"), "{e}");
-    let o = import(&design("rocksim_test_rocket_1.rkt"), &out, &[]);
-    assert_eq!(o.status.code(), Some(1));
+    // A 57.15 mm nose on a 66.04 mm tube, and a transition ending 3 mm under the next tube:
+    // each step in diameter becomes a 45-degree shoulder at the front of the tube behind it
+    // (`import::bridge_step`, a warning at the tube's line; the old importer refused the
+    // design with `import::diameter`), and its triangular fins (no tip chord) a freeform
+    // outline of their three corners; the vehicle checks. (RockSim's file names no motor:
+    // no scenario is written, so it does not fly as imported.)
+    let other = tempfile::tempdir().unwrap();
+    let rkt_out = other.path().join("foobar.vdl");
+    let o = import(
+        &design("rocksim_test_rocket_1.rkt"),
+        &rkt_out,
+        // Test inputs, not reference values: the design gives only densities.
+        &[
+            "--material",
+            "Paper=3 GPa,0.3",
+            "--material",
+            "Balsa=3 GPa,0.3",
+        ],
+    );
     let e = flat(&stderr(&o));
+    assert!(o.status.success(), "{e}");
     assert!(
-        e.contains("import::diameter")
-            && e.contains("body tube `Body tube` starts at diameter 66.040 mm")
-            && e.contains("ends at 57.150 mm")
+        e.contains("body tube `Body tube` starts at diameter 66.040 mm, the nose cone `Nose cone` ends at 57.150 mm: the step is generated as a 45-degree conical shoulder of 4.4 mm")
             && e.contains("rocksim_test_rocket_1.rkt:230:"),
         "{e}"
     );
+    let text = std::fs::read_to_string(&rkt_out).unwrap();
+    for needle in [
+        "planform = freeform",
+        "points = [(0, 0) mm, (282.575, 184.15) mm, (184.15, 0) mm]",
+        "root_trailing_edge = -1.252855 m",
+    ] {
+        assert!(text.contains(needle), "{needle}: {text}");
+    }
+    let c = bin().arg("check").arg(&rkt_out).output().unwrap();
+    assert!(c.status.success(), "check: {}\n{text}", stderr(&c));
     assert!(files_in(dir.path()).is_empty());
     // Truncated: the first 2,000 bytes of a real design.
     let text = std::fs::read(design("apocalypse.rkt")).unwrap();

@@ -357,7 +357,30 @@ fn resolve_motor(cx: &mut Cx, r: &MotorRef, cat: &[Entry]) -> Option<Entry> {
 /// One `fins` block (`name`: a further set's) of the importer's set `fins`, with its
 /// material's identifier when it is not the body's, and its angles when they are not the
 /// language's default 360 (i - 1)/n.
-fn write_fin_set(o: &mut String, fins: &super::FinSet, name: Option<&str>, material: Option<&str>) {
+fn write_fin_set(
+    o: &mut String,
+    fins: &super::FinSet,
+    name: Option<&str>,
+    material: Option<&str>,
+    body_length: f64,
+) {
+    // A trapezoid without a tip chord (a triangle: RockSim and OpenRocket allow it) is the
+    // freeform outline of its three corners: the generated trapezoid's shell mesh needs a tip
+    // chord, the freeform mesh ends in a point.
+    let pointed;
+    let fins = if matches!(fins.outline, super::FinShape::Trapezoidal) && fins.tip <= 0.0 {
+        pointed = super::FinSet {
+            outline: super::FinShape::Freeform(vec![
+                (0.0, 0.0),
+                (fins.sweep, fins.span),
+                (fins.root, 0.0),
+            ]),
+            ..fins.clone()
+        };
+        &pointed
+    } else {
+        fins
+    };
     match &fins.outline {
         super::FinShape::Trapezoidal => {
             let _ = writeln!(
@@ -423,10 +446,12 @@ fn write_fin_set(o: &mut String, fins: &super::FinSet, name: Option<&str>, mater
     let _ = writeln!(o, "    thickness = {}", mm(fins.thickness));
     let _ = writeln!(o, "    cross_section = {}", fins.cross_section);
     let _ = writeln!(o, "    cant = {} deg", f(fins.cant, 4));
+    // At most the body's length (a fin ending at the tail), in the body length's precision
+    // (0.1 um), so that rounding cannot put it behind the tail.
     let _ = writeln!(
         o,
         "    root_trailing_edge = {} m",
-        f(-(fins.root_le + fins.root), 5)
+        f(-(fins.root_le + fins.root).min(body_length), 7)
     );
     let default = super::FinSet::default_angles(fins.count, 0.0);
     if fins.angles.len() == fins.count as usize
@@ -1005,6 +1030,7 @@ pub(crate) fn emit(
         fins,
         None,
         fin_mat.as_ref().map(|m| m.ident.as_str()),
+        length,
     );
     // Further sets (canards, ...): named blocks, rigid in the flight (`check::fin_sets`).
     let mut names: Vec<String> = vec!["fins".into()];
@@ -1028,6 +1054,7 @@ pub(crate) fn emit(
             fs,
             Some(&name),
             fm.as_ref().map(|m| m.ident.as_str()),
+            length,
         );
     }
     // The vehicle flies the default configuration's motor (else the first).

@@ -306,6 +306,87 @@ impl Cx<'_> {
     }
 }
 
+/// A step in diameter where a body tube starts (at radius `tube.radius`) behind a part that
+/// ends at radius `r_prev`, which the generated body cannot have (its radius changes only
+/// along a transition): bridged when the tube is long enough, else `false` (the caller's
+/// `import::diameter` error).
+///
+/// - A step of at most [`STEP_ABSORBED`] of the diameter (a nose shoulder 0.1 mm under its
+///   tube's bore, as RockSim and OpenRocket designs often have) is taken as no step: the
+///   tube keeps the radius ahead, its mass is restored as any tube's is; a warning.
+/// - A larger step becomes a conical shoulder (or reducer) 45 degrees to the axis, of length
+///   `|Δr|` taken from the front of the tube (which is shortened by as much): Barrowman's
+///   normal force of a shoulder depends on its two areas only, not on its length (Barrowman
+///   1967, eq. 3-66; `aero::estimator`), so the step's normal force and centre of pressure are
+///   kept to within the shoulder's length; its pressure drag is the estimator's of a 45-degree
+///   shoulder, not of a blunt step (OpenRocket computes a step as a zero-length transition); a
+///   warning says so. A tube shorter than four times the step is not bridged.
+pub(crate) fn bridge_step(
+    cx: &mut Cx,
+    n: Node,
+    tube: &mut Tube,
+    r_prev: f64,
+    ahead: &str,
+    transitions: &mut Vec<ImpTransition>,
+) -> bool {
+    let dr = tube.radius - r_prev;
+    if dr.abs() <= 1e-6 {
+        return true;
+    }
+    if dr.abs() <= STEP_ABSORBED * 2.0 * tube.radius.max(r_prev) {
+        cx.warn(
+            n,
+            format!(
+                "body tube `{}` starts at diameter {:.3} mm, the {ahead} ends at {:.3} mm: a step of {:.3} mm, taken as none (the generated tube has the diameter ahead; its mass is kept)",
+                tube.name,
+                2e3 * tube.radius,
+                2e3 * r_prev,
+                2e3 * dr.abs()
+            ),
+        );
+        tube.radius = r_prev;
+        return true;
+    }
+    let len = dr.abs();
+    if tube.length < 4.0 * len {
+        return false;
+    }
+    cx.warn(
+        n,
+        format!(
+            "body tube `{}` starts at diameter {:.3} mm, the {ahead} ends at {:.3} mm: the step is generated as a 45-degree conical {} of {:.1} mm at the tube's front (its normal force is the step's; its pressure drag that of a 45-degree {}, not of a blunt step)",
+            tube.name,
+            2e3 * tube.radius,
+            2e3 * r_prev,
+            if dr > 0.0 { "shoulder" } else { "reducer" },
+            1e3 * len,
+            if dr > 0.0 { "shoulder" } else { "reducer" },
+        ),
+    );
+    transitions.push(ImpTransition {
+        name: format!("step ahead of {}", tube.name),
+        top: tube.top,
+        length: len,
+        r_fore: r_prev,
+        r_aft: tube.radius,
+        thickness: tube.thickness,
+        filled: false,
+        shape: NoseShape::Conical,
+        clipped: false,
+        material: tube.material.clone(),
+        override_mass: None,
+        override_cg: None,
+        at: cx.span(n),
+    });
+    tube.top += len;
+    tube.length -= len;
+    true
+}
+
+/// A step in diameter at most this fraction of the diameter is taken as none
+/// ([`bridge_step`]).
+pub const STEP_ABSORBED: f64 = 0.01;
+
 /// A material as OpenRocket stores it: a name and a density (bulk kg/m^3, surface kg/m^2,
 /// line kg/m).
 #[derive(Clone, Debug, PartialEq)]
@@ -1247,7 +1328,8 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
             }
             (t.r_fore, format!("transition `{}`", t.name))
         };
-        if (fore - r_cur).abs() > 1e-6 {
+        let bridged = is_tube && bridge_step(cx, n, &mut tubes[i], r_cur, &ahead, &mut transitions);
+        if !bridged && (fore - r_cur).abs() > 1e-6 {
             cx.error(
                 "import::diameter",
                 n,
@@ -1304,6 +1386,8 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
             .map(|c| format!(", written by {c}"))
             .unwrap_or_default()
     ));
+    // The steps bridged by `bridge_step` come after the design's own transitions.
+    transitions.sort_by(|a, b| a.top.total_cmp(&b.top));
     Some(Design {
         file: path.to_path_buf(),
         name,

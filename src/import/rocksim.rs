@@ -334,7 +334,11 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
         };
         // Each part starts at the radius the section ahead ends at.
         if let (Some((r, what)), Some(rp)) = (&r_fore, r_prev) {
-            if (r - rp).abs() > 1e-6 {
+            let bridged = tag == "BodyTube"
+                && tubes
+                    .last_mut()
+                    .is_some_and(|t| super::bridge_step(cx, c, t, rp, &ahead, &mut transitions));
+            if !bridged && (r - rp).abs() > 1e-6 {
                 cx.error(
                     "import::diameter",
                     c,
@@ -482,6 +486,8 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
     if cx.diags.iter().any(Diagnostic::is_error) {
         return None;
     }
+    // The steps bridged by `bridge_step` come after the design's own transitions.
+    transitions.sort_by(|a, b| a.top.total_cmp(&b.top));
     Some(Design {
         file: path.to_path_buf(),
         name,
