@@ -138,7 +138,12 @@ impl Tn4197Form {
 /// What the formula needs of one fin panel.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Tn4197Fin {
-    /// Shear modulus G, Pa.
+    /// Shear modulus G, Pa. Of an orthotropic fin (plywood, G10, a woven laminate) it is the
+    /// in-plane shear modulus `G12`: the formula's G stands for the panel's torsional
+    /// stiffness, and a thin plate's twisting stiffness is `D66 = G12 t^3 / 12` whatever
+    /// `E1`, `E2` (Jones 1999 eq. (4.23), `D66` of a single lamina; its rotation by the grain
+    /// angle is `Q̄66`, equal to `G12` at 0 and 90 deg: `structure::generate::shell`), so G12
+    /// is the G of an isotropic plate twisting alike (`check::ir::Material::in_plane_shear_modulus`).
     pub shear_modulus: f64,
     /// Span b, m.
     pub span: f64,
