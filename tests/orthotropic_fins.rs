@@ -371,3 +371,33 @@ fn check_takes_a_lamina_on_fins_and_refuses_it_on_the_body() {
         assert!(codes.contains(&code), "{lines}: {codes:?}");
     }
 }
+
+/// The planar models' fin (thesis eqs. (6.10)-(6.11): one fin as a beam bending along its
+/// span, and TN 4197 on the maps) takes the lamina: the spanwise modulus is `E2` with the
+/// grain along the chord and `E` with it along the span, the shear modulus is `G12`; an
+/// isotropic fin keeps `E/(2(1+nu))`.
+#[test]
+fn the_planar_fin_bends_on_its_span_modulus_and_shears_on_g12() {
+    let fin = |sets: &[String]| {
+        let v = k1000(sets);
+        let (compiled, _) = flexflight::structure::compile::compile(&v).unwrap();
+        flexflight::analysis::planar::PlanarVehicle::new(&v, &compiled)
+            .unwrap()
+            .fins
+    };
+    let iso = fin(&[]);
+    let (e, nu) = (iso.youngs_modulus, iso.poisson);
+    assert_eq!(iso.shear_modulus(), e / (2.0 * (1.0 + nu)));
+    let lam = |grain: &str| {
+        fin(&[
+            "fins.E2=20 GPa".into(),
+            "fins.G12=3 GPa".into(),
+            format!("fins.grain={grain}"),
+        ])
+    };
+    let (chord, span) = (lam("chordwise"), lam("spanwise"));
+    assert_eq!((chord.youngs_modulus, chord.shear_modulus()), (20e9, 3e9));
+    assert_eq!((span.youngs_modulus, span.shear_modulus()), (e, 3e9));
+    let r = chord.stiffness_one(0.002) / iso.stiffness_one(0.002);
+    assert!((r / (20e9 / e) - 1.0).abs() < 1e-15, "{r}");
+}
