@@ -102,6 +102,11 @@ pub struct FinLamina {
     pub e2: f64,
     /// In-plane shear modulus G12, Pa; also taken as the transverse shear modulus
     /// (G13 = G23 = G12, as the wind-tunnel fixture's lamina: `analysis::flutter::wing`).
+    /// That overstates plywood's transverse (rolling) shear stiffness, about a quarter of its
+    /// G12 (MatWeb's plywood sheet: 0.138-0.207 GPa rolling shear, 0.586-0.758 GPa edgewise);
+    /// the transverse shear's share of a plate's bending deflection is of order
+    /// `(t/L)^2 E/G13`, 2e-2 for a 2 mm plywood fin of 120 mm span (E 10 GPa, G13 0.14 GPa):
+    /// a stiffness overestimate of order a percent for such a fin, half that in frequency.
     pub g12: f64,
     /// Angle of the grain (direction 1) from the root chord, rad, counter-clockwise about the
     /// fin's normal in the local frame (`a` toward the leading edge, `b` outboard): 0
