@@ -100,6 +100,7 @@ fn fin(outline: FinOutline, root_chord: f64, span: f64, n_span: usize, n_chord: 
         span_elements: FinSpec::strips_for(&outline, n_span),
         chord_elements: n_chord,
         material: aluminium(),
+        lamina: None,
         outline,
     }
 }

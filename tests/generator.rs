@@ -49,6 +49,7 @@ fn sphads_fin(thickness: f64, chord_elements: usize, span_elements: usize) -> Fi
         span_elements,
         chord_elements,
         material: aluminium(),
+        lamina: None,
         outline: flexflight::check::ir::FinOutline::Trapezoidal,
     }
 }
@@ -141,6 +142,7 @@ fn plate(a_chord: f64, span: f64, sweep: f64, n_chord: usize, n_span: usize) -> 
             poisson: 0.3,
             density: 2700.0,
         },
+        lamina: None,
         outline: flexflight::check::ir::FinOutline::Trapezoidal,
     }
 }

@@ -138,7 +138,13 @@ impl Tn4197Form {
 /// What the formula needs of one fin panel.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Tn4197Fin {
-    /// Shear modulus G, Pa.
+    /// Shear modulus G, Pa. Of an orthotropic fin (plywood, G10, a woven laminate) it is the
+    /// in-plane shear modulus `G12`: the formula's G stands for the panel's torsional
+    /// stiffness, and a homogeneous plate's twisting stiffness is `D66 = Q̄66 t^3 / 12`
+    /// (the bending stiffness `D = Q̄ t^3/12` of `structure::generate::shell_element_lamina`),
+    /// with `Q̄66 = G12` for the grain at 0 or 90 deg to the chord whatever `E1`, `E2`
+    /// (Jones 1999 eq. (2.84), quoted at `orthotropic_plane_stress`): G12 is the G of the
+    /// isotropic plate that twists alike (`check::ir::Material::in_plane_shear_modulus`).
     pub shear_modulus: f64,
     /// Span b, m.
     pub span: f64,

@@ -65,9 +65,44 @@ pub struct Material {
     /// Ultimate stress, Pa.
     pub ultimate_stress: Option<Q>,
     /// An orthotropic lamina (`E2`, `G12` written): `E` is then the modulus along the grain
-    /// and `nu` is `nu_12`. Only a fixture's surface takes one; vehicles are isotropic.
+    /// and `nu` is `nu_12`. A fixture's surface and a vehicle's fins take one; the body is
+    /// isotropic.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub orthotropic: Option<Orthotropic>,
+}
+
+/// `fins { grain = chordwise | spanwise }`: the 1-direction of the fins' lamina along the
+/// root chord (default) or normal to it, along the span.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum FinGrain {
+    #[default]
+    Chordwise,
+    Spanwise,
+}
+
+impl FinGrain {
+    pub fn is_chordwise(&self) -> bool {
+        *self == FinGrain::Chordwise
+    }
+    /// The grain's angle from the root chord, rad, counter-clockwise about the fin's normal
+    /// in the generator's local frame (`a` along the root chord toward the leading edge, `b`
+    /// outboard): 0 or pi/2.
+    pub fn angle(&self) -> f64 {
+        match self {
+            FinGrain::Chordwise => 0.0,
+            FinGrain::Spanwise => std::f64::consts::FRAC_PI_2,
+        }
+    }
+}
+
+impl Material {
+    /// The in-plane shear modulus, Pa: `G12` of a lamina, else `E / (2 (1 + nu))`.
+    pub fn in_plane_shear_modulus(&self) -> f64 {
+        match &self.orthotropic {
+            Some(o) => o.g12.value,
+            None => self.youngs_modulus.value / (2.0 * (1.0 + self.poisson.value)),
+        }
+    }
 }
 
 /// The transverse constants of an orthotropic lamina (plane stress).
@@ -450,7 +485,12 @@ pub struct Fins {
     pub angles: Vec<Q>,
     /// Body-x station of the root trailing edge (<= 0).
     pub root_trailing_edge_x: Q,
+    /// The fins' material: `E`, `nu`, `rho`, and `E2`, `G12` with the fins' own overrides;
+    /// an orthotropic lamina is allowed here (not for the body).
     pub material: Material,
+    /// Direction of an orthotropic lamina's grain (its 1-direction, `E`) in the fin's plane.
+    #[serde(default, skip_serializing_if = "FinGrain::is_chordwise")]
+    pub grain: FinGrain,
     /// The outline (issue 34, `check::fin_outline`): trapezoidal (the fields above), elliptical
     /// or freeform. For the latter two `span` and `root_chord` are the fin's, and `tip_chord`
     /// and `leading_edge_sweep` those of its equivalent trapezoid (same span, root chord, area

@@ -108,21 +108,21 @@ pub(crate) fn check_material(cx: &mut Cx, b: &Block) -> Option<Material> {
     })
 }
 
-/// Vehicles are built of isotropic beams and shells: an orthotropic material is refused
-/// where a vehicle or its fins would use it.
+/// A vehicle's body is an isotropic beam: an orthotropic material is refused as the
+/// vehicle's material (its fins may be a lamina: [`check_fins`]).
 fn isotropic_only(cx: &mut Cx, m: &Material, at: Span) {
     if m.orthotropic.is_some() {
         cx.push(
             Diagnostic::error(
                 "vdl::material::orthotropic",
                 format!(
-                    "material `{}` is orthotropic: a vehicle's generated body and fins are isotropic",
+                    "material `{}` is orthotropic: a vehicle's body is an isotropic beam",
                     m.name.value
                 ),
             )
             .label(at, "used here")
             .label(m.name.span, "declared orthotropic here (`E2`, `G12`)")
-            .with_help("orthotropic laminae are taken by a `fixture`'s surface only"),
+            .with_help("a lamina is taken by the fins (`fins { material = ... }`) and by a `fixture`'s surface"),
         );
     }
 }
@@ -1020,7 +1020,9 @@ pub(super) fn check_fins(
         .value("root_trailing_edge")
         .map(|v| f::quantity(cx, v, Dim::LENGTH));
     let material = match fl.value("material") {
-        Some(v) => material_ref(cx, v, materials).inspect(|m| isotropic_only(cx, m, v.span)),
+        // A fin may be an orthotropic lamina (plywood, G10, a woven laminate): its shells take
+        // it (`structure::generate::FinSpec::lamina`); the body stays isotropic.
+        Some(v) => material_ref(cx, v, materials),
         None => vehicle_material.cloned(),
     };
     // The fins' own material constants, over those of `material` (a measured laminate, or a
@@ -1034,6 +1036,24 @@ pub(super) fn check_fins(
     let rho_fin = fl
         .value("rho")
         .map(|v| f::positive(f::quantity(cx, v, Dim::DENSITY), cx));
+    let e2_fin = fl
+        .value("E2")
+        .map(|v| (v.span, f::positive(f::quantity(cx, v, Dim::PRESSURE), cx)));
+    let g12_fin = fl
+        .value("G12")
+        .map(|v| (v.span, f::positive(f::quantity(cx, v, Dim::PRESSURE), cx)));
+    let grain_v = fl.value("grain");
+    let grain = match grain_v {
+        Some(v) => f::keyword(
+            cx,
+            v,
+            &[
+                ("chordwise", FinGrain::Chordwise),
+                ("spanwise", FinGrain::Spanwise),
+            ],
+        ),
+        None => Some(FinGrain::Chordwise),
+    };
     let fillet = check_fillet(cx, &mut fl, b.header, body_length.is_some());
     fl.finish(cx);
     let material = match material {
@@ -1061,6 +1081,8 @@ pub(super) fn check_fins(
         }
         m => m,
     };
+    let material = fin_lamina(cx, material, e2_fin, g12_fin, grain_v, b.header)?;
+    let grain = grain?;
 
     if let (Some(r), Some(t), Some(FinOutline::Trapezoidal)) = (root, tip, &outline) {
         if t.value > r.value {
@@ -1225,10 +1247,92 @@ pub(super) fn check_fins(
         cant: cant?,
         angles,
         root_trailing_edge_x: station,
-        material: material?,
+        material,
+        grain,
         outline,
         fillet: fillet?,
     })
+}
+
+/// The fins' `E2` and `G12` over their material's (a dispersion draws `fins.G12`): over an
+/// orthotropic material each replaces its own; on an isotropic one both make it a lamina
+/// (one alone is refused, as in a `material` block). The lamina must stay positive definite
+/// (`nu^2 E2 / E < 1`, [`check_material`]), and `grain` needs a lamina to orient.
+fn fin_lamina(
+    cx: &mut Cx,
+    material: Option<Material>,
+    e2: Option<(Span, Option<Q>)>,
+    g12: Option<(Span, Option<Q>)>,
+    grain_v: Option<&Value>,
+    header: Span,
+) -> Option<Material> {
+    let mut m = material?;
+    let (e2, g12) = match (e2, g12) {
+        (Some((_, None)), _) | (_, Some((_, None))) => return None,
+        (Some((_, Some(a))), Some((_, Some(b)))) => (Some(a), Some(b)),
+        (Some((_, Some(a))), None) => (Some(a), None),
+        (None, Some((_, Some(b)))) => (None, Some(b)),
+        (None, None) => (None, None),
+    };
+    match (&mut m.orthotropic, e2, g12) {
+        (_, None, None) => {}
+        (Some(o), e2, g12) => {
+            if let Some(q) = e2 {
+                o.e2 = q;
+            }
+            if let Some(q) = g12 {
+                o.g12 = q;
+            }
+        }
+        (None, Some(e2), Some(g12)) => m.orthotropic = Some(Orthotropic { e2, g12 }),
+        (None, Some(q), None) | (None, None, Some(q)) => {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::material::orthotropic",
+                    format!(
+                        "material `{}` is isotropic: making the fins a lamina needs both `E2` and `G12`",
+                        m.name.value
+                    ),
+                )
+                .label(q.span, "only one of the two")
+                .with_help("`E` is the modulus along the grain, `E2` across it, `G12` the in-plane shear modulus, `nu` is nu_12"),
+            );
+            return None;
+        }
+    }
+    match (&m.orthotropic, grain_v) {
+        (Some(o), _) => {
+            let (e, nu) = (m.youngs_modulus.value, m.poisson.value);
+            if nu * nu * o.e2.value / e >= 1.0 {
+                cx.push(
+                    Diagnostic::error(
+                        "vdl::value::range",
+                        "the fins' lamina is not positive definite: nu^2 E2 / E >= 1",
+                    )
+                    .label(header, "these fins")
+                    .label(m.poisson.span, "nu_12")
+                    .label(o.e2.span, "E2"),
+                );
+                return None;
+            }
+        }
+        (None, Some(v)) => {
+            cx.push(
+                Diagnostic::error(
+                    "vdl::material::orthotropic",
+                    format!(
+                        "`grain` orients an orthotropic lamina; the fins' material `{}` is isotropic",
+                        m.name.value
+                    ),
+                )
+                .label(v.span, "no grain to orient")
+                .label(m.name.span, "declared here without `E2` and `G12`"),
+            );
+            return None;
+        }
+        (None, None) => {}
+    }
+    Some(m)
 }
 
 /// `fillet_radius` and `fillet_density` of a fin set: both or neither (a fillet's material

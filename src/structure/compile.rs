@@ -142,6 +142,15 @@ pub fn generator_spec(v: &Vehicle, g: &ir::Generate) -> GeneratorSpec {
         span_elements: generate::FinSpec::strips_for(&f.outline, g.fin_span_elements.value),
         chord_elements: g.fin_chord_elements.value,
         material: mat(&f.material),
+        lamina: f
+            .material
+            .orthotropic
+            .as_ref()
+            .map(|o| generate::FinLamina {
+                e2: o.e2.value,
+                g12: o.g12.value,
+                grain: f.grain.angle(),
+            }),
         outline: f.outline.clone(),
     };
     GeneratorSpec {

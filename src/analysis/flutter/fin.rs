@@ -184,7 +184,8 @@ pub struct FinModes {
     pub omega: Vec<f64>,
     /// Mode names, e.g. "mode 1 (bending, 112.3 Hz)".
     pub names: Vec<String>,
-    /// Fin thickness, m, and its material's shear modulus, Pa (for TN 4197 alongside).
+    /// Fin thickness, m, and its material's in-plane shear modulus, Pa (`G12` of a lamina),
+    /// for TN 4197 alongside.
     pub thickness: f64,
     pub shear_modulus: f64,
 }
@@ -259,7 +260,7 @@ pub fn clamped_fin_modes(v: &ir::Vehicle, n_modes: usize) -> Result<FinModes, Fi
         omega,
         names,
         thickness: fin.thickness,
-        shear_modulus: fin.material.shear_modulus(),
+        shear_modulus: fin.in_plane_shear_modulus(),
     })
 }
 

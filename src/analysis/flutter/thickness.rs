@@ -5,8 +5,9 @@
 //!
 //! Every cell of a [`Boundary`] is a flutter speed `V_F(M, h; t)` of the same clamped fin, the
 //! same grid and the same p-k settings; only the plate thickness `t` differs. The shell
-//! element is exactly `t K1 + t^3 K3` and `t M1 + t^3 M3` (test
-//! `the_element_is_t_k1_plus_t_cubed_k3`), so for a plate in bending the frequencies go as
+//! element is exactly `t K1 + t^3 K3` and `t M1 + t^3 M3`, the isotropic one and an
+//! orthotropic fin's lamina element alike (`D_m = Q̄ t`, `D_b = Q̄ t^3/12`, transverse shear
+//! and drilling `∝ G12 t`: test `the_element_is_t_k1_plus_t_cubed_k3` takes both), so for a plate in bending the frequencies go as
 //! `t` and the generalised stiffness as `t^3`; the classical flutter-speed parameter of
 //! NACA TN 4197 (Martin 1958) gives `V_F ∝ (t/c)^{3/2}` at fixed planform and air. A power
 //! law is a straight line in `(ln t, ln V_F)`, so the node values are interpolated linearly

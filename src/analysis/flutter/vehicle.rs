@@ -268,9 +268,8 @@ pub fn vehicle_coordinates(variant: &Variant) -> Result<VehicleCoordinates, FinF
             omega: omega.clone(),
             names: names.clone(),
             thickness: f.thickness.value,
-            // G = E / (2 (1 + ν)) (as `structure::generate::spec::MaterialProps`).
-            shear_modulus: f.material.youngs_modulus.value
-                / (2.0 * (1.0 + f.material.poisson.value)),
+            // G12 of a lamina, else G = E / (2 (1 + ν)) (as `generate::FinSpec`).
+            shear_modulus: f.material.in_plane_shear_modulus(),
         });
     }
     if fins.is_empty() {

@@ -223,6 +223,7 @@ impl WingSpec {
             span_elements: self.span_elements,
             chord_elements: self.chord_elements,
             material,
+            lamina: None,
             outline: crate::check::ir::FinOutline::Trapezoidal,
         }
     }

@@ -75,10 +75,14 @@ pub struct FinGeometry {
     pub centroid_x: f64,
     /// Radius of the planform centroid from the body axis, m.
     pub centroid_radius: f64,
-    /// Young's modulus E, Pa.
+    /// Young's modulus E along the span, Pa (of a lamina: `E` with the grain spanwise, `E2`
+    /// with it chordwise), the modulus of the spanwise bending of (6.10)-(6.11).
     pub youngs_modulus: f64,
     /// Poisson's ratio.
     pub poisson: f64,
+    /// The in-plane shear modulus `G12` of a lamina, Pa (`None`: isotropic, `E/(2(1+nu))`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub g12: Option<f64>,
     /// Density, kg/m^3.
     pub density: f64,
     /// Thickness declared by the vehicle (the compiled one), m.
@@ -86,9 +90,10 @@ pub struct FinGeometry {
 }
 
 impl FinGeometry {
-    /// Shear modulus G = E / (2 (1 + nu)), Pa.
+    /// In-plane shear modulus, Pa: a lamina's `G12`, else G = E / (2 (1 + nu)).
     pub fn shear_modulus(&self) -> f64 {
-        self.youngs_modulus / (2.0 * (1.0 + self.poisson))
+        self.g12
+            .unwrap_or(self.youngs_modulus / (2.0 * (1.0 + self.poisson)))
     }
 
     /// Stiffness of one fin at its mid-span, eqs. (6.10)-(6.11): `24 E I / L^3`,
@@ -249,8 +254,12 @@ impl PlanarVehicle {
             tip_le_offset: x_le_tip,
             centroid_x: root_le_x - xi_c,
             centroid_radius: body_radius + eta_c * span,
-            youngs_modulus: f.material.youngs_modulus.value,
+            youngs_modulus: match (&f.material.orthotropic, f.grain) {
+                (Some(o), crate::check::ir::FinGrain::Chordwise) => o.e2.value,
+                _ => f.material.youngs_modulus.value,
+            },
             poisson: f.material.poisson.value,
+            g12: f.material.orthotropic.as_ref().map(|o| o.g12.value),
             density: f.material.density.value,
             declared_thickness: f.thickness.value,
         };

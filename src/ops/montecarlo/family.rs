@@ -12,6 +12,10 @@
 //! stored, and read back by a re-run, another shard or a later `flexflight run`. Within a
 //! run, a node is built by the first sample that needs it while the others wait for it.
 //!
+//! An orthotropic fin (`fins { E2; G12 }`) is the same family: its lamina element is
+//! `t K1 + t^3 K3` as the isotropic one (`analysis::flutter::thickness`), so the
+//! interpolation's derivation holds for it unchanged.
+//!
 //! The structure of each sample (its artifact, the flight's modes) is still compiled exactly
 //! at its own thickness, through the artifact cache: about 0.7 s a sample against about 15 s
 //! for a cold boundary (docs/performance.md). `--exact-boundaries` turns the family off.

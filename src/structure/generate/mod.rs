@@ -39,7 +39,8 @@ pub use mass_properties::{
 };
 pub use shell::{Mat24, orthotropic_plane_stress, shell_element, shell_element_lamina};
 pub use spec::{
-    BeamTheory, BodySpec, DistributedMass, FinSpec, GeneratorSpec, MaterialProps, PointMass,
+    BeamTheory, BodySpec, DistributedMass, FinLamina, FinSpec, GeneratorSpec, MaterialProps,
+    PointMass,
 };
 
 use nalgebra::{Matrix3, Matrix6};
@@ -122,7 +123,7 @@ fn assemble_fin(
     plot_node: impl Fn(&NodeMap) -> Option<usize>,
 ) {
     assemble_fin_with(f, grid, maps, asm, elements, plot_node, |_, _, ab| {
-        shell::shell_element(ab, f.thickness, &f.material)
+        f.plate_element(ab)
     });
 }
 
@@ -281,8 +282,7 @@ pub fn generate(spec: &GeneratorSpec) -> Result<FeModel, GenerateError> {
 /// body x-y plane (delta = 0) with its root on y = 0; `fin.count`, `angles` and the body
 /// placement are ignored. Nodes: rows j = 1..=span_elements, chordwise fastest.
 pub fn cantilever_fin_model(fin: &FinSpec) -> Result<FeModel, GenerateError> {
-    let (t, mat) = (fin.thickness, fin.material);
-    cantilever_plate_model(fin, |_, _, ab| shell::shell_element(ab, t, &mat))
+    cantilever_plate_model(fin, |_, _, ab| fin.plate_element(ab))
 }
 
 /// [`cantilever_fin_model`] with the element matrices (local frame, see `shell`) given by

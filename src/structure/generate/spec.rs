@@ -85,12 +85,70 @@ pub struct FinSpec {
     /// ([`FinSpec::for_outline`]).
     pub span_elements: usize,
     pub chord_elements: usize,
+    /// The plate's material; with `lamina` its `youngs_modulus` is `E1` (along the grain) and
+    /// its `poisson` is `nu12`.
     pub material: MaterialProps,
+    /// An orthotropic plate (plywood, G10, a woven laminate); `None`: isotropic.
+    pub lamina: Option<FinLamina>,
     /// The outline (trapezoidal: the fields above).
     pub outline: crate::check::ir::FinOutline,
 }
 
+/// The transverse constants and the grain of an orthotropic fin plate (plane stress,
+/// `shell::orthotropic_plane_stress`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FinLamina {
+    /// Young's modulus across the grain E2, Pa.
+    pub e2: f64,
+    /// In-plane shear modulus G12, Pa; also taken as the transverse shear modulus
+    /// (G13 = G23 = G12, as the wind-tunnel fixture's lamina: `analysis::flutter::wing`).
+    /// That overstates plywood's transverse (rolling) shear stiffness, about a quarter of its
+    /// G12 (MatWeb's plywood sheet: 0.138-0.207 GPa rolling shear, 0.586-0.758 GPa edgewise);
+    /// the transverse shear's share of a plate's bending deflection is of order
+    /// `(t/L)^2 E/G13`, 2e-2 for a 2 mm plywood fin of 120 mm span (E 10 GPa, G13 0.14 GPa):
+    /// a stiffness overestimate of order a percent for such a fin, half that in frequency.
+    pub g12: f64,
+    /// Angle of the grain (direction 1) from the root chord, rad, counter-clockwise about the
+    /// fin's normal in the local frame (`a` toward the leading edge, `b` outboard): 0
+    /// chordwise, pi/2 spanwise.
+    pub grain: f64,
+}
+
 impl FinSpec {
+    /// The in-plane shear modulus of the plate, Pa: `G12` of a lamina, else `E/(2(1+nu))`.
+    pub fn in_plane_shear_modulus(&self) -> f64 {
+        match &self.lamina {
+            Some(l) => l.g12,
+            None => self.material.shear_modulus(),
+        }
+    }
+
+    /// Stiffness and mass of one quad of the plate (local corners `ab`, `shell`): the
+    /// isotropic element, or the lamina's with its grain at `lamina.grain` from the local `a`
+    /// axis (the root chord; the same in every element, the planform's frame being the
+    /// element's).
+    pub fn plate_element(&self, ab: &[[f64; 2]; 4]) -> (super::Mat24, super::Mat24) {
+        match &self.lamina {
+            None => super::shell::shell_element(ab, self.thickness, &self.material),
+            Some(l) => {
+                let q = super::shell::orthotropic_plane_stress(
+                    self.material.youngs_modulus,
+                    l.e2,
+                    self.material.poisson,
+                    l.g12,
+                    l.grain,
+                );
+                super::shell::shell_element_lamina(
+                    ab,
+                    self.thickness,
+                    &q,
+                    l.g12,
+                    self.material.density,
+                )
+            }
+        }
+    }
+
     /// The fin angles delta_i: `angles` if given, else 2 pi i / n (REFERENCE-NOTES fin frames).
     pub fn fin_angles(&self) -> Vec<f64> {
         if self.angles.is_empty() {
@@ -377,7 +435,29 @@ pub(crate) fn check_fin_planform(f: &FinSpec) -> Result<(), GenerateError> {
             reason: "must be finite",
         });
     }
-    check_material("fins", &f.material)
+    check_material("fins", &f.material)?;
+    if let Some(l) = &f.lamina {
+        let bad = |field: &'static str, value: f64| GenerateError::BadMaterial {
+            part: "fins",
+            field,
+            value,
+        };
+        if !(l.e2.is_finite() && l.e2 > 0.0) {
+            return Err(bad("e2", l.e2));
+        }
+        if !(l.g12.is_finite() && l.g12 > 0.0) {
+            return Err(bad("g12", l.g12));
+        }
+        if !l.grain.is_finite() {
+            return Err(bad("grain", l.grain));
+        }
+        // Positive definite plane stress: nu12 nu21 = nu12^2 E2 / E1 < 1 (`check::vehicle`).
+        let nu = f.material.poisson;
+        if !(nu > 0.0 && nu * nu * l.e2 / f.material.youngs_modulus < 1.0) {
+            return Err(bad("poisson", nu));
+        }
+    }
+    Ok(())
 }
 
 /// Validate point and distributed masses against the body.
