@@ -185,17 +185,7 @@ fn check_surface(cx: &mut Cx, b: &Block, material: Option<&Material>) -> Option<
     let grain = match grain_v {
         None => SurfaceGrain::GridLines,
         Some(v) if material.orthotropic.is_none() => {
-            cx.push(
-                Diagnostic::error(
-                    "vdl::material::orthotropic",
-                    format!(
-                        "`grain` orients an orthotropic lamina; material `{}` is isotropic",
-                        material.name.value
-                    ),
-                )
-                .label(v.span, "no grain to orient")
-                .label(material.name.span, "declared without `E2` and `G12`"),
-            );
+            vehicle::grain_without_lamina(cx, v.span, &material, "material");
             return None;
         }
         Some(v) => grain(cx, v)?,

@@ -1317,17 +1317,7 @@ fn fin_lamina(
             }
         }
         (None, Some(v)) => {
-            cx.push(
-                Diagnostic::error(
-                    "vdl::material::orthotropic",
-                    format!(
-                        "`grain` orients an orthotropic lamina; the fins' material `{}` is isotropic",
-                        m.name.value
-                    ),
-                )
-                .label(v.span, "no grain to orient")
-                .label(m.name.span, "declared here without `E2` and `G12`"),
-            );
+            grain_without_lamina(cx, v.span, &m, "the fins' material");
             return None;
         }
         (None, None) => {}
@@ -2190,4 +2180,21 @@ pub(super) fn nose_shape(cx: &mut Cx, v: &Value) -> Option<Spanned<NoseShape>> {
         };
     }
     f::keyword(cx, v, NAMED).map(|s| Spanned::new(s, v.span))
+}
+
+/// `grain` on an isotropic material (a fin set's or a fixture surface's):
+/// `vdl::material::orthotropic` at the `grain` and at the material's name; `what` is how the
+/// message names the material.
+pub(super) fn grain_without_lamina(cx: &mut Cx, grain: Span, m: &Material, what: &str) {
+    cx.push(
+        Diagnostic::error(
+            "vdl::material::orthotropic",
+            format!(
+                "`grain` orients an orthotropic lamina; {what} `{}` is isotropic",
+                m.name.value
+            ),
+        )
+        .label(grain, "no grain to orient")
+        .label(m.name.span, "declared without `E2` and `G12`"),
+    );
 }
