@@ -149,9 +149,10 @@
 //! own planform and body radius), N times one fin's C_A (the same friction, edge pressure and
 //! thickness wave drag, its own thickness and cross-section), and to the rate columns its
 //! pitch damping ([`fin_rate_derivatives`] with `n_eff`; it has no fin block to carry it).
-//! No roll moment (the body table has none: a further set's cant rolls nothing), and no
-//! interference between sets (a canard's downwash on the fins behind it), as in OpenRocket
-//! ([`fin_set_coefficients`]). The fin table stays the unnamed set's.
+//! Their roll: the forcing of their cant and their roll damping, in the body table's roll
+//! columns `cl_0`, `cl_p` ([`fin_set_roll`]; written only for a vehicle with further sets).
+//! No interference between sets (a canard's downwash on the fins behind it), as in
+//! OpenRocket ([`fin_set_coefficients`]). The fin table stays the unnamed set's.
 //!
 //! The thesis itself used Missile DATCOM tables (5.5); these are simple engineering methods.
 
@@ -208,6 +209,8 @@ pub struct RigidFinSet {
     pub count: usize,
     /// Body x of the root leading edge, m (<= 0).
     pub root_le_x: f64,
+    /// Cant angle, rad (`fins { cant }`; the sign convention of the unnamed set's).
+    pub cant: f64,
 }
 
 impl RigidFinSet {
@@ -222,6 +225,7 @@ impl RigidFinSet {
             },
             count: f.count.value,
             root_le_x: f.root_trailing_edge_x.value + f.root_chord.value,
+            cant: f.cant.value,
         }
     }
 
@@ -277,6 +281,44 @@ pub fn fin_set_coefficients(
         );
     let x = set.root_le_x - x_cp;
     [cn, ca, cn * (x - reference_x) / d_ref]
+}
+
+/// The roll coefficients `[cl_0, cl_p]` a further, rigid fin set adds to the body table's
+/// roll columns (`aero::tables` module doc), with its `slope` (normal-force slope of one fin
+/// on its own area A_f, per rad, at this Mach: `FinPlanform::linear`), on the reference area
+/// `s_ref` and length `d_ref`.
+///
+/// Forcing (Niskanen 2009, sec. 3.6.1, eq. (3.69), read in OpenRocket's
+/// `doc/techdoc/chapter-aerodynamic-properties.tex`): the cant delta is an angle of attack of
+/// every fin, whose normal force acts at the mean aerodynamic chord's span station, so
+/// `C_lf = N (y_MAC + r_t) (C_Nalpha)_1 delta / d` with `(C_Nalpha)_1 = slope A_f / S`,
+/// `y_MAC = (1/A_f) ∫ y c dy` ([`FinPlanform::y_mac`]) and `r_t` the body radius at the set.
+/// No body-fin interference factor, as the equation is published; OpenRocket's code
+/// (`FinSetCalc`) multiplies it by `1 + tau`, `tau = r_t/(s + r_t)`.
+///
+/// Damping (Niskanen 2009, sec. 3.6.2, eq. (3.71)): a strip at `xi = r_t + y` of a fin
+/// rolling at `p` sees the angle of attack `p xi / V`, so the fins' moment is
+/// `-N q k (p / V) ∫ c xi^2 dy` with `k` the strips' lift slope, and
+/// `C_ld = N k (p/V) I_2 / (S d)`, `I_2 = ∫ c (r_t + y)^2 dy` ([`FinPlanform::roll_integral`]).
+/// Niskanen takes `k` the two-dimensional slope `2 pi / beta` below Mach 1 (and the first
+/// term of the supersonic strip pressure above), with a linear blend through the transonic
+/// band in OpenRocket's code; here `k` is the fin's own three-dimensional slope `slope`, the
+/// one the forcing and the pitch-plane normal force take. Derivation of the choice: strip
+/// theory's loading is proportional to the local chord times the section slope, and scaling
+/// it so that the fin's total lift per unit angle is the fin's known slope keeps forcing and
+/// damping on one lift model (the two-dimensional slope overstates a low-aspect-ratio fin's
+/// damping by `2 pi / slope`, 2 to 3 for rocket fins); the equilibrium roll rate, forcing =
+/// damping, is then `p_eq = V delta (y_MAC + r_t) A_f / I_2`, independent of the slope and of
+/// Mach, which is Niskanen's eq. (3.73) where his slopes agree. Per `p_hat = p d/(2V)`:
+/// `cl_p = -2 N slope I_2 / (S d^2)`. Both are linear in the cant and the rate: the stall of
+/// the tips at a large roll rate (OpenRocket clips the strip's angle at 15 deg) is not
+/// modelled.
+pub fn fin_set_roll(set: &RigidFinSet, slope: f64, s_ref: f64, d_ref: f64) -> [f64; 2] {
+    let f = &set.planform;
+    let n = set.count as f64;
+    let cl_0 = n * (f.y_mac() + f.body_radius) * slope * f.area() / s_ref * set.cant / d_ref;
+    let cl_p = -2.0 * n * slope * f.roll_integral() / (s_ref * d_ref * d_ref);
+    [cl_0, cl_p]
 }
 
 /// A launch lug or rail button on the body, for its drag ([`launch_guide_drag`]).
@@ -554,6 +596,50 @@ impl FinPlanform {
         let mac = 2.0 / 3.0 * (cr + ct - cr * ct / (cr + ct));
         let x_le = self.tip_le_offset * (cr + 2.0 * ct) / (3.0 * (cr + ct));
         (mac, x_le)
+    }
+
+    /// Span station of the mean aerodynamic chord from the root, m: `y_MAC = (1/A_f) ∫ y c dy`
+    /// (Niskanen 2009, sec. 3.2.2; for the trapezoid `s (c_r + 2 c_t) / (3 (c_r + c_t))`).
+    pub fn y_mac(&self) -> f64 {
+        if self.outline.is_trapezoidal() {
+            let (cr, ct) = (self.root_chord, self.tip_chord);
+            return self.span * (cr + 2.0 * ct) / (3.0 * (cr + ct));
+        }
+        let m = self.edges().moments();
+        m[3] / m[0]
+    }
+
+    /// `I_2 = ∫_0^s c(y) (r_t + y)^2 dy`, m^4, the roll damping integral of one fin
+    /// ([`fin_set_roll`]). The trapezoid and the ellipse in closed form (Niskanen 2009,
+    /// sec. 3.6.2: `(c_r + c_t)/2 r^2 s + (c_r + 2 c_t)/3 r s^2 + (c_r + 3 c_t)/12 s^3`, and
+    /// `c_r (pi/4 r^2 s + 2/3 r s^2 + pi/16 s^3)`); a polygon by Simpson's rule on each
+    /// segment between its corners, exact there (the chord is linear on a segment, the
+    /// integrand a cubic).
+    pub fn roll_integral(&self) -> f64 {
+        let (r, s) = (self.body_radius, self.span);
+        let pi = std::f64::consts::PI;
+        match self.outline {
+            crate::check::ir::FinOutline::Trapezoidal => {
+                let (cr, ct) = (self.root_chord, self.tip_chord);
+                0.5 * (cr + ct) * r * r * s
+                    + (cr + 2.0 * ct) / 3.0 * r * s * s
+                    + (cr + 3.0 * ct) / 12.0 * s * s * s
+            }
+            crate::check::ir::FinOutline::Elliptical => {
+                self.root_chord
+                    * (0.25 * pi * r * r * s + 2.0 / 3.0 * r * s * s + pi / 16.0 * s * s * s)
+            }
+            crate::check::ir::FinOutline::Freeform { .. } => {
+                let e = self.edges();
+                let mut sum = 0.0;
+                for w in e.breakpoints().windows(2) {
+                    let (y0, y1) = (w[0], w[1]);
+                    let g = |y: f64| e.chord(y) * (r + y) * (r + y);
+                    sum += (y1 - y0) / 6.0 * (g(y0) + 4.0 * g(0.5 * (y0 + y1)) + g(y1));
+                }
+                sum
+            }
+        }
     }
 
     /// Per-fin normal-force slope on reference area `s_ref`, per rad, WITHOUT interference.
@@ -1618,6 +1704,9 @@ impl EstimatedTables {
         let s_ref = std::f64::consts::PI * d_ref * d_ref / 4.0;
         let mut bp = Vec::new();
         let mut br = Vec::new();
+        // The further sets' roll columns (none without further sets: the table keeps its
+        // eight columns).
+        let mut bl = Vec::new();
         let mut fp = Vec::new();
         for &m in &ESTIMATOR_MACH {
             let lin = fin.linear(m);
@@ -1639,11 +1728,18 @@ impl EstimatedTables {
                 set_rates[0] += r[0];
                 set_rates[1] += r[1];
             }
+            let mut roll = [0.0; 2];
+            for (s, &(slope, _)) in body.fin_sets.iter().zip(&set_lins) {
+                let r = fin_set_roll(s, slope, s_ref, d_ref);
+                roll[0] += r[0];
+                roll[1] += r[1];
+            }
             for &a in &alpha {
                 for &h in &ESTIMATOR_ALTITUDE {
                     bp.push(body_coefficients_with(body, &set_lins, m, a, h));
                     let r = body_rate_derivatives(body, a);
                     br.push([r[0] + set_rates[0], r[1] + set_rates[1]]);
+                    bl.push(roll);
                     fp.push(fin_coefficients_with(
                         fin,
                         profile,
@@ -1665,7 +1761,14 @@ impl EstimatedTables {
                 &bp,
                 policy,
             )?
-            .with_rates(&br)?,
+            .with_rates(&br)
+            .and_then(|t| {
+                if body.fin_sets.is_empty() {
+                    Ok(t)
+                } else {
+                    t.with_roll(&bl)
+                }
+            })?,
             fin: CoefficientTable::from_grid(
                 TableKind::Fin,
                 "builtin-fins.csv",

@@ -35,6 +35,15 @@
 //!   start (it has no derivatives to apply). Fin tables hold no rate columns: the fin block
 //!   sees the rotation through the velocity of the fin itself (5.4.8).
 //!
+//! - Optional roll columns, body tables with the rate columns only:
+//!   `mach,alpha_deg,altitude_m,cn,ca,cm,cn_q,cm_q,cl_0,cl_p`. `cl_0` is the roll moment
+//!   coefficient at zero roll rate (about body +x, on S and b_b: the cant of the further,
+//!   rigid fin sets, whose aerodynamics the body table holds) and `cl_p` the roll damping
+//!   derivative `dC_l / d(p b_b/(2V))` per radian, negative for damping. The built-in
+//!   estimator writes them for a vehicle with further fin sets
+//!   ([`crate::aero::estimator::fin_set_roll`]); the body block applies them whenever the
+//!   table has them ([`crate::runtime::forces::body_aero`]).
+//!
 //! The grid must be full: every combination of the distinct Mach, alpha and altitude values
 //! present must appear exactly once. Rows may come in any order, but each axis must introduce
 //! its values in strictly increasing order (a value smaller than one already seen on the same
@@ -104,12 +113,35 @@ impl TableKind {
         h
     }
 
+    /// The optional roll columns after the rate columns (body tables only).
+    pub fn roll_columns(self) -> &'static [&'static str] {
+        match self {
+            TableKind::Body => &ROLL_COLUMNS,
+            TableKind::Fin => &[],
+        }
+    }
+
+    /// The header line with the rate and the roll columns.
+    pub fn header_with_roll(self) -> String {
+        let mut h = self.header_with_rates();
+        for c in self.roll_columns() {
+            h.push(',');
+            h.push_str(c);
+        }
+        h
+    }
+
     /// What the header may be, for errors.
     fn expected_header(self) -> String {
         if self.rate_columns().is_empty() {
             self.header()
         } else {
-            format!("{}` or `{}", self.header(), self.header_with_rates())
+            format!(
+                "{}`, `{}` or `{}",
+                self.header(),
+                self.header_with_rates(),
+                self.header_with_roll()
+            )
         }
     }
 }
@@ -117,8 +149,12 @@ impl TableKind {
 /// The optional rate columns of a body table (module doc).
 pub const RATE_COLUMNS: [&str; 2] = ["cn_q", "cm_q"];
 
-/// Most value columns a table holds (three coefficients and two rate derivatives).
-const MAX_VALUES: usize = 5;
+/// The optional roll columns of a body table (module doc).
+pub const ROLL_COLUMNS: [&str; 2] = ["cl_0", "cl_p"];
+
+/// Most value columns a table holds (three coefficients, two rate derivatives, two roll
+/// coefficients).
+const MAX_VALUES: usize = 7;
 
 /// One of the three table axes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -264,6 +300,16 @@ pub struct BodyRateCoefficients {
     pub cm_q: f64,
 }
 
+/// Roll coefficients of a body table at one flight condition (the optional `cl_0`, `cl_p`
+/// columns; module doc).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BodyRollCoefficients {
+    /// Roll moment coefficient at zero roll rate (about body +x).
+    pub cl_0: f64,
+    /// `dC_l / d(p b_b/(2V))`, per rad.
+    pub cl_p: f64,
+}
+
 /// The bracketing interval of a caller's previous query on each axis of a
 /// [`CoefficientTable`] (Mach, alpha, altitude), tried first by the next query: a hint
 /// only, it changes how fast an interval is found, never which (`CoefficientTable::bracket`).
@@ -277,7 +323,8 @@ pub struct CoefficientTable {
     /// Where the table came from (for errors); a label for built tables.
     source: PathBuf,
     axes: [Vec<f64>; 3],
-    /// `width` values per grid point (3, or 5 with the rate columns); point (i, j, k)
+    /// `width` values per grid point (3, 5 with the rate columns, 7 with the roll columns
+    /// too); point (i, j, k)
     /// starts at i*strides[0] + j*strides[1] + k*strides[2].
     values: Vec<f64>,
     width: usize,
@@ -386,9 +433,57 @@ impl CoefficientTable {
         })
     }
 
+    /// Adds the roll columns (module doc) of every grid point, in the order of
+    /// [`Self::from_grid`], to a body table with the rate columns; every number finite.
+    pub fn with_roll(self, roll: &[[f64; 2]]) -> Result<Self, TableError> {
+        let columns = self.kind.roll_columns();
+        let n = self.values.len() / self.width;
+        if columns.len() != 2 || self.width != 5 || roll.len() != n {
+            return Err(TableError::Shape {
+                path: self.source,
+                expected: if columns.len() == 2 && self.width == 5 {
+                    n
+                } else {
+                    0
+                },
+                found: roll.len(),
+            });
+        }
+        for (k, r) in roll.iter().enumerate() {
+            for (c, &v) in r.iter().enumerate() {
+                if !v.is_finite() {
+                    return Err(TableError::NonFinite {
+                        path: self.source,
+                        line: k + 2,
+                        column: columns[c],
+                        value: v,
+                    });
+                }
+            }
+        }
+        let w = 5 + 2;
+        let mut values = Vec::with_capacity(w * n);
+        for (k, r) in roll.iter().enumerate() {
+            values.extend_from_slice(&self.values[self.width * k..self.width * k + 5]);
+            values.extend_from_slice(r);
+        }
+        let (n1, n2) = (self.axes[1].len(), self.axes[2].len());
+        Ok(CoefficientTable {
+            values,
+            width: w,
+            strides: [w * n1 * n2, w * n2, w],
+            ..self
+        })
+    }
+
     /// True when the table holds the rate columns.
     pub fn has_rates(&self) -> bool {
-        self.width == 5
+        self.width >= 5
+    }
+
+    /// True when the table holds the roll columns (after the rate columns).
+    pub fn has_roll(&self) -> bool {
+        self.width == 7
     }
 
     /// Reads a table file (see the module doc for the layout).
@@ -410,6 +505,11 @@ impl CoefficientTable {
         let base = kind.columns();
         let with_rates: Vec<&'static str> =
             base.iter().chain(kind.rate_columns()).copied().collect();
+        let with_roll: Vec<&'static str> = with_rates
+            .iter()
+            .chain(kind.roll_columns())
+            .copied()
+            .collect();
         let mut lines = text
             .lines()
             .enumerate()
@@ -426,6 +526,8 @@ impl CoefficientTable {
             &base
         } else if found.len() > base.len() && found == with_rates {
             &with_rates
+        } else if found.len() > with_rates.len() && found == with_roll {
+            &with_roll
         } else {
             return Err(TableError::Header {
                 path: path.to_path_buf(),
@@ -435,8 +537,9 @@ impl CoefficientTable {
             });
         };
         let ncol = columns.len();
-        // Rows as (line, [numbers]); the rate columns, when present, follow the first six.
-        let mut rows: Vec<(usize, [f64; 8])> = Vec::new();
+        // Rows as (line, [numbers]); the rate columns, when present, follow the first six,
+        // and the roll columns the rate columns.
+        let mut rows: Vec<(usize, [f64; 10])> = Vec::new();
         let mut axes: [Vec<f64>; 3] = [Vec::new(), Vec::new(), Vec::new()];
         for (line, l) in lines {
             let fields: Vec<&str> = l.split(',').map(str::trim).collect();
@@ -448,7 +551,7 @@ impl CoefficientTable {
                     found: fields.len(),
                 });
             }
-            let mut row = [0.0; 8];
+            let mut row = [0.0; 10];
             for (c, f) in fields.iter().enumerate() {
                 let v: f64 = f.parse().map_err(|_| TableError::NotANumber {
                     path: path.to_path_buf(),
@@ -494,6 +597,7 @@ impl CoefficientTable {
         let mut slot_line = vec![0usize; n[0] * n[1] * n[2]];
         let mut points = vec![[0.0; 3]; n[0] * n[1] * n[2]];
         let mut rates = vec![[0.0; 2]; n[0] * n[1] * n[2]];
+        let mut roll = vec![[0.0; 2]; n[0] * n[1] * n[2]];
         for &(line, row) in &rows {
             // Each value is in its axis (we pushed it), so position() succeeds.
             let idx: Vec<usize> = (0..3)
@@ -513,6 +617,7 @@ impl CoefficientTable {
             slot_line[slot] = line;
             points[slot] = [row[3], row[4], row[5]];
             rates[slot] = [row[6], row[7]];
+            roll[slot] = [row[8], row[9]];
         }
         if let Some(slot) = slot_line.iter().position(|&l| l == 0) {
             let (i, rest) = (slot / (n[1] * n[2]), slot % (n[1] * n[2]));
@@ -529,17 +634,19 @@ impl CoefficientTable {
             });
         }
         let table = Self::from_grid(kind, path, axes, &points, policy)?;
-        if ncol > 6 {
-            table.with_rates(&rates)
-        } else {
-            Ok(table)
+        match ncol {
+            6 => Ok(table),
+            8 => table.with_rates(&rates),
+            _ => table.with_rates(&rates)?.with_roll(&roll),
         }
     }
 
     /// The table in the CSV layout of the module doc (values printed so they read back
     /// exactly).
     pub fn to_csv(&self) -> String {
-        let mut s = if self.has_rates() {
+        let mut s = if self.has_roll() {
+            self.kind.header_with_roll()
+        } else if self.has_rates() {
             self.kind.header_with_rates()
         } else {
             self.kind.header()
@@ -796,7 +903,25 @@ impl CoefficientTable {
         }))
     }
 
-    /// [`Self::body`] and [`Self::body_rates`] from one interpolation (every column is
+    /// The roll coefficients of a body table at (Mach, alpha deg, altitude m), `None` when
+    /// the table has no roll columns. Same interpolation and policy as [`Self::lookup`].
+    pub fn body_roll(
+        &self,
+        mach: f64,
+        alpha_deg: f64,
+        altitude_m: f64,
+    ) -> Result<Option<BodyRollCoefficients>, TableError> {
+        if !self.has_roll() {
+            return Ok(None);
+        }
+        let v = self.interpolate(mach, alpha_deg, altitude_m, &mut TableHint::default())?;
+        Ok(Some(BodyRollCoefficients {
+            cl_0: v[5],
+            cl_p: v[6],
+        }))
+    }
+
+    /// [`Self::body`], [`Self::body_rates`] and [`Self::body_roll`] from one interpolation (every column is
     /// interpolated at once, so the same bits as the two calls), the brackets tried first
     /// on the caller's `hint` (the flight's right-hand side: the flight condition moves
     /// little between evaluations).
@@ -806,11 +931,22 @@ impl CoefficientTable {
         alpha_deg: f64,
         altitude_m: f64,
         hint: &mut TableHint,
-    ) -> Result<(BodyCoefficients, Option<BodyRateCoefficients>), TableError> {
+    ) -> Result<
+        (
+            BodyCoefficients,
+            Option<BodyRateCoefficients>,
+            Option<BodyRollCoefficients>,
+        ),
+        TableError,
+    > {
         let v = self.interpolate(mach, alpha_deg, altitude_m, hint)?;
         let rates = self.has_rates().then_some(BodyRateCoefficients {
             cn_q: v[3],
             cm_q: v[4],
+        });
+        let roll = self.has_roll().then_some(BodyRollCoefficients {
+            cl_0: v[5],
+            cl_p: v[6],
         });
         Ok((
             BodyCoefficients {
@@ -819,6 +955,7 @@ impl CoefficientTable {
                 cm: v[2],
             },
             rates,
+            roll,
         ))
     }
 
@@ -1112,7 +1249,8 @@ mod tests {
                     t.body_hinted(q.0, q.1, q.2, &mut hint).unwrap(),
                     (
                         t.body(q.0, q.1, q.2).unwrap(),
-                        t.body_rates(q.0, q.1, q.2).unwrap()
+                        t.body_rates(q.0, q.1, q.2).unwrap(),
+                        None
                     )
                 );
             }
@@ -1142,6 +1280,67 @@ mod tests {
         ] {
             let e = CoefficientTable::parse_csv(kind, p(), &format!("{hdr}\n"), OutOfRange::Stop)
                 .unwrap_err();
+            assert!(matches!(e, TableError::Header { line: 1, .. }), "{e}");
+        }
+    }
+
+    /// The roll columns (issue 34: the further fin sets' cant and roll damping) follow the
+    /// rate columns: interpolated exactly where linear, the other columns unchanged, the CSV
+    /// round trip exact; without the rate columns, or one of the two alone, no header.
+    #[test]
+    fn optional_roll_columns() {
+        let mut rated_text = String::from("mach,alpha_deg,altitude_m,cn,ca,cm,cn_q,cm_q\n");
+        let mut roll_text =
+            String::from("mach,alpha_deg,altitude_m,cn,ca,cm,cn_q,cm_q,cl_0,cl_p\n");
+        for line in grid_text(None).lines().skip(2) {
+            let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+            let (m, a, h) = (v[0], v[1], v[2]);
+            let rated = format!("{line},{},{}", 100.0 + m, -300.0 - a + 1e-3 * h);
+            rated_text.push_str(&format!("{rated}\n"));
+            roll_text.push_str(&format!("{rated},{},{}\n", 0.01 * m, -20.0 - m));
+        }
+        let rated =
+            CoefficientTable::parse_csv(TableKind::Body, p(), &rated_text, OutOfRange::Stop)
+                .unwrap();
+        let rolled =
+            CoefficientTable::parse_csv(TableKind::Body, p(), &roll_text, OutOfRange::Stop)
+                .unwrap();
+        assert!(rolled.has_rates() && rolled.has_roll() && !rated.has_roll());
+        assert_eq!(rated.body_roll(0.75, 2.5, 2500.0).unwrap(), None);
+        let r = rolled.body_roll(0.75, 2.5, 2500.0).unwrap().unwrap();
+        assert!(
+            (r.cl_0 - 0.0075).abs() < 1e-15 && (r.cl_p + 20.75).abs() < 1e-12,
+            "{r:?}"
+        );
+        let mut hint = TableHint::default();
+        let (c, rates, roll) = rolled.body_hinted(0.75, 2.5, 2500.0, &mut hint).unwrap();
+        assert_eq!(c, rated.body(0.75, 2.5, 2500.0).unwrap());
+        assert_eq!(rates, rated.body_rates(0.75, 2.5, 2500.0).unwrap());
+        assert_eq!(roll, Some(r));
+        let back =
+            CoefficientTable::parse_csv(TableKind::Body, p(), &rolled.to_csv(), OutOfRange::Stop)
+                .unwrap();
+        assert_eq!(back, rolled);
+        // Built: the roll columns need the rate columns.
+        let plain =
+            CoefficientTable::parse_csv(TableKind::Body, p(), &grid_text(None), OutOfRange::Stop)
+                .unwrap();
+        let n = plain.to_csv().lines().count() - 1;
+        assert!(matches!(
+            plain.with_roll(&vec![[0.0; 2]; n]),
+            Err(TableError::Shape { expected: 0, .. })
+        ));
+        for hdr in [
+            "mach,alpha_deg,altitude_m,cn,ca,cm,cl_0,cl_p",
+            "mach,alpha_deg,altitude_m,cn,ca,cm,cn_q,cm_q,cl_0",
+        ] {
+            let e = CoefficientTable::parse_csv(
+                TableKind::Body,
+                p(),
+                &format!("{hdr}\n"),
+                OutOfRange::Stop,
+            )
+            .unwrap_err();
             assert!(matches!(e, TableError::Header { line: 1, .. }), "{e}");
         }
     }

@@ -17,8 +17,8 @@
 //!
 //! A further set is rigid in the flight: its mass is a rigid body on the nearest body node
 //! (`structure::generate`), its aerodynamics part of the built-in estimator's body table
-//! (`aero::estimator`): no elastic modes, no fin key node, no fin load, no roll moment from
-//! its cant). Its clamped-fin flutter margin is computed as the unnamed set's is
+//! (`aero::estimator`, with its cant's roll forcing and its roll damping in the body table's
+//! roll columns): no elastic modes, no fin key node, no fin load). Its clamped-fin flutter margin is computed as the unnamed set's is
 //! (`ops::flutter::flight_margin_with`). A warning at `check` says so for each set
 //! (`vdl::fins::rigid_set`), and says where the aerodynamics come from tables or DATCOM that
 //! they must hold the set's contribution themselves.
@@ -102,10 +102,14 @@ pub(super) fn check_fin_sets(
             ),
         )
         .label(b.header, "a further, rigid fin set");
-        if fins.cant.value != 0.0 {
+        let tabulated = matches!(
+            aero.map(|a| &a.source),
+            Some(AeroSource::Tables { .. }) | Some(AeroSource::Datcom { .. })
+        );
+        if fins.cant.value != 0.0 && tabulated {
             d = d.label(
                 fins.cant.span,
-                "this cant gives no roll moment: the rigid sets' coefficients have no roll",
+                "this cant rolls the vehicle only through the body table's roll columns `cl_0, cl_p`",
             );
         }
         d = match aero.map(|a| &a.source) {

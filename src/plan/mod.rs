@@ -249,6 +249,60 @@ pub struct LaunchPlan {
     pub start: [f64; 3],
 }
 
+/// A further, rigid fin set as planned (`fins NAME`): what the flight takes of it. Its mass
+/// is a rigid body in the compiled structure, its aerodynamics (normal force, drag, pitch
+/// damping, the roll of its cant and its roll damping) are in the body table.
+#[derive(Debug, Clone, Serialize)]
+pub struct FinSetPlan {
+    pub name: String,
+    pub count: usize,
+    /// `trapezoidal`, `elliptical` or `freeform`.
+    pub outline: &'static str,
+    /// Body x of the root leading edge, m.
+    pub root_leading_edge_x: f64,
+    /// Span and root chord, m; planform area of one fin, m^2 (the true outline's).
+    pub span: f64,
+    pub root_chord: f64,
+    pub area: f64,
+    /// Thickness, m; material name; cant, rad.
+    pub thickness: f64,
+    pub material: String,
+    pub cant: f64,
+    /// Mass of the set's plates, kg (area x thickness x density x count; fillets apart).
+    pub plate_mass: f64,
+}
+
+/// The further fin sets of `v` as [`FinSetPlan`]s (empty for an FE model from files, which
+/// has none).
+pub fn fin_set_plans(v: &ir::Vehicle) -> Vec<FinSetPlan> {
+    let ir::Structure::Generate(g) = &v.structure else {
+        return Vec::new();
+    };
+    v.fin_sets
+        .iter()
+        .map(|s| {
+            let f = &s.fins;
+            let area = crate::aero::estimator::planform(f, g.body.radius_under(f)).area();
+            FinSetPlan {
+                name: s.name.value.clone(),
+                count: f.count.value,
+                outline: f.outline.keyword(),
+                root_leading_edge_x: f.root_trailing_edge_x.value + f.root_chord.value,
+                span: f.span.value,
+                root_chord: f.root_chord.value,
+                area,
+                thickness: f.thickness.value,
+                material: f.material.name.value.clone(),
+                cant: f.cant.value,
+                plate_mass: area
+                    * f.thickness.value
+                    * f.material.density.value
+                    * f.count.value as f64,
+            }
+        })
+        .collect()
+}
+
 /// A recovery device, resolved.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ParachutePlan {
@@ -325,6 +379,9 @@ pub struct Plan {
     pub launch: Option<LaunchPlan>,
     /// Recovery devices in the order written.
     pub parachutes: Vec<ParachutePlan>,
+    /// The further, rigid fin sets (`fins NAME`, `check::fin_sets`), in the order written.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub fin_sets: Vec<FinSetPlan>,
     /// The static margin model from the same tables as the aerodynamic blocks (both on).
     #[serde(skip)]
     pub static_margin: Option<crate::aero::static_margin::StaticMargin>,
@@ -674,6 +731,7 @@ pub fn build_with_aero(
                 lag: p.lag.value,
             })
             .collect(),
+        fin_sets: fin_set_plans(vehicle),
         static_margin,
         aero,
         aero_summary,
@@ -768,6 +826,23 @@ pub fn summary_text(p: &Plan) -> String {
         );
     }
     let _ = writeln!(s, "               step underflow, non-finite state");
+    for f in &p.fin_sets {
+        let _ = writeln!(
+            s,
+            "fin set        {}: {} {} fins, rigid; root LE at x = {:.4} m, span {:.4} m, root chord {:.4} m, {:.6} m^2 each, {:.2} mm {}, cant {:.3} deg; plates {:.4} kg; normal force, drag, pitch and roll in the body table",
+            f.name,
+            f.count,
+            f.outline,
+            f.root_leading_edge_x,
+            f.span,
+            f.root_chord,
+            f.area,
+            f.thickness * 1e3,
+            f.material,
+            f.cant.to_degrees(),
+            f.plate_mass
+        );
+    }
     let _ = writeln!(s, "force blocks:");
     for f in &p.forces {
         let _ = match f {
@@ -879,15 +954,17 @@ pub fn fin_corners(f: &ir::Fins, i: usize, root_radius: f64) -> [[f64; 3]; 4] {
     })
 }
 
-/// `plan`'s lines with each fin's four corner points (body frame, m), or a line saying why
-/// there are none.
+/// `plan`'s lines with each fin's four corner points (body frame, m), the unnamed set's and
+/// each further set's, or a line saying why there are none. An elliptical or freeform fin's
+/// corners are those of its equivalent trapezoid (same span, root chord, area and leading
+/// edge of the mean aerodynamic chord: `check::ir::Fins::outline`), and the line says so.
 pub fn fin_corners_text(v: &ir::Vehicle) -> String {
     use std::fmt::Write as _;
     let Some(f) = v.fins.as_ref() else {
         return String::new();
     };
-    let radius = match &v.structure {
-        ir::Structure::Generate(g) => g.body.root_radius(v.fins.as_ref()),
+    let body = match &v.structure {
+        ir::Structure::Generate(g) => &g.body,
         ir::Structure::Files(_) => {
             return "fin corners    not drawn: the structure is read from files (its nodes place the fins)\n".to_string();
         }
@@ -895,18 +972,36 @@ pub fn fin_corners_text(v: &ir::Vehicle) -> String {
     let mut s = String::from(
         "fin corners    body frame, m: root TE, root LE, tip LE, tip TE (x forward from the nose tip)\n",
     );
-    for i in 0..f.count.value {
-        let c = fin_corners(f, i, radius);
-        let _ = write!(
-            s,
-            "  fin {} at {:.3} deg:",
-            i + 1,
-            f.angles.get(i).map_or(0.0, |a| a.value.to_degrees())
-        );
-        for p in c {
-            let _ = write!(s, " ({:.5}, {:.5}, {:.5})", p[0], p[1], p[2]);
+    let sets = std::iter::once((None, f)).chain(
+        v.fin_sets
+            .iter()
+            .map(|fs| (Some(fs.name.value.as_str()), &fs.fins)),
+    );
+    for (name, f) in sets {
+        if let Some(n) = name {
+            let _ = writeln!(s, "  set {n} (rigid):");
         }
-        s.push('\n');
+        if !f.outline.is_trapezoidal() {
+            let _ = writeln!(
+                s,
+                "  ({} outline: the corners of its equivalent trapezoid)",
+                f.outline.keyword()
+            );
+        }
+        let radius = body.radius_under(f);
+        for i in 0..f.count.value {
+            let c = fin_corners(f, i, radius);
+            let _ = write!(
+                s,
+                "  fin {} at {:.3} deg:",
+                i + 1,
+                f.angles.get(i).map_or(0.0, |a| a.value.to_degrees())
+            );
+            for p in c {
+                let _ = write!(s, " ({:.5}, {:.5}, {:.5})", p[0], p[1], p[2]);
+            }
+            s.push('\n');
+        }
     }
     s
 }

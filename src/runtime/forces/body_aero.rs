@@ -48,7 +48,11 @@
 //!    `ρ_⊥ = α̇_b z_ba + β̇_b y_ba`, the flow-direction rate across the body axis: independent
 //!    of how the ba frame is rolled (continuous through α_b = 0, where the frame flips), and
 //!    for a body rate `(p, q, r)` at `V = (V, 0, 0)` exactly `cn_q (0, r, -q)` in force and
-//!    `cm_q (0, q, r)` in moment, the standard pitch and yaw damping.
+//!    `cm_q (0, q, r)` in moment, the standard pitch and yaw damping. With the table's roll
+//!    columns (the further, rigid fin sets' cant and roll damping, `aero::tables`), a roll
+//!    moment about `x_ba = x_bn`: `q S b (cl_0 + cl_p p b/(2V))`, `p` the body's roll rate
+//!    at the key node (rigid plus the key node's elastic rotation rate); applied whenever
+//!    the table has the columns (the damping belongs with the forcing), `rate_terms` or not.
 //! 7. Back to the nodal and body frames (5.3.30)-(5.3.32): `F_bn = C_ba,bnᵀ F_ba`,
 //!    `F_B = C_bn,Bᵀ F_bn = F_bn + θ_bn × F_bn` (and the same for the moment).
 //! 8. Transfer from the reference point to the key node (5.3.29): the reference point moves
@@ -663,7 +667,7 @@ impl BodyAero {
             altitude,
             &mut self.fault,
         );
-        let Ok((coef, rates)) = self.table.body_hinted(m_q, a_q, h_q, &mut self.hint) else {
+        let Ok((coef, rates, roll)) = self.table.body_hinted(m_q, a_q, h_q, &mut self.hint) else {
             self.fault.get_or_insert(AeroFault::NonFinite);
             return;
         };
@@ -699,6 +703,13 @@ impl BodyAero {
             f_ba[2] += fn_k * alpha_dot;
             m_ba[1] += m_k * alpha_dot;
             m_ba[2] -= m_k * beta_dot;
+        }
+        if let Some(rl) = roll {
+            // The further fin sets' roll (the table's roll columns, `aero::tables`): about
+            // x_ba = e1, the body axis at the key node, with the roll rate the body's there,
+            // `p_hat = p b_b/(2V)`.
+            let p = state.angular_velocity[0] + theta_dot[0];
+            m_ba[0] += qs * self.length * (rl.cl_0 + rl.cl_p * p * self.length / (2.0 * speed));
         }
         // ba -> bn (5.3.30)-(5.3.31): C_ba,bnᵀ x = x_ba x0 + y_ba x1 + z_ba x2 (x_ba = e1).
         let to_bn = |x: [f64; 3]| {
