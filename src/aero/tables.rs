@@ -398,58 +398,35 @@ impl CoefficientTable {
     /// [`Self::from_grid`]; body tables only, every number finite.
     pub fn with_rates(self, rates: &[[f64; 2]]) -> Result<Self, TableError> {
         let columns = self.kind.rate_columns();
-        let n = self.values.len() / self.width;
-        if columns.len() != 2 || rates.len() != n {
-            return Err(TableError::Shape {
-                path: self.source,
-                expected: if columns.len() == 2 { n } else { 0 },
-                found: rates.len(),
-            });
-        }
-        for (k, r) in rates.iter().enumerate() {
-            for (c, &v) in r.iter().enumerate() {
-                if !v.is_finite() {
-                    return Err(TableError::NonFinite {
-                        path: self.source,
-                        line: k + 2,
-                        column: columns[c],
-                        value: v,
-                    });
-                }
-            }
-        }
-        let w = 3 + 2;
-        let mut values = Vec::with_capacity(w * n);
-        for (k, r) in rates.iter().enumerate() {
-            values.extend_from_slice(&self.values[self.width * k..self.width * k + 3]);
-            values.extend_from_slice(r);
-        }
-        let (n1, n2) = (self.axes[1].len(), self.axes[2].len());
-        Ok(CoefficientTable {
-            values,
-            width: w,
-            strides: [w * n1 * n2, w * n2, w],
-            ..self
-        })
+        self.with_pair(3, columns, rates)
     }
 
     /// Adds the roll columns (module doc) of every grid point, in the order of
     /// [`Self::from_grid`], to a body table with the rate columns; every number finite.
     pub fn with_roll(self, roll: &[[f64; 2]]) -> Result<Self, TableError> {
         let columns = self.kind.roll_columns();
+        self.with_pair(5, columns, roll)
+    }
+
+    /// Appends the two columns `columns` (values `pairs`, one per grid point) to a table of
+    /// `from` value columns: a shape error when the table has another width, the kind has
+    /// no such columns or the count differs; a non-finite value names its column.
+    fn with_pair(
+        self,
+        from: usize,
+        columns: &'static [&'static str],
+        pairs: &[[f64; 2]],
+    ) -> Result<Self, TableError> {
         let n = self.values.len() / self.width;
-        if columns.len() != 2 || self.width != 5 || roll.len() != n {
+        let fits = columns.len() == 2 && self.width == from;
+        if !fits || pairs.len() != n {
             return Err(TableError::Shape {
                 path: self.source,
-                expected: if columns.len() == 2 && self.width == 5 {
-                    n
-                } else {
-                    0
-                },
-                found: roll.len(),
+                expected: if fits { n } else { 0 },
+                found: pairs.len(),
             });
         }
-        for (k, r) in roll.iter().enumerate() {
+        for (k, r) in pairs.iter().enumerate() {
             for (c, &v) in r.iter().enumerate() {
                 if !v.is_finite() {
                     return Err(TableError::NonFinite {
@@ -461,10 +438,10 @@ impl CoefficientTable {
                 }
             }
         }
-        let w = 5 + 2;
+        let w = from + 2;
         let mut values = Vec::with_capacity(w * n);
-        for (k, r) in roll.iter().enumerate() {
-            values.extend_from_slice(&self.values[self.width * k..self.width * k + 5]);
+        for (k, r) in pairs.iter().enumerate() {
+            values.extend_from_slice(&self.values[from * k..from * (k + 1)]);
             values.extend_from_slice(r);
         }
         let (n1, n2) = (self.axes[1].len(), self.axes[2].len());
