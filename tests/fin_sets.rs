@@ -739,12 +739,11 @@ fn a_canted_further_set_has_niskanens_roll_forcing_and_damping_in_the_body_table
 #[test]
 fn canted_canards_roll_the_flight_the_way_canted_main_fins_do() {
     let dir = tempfile::tempdir().unwrap();
-    let fly = |name: &str, blocks: &str, set: &[&str]| -> Vec<(f64, f64, f64)> {
-        let p = hpr_with(dir.path(), name, blocks);
+    let fly_file = |p: &Path, name: &str, set: &[&str]| -> Vec<(f64, f64, f64)> {
         let out = dir.path().join(format!("out-{name}"));
         let mut c = bin();
         c.arg("run")
-            .arg(&p)
+            .arg(p)
             .args(["--scenario", "k1000", "--out"])
             .arg(&out)
             .arg("--cache-dir")
@@ -765,6 +764,9 @@ fn canted_canards_roll_the_flight_the_way_canted_main_fins_do() {
                 (v[ct], v[cp], v[cu])
             })
             .collect()
+    };
+    let fly = |name: &str, blocks: &str, set: &[&str]| {
+        fly_file(&hpr_with(dir.path(), name, blocks), name, set)
     };
     let at = |h: &[(f64, f64, f64)], t: f64| *h.iter().find(|r| r.0 >= t).unwrap();
     let canted = CANARDS.replacen(
@@ -798,6 +800,37 @@ fn canted_canards_roll_the_flight_the_way_canted_main_fins_do() {
         // an angle of attack is not symmetric in roll): 1.3 % of the canted canards' at 1 s.
         assert!(z.1.abs() < 0.03 * c.1.abs(), "{z:?}");
     }
+    // The main fins themselves as a rigid set (`fins aft`, no flexible set): the roll rate
+    // follows the set's own equilibrium `p_eq = V delta (y_MAC + r_t) A_f / I_2`, the check of
+    // the body block's roll moment (its sign, `q S d`, `p d/(2V)`); the flexible main fins'
+    // fin block, another model of the same roll, is beside it (printed).
+    let text = std::fs::read_to_string(repo("examples/hpr_k1000/hpr_k1000.vdl")).unwrap();
+    let rigid = text
+        .replacen("  fins {\n    count = 3", "  fins aft {\n    count = 3", 1)
+        .replacen("    cant = 0 deg\n", "    cant = 0.5 deg\n", 1)
+        .replacen("    fins = fin_point(span = 0.5, chord = 0.25)\n", "", 1)
+        .replacen("    fin_flap = per_fin\n    fin_twist = per_fin\n", "", 1)
+        .replacen(
+            "    fin_aero {\n      distribution = theory\n      leeward_reduction = true\n    }\n",
+            "",
+            1,
+        );
+    assert!(!rigid.contains("fin_point") && rigid.contains("fins aft {"));
+    let p = dir.path().join("rigid_main.vdl");
+    std::fs::write(&p, rigid).unwrap();
+    let rigid = fly_file(&p, "rigid_main", &[]);
+    let (s, cr, ct, r) = (0.120, 0.250, 0.100, 0.049);
+    let y_mac = s / 3.0 * (cr + 2.0 * ct) / (cr + ct);
+    let g = |y: f64| (cr + (ct - cr) * y / s) * (r + y).powi(2);
+    let i2 = s / 6.0 * (g(0.0) + 4.0 * g(0.5 * s) + g(s));
+    let per_speed = 0.5f64.to_radians() * (y_mac + r) * 0.5 * (cr + ct) * s / i2;
+    let (rg, fl) = (at(&rigid, 3.0), at(&main, 3.0));
+    let p_eq = per_speed * rg.2;
+    println!(
+        "t 3: main fins canted 0.5 deg, rigid set {:.3} rad/s (its p_eq {p_eq:.3} at {:.1} m/s), flexible {:.3} rad/s",
+        rg.1, rg.2, fl.1
+    );
+    assert!((rg.1 - p_eq).abs() < 0.015 * p_eq, "{rg:?} vs {p_eq}");
 }
 
 /// `plan` lists each further set (human: a `fin set` line with its planform, mass and where
