@@ -74,7 +74,7 @@ impl Default for PanelSettings {
 /// Why a fin's panel model could not be built.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum FinPanelError {
-    #[error("the vehicle declares no fins")]
+    #[error("the vehicle has no unnamed `fins` block (its flexible set)")]
     NoFins,
     #[error("fin {0} has no FE nodes")]
     EmptyFin(usize),

@@ -142,7 +142,7 @@ impl FinAero {
 /// Why a fin flutter case could not be built or solved.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum FinFlutterError {
-    #[error("the vehicle declares no fins")]
+    #[error("the vehicle has no unnamed `fins` block (its flexible set)")]
     NoFins,
     #[error(
         "a clamped fin needs a generated structure (`structure {{ generate {{ ... }} }}`); an imported FE model has no separable fin root"
