@@ -690,14 +690,16 @@ fn unsteady_gaf_tables_have_the_same_bits_on_one_and_two_threads() {
     }
 }
 
-/// A small, stiff fin (examples/valetudo: 3 mm G10, 77 mm span; clamped modes 367, 1822,
-/// 2156 and 4852 Hz, the last an in-plane mode the air does not act on) on the flight
+/// A small, stiff fin (examples/valetudo: 3 mm G10, 77 mm span; clamped modes 355, 1458,
+/// 2008 and 4044 Hz with G10 the lamina of std/materials.vdl (367, 1822, 2156 and 4852 Hz as
+/// the isotropic plate of before), the last an in-plane mode the air does not act on) on the flight
 /// margin's sweep at Mach 0.3 (40 speeds from 154.5 m/s, 32 x 12 unsteady lattice, the k
 /// table to 1.2 omega_max b / v_lo). Before the p-k first-order form was scaled the
 /// in-plane branch's `Im p` wandered by 1e-7 relative between evaluations, its iteration did
 /// not converge at 154.5 m/s (k = 5.72), and the flight's margin was "not computed"; with a
 /// looser tolerance its round-off damping (+2.3e-12) made the sweep "unstable at its lowest
-/// speed". TN 4197 puts this fin's flutter at 524-928 m/s; the sweep is stable to 1013 m/s.
+/// speed". TN 4197 puts this fin's flutter at 347-615 m/s (528-934 as the isotropic plate); the sweep is
+/// stable to 1013 m/s.
 #[test]
 fn a_stiff_fin_with_an_in_plane_mode_solves_its_margin_sweep() {
     let file = common::root().join("examples/valetudo/valetudo.vdl");

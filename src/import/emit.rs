@@ -37,6 +37,8 @@ pub const MATERIAL_MAP: &[(&str, &str)] = &[
     ("g-10", "fibreglass_g10"),
     ("fr4", "fibreglass_g10"),
     ("fr-4", "fibreglass_g10"),
+    ("carbon fiber", "carbon_fibre_fabric"),
+    ("carbon fibre", "carbon_fibre_fabric"),
     ("aluminum", "aluminium_6061_t6"),
     ("aluminium", "aluminium_6061_t6"),
     ("titanium", "titanium_6al4v"),
@@ -139,19 +141,41 @@ pub fn std_elastic(name: &str) -> Option<(f64, f64)> {
     for line in body.lines() {
         let l = line.split('#').next().unwrap_or("").trim();
         if let Some(v) = l.strip_prefix("E =") {
-            let v = v.trim();
-            e = if let Some(g) = v.strip_suffix("GPa") {
-                g.trim().parse::<f64>().ok().map(|x| x * 1e9)
-            } else if let Some(m) = v.strip_suffix("MPa") {
-                m.trim().parse::<f64>().ok().map(|x| x * 1e6)
-            } else {
-                None
-            };
+            e = gpa(v);
         } else if let Some(v) = l.strip_prefix("nu =") {
             nu = v.trim().parse::<f64>().ok();
         }
     }
     Some((e?, nu?))
+}
+
+/// (E2, G12) of a standard-library material that is an orthotropic lamina (docs/language.md,
+/// `material`), read from the embedded `std/materials.vdl`; `None` for an isotropic one.
+pub fn std_lamina(name: &str) -> Option<(f64, f64)> {
+    let body = std_block(name)?;
+    let mut e2 = None;
+    let mut g12 = None;
+    for line in body.lines() {
+        let l = line.split('#').next().unwrap_or("").trim();
+        if let Some(v) = l.strip_prefix("E2 =") {
+            e2 = gpa(v);
+        } else if let Some(v) = l.strip_prefix("G12 =") {
+            g12 = gpa(v);
+        }
+    }
+    Some((e2?, g12?))
+}
+
+/// A modulus written `X GPa` or `X MPa`, in Pa.
+fn gpa(v: &str) -> Option<f64> {
+    let v = v.trim();
+    if let Some(g) = v.strip_suffix("GPa") {
+        g.trim().parse::<f64>().ok().map(|x| x * 1e9)
+    } else if let Some(m) = v.strip_suffix("MPa") {
+        m.trim().parse::<f64>().ok().map(|x| x * 1e6)
+    } else {
+        None
+    }
 }
 
 /// A VDL identifier from an OpenRocket name.
@@ -195,19 +219,54 @@ fn mm(x: f64) -> String {
 struct MatOut {
     ident: String,
     block: String,
+    /// Whether the written material is an orthotropic lamina (`E2`, `G12`): a fin set of it
+    /// is written with its `grain`.
+    lamina: bool,
+}
+
+/// What a design's material is used for: the vehicle's body (an isotropic beam, which refuses
+/// an orthotropic material: `vdl::material::orthotropic`) or a fin set (a plate that takes a
+/// lamina).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Role {
+    Body,
+    Fins,
+}
+
+/// Whether a design's material, used for a fin set, is written as a lamina: it maps to an
+/// orthotropic standard material and no `--material` gives it as isotropic.
+fn fins_take_lamina(m: &OrMaterial, opts: &Options) -> bool {
+    let given = opts
+        .materials
+        .iter()
+        .any(|g| g.name.eq_ignore_ascii_case(m.name.trim()));
+    !given && std_material_for(&m.name).is_some_and(|s| std_lamina(s).is_some())
 }
 
 /// A design's density further than this factor from the standard material's it is mapped to
 /// is warned about (`resolve_material`): OpenRocket's own database densities of the mapped
-/// names are within 1.02 of the standard materials' (tests/import_materials.rs), while a
-/// foam or a partial infill is several times lighter.
+/// names are within 1.02 of the standard materials' but for "Carbon fiber", 1.11 (its 1780
+/// kg/m^3 is the fibre's own density, std/materials.vdl's `carbon_fibre_fabric` the
+/// laminate's 1600; tests/import_materials.rs), while a foam or a partial infill is several
+/// times lighter.
 const DENSITY_FACTOR: f64 = 1.5;
 
-fn resolve_material(cx: &mut Cx, m: &OrMaterial, opts: &Options) -> Option<MatOut> {
+/// The material block written for a design's material `m` in its `role`, or `None` after an
+/// error diagnostic (no known stiffness). A name mapped to an isotropic standard material is
+/// written with its E and nu whatever the role. A name mapped to a lamina is written for a
+/// fin set as the lamina (E, E2, G12, nu: identifier `NAME_ork`); for the body, an isotropic
+/// beam, as the isotropic equivalent E = min(E, E2) with nu = nu_12 (identifier
+/// `NAME_body_ork`): the lower in-plane modulus, so that the body's bending stiffness is not
+/// overstated in either direction of the tube's cloth (for fibreglass_g10 this is the old
+/// isotropic pair, 21 GPa and 0.136). The beam's shear modulus E / (2 (1 + nu)) then exceeds
+/// G12 (9.2 against 4 GPa for G-10): it enters only the beam's shear deformation and torsion,
+/// small next to its bending for a slender body, and the comment written says so.
+fn resolve_material(cx: &mut Cx, m: &OrMaterial, opts: &Options, role: Role) -> Option<MatOut> {
     let given = opts
         .materials
         .iter()
         .find(|g| g.name.eq_ignore_ascii_case(m.name.trim()));
+    let mut lamina = None;
     let (e, nu, source) = if let Some(g) = given {
         (
             g.e,
@@ -237,14 +296,35 @@ fn resolve_material(cx: &mut Cx, m: &OrMaterial, opts: &Options) -> Option<MatOu
                 )),
             );
         }
-        (
-            e,
-            nu,
-            format!(
-                "E and nu of `{std}` ({} kg/m^3) in std/materials.vdl (see its sources there)",
-                f(rho, 4)
+        match (std_lamina(std), role) {
+            (None, _) => (
+                e,
+                nu,
+                format!(
+                    "E and nu of `{std}` ({} kg/m^3) in std/materials.vdl (see its sources there)",
+                    f(rho, 4)
+                ),
             ),
-        )
+            (Some((e2, g12)), Role::Fins) => {
+                lamina = Some((e2, g12));
+                (
+                    e,
+                    nu,
+                    format!(
+                        "the orthotropic lamina `{std}` ({} kg/m^3) in std/materials.vdl (E along its 1-direction, E2 across, G12 the in-plane shear modulus, nu = nu_12; see its sources there)",
+                        f(rho, 4)
+                    ),
+                )
+            }
+            (Some((e2, _)), Role::Body) => (
+                e.min(e2),
+                nu,
+                format!(
+                    "the body, an isotropic beam, cannot take the orthotropic lamina `{std}` ({} kg/m^3) in std/materials.vdl, so this is its isotropic equivalent: the lower in-plane modulus min(E, E2) with nu_12. The beam's shear modulus E / (2 (1 + nu)) exceeds the lamina's G12, which matters only for the body's shear deformation and torsion",
+                    f(rho, 4)
+                ),
+            ),
+        }
     } else {
         cx.diags.push(
             Diagnostic::error(
@@ -257,7 +337,7 @@ fn resolve_material(cx: &mut Cx, m: &OrMaterial, opts: &Options) -> Option<MatOu
             .label(m.at, "used here")
             .with_help(if is_orthotropic(&m.name) {
                 format!(
-                    "give them: --material '{}=E GPa,nu'. Wood, plywood, paper and fibre laminates are orthotropic, and the fin is an isotropic plate whose shear modulus E / (2 (1 + nu)) the flutter margin (NACA TN 4197) rests on: choose E and nu so that E / (2 (1 + nu)) is no more than the material's in-plane shear modulus (std/materials.vdl's header says why)",
+                    "give them: --material '{}=E GPa,nu'. Wood, plywood, paper and fibre laminates are orthotropic: an isotropic plate's shear modulus E / (2 (1 + nu)), which the flutter margin (NACA TN 4197) rests on, should be no more than the material's in-plane shear modulus; or give the fins' material E2 and G12 in the written file (a lamina: docs/language.md)",
                     m.name
                 )
             } else {
@@ -269,7 +349,15 @@ fn resolve_material(cx: &mut Cx, m: &OrMaterial, opts: &Options) -> Option<MatOu
         );
         return None;
     };
-    let id = format!("{}_ork", ident(&m.name));
+    let body_equivalent = role == Role::Body
+        && given.is_none()
+        && lamina.is_none()
+        && std_material_for(&m.name).is_some_and(|s| std_lamina(s).is_some());
+    let id = if body_equivalent {
+        format!("{}_body_ork", ident(&m.name))
+    } else {
+        format!("{}_ork", ident(&m.name))
+    };
     let mut block = String::new();
     let _ = writeln!(
         block,
@@ -279,10 +367,18 @@ fn resolve_material(cx: &mut Cx, m: &OrMaterial, opts: &Options) -> Option<MatOu
     );
     let _ = writeln!(block, "material {id} {{");
     let _ = writeln!(block, "  E = {} GPa", f(e / 1e9, 4));
+    if let Some((e2, g12)) = lamina {
+        let _ = writeln!(block, "  E2 = {} GPa", f(e2 / 1e9, 4));
+        let _ = writeln!(block, "  G12 = {} GPa", f(g12 / 1e9, 4));
+    }
     let _ = writeln!(block, "  nu = {}", f(nu, 4));
     let _ = writeln!(block, "  rho = {} kg/m^3", f(m.density, 4));
     let _ = writeln!(block, "}}");
-    Some(MatOut { ident: id, block })
+    Some(MatOut {
+        ident: id,
+        block,
+        lamina: lamina.is_some(),
+    })
 }
 
 fn resolve_motor(cx: &mut Cx, r: &MotorRef, cat: &[Entry]) -> Option<Entry> {
@@ -361,7 +457,7 @@ fn write_fin_set(
     o: &mut String,
     fins: &super::FinSet,
     name: Option<&str>,
-    material: Option<&str>,
+    material: Option<&MatOut>,
     body_length: f64,
 ) {
     // A trapezoid without a tip chord (a triangle: RockSim and OpenRocket allow it) is the
@@ -469,7 +565,15 @@ fn write_fin_set(
         let _ = writeln!(o, "    angles = [{}]", list.join(", "));
     }
     if let Some(m) = material {
-        let _ = writeln!(o, "    material = {m}");
+        let _ = writeln!(o, "    material = {}", m.ident);
+        if m.lamina {
+            // OpenRocket and RockSim record no grain or cloth direction.
+            let _ = writeln!(
+                o,
+                "    # The design records no grain or cloth direction: chordwise (the lamina's 1-direction, its E, along the root chord) is assumed. For a fin cut from solid wood with its grain spanwise the margin is lower: set `grain = spanwise` if so."
+            );
+            let _ = writeln!(o, "    grain = chordwise");
+        }
     }
     if let Some((rf, m)) = &fins.fillet {
         let _ = writeln!(
@@ -492,17 +596,20 @@ pub(crate) fn emit(
     cat: &[Entry],
 ) -> Option<(String, Vec<(String, String)>)> {
     let tube0 = &d.tubes[0];
-    let body_mat = resolve_material(cx, &tube0.material, opts);
-    // Each fin set's material, when not the body's (the unnamed set first, then the others).
+    let body_mat = resolve_material(cx, &tube0.material, opts, Role::Body);
+    // Each fin set's material, when not the body's (the unnamed set first, then the others);
+    // a lamina is the fins' own material even when the body's is the same (the body takes
+    // its isotropic equivalent: `resolve_material`).
     let fin_mats: Vec<Option<MatOut>> = std::iter::once(&d.fins)
         .chain(&d.more_fins)
         .map(|fs| {
             if fs.material.name == tube0.material.name
                 && fs.material.density == tube0.material.density
+                && !fins_take_lamina(&fs.material, opts)
             {
                 None
             } else {
-                resolve_material(cx, &fs.material, opts)
+                resolve_material(cx, &fs.material, opts, Role::Fins)
             }
         })
         .collect();
@@ -1025,13 +1132,7 @@ pub(crate) fn emit(
     let _ = writeln!(o, "    }}");
     let _ = writeln!(o, "  }}");
     let _ = writeln!(o);
-    write_fin_set(
-        &mut o,
-        fins,
-        None,
-        fin_mat.as_ref().map(|m| m.ident.as_str()),
-        length,
-    );
+    write_fin_set(&mut o, fins, None, fin_mat.as_ref(), length);
     // Further sets (canards, ...): named blocks, rigid in the flight (`check::fin_sets`).
     let mut names: Vec<String> = vec!["fins".into()];
     for (fs, fm) in d.more_fins.iter().zip(&fin_mats[1..]) {
@@ -1049,13 +1150,7 @@ pub(crate) fn emit(
             o,
             "  # body's coefficients; no modes or fin loads; its clamped-fin flutter margin: docs/language.md)."
         );
-        write_fin_set(
-            &mut o,
-            fs,
-            Some(&name),
-            fm.as_ref().map(|m| m.ident.as_str()),
-            length,
-        );
+        write_fin_set(&mut o, fs, Some(&name), fm.as_ref(), length);
     }
     // The vehicle flies the default configuration's motor (else the first).
     let default = d
