@@ -394,23 +394,24 @@ impl CoefficientTable {
         })
     }
 
-    /// Adds the rate columns (module doc) of every grid point, in the order of
-    /// [`Self::from_grid`]; body tables only, every number finite.
+    /// Adds (or replaces) the rate columns (module doc) of every grid point, in the order of
+    /// [`Self::from_grid`]; body tables only, every number finite; roll columns are kept.
     pub fn with_rates(self, rates: &[[f64; 2]]) -> Result<Self, TableError> {
         let columns = self.kind.rate_columns();
         self.with_pair(3, columns, rates)
     }
 
-    /// Adds the roll columns (module doc) of every grid point, in the order of
+    /// Adds (or replaces) the roll columns (module doc) of every grid point, in the order of
     /// [`Self::from_grid`], to a body table with the rate columns; every number finite.
     pub fn with_roll(self, roll: &[[f64; 2]]) -> Result<Self, TableError> {
         let columns = self.kind.roll_columns();
         self.with_pair(5, columns, roll)
     }
 
-    /// Appends the two columns `columns` (values `pairs`, one per grid point) to a table of
-    /// `from` value columns: a shape error when the table has another width, the kind has
-    /// no such columns or the count differs; a non-finite value names its column.
+    /// Puts the two columns `columns` (values `pairs`, one per grid point) at value columns
+    /// `from` and `from + 1` of a table with at least `from` of them, keeping the columns
+    /// before and after: a shape error when the table is narrower, the kind has no such
+    /// columns or the count differs; a non-finite value names its column.
     fn with_pair(
         self,
         from: usize,
@@ -418,7 +419,7 @@ impl CoefficientTable {
         pairs: &[[f64; 2]],
     ) -> Result<Self, TableError> {
         let n = self.values.len() / self.width;
-        let fits = columns.len() == 2 && self.width == from;
+        let fits = columns.len() == 2 && self.width >= from;
         if !fits || pairs.len() != n {
             return Err(TableError::Shape {
                 path: self.source,
@@ -438,11 +439,13 @@ impl CoefficientTable {
                 }
             }
         }
-        let w = from + 2;
+        let (old, w) = (self.width, self.width.max(from + 2));
         let mut values = Vec::with_capacity(w * n);
         for (k, r) in pairs.iter().enumerate() {
-            values.extend_from_slice(&self.values[from * k..from * (k + 1)]);
+            let row = &self.values[old * k..old * (k + 1)];
+            values.extend_from_slice(&row[..from]);
             values.extend_from_slice(r);
+            values.extend_from_slice(row.get(from + 2..).unwrap_or(&[]));
         }
         let (n1, n2) = (self.axes[1].len(), self.axes[2].len());
         Ok(CoefficientTable {
@@ -1298,6 +1301,19 @@ mod tests {
             CoefficientTable::parse_csv(TableKind::Body, p(), &rolled.to_csv(), OutOfRange::Stop)
                 .unwrap();
         assert_eq!(back, rolled);
+        // Replacing the rate columns keeps the roll columns, and the other way round.
+        let n_pts = rolled.to_csv().lines().count() - 1;
+        let re = rolled
+            .clone()
+            .with_rates(&vec![[1.0, -2.0]; n_pts])
+            .unwrap();
+        let (c2, rates2, roll2) = re.body_hinted(0.75, 2.5, 2500.0, &mut hint).unwrap();
+        assert_eq!((c2, roll2), (c, Some(r)));
+        assert_eq!(rates2.map(|x| (x.cn_q, x.cm_q)), Some((1.0, -2.0)));
+        let re = rolled.clone().with_roll(&vec![[0.5, -3.0]; n_pts]).unwrap();
+        let (c3, rates3, roll3) = re.body_hinted(0.75, 2.5, 2500.0, &mut hint).unwrap();
+        assert_eq!((c3, rates3), (c, rates));
+        assert_eq!(roll3.map(|x| (x.cl_0, x.cl_p)), Some((0.5, -3.0)));
         // Built: the roll columns need the rate columns.
         let plain =
             CoefficientTable::parse_csv(TableKind::Body, p(), &grid_text(None), OutOfRange::Stop)
