@@ -184,8 +184,8 @@ fn flat(e: &str) -> String {
 /// RockSim designs (issue 34, `src/import/rocksim.rs`): real `.rkt` files of OpenRocket's test
 /// resources (provenance in tests/import_designs/README.md) are read in RockSim's units (mm,
 /// g) into the same model as OpenRocket's, and what the language cannot say is refused naming
-/// the component, with the file and line: the Apocalypse's twelve custom fin sets (their
-/// outlines are not read), the test rocket's 57 mm nose on a 66 mm tube (a step in diameter); nothing
+/// the component, with the file and line: the Apocalypse's four two-lobed custom fins, the
+/// test rocket's 57 mm nose on a 66 mm tube (a step in diameter); nothing
 /// is written. A truncated `.rkt` is `import::xml` with the file, a non-zero exit, nothing
 /// written.
 #[test]
@@ -195,20 +195,20 @@ fn rocksim_designs_are_read_and_what_cannot_be_said_is_refused_by_name() {
     let o = import(&design("apocalypse.rkt"), &out, &[]);
     assert_eq!(o.status.code(), Some(1));
     let e = flat(&stderr(&o));
-    // Any number of fin sets is said now (issue 34 item 2); RockSim's custom outlines are
-    // not read, so each of the twelve custom sets is refused by name at its line.
+    // Any number of fin sets is said now (issue 34 item 2) and RockSim's custom outlines are
+    // read; the four main fins have two lobes, which the language's freeform fin cannot say:
+    // each refused by name at its `<PointList>` line (`rocksim_custom_fins_are_freeform_outlines`).
     assert!(
         e.contains("import::unsupported")
-            && e.contains("custom fin set `Custom Fin-1`")
-            && e.contains("custom fin set `Contre fins 1a`")
-            && e.contains("apocalypse.rkt:304:")
-            && e.contains("apocalypse.rkt:656:"),
+            && e.contains("CustomFinSet `Custom Fin-1`")
+            && e.contains("CustomFinSet `Custom Fin-4`")
+            && e.contains("apocalypse.rkt:334:")
+            && e.contains("apocalypse.rkt:622:"),
         "{e}"
     );
     assert_eq!(
-        e.matches("RockSim's custom (freeform) fin outlines are not read yet")
-            .count(),
-        12,
+        e.matches("this freeform fin cannot be represented").count(),
+        4,
         "{e}"
     );
     // The parachutes were read (their deployment is RockSim's simulation setting: a warning).
@@ -218,7 +218,8 @@ fn rocksim_designs_are_read_and_what_cannot_be_said_is_refused_by_name() {
     // (`import::bridge_step`, a warning at the tube's line; the old importer refused the
     // design with `import::diameter`), and its triangular fins (no tip chord) a freeform
     // outline of their three corners; the vehicle checks. (RockSim's file names no motor:
-    // no scenario is written, so it does not fly as imported.)
+    // no scenario is written; `--motor` names one and it flies:
+    // `rocksim_designs_fly_with_a_motor_named_at_import`.)
     let other = tempfile::tempdir().unwrap();
     let rkt_out = other.path().join("foobar.vdl");
     let o = import(
@@ -237,6 +238,13 @@ fn rocksim_designs_are_read_and_what_cannot_be_said_is_refused_by_name() {
     assert!(
         e.contains("body tube `Body tube` starts at diameter 66.040 mm, the nose cone `Nose cone` ends at 57.150 mm: the step is generated as a 45-degree conical shoulder of 4.4 mm")
             && e.contains("rocksim_test_rocket_1.rkt:230:"),
+        "{e}"
+    );
+    // No motor stored and none named: said, with the way to name one.
+    assert!(
+        e.contains("import::motor::unnamed")
+            && e.contains("motor mount `Body tube` holds no motor in the design")
+            && e.contains("--motor DESIGNATION"),
         "{e}"
     );
     let text = std::fs::read_to_string(&rkt_out).unwrap();
@@ -553,4 +561,188 @@ fn elliptical_and_freeform_fin_sets_import_as_their_planforms_and_check() {
         "{e}"
     );
     assert!(files_in(&dir.path().join("jagged")).is_empty());
+}
+
+/// The materials of OpenRocket's RockSim test designs as test inputs, not reference values:
+/// the designs give only densities.
+const RKT_MATERIALS: &[&str] = &["Paper=3 GPa,0.3", "Balsa=3 GPa,0.3", "Birch=10 GPa,0.3"];
+
+/// Issue 34: a RockSim design names no motor in a stored simulation, so the vehicle had no
+/// motor and no scenario; with `--motor` the motor named is resolved in the bundled catalogue,
+/// fits the design's motor mount, and both RockSim designs of OpenRocket's test resources that
+/// the language can say import with it and a scenario that flies it, and check. (They do not
+/// compile yet: both end in `modal::mechanisms` in the structure, with or without a motor; see
+/// docs/validation.md.) On the old importer `--motor` was an unknown option (exit 2).
+#[test]
+fn rocksim_designs_take_a_motor_named_at_import_and_check() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = with_materials(RKT_MATERIALS);
+    for (file, motor) in [
+        // FooBar Test: a 24.13 mm bore mount in a 57-66 mm rocket.
+        ("rocksim_test_rocket_1.rkt", "Estes D12"),
+        // BodyTubeChildrenTest: a 29.08 mm bore mount in a 30 mm tube.
+        ("body_tube_children.rkt", "AeroTech G80"),
+    ] {
+        let out = dir.path().join(file.replace(".rkt", ".vdl"));
+        args.truncate(2 * RKT_MATERIALS.len());
+        args.extend(["--motor".to_string(), motor.to_string()]);
+        let a: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = import(&design(file), &out, &a);
+        let e = flat(&stderr(&o));
+        assert!(o.status.success(), "{file}: {e}");
+        let text = std::fs::read_to_string(&out).unwrap();
+        assert!(
+            text.contains(&format!(
+                "is named at import (--motor `{motor}`): the design stores none"
+            )),
+            "{text}"
+        );
+        assert!(
+            text.contains(&format!("designation = \"{motor}\"")),
+            "{file}: {text}"
+        );
+        assert_eq!(text.matches("\nscenario ").count(), 1, "{text}");
+        let c = bin().arg("check").arg(&out).output().unwrap();
+        assert!(c.status.success(), "check {file}: {}\n{text}", stderr(&c));
+    }
+}
+
+/// `--motor` on a design that stores motors replaces them (a warning at each, and the
+/// header says so; every scenario flies it); a motor wider than the mount's bore is
+/// `import::motor::fit` at the mount's line with nothing written; a designation not in the
+/// catalogue lists candidates; a motor longer than its mount overhangs it (a warning).
+#[test]
+fn a_motor_named_at_import_replaces_the_designs_and_must_fit_its_mount() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("simple.vdl");
+    let mut args = with_materials(SIMPLE_MATERIALS);
+    args.extend(["--motor".into(), "Estes C6".into()]);
+    let a: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = import(&design("simple_model_rocket.ork"), &out, &a);
+    let e = flat(&stderr(&o));
+    assert!(o.status.success(), "{e}");
+    assert!(
+        e.contains("import::motor::replaced")
+            && e.contains("the design's motor Estes A8")
+            && e.contains("is replaced by --motor `Estes C6`"),
+        "{e}"
+    );
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("it replaces the design's Estes A8"), "{text}");
+    assert!(text.contains("designation = \"Estes C6\""), "{text}");
+    assert!(
+        !text.contains("Estes A8\"") && !text.contains("Estes B4\""),
+        "{text}"
+    );
+    let c = bin().arg("check").arg(&out).output().unwrap();
+    assert!(c.status.success(), "check: {}\n{text}", stderr(&c));
+
+    // A 75 mm K1000T in FooBar's 24 mm mount: refused at the mount's line, nothing written.
+    let bad = tempfile::tempdir().unwrap();
+    let out = bad.path().join("foobar.vdl");
+    let mut args = with_materials(RKT_MATERIALS);
+    args.extend(["--motor".into(), "AeroTech K1000T".into()]);
+    let a: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = import(&design("rocksim_test_rocket_1.rkt"), &out, &a);
+    assert_eq!(o.status.code(), Some(1));
+    let e = flat(&stderr(&o));
+    assert!(
+        e.contains("import::motor::fit")
+            && e.contains("(75 mm diameter) does not fit motor mount `Body tube` (bore 24.13 mm)")
+            && e.contains("rocksim_test_rocket_1.rkt:"),
+        "{e}"
+    );
+    assert!(files_in(bad.path()).is_empty());
+    // Not in the catalogue: the candidates of its class are listed.
+    let o = import(
+        &design("rocksim_test_rocket_1.rkt"),
+        &out,
+        &[&a[..a.len() - 1], &["Estes D99"]].concat(),
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let e = flat(&stderr(&o));
+    assert!(
+        e.contains("import::motor::not_found") && e.contains("D99") && e.contains("D12"),
+        "{e}"
+    );
+    assert!(files_in(bad.path()).is_empty());
+}
+
+/// RockSim's custom fin outlines (`<PointList>`, mm, written from the root's trailing edge
+/// round to its leading edge) are the language's freeform fins, reversed into the language's
+/// order, each set turned by its `RadialAngle`. The Apocalypse's real main fins have two lobes
+/// (the outline turns back in span): the language's freeform fin cannot say them, refused at
+/// the `<PointList>` line with the point named; with the aft lobe cut off (a test edit of the
+/// file) the outlines are read. A malformed point list and a self-crossing outline are
+/// diagnostics at their line, nothing written. The old importer refused every custom set as
+/// "not read yet".
+#[test]
+fn rocksim_custom_fins_are_freeform_outlines() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("apo.vdl");
+    let args = with_materials(RKT_MATERIALS);
+    let a: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = import(&design("apocalypse.rkt"), &out, &a);
+    assert_eq!(o.status.code(), Some(1));
+    let e = flat(&stderr(&o));
+    assert!(
+        e.contains("CustomFinSet `Custom Fin-1` (in `Body tube inf2`): this freeform fin cannot be represented: it is not single-valued")
+            && e.contains("(354.00, 67.00) mm")
+            && e.contains("apocalypse.rkt:334:"),
+        "{e}"
+    );
+    assert!(!e.contains("not read yet"), "{e}");
+    assert!(files_in(dir.path()).is_empty());
+
+    let text = std::fs::read_to_string(design("apocalypse.rkt")).unwrap();
+    let main = "406.0,0.0|406.0,2.0|398.0,11.3|395.0,13.0|382.0,58.0|354.0,67.0|320.0,22.0|282.0,25.0|258.0,119.0|";
+    assert_eq!(text.matches(main).count(), 4);
+    let cut = dir.path().join("apo-one-lobe.rkt");
+    std::fs::write(
+        &cut,
+        text.replace(main, "282.0,0.0|282.0,25.0|258.0,119.0|"),
+    )
+    .unwrap();
+    let o = import(&cut, &out, &a);
+    let e = flat(&stderr(&o));
+    assert!(o.status.success(), "{e}");
+    let vdl = std::fs::read_to_string(&out).unwrap();
+    for needle in [
+        "points = [(0, 0) mm, (13.6306, 15.2533) mm, (117.158, 25.3139) mm, (228.4, 128) mm, (258, 119) mm, (282, 25) mm, (282, 0) mm]",
+        // `Custom Fin-1..4` at RadialAngle 0, +-1.5708, 3.14159 rad: one set of four fins.
+        "angles = [-90.0002 deg, 0 deg, 90.0002 deg, 179.9998 deg]",
+        "points = [(0, 0) mm, (3.8, 7) mm, (114, 20) mm, (272.906, 20) mm, (381.787, 10) mm, (387.269, 9) mm, (391, 4) mm, (392.101, 0) mm]",
+        "fin set `Custom Fin-4` is fin set `Custom Fin-1` at other angles: merged into one set of their 4 fins",
+    ] {
+        assert!(vdl.contains(needle), "{needle}\n{vdl}");
+    }
+    std::fs::remove_file(&out).unwrap();
+
+    // A malformed point list and a bow tie.
+    for (list, code, what) in [
+        (
+            "406.0,0.0|406.0;2.0|0.0,0.0|",
+            "import::value",
+            "entry 2 of the fin's point list, `406.0;2.0`, is not a pair of numbers",
+        ),
+        (
+            "100.0,0.0|0.0,50.0|100.0,50.0|0.0,0.0|",
+            "import::fin::crossing",
+            "the fin outline crosses itself",
+        ),
+        ("", "import::value", "the fin's point list is empty"),
+    ] {
+        let bad = dir.path().join("bad.rkt");
+        let first = text.find(main).unwrap();
+        let end = first + text[first..].find("</PointList>").unwrap();
+        std::fs::write(&bad, format!("{}{list}{}", &text[..first], &text[end..])).unwrap();
+        let o = import(&bad, &out, &a);
+        assert_eq!(o.status.code(), Some(1));
+        let e = flat(&stderr(&o));
+        assert!(
+            e.contains(code) && e.contains(what) && e.contains("bad.rkt:334:"),
+            "{list}: {e}"
+        );
+        assert!(!out.exists());
+    }
 }

@@ -1,4 +1,5 @@
-//! `flexflight import DESIGN.ork -o ROCKET.vdl [--motor-dir DIR] [--material 'NAME=E,nu']`:
+//! `flexflight import DESIGN.ork -o ROCKET.vdl [--motor-dir DIR] [--material 'NAME=E,nu']
+//! [--motor DESIGNATION]`:
 //! a thin shell over [`crate::import::import_design`]. Nothing is written unless the import
 //! succeeds; then the vehicle file and the thrust curves it names (beside it).
 
@@ -13,6 +14,7 @@ pub fn cmd_import(
     out: &Path,
     motor_dirs: &[PathBuf],
     materials: &[String],
+    motor: Option<&str>,
     format: Format,
     term: Terminal,
 ) -> u8 {
@@ -29,6 +31,7 @@ pub fn cmd_import(
     let opts = Options {
         motor_dirs: motor_dirs.to_vec(),
         materials: given,
+        motor: motor.map(str::to_string),
     };
     let mut sources = SourceMap::new();
     match import_design(design, &opts, &mut sources) {

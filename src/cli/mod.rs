@@ -228,6 +228,10 @@ pub enum Command {
         /// 'NAME=E,nu' with E in GPa or MPa, e.g. 'Cardboard=2.5 GPa,0.3'.
         #[arg(long = "material", value_name = "NAME=E,nu")]
         materials: Vec<String>,
+        /// The motor to fly, by designation ('AeroTech K1000T'): supplies one where the
+        /// design stores none and replaces the design's where it does.
+        #[arg(long = "motor", value_name = "DESIGNATION")]
+        motor: Option<String>,
         #[command(flatten)]
         output: Output,
     },
@@ -318,8 +322,17 @@ pub fn run(cli: Cli, term: Terminal) -> ExitCode {
             out,
             motor_dirs,
             materials,
+            motor,
             output,
-        } => import::cmd_import(&design, &out, &motor_dirs, &materials, output.format, term),
+        } => import::cmd_import(
+            &design,
+            &out,
+            &motor_dirs,
+            &materials,
+            motor.as_deref(),
+            output.format,
+            term,
+        ),
         Command::Fmt {
             files,
             check,

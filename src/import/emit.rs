@@ -381,6 +381,152 @@ fn resolve_material(cx: &mut Cx, m: &OrMaterial, opts: &Options, role: Role) -> 
     })
 }
 
+/// Diametral clearance a motor named at import may exceed its mount's bore by: 0.5 mm, the
+/// design's dimensions being in tenths of a millimetre at best and a motor case's nominal
+/// diameter (29, 38, 54 mm ...) the bore of its mount tube.
+pub const MOUNT_CLEARANCE: f64 = 0.5e-3;
+
+/// `--motor DESIGNATION` (issue 34): the motor resolved in the catalogue (`--motor-dir` first,
+/// then the bundled curves) as `motor { designation }` is, with its exact / ambiguous /
+/// not-found diagnostics ([`resolve_motor`]), becomes the design's one motor configuration,
+/// `import`, flown by every scenario. A design that stores motors has them replaced (a
+/// warning at each, and the header says so); one without a motor mount has no place for it
+/// (`import::motor::mount`). The motor must fit the mount: a case wider than the mount's
+/// bore by more than [`MOUNT_CLEARANCE`] is `import::motor::fit`; a case longer than the
+/// mount sticks out of its aft end by the difference, an overhang (as OpenRocket's
+/// `<overhang>`, which the design's own, if larger, keeps), said in a warning. Returns
+/// `false` on an error.
+pub(crate) fn named_motor(cx: &mut Cx, d: &mut Design, given: &str, cat: &[Entry]) -> bool {
+    use crate::runtime::catalogue::parse_designation;
+    let Some(mount) = d.mount.as_mut() else {
+        cx.diags.push(
+            Diagnostic::error(
+                "import::motor::mount",
+                format!("--motor `{given}`: the design has no motor mount to put it in"),
+            )
+            .with_help(
+                "mark the tube that holds the motor as a motor mount in OpenRocket or RockSim",
+            ),
+        );
+        return false;
+    };
+    let des = match parse_designation(given) {
+        Ok(des) => des,
+        Err(lead) => {
+            cx.diags.push(
+                Diagnostic::error(
+                    "import::motor::not_found",
+                    format!("--motor `{given}`: `{lead}` is not a motor maker of the catalogue"),
+                )
+                .label(mount.at, "the motor mount")
+                .with_help(
+                    "give the maker and the motor, e.g. 'AeroTech K1000T', or the motor alone",
+                ),
+            );
+            return false;
+        }
+    };
+    let r = MotorRef {
+        config: "import".into(),
+        designation: des.name.clone(),
+        manufacturer: des.manufacturer.clone(),
+        delay: None,
+        length: None,
+        diameter: None,
+        at: mount.at,
+    };
+    let Some(e) = resolve_motor(cx, &r, cat) else {
+        return false;
+    };
+    let (dia, len) = (e.curve.diameter, e.curve.length);
+    if let (Some(dm), Some(bore)) = (dia, mount.bore) {
+        if dm > bore + MOUNT_CLEARANCE {
+            cx.diags.push(
+                Diagnostic::error(
+                    "import::motor::fit",
+                    format!(
+                        "--motor `{given}`: the {} motor ({} diameter) does not fit motor mount `{}` (bore {})",
+                        e.designation(),
+                        mm(dm),
+                        mount.name,
+                        mm(bore)
+                    ),
+                )
+                .label(mount.at, "the motor mount")
+                .with_help("name a motor of the mount's diameter or less"),
+            );
+            return false;
+        }
+    }
+    if let (Some(lm), Some(lt)) = (len, mount.length) {
+        if lm - lt > mount.overhang + 1e-9 {
+            cx.diags.push(
+                Diagnostic::warning(
+                    "import::motor::overhang",
+                    format!(
+                        "--motor `{given}`: the {} motor is {} long, motor mount `{}` {}: it overhangs the mount's aft end by {}",
+                        e.designation(),
+                        mm(lm),
+                        mount.name,
+                        mm(lt),
+                        mm(lm - lt)
+                    ),
+                )
+                .label(mount.at, "the motor mount"),
+            );
+            mount.overhang = lm - lt;
+        }
+    }
+    for old in &mount.motors {
+        cx.diags.push(
+            Diagnostic::warning(
+                "import::motor::replaced",
+                format!(
+                    "the design's motor {} {} (configuration `{}`) is replaced by --motor `{given}`",
+                    old.manufacturer.as_deref().unwrap_or(""),
+                    old.designation,
+                    old.config
+                ),
+            )
+            .label(old.at, "replaced"),
+        );
+    }
+    let replaced: Vec<String> = mount
+        .motors
+        .iter()
+        .map(|m| {
+            format!(
+                "{} {}",
+                m.manufacturer.as_deref().unwrap_or(""),
+                m.designation
+            )
+            .trim()
+            .to_string()
+        })
+        .collect();
+    d.notes.push(if replaced.is_empty() {
+        format!(
+            "the motor, {} ({}), is named at import (--motor `{given}`): the design stores none",
+            e.designation(),
+            e.describe()
+        )
+    } else {
+        format!(
+            "the motor, {} ({}), is named at import (--motor `{given}`): it replaces the design's {}; the stored results below are for the design's motors",
+            e.designation(),
+            e.describe(),
+            replaced.join(", ")
+        )
+    });
+    mount.motors = vec![r];
+    d.configs = vec!["import".into()];
+    d.default_config = Some("import".into());
+    for s in &mut d.simulations {
+        s.config = Some("import".into());
+    }
+    true
+}
+
 fn resolve_motor(cx: &mut Cx, r: &MotorRef, cat: &[Entry]) -> Option<Entry> {
     match catalogue::lookup(cat, &r.designation, r.manufacturer.as_deref()) {
         Lookup::Found(e) => {
@@ -623,13 +769,26 @@ pub(crate) fn emit(
                 motor_for.push((r.config.clone(), e, r.clone()));
             }
         }
+        if m.motors.is_empty() {
+            cx.diags.push(
+                Diagnostic::warning(
+                    "import::motor::unnamed",
+                    format!(
+                        "motor mount `{}` holds no motor in the design: the vehicle has none and no scenario is written",
+                        m.name
+                    ),
+                )
+                .label(m.at, "the motor mount")
+                .with_help("name one with --motor DESIGNATION (e.g. --motor 'Estes D12')"),
+            );
+        }
     } else {
         cx.diags.push(
             Diagnostic::error(
                 "import::motor::none",
                 "the design has no motor: nothing to fly",
             )
-            .with_help("add a motor mount with a motor in OpenRocket"),
+            .with_help("add a motor mount with a motor in OpenRocket (then `--motor DESIGNATION` can name one)"),
         );
     }
     if cx.diags.iter().any(Diagnostic::is_error) {

@@ -45,6 +45,10 @@ pub struct Options {
     pub motor_dirs: Vec<PathBuf>,
     /// Elastic constants for materials the standard library does not map.
     pub materials: Vec<GivenMaterial>,
+    /// `--motor DESIGNATION`: the motor to fly, resolved in the catalogue as `motor {
+    /// designation }` is; it supplies the motor of a design that stores none and replaces
+    /// the design's own (a warning), and must fit the motor mount (`emit::named_motor`).
+    pub motor: Option<String>,
 }
 
 /// `--material 'NAME=E,nu'`: the stiffness of an OpenRocket material, by its name.
@@ -189,10 +193,15 @@ pub fn import_design(
     if cx.diags.iter().any(Diagnostic::is_error) {
         return Err(cx.diags);
     }
-    let Some(design) = design else {
+    let Some(mut design) = design else {
         return Err(cx.diags);
     };
     let catalogue = catalogue::load(&opts.motor_dirs);
+    if let Some(m) = &opts.motor {
+        if !emit::named_motor(&mut cx, &mut design, m, &catalogue) {
+            return Err(cx.diags);
+        }
+    }
     let out = emit::emit(&mut cx, &design, opts, &catalogue);
     if cx.diags.iter().any(Diagnostic::is_error) {
         return Err(cx.diags);
@@ -589,6 +598,12 @@ pub struct Mount {
     pub aft: f64,
     pub overhang: f64,
     pub motors: Vec<MotorRef>,
+    /// The mount tube's inner diameter and length, m (where the design gives them): what a
+    /// motor named at import must fit (`emit::named_motor`).
+    pub bore: Option<f64>,
+    pub length: Option<f64>,
+    /// The mount's element.
+    pub at: Span,
 }
 
 #[derive(Clone, Debug)]
@@ -1138,7 +1153,8 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
                         read_internal(cx, &mut rd, subs, &p, &nm);
                     }
                     if let Some(mm) = child(*c, "motormount") {
-                        read_mount(cx, &mut rd, mm, &nm, s + length);
+                        let bore = 2.0 * (radius - thickness);
+                        read_mount(cx, &mut rd, mm, &nm, s + length, (bore, length));
                     }
                     tubes.push(Tube {
                         name: nm,
@@ -1357,6 +1373,14 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
             "this stage",
         );
     }
+    // Mounts without a motor are kept for `--motor` only where they are the design's one
+    // mount: the mount with the motor is the one flown (as before mounts without motors were
+    // kept), several mounts without a motor name no place for one.
+    if rd.mounts.iter().any(|m| !m.motors.is_empty()) {
+        rd.mounts.retain(|m| !m.motors.is_empty());
+    } else if rd.mounts.len() > 1 {
+        rd.mounts.clear();
+    }
     if rd.mounts.len() > 1 {
         cx.error(
             "import::unsupported",
@@ -1411,7 +1435,16 @@ fn read_design(cx: &mut Cx, doc: &roxmltree::Document, path: &Path) -> Option<De
     })
 }
 
-fn read_mount(cx: &mut Cx, rd: &mut Reader, mm: Node, name: &str, aft: f64) {
+/// A motor mount (`<motormount>` of the tube `name` ending at `aft`, of inner diameter `bore`
+/// and length `length`): kept even without a motor, which `--motor` may then supply.
+fn read_mount(
+    cx: &mut Cx,
+    rd: &mut Reader,
+    mm: Node,
+    name: &str,
+    aft: f64,
+    (bore, length): (f64, f64),
+) {
     let overhang = num(cx, mm, "overhang").ok().flatten().unwrap_or(0.0);
     let mut motors = Vec::new();
     for m in mm.children().filter(|c| c.has_tag_name("motor")) {
@@ -1439,14 +1472,14 @@ fn read_mount(cx: &mut Cx, rd: &mut Reader, mm: Node, name: &str, aft: f64) {
             at: cx.span(m),
         });
     }
-    if motors.is_empty() {
-        return;
-    }
     rd.mounts.push(Mount {
         name: name.to_string(),
         aft,
         overhang,
         motors,
+        bore: (bore.is_finite() && bore > 0.0).then_some(bore),
+        length: (length.is_finite() && length > 0.0).then_some(length),
+        at: cx.span(mm),
     });
 }
 
@@ -1580,7 +1613,7 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                 }
                 let top = push(cx, rd, m, len, tag);
                 if let Some(mm) = child(c, "motormount") {
-                    read_mount(cx, rd, mm, &nm, top + len);
+                    read_mount(cx, rd, mm, &nm, top + len, (2.0 * ri, len));
                 }
                 if let Some(s) = child(c, "subcomponents") {
                     let q = Parent {
@@ -1814,10 +1847,9 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
 /// the element (a self-crossing outline names its two edges; one the language's freeform fin
 /// cannot be, `check::fin_outline::freeform`, says why).
 /// A freeform fin's points (m), root chord and span.
-type Freeform = (Vec<(f64, f64)>, f64, f64);
+pub(crate) type Freeform = (Vec<(f64, f64)>, f64, f64);
 
 fn freeform_fin(cx: &mut Cx, c: Node, what: &str) -> Option<Freeform> {
-    use crate::check::fin_outline::{OutlineError, freeform};
     let pts: Vec<(f64, f64)> = child(c, "finpoints")
         .map(|fp| {
             fp.children()
@@ -1831,6 +1863,21 @@ fn freeform_fin(cx: &mut Cx, c: Node, what: &str) -> Option<Freeform> {
                 .collect()
         })
         .unwrap_or_default();
+    checked_outline(cx, c, pts, what)
+}
+
+/// A freeform outline `pts` (m, x aft of the root leading edge, y outward) checked as the
+/// language checks a freeform fin: the points, root chord and span, or a diagnostic at `c`
+/// (a self-crossing outline, `import::fin::crossing`, names its two edges; one the language's
+/// freeform fin cannot be, `check::fin_outline::freeform`, says why). Shared by OpenRocket's
+/// `<finpoints>` and RockSim's `<PointList>` ([`rocksim`]).
+pub(crate) fn checked_outline(
+    cx: &mut Cx,
+    c: Node,
+    pts: Vec<(f64, f64)>,
+    what: &str,
+) -> Option<Freeform> {
+    use crate::check::fin_outline::{OutlineError, freeform};
     if let Some((i, j)) = self_crossing(&pts) {
         cx.error(
             "import::fin::crossing",
@@ -1847,25 +1894,32 @@ fn freeform_fin(cx: &mut Cx, c: Node, what: &str) -> Option<Freeform> {
     match freeform(&xy) {
         Ok((_, root, span)) => Some((pts, root, span)),
         Err(e) => {
+            // A point by its number from the root's leading edge and its coordinates (a
+            // RockSim list is numbered after its reversal: the coordinates find it).
+            let at = |k: usize| {
+                pts.get(k).map_or(format!("{}", k + 1), |q| {
+                    format!("{} ({:.2}, {:.2}) mm", k + 1, 1e3 * q.0, 1e3 * q.1)
+                })
+            };
             let why = match e {
                 OutlineError::TooFew => "it has fewer than three points".to_string(),
                 OutlineError::RootNotOnBody(k) => {
                     format!(
                         "point {} is an end of the root edge but not on the body (y != 0)",
-                        k + 1
+                        at(k)
                     )
                 }
                 OutlineError::BelowRoot(k) => {
-                    format!("point {} lies on the body between the root points", k + 1)
+                    format!("point {} lies on the body between the root points", at(k))
                 }
                 OutlineError::NotSingleValued(k) => format!(
                     "it is not single-valued in chord per span station (it turns back in span at point {})",
-                    k + 1
+                    at(k)
                 ),
                 OutlineError::Crosses(k) => {
                     format!(
                         "its leading edge meets its trailing edge at point {}",
-                        k + 1
+                        at(k)
                     )
                 }
                 OutlineError::RootChord => "its root chord is zero".to_string(),

@@ -22,8 +22,11 @@
 //! - attached parts are placed by `Xb` (mm) and `LocationMode`: 0 from the parent's fore end,
 //!   1 from the nose tip, 2 from the parent's aft end (`RockSimLocationMode`,
 //!   `PositionDependentHandler`: offset -Xb from the bottom);
-//! - `FinSet`: `FinCount`, `RootChord`, `TipChord`, `SemiSpan`, `SweepDistance` (leading
-//!   edge), `Thickness`, `TipShapeCode` (0 square, 1 rounded, 2 airfoil), `CantAngle`;
+//! - `FinSet` and `CustomFinSet`: `FinCount`, `ShapeCode` (0 trapezoidal, 1 elliptical, 2
+//!   custom: the planform, whichever the element), `RootChord`, `TipChord`, `SemiSpan`,
+//!   `SweepDistance` (leading edge), `PointList` (custom: [`point_list`]), `Thickness`,
+//!   `TipShapeCode` (0 square, 1 rounded, 2 airfoil), `CantAngle`, `RadialAngle` (radians,
+//!   OpenRocket's base rotation; `FinSetHandler`);
 //! - the motor: `SimulationList/Simulation/Stage3Engines/EngineSet` (`EngineCode`,
 //!   `EngineMfg`, `EngineOverhang`) of each stored simulation.
 
@@ -37,6 +40,17 @@ use super::{
 use crate::diagnostics::Diagnostic;
 
 const MM: f64 = 1e-3;
+
+/// A tube marked `IsMotorMount`: its name, aft end (m from the tip), `EngineOverhang`, inner
+/// diameter and length (m), and its element.
+struct RsMount {
+    name: String,
+    aft: f64,
+    overhang: f64,
+    bore: f64,
+    length: f64,
+    at: crate::syntax::Span,
+}
 const G: f64 = 1e-3;
 
 /// A number element in RockSim's units times `scale`; `None` when absent, an error when it
@@ -132,6 +146,68 @@ fn shape(cx: &mut Cx, n: Node, what: &str) -> Option<NoseShape> {
     })
 }
 
+/// A custom fin set's `<PointList>`: `x,y|x,y|...` in mm, x aft of the root's leading edge, y
+/// outward (read as OpenRocket's `FinSetHandler.toCoordinates` does: a repeated `0,0`, which
+/// RockSim sometimes writes, is dropped; a list ending at `0,0`, as RockSim writes it from the
+/// root's trailing edge round to its leading edge, is reversed). In metres. A missing or empty
+/// list, or an entry that is not two numbers, is an `import::value` error at the element
+/// (where OpenRocket warns and skips the entry: a fin outline missing a point is another fin).
+fn point_list(cx: &mut Cx, c: Node, what: &str) -> Option<Vec<(f64, f64)>> {
+    let Some(pl) = child(c, "PointList") else {
+        cx.error(
+            "import::value",
+            c,
+            format!("{what}: a custom fin set (ShapeCode 2) without `<PointList>`"),
+            "custom fin set",
+        );
+        return None;
+    };
+    let text = pl.text().unwrap_or("").trim();
+    let mut pts: Vec<(f64, f64)> = Vec::new();
+    for (k, entry) in text.split('|').enumerate() {
+        let entry = entry.trim();
+        if entry.is_empty() {
+            continue; // RockSim ends the list with `|`
+        }
+        let xy: Vec<Option<f64>> = entry
+            .split(',')
+            .map(|v| v.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
+            .collect();
+        let (x, y) = match xy.as_slice() {
+            [Some(x), Some(y)] => (x * MM, y * MM),
+            _ => {
+                cx.error(
+                    "import::value",
+                    pl,
+                    format!(
+                        "{what}: entry {} of the fin's point list, `{entry}`, is not a pair of numbers `x,y` (mm)",
+                        k + 1
+                    ),
+                    "malformed point list",
+                );
+                return None;
+            }
+        };
+        if pts.last() == Some(&(0.0, 0.0)) && (x, y) == (0.0, 0.0) {
+            continue;
+        }
+        pts.push((x, y));
+    }
+    if pts.is_empty() {
+        cx.error(
+            "import::value",
+            pl,
+            format!("{what}: the fin's point list is empty"),
+            "empty point list",
+        );
+        return None;
+    }
+    if pts.last() == Some(&(0.0, 0.0)) {
+        pts.reverse();
+    }
+    Some(pts)
+}
+
 /// Where an attached part of length `own` starts, m aft of the tip, in a parent spanning
 /// [top, top + len] (module doc).
 fn place(cx: &mut Cx, n: Node, top: f64, len: f64, own: f64) -> f64 {
@@ -186,7 +262,7 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
     let mut transitions: Vec<ImpTransition> = Vec::new();
     let mut masses: Vec<MassItem> = Vec::new();
     let mut fins: Vec<(FinSet, Node)> = Vec::new();
-    let mut mounts: Vec<(String, f64, f64)> = Vec::new();
+    let mut mounts: Vec<RsMount> = Vec::new();
     let mut recovery: Vec<Recovery> = Vec::new();
     let mut guides: Vec<super::Guide> = Vec::new();
     let mut s = 0.0;
@@ -255,7 +331,14 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
                         .ok()
                         .flatten()
                         .unwrap_or(0.0);
-                    mounts.push((nm.clone(), s + len, oh));
+                    mounts.push(RsMount {
+                        name: nm.clone(),
+                        aft: s + len,
+                        overhang: oh,
+                        bore: id,
+                        length: len,
+                        at: cx.span(c),
+                    });
                 }
                 if kn.is_some_and(|k| k.1 > 0.0) {
                     cx.warn(c, format!("{what}: its CG override is not representable (the tube is generated uniform); its mass is kept"));
@@ -374,20 +457,6 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
         }
         s = top + len;
     }
-    // RockSim's custom (freeform) outlines are not read yet: an error at each custom set.
-    for (f, n) in &fins {
-        if matches!(&f.outline, FinShape::Freeform(p) if p.is_empty()) {
-            cx.error(
-                "import::unsupported",
-                *n,
-                format!(
-                    "custom fin set `{}`: RockSim's custom (freeform) fin outlines are not read yet",
-                    f.name
-                ),
-                "custom fin set",
-            );
-        }
-    }
     // The sets as the language's (`arrange_fin_sets`: the aft-most is the flexible set).
     let mut fin_notes = Vec::new();
     let fin = super::arrange_fin_sets(fins.into_iter().map(|f| f.0).collect(), &mut fin_notes);
@@ -453,11 +522,14 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
     }
     let mount = match mounts.as_slice() {
         [] => None,
-        [(n, aft, oh)] => Some(Mount {
-            name: n.clone(),
-            aft: *aft,
-            overhang: *oh,
+        [m] => Some(Mount {
+            name: m.name.clone(),
+            aft: m.aft,
+            overhang: m.overhang,
             motors,
+            bore: (m.bore > 0.0).then_some(m.bore),
+            length: (m.length > 0.0).then_some(m.length),
+            at: m.at,
         }),
         _ => {
             cx.error(
@@ -468,7 +540,7 @@ pub(super) fn read(cx: &mut Cx, root: Node, path: &std::path::Path) -> Option<De
                     mounts.len(),
                     mounts
                         .iter()
-                        .map(|m| m.0.as_str())
+                        .map(|m| m.name.as_str())
                         .collect::<Vec<_>>()
                         .join(", ")
                 ),
@@ -554,7 +626,7 @@ fn attached<'a, 'i>(
     parent: &str,
     masses: &mut Vec<MassItem>,
     fins: &mut Vec<(FinSet, Node<'a, 'i>)>,
-    mounts: &mut Vec<(String, f64, f64)>,
+    mounts: &mut Vec<RsMount>,
     recovery: &mut Vec<Recovery>,
     guides: &mut Vec<super::Guide>,
 ) {
@@ -586,30 +658,75 @@ fn attached<'a, 'i>(
             });
         };
         match tag {
-            "FinSet" => {
+            "FinSet" | "CustomFinSet" => {
+                // The planform is `ShapeCode`'s (0 trapezoidal, 1 elliptical, 2 custom), not
+                // the element's name (OpenRocket's `FinSetHandler.asOpenRocket`).
                 let count = val(cx, c, "FinCount", 1.0).ok().flatten().unwrap_or(0.0);
-                let root = req(cx, c, "RootChord", MM, &what);
-                let tip = req(cx, c, "TipChord", MM, &what);
-                let span = req(cx, c, "SemiSpan", MM, &what);
-                let sweep = val(cx, c, "SweepDistance", MM)
-                    .ok()
-                    .flatten()
-                    .unwrap_or(0.0);
                 let thickness = req(cx, c, "Thickness", MM, &what);
-                let (Some(root), Some(tip), Some(span), Some(thickness)) =
-                    (root, tip, span, thickness)
+                let code = text_of(c, "ShapeCode")
+                    .unwrap_or(if tag == "CustomFinSet" { "2" } else { "0" })
+                    .to_string();
+                let (root, tip, span, sweep, outline) = match code.as_str() {
+                    "0" => (
+                        req(cx, c, "RootChord", MM, &what),
+                        req(cx, c, "TipChord", MM, &what),
+                        req(cx, c, "SemiSpan", MM, &what),
+                        val(cx, c, "SweepDistance", MM).ok().flatten().or(Some(0.0)),
+                        FinShape::Trapezoidal,
+                    ),
+                    "1" => (
+                        req(cx, c, "RootChord", MM, &what),
+                        Some(0.0),
+                        req(cx, c, "SemiSpan", MM, &what),
+                        Some(0.0),
+                        FinShape::Elliptical,
+                    ),
+                    "2" => {
+                        let outline = point_list(cx, c, &what).and_then(|p| {
+                            let at = child(c, "PointList").unwrap_or(c);
+                            super::checked_outline(cx, at, p, &what)
+                        });
+                        match outline {
+                            Some((pts, root, span)) => (
+                                Some(root),
+                                Some(0.0),
+                                Some(span),
+                                Some(0.0),
+                                FinShape::Freeform(pts),
+                            ),
+                            None => continue,
+                        }
+                    }
+                    _ => {
+                        cx.error(
+                            "import::value",
+                            c,
+                            format!("{what}: unknown RockSim fin shape code `{code}` (0 trapezoidal, 1 elliptical, 2 custom)"),
+                            "unknown shape",
+                        );
+                        continue;
+                    }
+                };
+                let (Some(root), Some(tip), Some(span), Some(sweep), Some(thickness)) =
+                    (root, tip, span, sweep, thickness)
                 else {
                     continue;
                 };
                 let root_le = place(cx, c, top, len, root);
                 let cant = val(cx, c, "CantAngle", 1.0).ok().flatten().unwrap_or(0.0);
+                // `RadialAngle` (radians) turns the set about the axis (OpenRocket's base
+                // rotation, `setBaseRotation`); its fins evenly from it.
+                let turn = val(cx, c, "RadialAngle", 1.0)
+                    .ok()
+                    .flatten()
+                    .unwrap_or(0.0)
+                    .to_degrees();
                 let count = count.max(0.0) as u32;
                 fins.push((
                     FinSet {
                         name: nm.clone(),
                         count,
-                        // RockSim's radial angle is not read: the fins evenly from 0.
-                        angles: FinSet::default_angles(count, 0.0),
+                        angles: FinSet::default_angles(count, turn),
                         root,
                         tip,
                         span,
@@ -624,34 +741,10 @@ fn attached<'a, 'i>(
                         root_le,
                         material: mat,
                         override_mass: kn.map(|k| k.0),
-                        outline: FinShape::Trapezoidal,
+                        outline,
                         // RockSim's fillets are not read (OpenRocket's RockSim reader does
                         // not read them either: no element to follow).
                         fillet: None,
-                    },
-                    c,
-                ));
-            }
-            "CustomFinSet" => {
-                // A RockSim custom fin set: counted as a fin set (one set at most); its point
-                // list is not read yet, which is an error when it is the only one.
-                fins.push((
-                    FinSet {
-                        name: nm.clone(),
-                        count: 0,
-                        root: 0.0,
-                        tip: 0.0,
-                        span: 0.0,
-                        sweep: 0.0,
-                        thickness: 0.0,
-                        cross_section: "square",
-                        cant: 0.0,
-                        root_le: at,
-                        material: mat,
-                        override_mass: None,
-                        outline: FinShape::Freeform(Vec::new()),
-                        fillet: None,
-                        angles: Vec::new(),
                     },
                     c,
                 ));
@@ -665,7 +758,14 @@ fn attached<'a, 'i>(
                         .ok()
                         .flatten()
                         .unwrap_or(0.0);
-                    mounts.push((nm.clone(), at + own, oh));
+                    mounts.push(RsMount {
+                        name: nm.clone(),
+                        aft: at + own,
+                        overhang: oh,
+                        bore: id,
+                        length: own,
+                        at: cx.span(c),
+                    });
                 }
                 let m = PI / 4.0 * (od * od - id * id) * own * mat.density;
                 mass_item(m, "inner tube");
