@@ -606,3 +606,71 @@ fn a_canted_fins_root_leaves_no_sliver_body_element() {
         );
     }
 }
+
+/// Two hard stations a few micrometres apart are one station (`mesh::body_stations`): an
+/// imported design wrote a distributed mass's end 5 um short of the tail (its stations
+/// rounded to 10 um, its lengths to 0.1 um), and RockSim's "FooBar Test" ended in
+/// `modal::mechanisms` (a 5 um beam's K_ii/M_ii, 7e17, put the rigid-mode threshold at
+/// 1344 Hz, above the body's real modes) or, with a fin tip chord, ran its modal solve past
+/// 5 minutes. hpr_k1000 with its motor mount's mass ending 5 um short of the tail: no body
+/// element shorter than 1e-3 of a division, the tail exactly at -L, the compiled frequencies those of the exact stations
+/// to 1e-5. On the old mesh the compile failed with `modal::mechanisms`.
+#[test]
+fn near_coincident_stations_leave_no_sliver_body_element() {
+    let file =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/hpr_k1000/hpr_k1000.vdl");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    for e in std::fs::read_dir(file.parent().unwrap()).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_file() {
+            std::fs::copy(&p, dir.path().join(p.file_name().unwrap())).unwrap();
+        }
+    }
+    let vehicle = |name: &str, body: &str| {
+        let t = text.replacen("        to = -1.9 m\n", body, 1);
+        assert_eq!(
+            t.len(),
+            text.len() - "        to = -1.9 m\n".len() + body.len()
+        );
+        let p = dir.path().join(name);
+        std::fs::write(&p, t).unwrap();
+        let checked = flexflight::check::check_files(&[p], &[], &flexflight::check::DiskLoader);
+        assert!(!checked.has_errors(), "{:?}", checked.diagnostics);
+        checked.program.vehicles[0].clone()
+    };
+    let exact = vehicle("exact.vdl", "        to = -1.9 m\n");
+    let near = vehicle("near.vdl", "        to = -1.899995 m\n");
+    let flexflight::check::ir::Structure::Generate(g) = &near.structure else {
+        panic!("generated")
+    };
+    let spec = flexflight::structure::compile::generator_spec(&near, g);
+    let model = generate(&spec).unwrap();
+    let mut xs: Vec<f64> = model
+        .nodes
+        .iter()
+        .filter(|n| n.component == Component::Body)
+        .map(|n| n.position[0])
+        .collect();
+    xs.sort_by(f64::total_cmp);
+    let h = spec.body.length / spec.body.elements as f64;
+    let shortest = xs
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .fold(f64::INFINITY, f64::min);
+    assert!(shortest > 1e-3 * h, "shortest body element {shortest} m");
+    assert_eq!(xs[0], -spec.body.length);
+    let (a, _) = flexflight::structure::compile::compile(&exact).unwrap();
+    let (b, _) = flexflight::structure::compile::compile(&near).unwrap();
+    assert_eq!(a.modes.len(), b.modes.len());
+    for (a, b) in a.modes.iter().zip(&b.modes) {
+        assert_eq!(a.class, b.class);
+        assert!(
+            (b.frequency_hz / a.frequency_hz - 1.0).abs() < 1e-5,
+            "{}: {} Hz near, {} Hz exact",
+            a.class,
+            b.frequency_hz,
+            a.frequency_hz
+        );
+    }
+}

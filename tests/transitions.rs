@@ -406,3 +406,39 @@ fn a_body_of_two_transitions_checks_and_compiles() {
         .unwrap();
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
+
+/// A transition that starts at the nose's base as written in another unit (`nose_length =
+/// 396.875 mm` is 0.39687500000000003 m, `fore_station = -0.396875 m` is 0.396875 m) is
+/// behind the nose for the generator as it is for the checker (both within 1e-12 of the
+/// station): RockSim's "FooBar Test", imported, passed `check` and was refused at `compile`
+/// (`generate::bad_geometry`, "a transition must start ... behind the nose"), which this
+/// reproduces on the old generator.
+#[test]
+fn a_transition_at_the_nose_base_in_another_unit_is_behind_the_nose() {
+    let nose = 396.875 * 1e-3;
+    let start = 0.396875;
+    assert!(start < nose, "the two spellings differ in the last bit");
+    let mut b = body(vec![TransitionGeom {
+        start,
+        length: 0.05,
+        r_fore: 0.051,
+        r_aft: 0.045,
+        shape: NoseShape::Conical,
+    }]);
+    b.nose_length = nose;
+    let spec = GeneratorSpec {
+        body: b,
+        fins: None,
+        point_masses: vec![],
+        distributed_masses: vec![],
+        rigid_fins: vec![],
+    };
+    let model = generate(&spec).unwrap();
+    // One body node at the nose's base (the two stations are one).
+    let at_base = model
+        .nodes
+        .iter()
+        .filter(|n| n.component == Component::Body && (n.position[0] + nose).abs() < 1e-9)
+        .count();
+    assert_eq!(at_base, 1);
+}

@@ -1189,7 +1189,7 @@ pub(crate) fn emit(
             mm(t.thickness)
         );
         let _ = writeln!(o, "        transition {{");
-        let _ = writeln!(o, "          fore_station = {} m", f(-g.start, 5));
+        let _ = writeln!(o, "          fore_station = {} m", f(-g.start, 7));
         let _ = writeln!(o, "          length = {}", mm(g.length));
         let _ = writeln!(o, "          fore_diameter = {}", mm(2.0 * g.r_fore));
         let _ = writeln!(o, "          aft_diameter = {}", mm(2.0 * g.r_aft));
@@ -1212,7 +1212,7 @@ pub(crate) fn emit(
                     comment_safe(&g.name)
                 );
                 let _ = writeln!(o, "        launch_lug {{");
-                let _ = writeln!(o, "          station = {} m", f(-top, 5));
+                let _ = writeln!(o, "          station = {} m", f(-top, 7));
                 let _ = writeln!(o, "          length = {}", mm(length));
                 let _ = writeln!(o, "          outer_diameter = {}", mm(outer_diameter));
                 let _ = writeln!(o, "          inner_diameter = {}", mm(inner_diameter));
@@ -1232,7 +1232,7 @@ pub(crate) fn emit(
                     comment_safe(&g.name)
                 );
                 let _ = writeln!(o, "        rail_button {{");
-                let _ = writeln!(o, "          station = {} m", f(-centre, 5));
+                let _ = writeln!(o, "          station = {} m", f(-centre, 7));
                 let _ = writeln!(o, "          outer_diameter = {}", mm(outer_diameter));
                 let _ = writeln!(o, "          height = {}", mm(height));
                 if inner_height > 0.0 {
@@ -1278,12 +1278,12 @@ pub(crate) fn emit(
         );
         if m.s1 - m.s0 > 1e-4 {
             let _ = writeln!(o, "      distributed_mass {id} {{");
-            let _ = writeln!(o, "        from = {} m", f(-m.s0, 5));
-            let _ = writeln!(o, "        to = {} m", f(-m.s1, 5));
+            let _ = writeln!(o, "        from = {} m", f(-m.s0, 7));
+            let _ = writeln!(o, "        to = {} m", f(-m.s1, 7));
             let _ = writeln!(o, "        mass = {} kg", f(m.mass, 6));
         } else {
             let _ = writeln!(o, "      point_mass {id} {{");
-            let _ = writeln!(o, "        position = ({}, 0, 0) m", f(-m.s0, 5));
+            let _ = writeln!(o, "        position = ({}, 0, 0) m", f(-m.s0, 7));
             let _ = writeln!(o, "        mass = {} kg", f(m.mass, 6));
         }
         let _ = writeln!(o, "      }}");
@@ -1337,10 +1337,10 @@ pub(crate) fn emit(
         let _ = writeln!(o, "  motor {} {{", ident(&rf.designation));
         if by_name {
             let _ = writeln!(o, "    designation = \"{}\"", e.designation());
-            let _ = writeln!(o, "    position = ({}, 0, 0) m", f(-aft, 5));
+            let _ = writeln!(o, "    position = ({}, 0, 0) m", f(-aft, 7));
         } else {
             let _ = writeln!(o, "    curve = \"{}\"", e.file);
-            let _ = writeln!(o, "    position = ({}, 0, 0) m", f(-aft, 5));
+            let _ = writeln!(o, "    position = ({}, 0, 0) m", f(-aft, 7));
             let _ = writeln!(
                 o,
                 "    length = {}",
@@ -1368,7 +1368,7 @@ pub(crate) fn emit(
         "    body = nearest(({}, 0, 0) m) # the estimated dry centre of mass",
         f(-cg, 4)
     );
-    let _ = writeln!(o, "    nozzle = nearest(({}, 0, 0) m)", f(-length, 5));
+    let _ = writeln!(o, "    nozzle = nearest(({}, 0, 0) m)", f(-length, 7));
     let _ = writeln!(o, "    fins = fin_point(span = 0.5, chord = 0.25)");
     let _ = writeln!(o, "  }}");
     let _ = writeln!(o);

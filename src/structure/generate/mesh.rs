@@ -8,6 +8,11 @@
 //!   the x of every fin root node (so each root node has a body node at the same x), unless
 //!   another hard station lies within 1e-3 of a division of it (a canted fin's root ends: the
 //!   root node is then linked to that station with its offset, not given a sliver element);
+//!   any hard station within 1e-3 of a division ([`SLIVER`]) of one listed before it in this
+//!   order is that station (the nose tip and the tail always kept exactly): two ends written
+//!   a few micrometres apart (an imported design's rounded stations; a transition ending
+//!   where a mass begins) would otherwise bound a sliver element whose stiffness over its
+//!   mass swamps the modal solve (it found mechanisms or did not finish);
 //! - the `elements` uniform divisions of [-L, 0], dropping any that falls within 0.3 of a
 //!   division of a hard station (to avoid slivers).
 //!
@@ -44,6 +49,14 @@ pub fn body_stations(spec: &GeneratorSpec) -> Vec<f64> {
         hard.push(d.x_to);
     }
     let h = l / body.elements as f64;
+    // Near-coincident hard stations are one: the first listed wins (module doc).
+    let mut kept: Vec<f64> = Vec::with_capacity(hard.len());
+    for &x in &hard {
+        if kept.iter().all(|&s| (s - x).abs() > SLIVER * h) {
+            kept.push(x);
+        }
+    }
+    let mut hard = kept;
     // A fin root node's station, unless another hard station lies within `SLIVER` h of it:
     // the root node is then linked to that station with its small x offset
     // (`NodeMap::Slave`), where a station of its own would leave a sliver element. A canted

@@ -347,7 +347,7 @@ pub(crate) fn check_body(b: &BodySpec) -> Result<(), GenerateError> {
     let mut prev = (0.5 * b.outer_diameter, b.nose_length);
     for t in &b.transitions {
         let ok = t.length > 0.0
-            && t.start >= prev.1
+            && t.start >= prev.1 * (1.0 - 1e-12)
             && t.end() <= b.length * (1.0 + 1e-12)
             && (t.r_fore - prev.0).abs() <= 1e-9 * prev.0
             && b.wall_thickness < t.r_fore.min(t.r_aft);
