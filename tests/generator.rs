@@ -594,12 +594,22 @@ fn a_canted_fins_root_leaves_no_sliver_body_element() {
     let (canted, _) =
         flexflight::structure::compile::compile(&vehicle(&["fins.cant=1 deg".to_string()]))
             .unwrap();
-    assert_eq!(flat.modes.len(), canted.modes.len());
-    for (a, b) in flat.modes.iter().zip(&canted.modes) {
+    assert_same_modes(&flat, &canted, 1e-3);
+}
+
+/// The two compiled vehicles have the same modes, class by class, their frequencies within
+/// `tol` relative.
+fn assert_same_modes(
+    a: &flexflight::structure::compile::CompiledVehicle,
+    b: &flexflight::structure::compile::CompiledVehicle,
+    tol: f64,
+) {
+    assert_eq!(a.modes.len(), b.modes.len());
+    for (a, b) in a.modes.iter().zip(&b.modes) {
         assert_eq!(a.class, b.class);
         assert!(
-            (b.frequency_hz / a.frequency_hz - 1.0).abs() < 1e-3,
-            "{}: {} Hz canted, {} Hz flat",
+            (b.frequency_hz / a.frequency_hz - 1.0).abs() < tol,
+            "{}: {} Hz against {} Hz",
             a.class,
             b.frequency_hz,
             a.frequency_hz
@@ -662,15 +672,5 @@ fn near_coincident_stations_leave_no_sliver_body_element() {
     assert_eq!(xs[0], -spec.body.length);
     let (a, _) = flexflight::structure::compile::compile(&exact).unwrap();
     let (b, _) = flexflight::structure::compile::compile(&near).unwrap();
-    assert_eq!(a.modes.len(), b.modes.len());
-    for (a, b) in a.modes.iter().zip(&b.modes) {
-        assert_eq!(a.class, b.class);
-        assert!(
-            (b.frequency_hz / a.frequency_hz - 1.0).abs() < 1e-5,
-            "{}: {} Hz near, {} Hz exact",
-            a.class,
-            b.frequency_hz,
-            a.frequency_hz
-        );
-    }
+    assert_same_modes(&a, &b, 1e-5);
 }

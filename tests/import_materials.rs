@@ -179,6 +179,18 @@ fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
+/// `flexflight import p -o out`, the simple rocket's polystyrene nose given its stiffness.
+fn import_with_nose(p: &Path, out: &Path) -> Output {
+    bin()
+        .arg("import")
+        .arg(p)
+        .arg("-o")
+        .arg(out)
+        .args(["--material", "Polystyrene=3 GPa,0.35"])
+        .output()
+        .unwrap()
+}
+
 /// The simple model rocket (tests/import_designs/) as plain XML, with its fin set's material
 /// and every other bulk Cardboard replaced.
 fn simple_rocket_with(dir: &Path, fins: &str, rest: &str) -> PathBuf {
@@ -269,14 +281,7 @@ fn unmapped_names_are_asked_for_by_name() {
             "<material type=\"bulk\" density=\"2700.0\" group=\"Metals\">Aluminum</material>",
         );
         let out = dir.path().join("out.vdl");
-        let o = bin()
-            .args(["import"])
-            .arg(&p)
-            .arg("-o")
-            .arg(&out)
-            .args(["--material", "Polystyrene=3 GPa,0.35"])
-            .output()
-            .unwrap();
+        let o = import_with_nose(&p, &out);
         assert_eq!(o.status.code(), Some(1), "{name}: {}", stderr(&o));
         let e = stderr(&o);
         assert!(
@@ -305,14 +310,7 @@ fn a_mapped_name_of_another_density_is_warned_about() {
         "<material type=\"bulk\" density=\"2700.0\" group=\"Metals\">Aluminum</material>",
     );
     let out = dir.path().join("out.vdl");
-    let o = bin()
-        .arg("import")
-        .arg(&p)
-        .arg("-o")
-        .arg(&out)
-        .args(["--material", "Polystyrene=3 GPa,0.35"])
-        .output()
-        .unwrap();
+    let o = import_with_nose(&p, &out);
     assert!(o.status.success(), "{}", stderr(&o));
     let e = stderr(&o);
     assert!(
@@ -332,14 +330,7 @@ fn g10_fins_are_a_lamina_and_a_g10_body_its_isotropic_equivalent() {
         "<material type=\"bulk\" density=\"1850.0\" group=\"Composites\">Fiberglass</material>";
     let p = simple_rocket_with(dir.path(), fibreglass, fibreglass);
     let out = dir.path().join("rocket.vdl");
-    let o = bin()
-        .arg("import")
-        .arg(&p)
-        .arg("-o")
-        .arg(&out)
-        .args(["--material", "Polystyrene=3 GPa,0.35"])
-        .output()
-        .unwrap();
+    let o = import_with_nose(&p, &out);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = std::fs::read_to_string(&out).unwrap();
     assert!(
@@ -390,14 +381,7 @@ fn carbon_fibre_fins_import_as_a_lamina_without_being_told() {
     ] {
         let p = simple_rocket_with(dir.path(), carbon, body);
         let out = dir.path().join("rocket.vdl");
-        let o = bin()
-            .arg("import")
-            .arg(&p)
-            .arg("-o")
-            .arg(&out)
-            .args(["--material", "Polystyrene=3 GPa,0.35"])
-            .output()
-            .unwrap();
+        let o = import_with_nose(&p, &out);
         assert!(o.status.success(), "{}", stderr(&o));
         assert!(!stderr(&o).contains("import::material"), "{}", stderr(&o));
         let text = std::fs::read_to_string(&out).unwrap();

@@ -105,12 +105,10 @@ impl TableKind {
 
     /// The header line with the rate columns.
     pub fn header_with_rates(self) -> String {
-        let mut h = self.header();
-        for c in self.rate_columns() {
-            h.push(',');
-            h.push_str(c);
-        }
-        h
+        std::iter::once(self.header().as_str())
+            .chain(self.rate_columns().iter().copied())
+            .collect::<Vec<_>>()
+            .join(",")
     }
 
     /// The optional roll columns after the rate columns (body tables only).
@@ -123,12 +121,10 @@ impl TableKind {
 
     /// The header line with the rate and the roll columns.
     pub fn header_with_roll(self) -> String {
-        let mut h = self.header_with_rates();
-        for c in self.roll_columns() {
-            h.push(',');
-            h.push_str(c);
-        }
-        h
+        std::iter::once(self.header_with_rates().as_str())
+            .chain(self.roll_columns().iter().copied())
+            .collect::<Vec<_>>()
+            .join(",")
     }
 
     /// What the header may be, for errors.

@@ -37,8 +37,9 @@ use crate::structure::compile::CompiledVehicle;
 /// body tables are unchanged). 5: the lifting-surface panel matrices above Mach 1 from the
 /// steady supersonic panels where piston theory's criterion fails, the band 0.9-1.1 bridged
 /// (issue 33). 6: skin friction by Reynolds number and surface roughness (OpenRocket's law,
-/// the body's fineness correction; issue 34).
-pub const AERO_REVISION: u32 = 6;
+/// the body's fineness correction; issue 34). 7: the body table's roll columns for a vehicle
+/// with further fin sets (their cant's roll forcing and roll damping; issue 34).
+pub const AERO_REVISION: u32 = 7;
 
 /// Source label of the estimated body table (as [`EstimatedTables::estimate`] names it).
 const BUILTIN_BODY: &str = "builtin-body.csv";

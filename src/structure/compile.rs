@@ -23,8 +23,9 @@ use crate::syntax::Span;
 /// reduction). It is part of the cache key: bump it whenever a change makes the same inputs
 /// compile to different numbers, so that no stale artifact is served. 2: fin clusters of
 /// [`crate::structure::selection::FIN_CLUSTER_TOLERANCE`]. 3: modal damping gives the free
-/// vehicle's elastic modes the requested ratio (`coefficients::reduce`).
-pub const PIPELINE_REVISION: u32 = 3;
+/// vehicle's elastic modes the requested ratio (`coefficients::reduce`). 4: hard body
+/// stations within 1e-3 of a division of each other are one (`generate::mesh`).
+pub const PIPELINE_REVISION: u32 = 4;
 
 /// Everything later stages need from the structure, as plain archivable data.
 #[derive(Clone, Debug, Serialize, rkyv::Archive, rkyv::Serialize, rkyv::Deserialize)]
