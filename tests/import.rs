@@ -121,6 +121,8 @@ fn the_simple_model_rocket_imports_checks_and_flies() {
 /// generated body (the importer refused every transition before); the vehicle checks and flies
 /// OpenRocket's stored simulation with the same motor, and the apogee is within 5 % of
 /// OpenRocket's stored 1190 m (different drag and normal-force models: docs/validation.md).
+/// The copy stores no recovery device: the flight ends after apogee with the flow's
+/// `model_limit` verdict (air from behind, 0.19 s after apogee).
 #[test]
 fn a_design_with_a_boat_tail_imports_checks_and_flies() {
     let dir = tempfile::tempdir().unwrap();
@@ -161,12 +163,16 @@ fn a_design_with_a_boat_tail_imports_checks_and_flies() {
         .arg(cache())
         .output()
         .unwrap();
-    assert!(r.status.success(), "run: {}", stderr(&r));
+    // The design has no recovery device: its fall from apogee, once the air comes from
+    // behind, is the flow's model limit (exit 3), after the apogee compared here.
+    assert_eq!(r.status.code(), Some(3), "run: {}", stderr(&r));
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(run_dir.join("summary.json")).unwrap())
             .unwrap();
     let apogee = s["flight"]["apogee"]["altitude"].as_f64().unwrap();
     let t = s["flight"]["apogee"]["t"].as_f64().unwrap();
+    assert_eq!(s["verdict"]["bound"], "flow", "{}", s["verdict"]);
+    assert!(s["verdict"]["t"].as_f64().unwrap() > t, "{}", s["verdict"]);
     eprintln!(
         "Bella Lui, AeroTech K828FJ: apogee {apogee} m at {t} s (OpenRocket 1190 m at 14.851 s)"
     );
@@ -571,10 +577,16 @@ const RKT_MATERIALS: &[&str] = &["Paper=3 GPa,0.3", "Balsa=3 GPa,0.3", "Birch=10
 /// motor and no scenario; with `--motor` the motor named is resolved in the bundled catalogue,
 /// fits the design's motor mount, and both RockSim designs of OpenRocket's test resources that
 /// the language can say import with it and a scenario that flies it, and check. FooBar Test
-/// compiles and flies its D12 through burnout (its stations are written to 0.1 um and the
-/// mesh makes near-coincident stations one, `mesh::body_stations`: before, a 5 um body
-/// element ended its compile in `modal::mechanisms`); BodyTubeChildrenTest does not compile
-/// yet (docs/validation.md). On the old importer `--motor` was an unknown option (exit 2).
+/// compiles and flies its D12 to apogee (its stations are written to 0.1 um and the mesh
+/// makes near-coincident stations one, `mesh::body_stations`: before, a 5 um body element
+/// ended its compile in `modal::mechanisms`); with no recovery device it falls tail first
+/// from apogee, which ends the flight with a `model_limit` verdict of the flow (exit 3; it
+/// used to grind on clamped coefficients to the step limit, `max_steps`).
+/// BodyTubeChildrenTest compiles (its elliptical nose's solid tip, 36 um long, is integrated
+/// in the first element, not meshed: before, that element ended its compile in
+/// `modal::mechanisms`) with three fin flap modes (its fourth fin-flap combination is not
+/// classified as one: `per_fin` is unmet, docs/validation.md) and flies its G80 to the
+/// ground under its streamer. On the old importer `--motor` was an unknown option (exit 2).
 #[test]
 fn rocksim_designs_take_a_motor_named_at_import_and_check() {
     let dir = tempfile::tempdir().unwrap();
@@ -606,28 +618,61 @@ fn rocksim_designs_take_a_motor_named_at_import_and_check() {
         assert_eq!(text.matches("\nscenario ").count(), 1, "{text}");
         let c = bin().arg("check").arg(&out).output().unwrap();
         assert!(c.status.success(), "check {file}: {}\n{text}", stderr(&c));
-        if file == "rocksim_test_rocket_1.rkt" {
-            let o = bin()
-                .arg("run")
-                .arg(&out)
-                .args([
-                    "--scenario",
-                    "flight",
-                    "--set",
-                    "run.stop_time=2 s",
-                    "--out",
-                ])
-                .arg(dir.path().join("foobar-run"))
-                .arg("--cache-dir")
-                .arg(dir.path().join("cache"))
-                .output()
-                .unwrap();
-            assert!(o.status.success(), "run {file}: {}", stderr(&o));
-            let s: serde_json::Value = serde_json::from_str(
-                &std::fs::read_to_string(dir.path().join("foobar-run/summary.json")).unwrap(),
-            )
+        let vehicle = if file == "body_tube_children.rkt" {
+            // Three flap modes, no twist: what its mode classification can meet.
+            let edited = text
+                .replacen("    fin_flap = per_fin\n", "    fin_flap = 3\n", 1)
+                .replacen("    fin_twist = per_fin\n", "", 1);
+            assert_ne!(edited, text);
+            let p = dir.path().join("body_tube_children_3flap.vdl");
+            std::fs::write(&p, edited).unwrap();
+            p
+        } else {
+            out.clone()
+        };
+        let run_dir = dir.path().join(format!("{file}-run"));
+        let o = bin()
+            .arg("run")
+            .arg(&vehicle)
+            .args(["--scenario", "flight", "--out"])
+            .arg(&run_dir)
+            .arg("--cache-dir")
+            .arg(dir.path().join("cache"))
+            .output()
             .unwrap();
-            println!("FooBar Test on a D12, 2 s: {}", s["flight"]);
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(run_dir.join("summary.json")).unwrap())
+                .unwrap();
+        let apogee = summary["flight"]["apogee"]["altitude"].as_f64().unwrap();
+        println!("{file}: {}", summary["flight"]);
+        if file == "rocksim_test_rocket_1.rkt" {
+            // No recovery device: the fall from apogee is the flow's model limit.
+            assert_eq!(o.status.code(), Some(3), "run {file}: {}", stderr(&o));
+            let v = &summary["verdict"];
+            assert_eq!(v["kind"], "model_limit", "{v}");
+            assert_eq!(v["bound"], "flow", "{v}");
+            assert!(
+                v["criterion"]
+                    .as_str()
+                    .unwrap()
+                    .contains("air from behind the vehicle"),
+                "{v}"
+            );
+            let t_apogee = summary["flight"]["apogee"]["t"].as_f64().unwrap();
+            let t_verdict = v["t"].as_f64().unwrap();
+            assert!(
+                t_verdict >= t_apogee && t_verdict < t_apogee + 0.05,
+                "verdict at {t_verdict} s, apogee at {t_apogee} s"
+            );
+            assert!((apogee - 85.2).abs() < 0.1, "apogee {apogee} m");
+        } else {
+            assert!(o.status.success(), "run {file}: {}", stderr(&o));
+            assert_eq!(
+                summary["stop_reason"], "ground",
+                "{}",
+                summary["stop_reason"]
+            );
+            assert!((apogee - 740.4).abs() < 0.1, "apogee {apogee} m");
         }
     }
 }

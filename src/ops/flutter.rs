@@ -910,6 +910,13 @@ impl MarginStory {
             }
         }
         match (&o.verdict, self.first_below_one) {
+            (Some(v), _) if v.flow => {
+                let _ = write!(
+                    s,
+                    " The flight ended at t = {:.3} s with a model limit of its aerodynamics (air from behind the vehicle), not of its structure: the margin covers the flight up to there.",
+                    v.t
+                );
+            }
             (Some(v), Some((j, _))) => {
                 let _ = write!(
                     s,
@@ -1357,8 +1364,11 @@ fn set_margin(
         })
     };
     let critical = min_trusted.or(min_all);
-    // A flight that left its model never meets the criterion, whatever the boundary says.
-    let meets = critical.map(|(m, _)| m >= CRITERION && o.verdict.is_none());
+    // A flight that left its structural model never meets the criterion, whatever the
+    // boundary says; one that ended at the flow's bound (air from behind: a tumbling fall)
+    // is judged on the flight up to it.
+    let structural_verdict = o.verdict.as_ref().filter(|v| !v.flow);
+    let meets = critical.map(|(m, _)| m >= CRITERION && structural_verdict.is_none());
     let event = |x: Option<(usize, f64)>| {
         x.map(|(i, margin)| {
             let r = &o.rows[i];
@@ -1425,7 +1435,7 @@ fn set_margin(
             o.rows[i][0],
             o.rows[i][cm],
             o.rows[i][ch],
-            match (&o.verdict, m >= CRITERION) {
+            match (structural_verdict, m >= CRITERION) {
                 (Some(v), _) => format!(
                     "NOT MET (the flight left its model: {} at t = {:.3} s)",
                     v.kind.code(),

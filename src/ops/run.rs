@@ -465,6 +465,7 @@ pub fn verdict_json(p: &Plan, o: &RunOutput) -> serde_json::Value {
         "criterion": v.criterion,
         "modes": modes,
         "growth_window_s": v.window,
+        "bound": if v.flow { "flow" } else { "structure" },
         "message": verdict_line(p, o),
     })
 }

@@ -132,6 +132,13 @@ pub struct ModelLimits {
     /// Stop at a fin root stress (5.6) beyond the material's yield stress, where the
     /// material states one and `fin_aero { stress_limit }` is not set.
     pub fin_yield: bool,
+    /// Stop where the air reaches the vehicle from behind in free flight when its body
+    /// coefficient table ends below 90 deg (`run::Monitor::stop_condition`): beyond 90 deg
+    /// without a recovery device (a tumbling or tail-first fall), within the table's last
+    /// angle of straight behind with one (a tail-first fall before it deploys).
+    pub reversed_flow: bool,
+    /// The scenario has a recovery device (see `reversed_flow`).
+    pub recovery: bool,
 }
 
 /// The deflection bound as a fraction of the fin span (a tip slope of 0.15 rad).
@@ -168,6 +175,8 @@ pub fn model_limits(
             .fin_aero
             .as_ref()
             .is_some_and(|f| f.stress_limit_fraction.is_none()),
+        reversed_flow: true,
+        recovery: false,
     }
 }
 
@@ -705,12 +714,18 @@ pub fn build_with_aero(
             max_alpha: run.max_alpha.as_ref().map(|q| q.value),
             max_deformation: run.max_deformation.as_ref().map(|q| q.value),
             model_limits: if run.model_limits {
-                model_limits(vehicle, compiled)
+                ModelLimits {
+                    // A recovery device flies the descent (`run::Monitor::stop_condition`).
+                    recovery: !scenario.parachutes.is_empty(),
+                    ..model_limits(vehicle, compiled)
+                }
             } else {
                 ModelLimits {
                     deflection: None,
                     deflection_basis: "off (run { model_limits = false })",
                     fin_yield: false,
+                    reversed_flow: false,
+                    recovery: !scenario.parachutes.is_empty(),
                 }
             },
         },
@@ -813,15 +828,28 @@ pub fn summary_text(p: &Plan) -> String {
     if let Some(d) = st.max_deformation {
         let _ = writeln!(s, "               max nodal deformation > {d} m");
     }
+    let mut label = "model limits";
     if let Some(d) = st.model_limits.deflection {
         let _ = writeln!(
             s,
-            "model limits   elastic displacement > {d} m ({}){}: a verdict (flutter, divergence or model limit)",
+            "{label:<15}elastic displacement > {d} m ({}){}: a verdict (flutter, divergence or model limit)",
             st.model_limits.deflection_basis,
             if st.model_limits.fin_yield {
                 ", fin root stress > yield"
             } else {
                 ""
+            }
+        );
+        label = "";
+    }
+    if st.model_limits.reversed_flow {
+        let _ = writeln!(
+            s,
+            "{label:<15}air from behind in free flight with a body table ending below 90 deg (total alpha > {}): a verdict (model limit)",
+            if st.model_limits.recovery {
+                "180 deg - the table's last angle, a tail-first fall before a recovery device deploys"
+            } else {
+                "90 deg, no recovery device"
             }
         );
     }

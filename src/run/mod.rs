@@ -310,6 +310,12 @@ struct Monitor<'a> {
     aero: AeroProbe,
     /// What the stop condition saw (for the summary), set with the stop.
     stop_note: Option<String>,
+    /// The last angle of attack, degrees, of the body coefficient table when it ends below
+    /// 90 deg: in free flight, air from behind the vehicle is then a bound of the model
+    /// ([`Monitor::stop_condition`]).
+    reversed_flow_table_end: Option<f64>,
+    /// The stop was the reversed-flow bound: a model limit that no modal growth explains.
+    reversed_flow: bool,
     /// `T + ½ηᵀK̄η` at `t = 0` (the energy balance's reference).
     energy0: f64,
     /// The node shapes for the largest elastic displacement.
@@ -555,6 +561,42 @@ impl Monitor<'_> {
                     "elastic displacement beyond {limit} m ({}), the small-rotation bound of the linear model",
                     st.model_limits.deflection_basis
                 ));
+                return Some(RunStop::ModelLimit);
+            }
+        }
+        // Air from behind (total angle of attack beyond 90 deg, the axial airspeed reversed)
+        // in free flight, with a body table that ends below 90 deg: its axial coefficient,
+        // a drag along -x for flow from ahead, would push along the flow (a drag doing
+        // positive work), and its normal force, clamped at the table's last angle, keeps its
+        // size while its direction follows the vanishing crossflow as the flow passes
+        // exactly tail first, where by axial symmetry it must be zero (the direction flips,
+        // the step size collapses: a vertical fall in still air stalled at `max_steps`).
+        // Without a recovery device the whole fall is outside the model: a verdict at
+        // 90 deg. With one, the flow that turns near apogee at almost no dynamic pressure
+        // (hpr_k1000 turns through 90 deg at 7 m/s just before its apogee drogue) is flown on
+        // the clamped coefficients until the device deploys, unless the vehicle falls tail
+        // first: a verdict once the air comes from within the table's last angle of
+        // straight behind (alpha > 180 deg - that angle). On the rail the vehicle is held
+        // (a tailwind at rest is not flight).
+        if let (Phase::Free, Some(end)) = (self.phase, self.reversed_flow_table_end) {
+            let v = self.air_velocity(t, &s);
+            let cross = (v[1] * v[1] + v[2] * v[2]).sqrt();
+            let alpha = cross.atan2(v[0]).to_degrees();
+            let bound = if st.model_limits.recovery {
+                180.0 - end
+            } else {
+                90.0
+            };
+            if v[0] < 0.0 && alpha > bound {
+                self.stop_note = Some(format!(
+                    "air from behind the vehicle (total angle of attack {alpha:.1} deg, through {bound} deg) at {h:.1} m: the body coefficient table ends at {end} deg, and a {} fall is outside the aerodynamic model (a deployed recovery device flies the descent as a point mass)",
+                    if st.model_limits.recovery {
+                        "tail-first"
+                    } else {
+                        "tumbling or tail-first"
+                    }
+                ));
+                self.reversed_flow = true;
                 return Some(RunStop::ModelLimit);
             }
         }
@@ -1222,8 +1264,17 @@ fn run_inner(
             .gravity()
             .map(|g| gravity_block(plan, model, g.altitude_correction)),
         atmosphere: Standard1976::new(),
+        reversed_flow_table_end: probe
+            .body
+            .as_ref()
+            .filter(|_| plan.stop.model_limits.reversed_flow)
+            .and_then(|b| {
+                let a = b.table().axis(crate::aero::tables::Axis::AlphaDeg);
+                a.last().copied().filter(|&end| end < 90.0)
+            }),
         aero: probe,
         stop_note: None,
+        reversed_flow: false,
         energy0,
         deformation: NodeDeformation::new(&plan.node_translation_shapes, plan.n_modes),
     };
@@ -1425,6 +1476,15 @@ fn run_inner(
     }
     // A bound of the model crossed: what the modes did on the way there.
     let verdict = match (stop_cond, stopped_at) {
+        // The reversed-flow bound is the flow's, not the structure's: no modal analysis.
+        (Some(RunStop::ModelLimit), Some(t)) if monitor.reversed_flow => Some(Verdict {
+            kind: VerdictKind::ModelLimit,
+            t,
+            criterion: monitor.stop_note.clone().unwrap_or_default(),
+            modes: Vec::new(),
+            window: 0.0,
+            flow: true,
+        }),
         (Some(RunStop::ModelLimit), Some(t)) => Some(trace.verdict(
             t,
             monitor.stop_note.clone().unwrap_or_default(),

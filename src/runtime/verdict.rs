@@ -102,6 +102,10 @@ pub struct Verdict {
     pub modes: Vec<GrowingMode>,
     /// Length of the window the growth was measured over, s.
     pub window: f64,
+    /// The bound crossed was the flow's (air from behind the vehicle, beyond its body
+    /// table: `run::Monitor::stop_condition`), not the structure's: it says nothing of the
+    /// modes, and the flutter margin up to it stands.
+    pub flow: bool,
 }
 
 /// The modal coordinates and rates at the last accepted steps, in a ring buffer allocated
@@ -182,6 +186,7 @@ impl ModalTrace {
             criterion: criterion.clone(),
             modes: Vec::new(),
             window: 0.0,
+            flow: false,
         };
         let Some(last) = recs.last() else {
             return none;
@@ -259,6 +264,7 @@ impl ModalTrace {
             criterion,
             modes,
             window: t1 - t0,
+            flow: false,
         }
     }
 }

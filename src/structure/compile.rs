@@ -24,8 +24,10 @@ use crate::syntax::Span;
 /// compile to different numbers, so that no stale artifact is served. 2: fin clusters of
 /// [`crate::structure::selection::FIN_CLUSTER_TOLERANCE`]. 3: modal damping gives the free
 /// vehicle's elastic modes the requested ratio (`coefficients::reduce`). 4: hard body
-/// stations within 1e-3 of a division of each other are one (`generate::mesh`).
-pub const PIPELINE_REVISION: u32 = 4;
+/// stations within 1e-3 of a division of each other are one (`generate::mesh`). 5: a nose's
+/// solid-tip end within 0.3 of a division of the tip is no station, its element integrated in
+/// two parts (`generate::mesh`, `generate::beam`).
+pub const PIPELINE_REVISION: u32 = 5;
 
 /// Everything later stages need from the structure, as plain archivable data.
 #[derive(Clone, Debug, Serialize, rkyv::Archive, rkyv::Serialize, rkyv::Deserialize)]

@@ -116,6 +116,22 @@ pub fn section_at(body: &BodySpec, x: f64) -> TubeSection {
     }
 }
 
+/// The nose's solid-tip end s_solid (r_o = t, `NoseShape::solid_tip_end`) when it lies
+/// strictly inside the element [s_fore, s_aft] (distances aft of the tip), where the section's
+/// formula changes from the solid circle to the tube.
+fn solid_tip_split(body: &BodySpec, s_fore: f64, s_aft: f64) -> Option<f64> {
+    if body.nose_length <= 0.0 || s_fore >= body.nose_length {
+        return None;
+    }
+    let s = body.nose_shape.solid_tip_end(
+        body.wall_thickness,
+        0.5 * body.outer_diameter,
+        body.nose_length,
+    );
+    let tol = 1e-12 * (s_aft - s_fore);
+    (s > s_fore + tol && s < s_aft - tol).then_some(s)
+}
+
 /// Planar shape functions (N_v, N_t) and their x-derivatives at xi for length l, shear
 /// parameter phi (module doc).
 fn planar_shapes(xi: f64, l: f64, phi: f64) -> [[f64; 4]; 4] {
@@ -175,10 +191,34 @@ pub fn beam_element(body: &BodySpec, x_aft: f64, x_fore: f64, line_mass: f64) ->
             && -x_fore >= t.start * (1.0 - 1e-12)
             && -x_aft <= t.end() * (1.0 + 1e-12)
     });
+    // An element across the nose's solid-tip end s_solid (where r_o = t; the mesh leaves no
+    // node there when it lies within 0.3 of a division of the tip: `mesh::body_stations`)
+    // is integrated as its two parts, on each of which the section is one formula (solid,
+    // or hollow), so the rule keeps its exactness (cone) or its rounding-level accuracy
+    // (curved nose).
+    let split = solid_tip_split(body, -x_fore, -x_aft);
     let rule: Vec<(f64, f64)> = if curved {
-        crate::check::ir::NoseShape::rule(body.nose_length, -x_fore, -x_aft, NOSE_PANELS)
+        let ln = body.nose_length;
+        let (s_fore, s_aft) = (-x_fore, -x_aft);
+        let parts = match split {
+            Some(s) => vec![(s_fore, s), (s, s_aft)],
+            None => vec![(s_fore, s_aft)],
+        };
+        parts
             .into_iter()
+            .flat_map(|(a, b)| crate::check::ir::NoseShape::rule(ln, a, b, NOSE_PANELS))
             .map(|(s, w)| ((-s - x_aft) / l, w / l))
+            .collect()
+    } else if let Some(s) = split {
+        // The cone: 5-point Gauss on each part (exact on each, module doc).
+        let xi_s = (-s - x_aft) / l; // the split in the element's xi (0 aft, 1 fore)
+        [(0.0, xi_s), (xi_s, 1.0)]
+            .into_iter()
+            .flat_map(|(a, b)| {
+                GAUSS5
+                    .iter()
+                    .map(move |&(x, w)| (a + (b - a) * x, (b - a) * w))
+            })
             .collect()
     } else if let Some(t) = shaped {
         t.rule((-x_fore).max(t.start), (-x_aft).min(t.end()), NOSE_PANELS)
