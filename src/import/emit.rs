@@ -25,7 +25,9 @@ use crate::diagnostics::Diagnostic;
 /// before the general ones ("aluminum"). The names are OpenRocket's bulk materials
 /// (`core/src/main/java/info/openrocket/core/database/Databases.java`) and the RockSim
 /// material lists OpenRocket bundles (`datafiles/rocksim_src/*/MATERIAL.CSV`); a name no
-/// key matches is asked for (`--material`), never defaulted.
+/// key matches is asked for (`--material`), never defaulted. Of the woods only balsa has
+/// sourced constants (std/materials.vdl: the Wood Handbook's flat-sawn sheet); basswood,
+/// birch, plywood, spruce, pine and maple are asked for.
 pub const MATERIAL_MAP: &[(&str, &str)] = &[
     ("7075", "aluminium_7075_t6"),
     ("2024", "aluminium_2024_t3"),
@@ -39,6 +41,7 @@ pub const MATERIAL_MAP: &[(&str, &str)] = &[
     ("fr-4", "fibreglass_g10"),
     ("carbon fiber", "carbon_fibre_fabric"),
     ("carbon fibre", "carbon_fibre_fabric"),
+    ("balsa", "balsa"),
     ("aluminum", "aluminium_6061_t6"),
     ("aluminium", "aluminium_6061_t6"),
     ("titanium", "titanium_6al4v"),
@@ -164,6 +167,17 @@ pub fn std_lamina(name: &str) -> Option<(f64, f64)> {
         }
     }
     Some((e2?, g12?))
+}
+
+/// A modulus as the written file gives it: in GPa from 1 GPa up, else in MPa, with at most 4
+/// decimals either way, so that a wood's cross-grain or shear modulus (balsa's E2 56.1 MPa,
+/// G12 138.38 MPa) is written as std/materials.vdl has it rather than rounded to 0.1 MPa.
+fn modulus(x: f64) -> String {
+    if x >= 1e9 {
+        format!("{} GPa", f(x / 1e9, 4))
+    } else {
+        format!("{} MPa", f(x / 1e6, 4))
+    }
 }
 
 /// A modulus written `X GPa` or `X MPa`, in Pa.
@@ -365,14 +379,27 @@ fn resolve_material(cx: &mut Cx, m: &OrMaterial, opts: &Options, role: Role) -> 
         comment_safe(&m.name),
         f(m.density, 4)
     );
+    // A body's isotropic equivalent of a wood lamina is its cross-grain modulus (balsa's
+    // 56.1 MPa), below the range of structural solids the checker warns outside of as a likely
+    // unit slip (`check::plausible::E_RANGE`): it is meant, and the block says so.
+    let unusual = body_equivalent && e < crate::check::plausible::E_RANGE.0;
+    if unusual {
+        let _ = writeln!(
+            block,
+            "# Its E is the lamina's cross-grain modulus, below the range of structural solids (0.1 GPa) on purpose, not a unit slip: expect_unusual."
+        );
+    }
     let _ = writeln!(block, "material {id} {{");
-    let _ = writeln!(block, "  E = {} GPa", f(e / 1e9, 4));
+    let _ = writeln!(block, "  E = {}", modulus(e));
     if let Some((e2, g12)) = lamina {
-        let _ = writeln!(block, "  E2 = {} GPa", f(e2 / 1e9, 4));
-        let _ = writeln!(block, "  G12 = {} GPa", f(g12 / 1e9, 4));
+        let _ = writeln!(block, "  E2 = {}", modulus(e2));
+        let _ = writeln!(block, "  G12 = {}", modulus(g12));
     }
     let _ = writeln!(block, "  nu = {}", f(nu, 4));
     let _ = writeln!(block, "  rho = {} kg/m^3", f(m.density, 4));
+    if unusual {
+        let _ = writeln!(block, "  expect_unusual = true");
+    }
     let _ = writeln!(block, "}}");
     Some(MatOut {
         ident: id,
