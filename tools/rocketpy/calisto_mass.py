@@ -27,7 +27,7 @@ kg m^2 about a centre of mass 1.3 m aft of the tip, is more than 18.998 kg can h
 between the tip and the nozzle (3.391 m; at most m a b = 51.6 kg m^2), so the pitch inertia
 is what the structure and the two masses give, printed next to the notebook's.
 
-Usage: python calisto_mass.py [--case calisto|valetudo] [--flexflight BIN] [--check]
+Usage: python calisto_mass.py [--case calisto|valetudo|ndrt2020] [--flexflight BIN] [--check]
 """
 
 import argparse
