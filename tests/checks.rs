@@ -172,6 +172,7 @@ fn the_examples_and_vehicles_check_without_warnings() {
         HPR,
         "examples/calisto/calisto.vdl",
         "examples/valetudo/valetudo.vdl",
+        "examples/ndrt2020/ndrt2020.vdl",
         "examples/agard445/agard445.vdl",
         "examples/thesis/section_6_5.vdl",
         "examples/free_tumble.vdl",

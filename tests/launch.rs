@@ -993,3 +993,60 @@ fn valetudo_reaches_its_measured_apogee_within_ten_percent() {
         "off rail {off_rail} m/s"
     );
 }
+
+/// Flies `examples/ndrt2020` (the Notre Dame Rocket Team's 2020 rocket, RocketPy's
+/// docs/examples/ndrt_2020_flight_sim.ipynb) to just past its apogee and returns the apogee
+/// height and the off-rail speed. The runs stop there: the flight is exactly vertical and
+/// windless, and past apogee the rocket falls tail first at an angle of attack of exactly
+/// 180 deg, where the integrator stalls (max_steps about 0.5 s after apogee; README there).
+fn ndrt2020(scenario: &str, stop_time: &str) -> (f64, f64) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = bin()
+        .arg("run")
+        .arg(repo("examples/ndrt2020/ndrt2020.vdl"))
+        .args(["--scenario", scenario, "--no-flutter-margin", "--out"])
+        .arg(&out)
+        .arg("--cache-dir")
+        .arg(cache())
+        .args(["--set", &format!("run.stop_time={stop_time}")])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = summary(&out);
+    let apogee = s["flight"]["apogee"]["height"].as_f64().unwrap();
+    let apogee_t = s["flight"]["apogee"]["t"].as_f64().unwrap();
+    let off_rail = s["flight"]["off_rail_speed"].as_f64().unwrap();
+    eprintln!("{scenario}: apogee {apogee} m at {apogee_t} s, off the rail at {off_rail} m/s");
+    // RocketPy 1.13.0 (tools/rocketpy/ndrt2020.py) on the same effective rail, 1.462 m.
+    assert!(
+        (off_rail / 13.0454 - 1.0).abs() < 2e-3,
+        "off rail {off_rail} m/s"
+    );
+    (apogee, apogee_t)
+}
+
+/// The second team flight with a measured apogee (issue 34 item 6): the Notre Dame Rocket
+/// Team's 2020 rocket, 4,320 ft = 1316.736 m measured, flown with flexflight's own
+/// aerodynamics (built-in normal force and drag build-up, zero-lift C_D 0.36 at Mach 0.3
+/// against the team's 0.44): 1413.5 m, +7.3 %, measured (release build, 7 December 2026).
+/// The assertion is that figure to 0.1 %, and the issue's 10 % of the measurement.
+#[test]
+fn ndrt2020_reaches_its_measured_apogee_within_ten_percent() {
+    let (apogee, t) = ndrt2020("ndrt2020", "17.7 s");
+    assert!(t < 17.7, "apogee not reached: {t} s");
+    assert!((apogee / 1413.5 - 1.0).abs() < 1e-3, "apogee {apogee} m");
+    assert!((apogee / 1316.736 - 1.0).abs() < 0.10, "apogee {apogee} m");
+}
+
+/// The same vehicle with the team's drag (the notebook's constant C_D 0.44 in place of the
+/// drag build-up, the built-in normal force kept; `tools/constant_drag_tables.py`): 1334.8 m
+/// measured, against RocketPy 1.13.0's 1331.25 m with the same C_D, atmosphere and rail
+/// (+0.27 %; `tools/rocketpy/ndrt2020.py`).
+#[test]
+fn ndrt2020_with_the_teams_drag_flies_as_rocketpy() {
+    let (apogee, t) = ndrt2020("ndrt2020_cd044", "17.1 s");
+    assert!(t < 17.1, "apogee not reached: {t} s");
+    assert!((apogee / 1334.8 - 1.0).abs() < 1e-3, "apogee {apogee} m");
+    assert!((apogee / 1331.25 - 1.0).abs() < 5e-3, "apogee {apogee} m");
+}

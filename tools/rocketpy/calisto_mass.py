@@ -21,7 +21,13 @@ comparison with RocketPy (the numbers in examples/calisto/README.md).
 `--case valetudo` does the same for examples/valetudo (valetudo.py's rocket; its motor's
 dry mass is 1 g, so the casing compensation is nil).
 
-Usage: python calisto_mass.py [--case calisto|valetudo] [--flexflight BIN] [--check]
+`--case ndrt2020` does it for examples/ndrt2020 (ndrt2020.py's rocket, nose_to_tail) with two
+point masses, which close mass and first moment only: the notebook's pitch inertia, 73.316
+kg m^2 about a centre of mass 1.3 m aft of the tip, is more than 18.998 kg can have anywhere
+between the tip and the nozzle (3.391 m; at most m a b = 51.6 kg m^2), so the pitch inertia
+is what the structure and the two masses give, printed next to the notebook's.
+
+Usage: python calisto_mass.py [--case calisto|valetudo|ndrt2020] [--flexflight BIN] [--check]
 """
 
 import argparse
@@ -38,26 +44,33 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import calisto  # noqa: E402
+import ndrt2020  # noqa: E402
 import valetudo  # noqa: E402
 
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
-# Per case: the RocketPy script, the example's folder and vdl, the nose tip and the nozzle
-# exit in RocketPy's frame (tail_to_nose, metres), the point masses' stations (x aft of the
-# nose tip, negative).
+# Per case: the RocketPy script, the example's folder and vdl, the nose tip in RocketPy's
+# frame (metres, in the script's coordinate_system_orientation), the point masses' stations
+# (x aft of the nose tip, negative): three close mass, first moment and pitch inertia, two
+# mass and first moment only.
 CASES = {
-    "calisto": (calisto, "calisto", 1.278, -1.255,
+    "calisto": (calisto, "calisto", 1.278,
                 [("payload", -0.40), ("avionics", -1.30), ("fin_can", -2.20)]),
-    "valetudo": (valetudo, "valetudo", valetudo.NOSE_TIP, valetudo.NOZZLE,
+    "valetudo": (valetudo, "valetudo", valetudo.NOSE_TIP,
                  [("payload", -0.30), ("avionics", -1.10), ("fin_can", -2.00)]),
+    "ndrt2020": (ndrt2020, "ndrt2020", 0.0, [("payload", -0.50), ("fin_can", -3.00)]),
 }
 
 
 def select(name):
-    global SCRIPT, EX, VDL, NOSE_TIP, NOZZLE_X, STATIONS
-    SCRIPT, folder, NOSE_TIP, nozzle, STATIONS = CASES[name]
+    global SCRIPT, EX, VDL, NOSE_TIP, STATIONS
+    SCRIPT, folder, NOSE_TIP, STATIONS = CASES[name]
     EX = os.path.join(ROOT, "examples", folder)
     VDL = os.path.join(EX, folder + ".vdl")
-    NOZZLE_X = nozzle - NOSE_TIP
+
+
+def to_x(rocket, x_rp):
+    """flexflight's x (0 at the nose tip, negative aft) of a position in RocketPy's frame."""
+    return rocket._csys * (x_rp - NOSE_TIP)
 
 
 def vdl_motor():
@@ -104,15 +117,16 @@ def props(j):
 def targets():
     _env, motor, rocket = SCRIPT.build()
     m_r = rocket.mass
-    x_r = rocket.center_of_mass_without_motor - NOSE_TIP
+    x_r = to_x(rocket, rocket.center_of_mass_without_motor)
     i_r, i_r33 = rocket.I_11_without_motor, rocket.I_33_without_motor
     m_d = motor.dry_mass
-    x_d = NOZZLE_X + motor.center_of_dry_mass_position
+    x_d = to_x(rocket, rocket.motor_center_of_dry_mass_position)
     m_dry = m_r + m_d
     x_dry = (m_r * x_r + m_d * x_d) / m_dry
     i_dry = i_r + m_r * (x_r - x_dry) ** 2 + motor.dry_I_11 + m_d * (x_d - x_dry) ** 2
     m_p = float(motor.propellant_initial_mass)
-    x_p = NOZZLE_X + motor.grains_center_of_mass_position
+    x_p = to_x(rocket, rocket.motor_position
+               + motor.grains_center_of_mass_position * rocket._csys * motor._csys)
     m_0 = m_dry + m_p
     x_0 = (m_dry * x_dry + m_p * x_p) / m_0
     i_0 = i_dry + m_dry * (x_dry - x_0) ** 2 + float(motor.propellant_I_11(0)) + m_p * (x_p - x_0) ** 2
@@ -153,10 +167,14 @@ def solve(ff):
     rho2 = (i33_s - i33_0) / a
     c = (i_s + m_s * x_s**2) - (i0 + m0 * c0**2)
     xs = np.array([x for _, x in STATIONS])
-    mat = np.vstack([np.ones(3), xs, xs**2 + rho2 / 2])
-    mk = np.linalg.solve(mat, np.array([a, b, c]))
+    mat = np.vstack([np.ones(len(xs)), xs, xs**2 + rho2 / 2])[: len(xs)]
+    mk = np.linalg.solve(mat, np.array([a, b, c])[: len(xs)])
     out = {"structure_target": [m_s, x_s, i_s, i33_s], "bare_structure": [m0, c0, i0, i33_0],
            "rho2": rho2, "masses": dict(zip([n for n, _ in STATIONS], mk.tolist()))}
+    if len(xs) == 2:
+        # Mass and first moment closed; the pitch inertia about x_s is what follows.
+        c_got = float(np.sum(mk * (xs**2 + rho2 / 2)))
+        out["structure_pitch_inertia_reached"] = c_got + i0 + m0 * c0**2 - m_s * x_s**2
     print(json.dumps(out, indent=2))
     if np.any(mk <= 0) or rho2 <= 0:
         sys.exit("no positive solution at these stations")
