@@ -132,13 +132,11 @@ pub struct ModelLimits {
     /// Stop at a fin root stress (5.6) beyond the material's yield stress, where the
     /// material states one and `fin_aero { stress_limit }` is not set.
     pub fin_yield: bool,
-    /// Stop where the air reaches the vehicle from behind in free flight when its body
-    /// coefficient table ends below 90 deg (`run::Monitor::stop_condition`): beyond 90 deg
-    /// without a recovery device (a tumbling or tail-first fall), within the table's last
-    /// angle of straight behind with one (a tail-first fall before it deploys).
+    /// Stop where the air reaches the vehicle from behind in free flight (total angle of
+    /// attack beyond 90 deg) when its body coefficient table ends below 90 deg and the
+    /// scenario has no recovery device (`run::Monitor::stop_condition`: a tumbling or
+    /// tail-first fall).
     pub reversed_flow: bool,
-    /// The scenario has a recovery device (see `reversed_flow`).
-    pub recovery: bool,
 }
 
 /// The deflection bound as a fraction of the fin span (a tip slope of 0.15 rad).
@@ -176,7 +174,6 @@ pub fn model_limits(
             .as_ref()
             .is_some_and(|f| f.stress_limit_fraction.is_none()),
         reversed_flow: true,
-        recovery: false,
     }
 }
 
@@ -716,7 +713,7 @@ pub fn build_with_aero(
             model_limits: if run.model_limits {
                 ModelLimits {
                     // A recovery device flies the descent (`run::Monitor::stop_condition`).
-                    recovery: !scenario.parachutes.is_empty(),
+                    reversed_flow: scenario.parachutes.is_empty(),
                     ..model_limits(vehicle, compiled)
                 }
             } else {
@@ -725,7 +722,6 @@ pub fn build_with_aero(
                     deflection_basis: "off (run { model_limits = false })",
                     fin_yield: false,
                     reversed_flow: false,
-                    recovery: !scenario.parachutes.is_empty(),
                 }
             },
         },
@@ -845,12 +841,7 @@ pub fn summary_text(p: &Plan) -> String {
     if st.model_limits.reversed_flow {
         let _ = writeln!(
             s,
-            "{label:<15}air from behind in free flight with a body table ending below 90 deg (total alpha > {}): a verdict (model limit)",
-            if st.model_limits.recovery {
-                "180 deg - the table's last angle, a tail-first fall before a recovery device deploys"
-            } else {
-                "90 deg, no recovery device"
-            }
+            "{label:<15}air from behind in free flight (total alpha > 90 deg; no recovery device) with a body table ending below 90 deg: a verdict (model limit)"
         );
     }
     let _ = writeln!(s, "               step underflow, non-finite state");

@@ -311,8 +311,8 @@ struct Monitor<'a> {
     /// What the stop condition saw (for the summary), set with the stop.
     stop_note: Option<String>,
     /// The last angle of attack, degrees, of the body coefficient table when it ends below
-    /// 90 deg: in free flight, air from behind the vehicle is then a bound of the model
-    /// ([`Monitor::stop_condition`]).
+    /// 90 deg and the scenario has no recovery device: in free flight, air from behind the
+    /// vehicle is then a bound of the model ([`Monitor::stop_condition`]).
     reversed_flow_table_end: Option<f64>,
     /// The stop was the reversed-flow bound: a model limit that no modal growth explains.
     reversed_flow: bool,
@@ -565,36 +565,25 @@ impl Monitor<'_> {
             }
         }
         // Air from behind (total angle of attack beyond 90 deg, the axial airspeed reversed)
-        // in free flight, with a body table that ends below 90 deg: its axial coefficient,
-        // a drag along -x for flow from ahead, would push along the flow (a drag doing
-        // positive work), and its normal force, clamped at the table's last angle, keeps its
-        // size while its direction follows the vanishing crossflow as the flow passes
-        // exactly tail first, where by axial symmetry it must be zero (the direction flips,
-        // the step size collapses: a vertical fall in still air stalled at `max_steps`).
-        // Without a recovery device the whole fall is outside the model: a verdict at
-        // 90 deg. With one, the flow that turns near apogee at almost no dynamic pressure
-        // (hpr_k1000 turns through 90 deg at 7 m/s just before its apogee drogue) is flown on
-        // the clamped coefficients until the device deploys, unless the vehicle falls tail
-        // first: a verdict once the air comes from within the table's last angle of
-        // straight behind (alpha > 180 deg - that angle). On the rail the vehicle is held
-        // (a tailwind at rest is not flight).
+        // in free flight, with a body table that ends below 90 deg and no recovery device:
+        // the table's axial coefficient, a drag along -x for flow from ahead, would push
+        // along the flow (a drag doing positive work), and its normal force, clamped at the
+        // table's last angle, keeps its size while its direction follows the vanishing
+        // crossflow as the flow passes exactly tail first, where by axial symmetry it must
+        // be zero (the direction flips and the step size collapses: RockSim's FooBar Test
+        // stalled at `max_steps` 0.06 s after apogee). The whole fall is outside the model:
+        // a verdict, not a flight on clamped coefficients. With a recovery device the flow
+        // that turns near apogee at almost no dynamic pressure (hpr_k1000 passes 160 deg
+        // 0.55 s after apogee, before its drogue's 1 s lag) is flown on the clamped
+        // coefficients until the device deploys, as before (the plan's `reversed_flow` is
+        // off). On the rail the vehicle is held (a tailwind at rest is not flight).
         if let (Phase::Free, Some(end)) = (self.phase, self.reversed_flow_table_end) {
             let v = self.air_velocity(t, &s);
-            let cross = (v[1] * v[1] + v[2] * v[2]).sqrt();
-            let alpha = cross.atan2(v[0]).to_degrees();
-            let bound = if st.model_limits.recovery {
-                180.0 - end
-            } else {
-                90.0
-            };
-            if v[0] < 0.0 && alpha > bound {
+            if v[0] < 0.0 {
+                let cross = (v[1] * v[1] + v[2] * v[2]).sqrt();
+                let alpha = cross.atan2(v[0]).to_degrees();
                 self.stop_note = Some(format!(
-                    "air from behind the vehicle (total angle of attack {alpha:.1} deg, through {bound} deg) at {h:.1} m: the body coefficient table ends at {end} deg, and a {} fall is outside the aerodynamic model (a deployed recovery device flies the descent as a point mass)",
-                    if st.model_limits.recovery {
-                        "tail-first"
-                    } else {
-                        "tumbling or tail-first"
-                    }
+                    "air from behind the vehicle (total angle of attack {alpha:.1} deg, through 90 deg) at {h:.1} m with no recovery device: the body coefficient table ends at {end} deg, and a tumbling or tail-first fall is outside the aerodynamic model (a recovery device flies the descent as a point mass)"
                 ));
                 self.reversed_flow = true;
                 return Some(RunStop::ModelLimit);
