@@ -54,14 +54,19 @@ fn sphads_fin(thickness: f64, chord_elements: usize, span_elements: usize) -> Fi
     }
 }
 
-fn free_free_frequencies(body: BodySpec) -> Vec<f64> {
-    let spec = GeneratorSpec {
+/// The body alone: no fins, no masses.
+fn body_only(body: BodySpec) -> GeneratorSpec {
+    GeneratorSpec {
         body,
         fins: None,
         point_masses: vec![],
         distributed_masses: vec![],
         rigid_fins: vec![],
-    };
+    }
+}
+
+fn free_free_frequencies(body: BodySpec) -> Vec<f64> {
+    let spec = body_only(body);
     let model = generate(&spec).unwrap();
     modal::solve(&model, 12).unwrap().frequencies_hz()
 }
@@ -536,13 +541,7 @@ fn every_nose_shape_has_the_mass_and_inertia_of_its_profile() {
         let mut body = tube(length, d, t, 40, BeamTheory::EulerBernoulli);
         body.nose_length = ln;
         body.nose_shape = shape;
-        let spec = GeneratorSpec {
-            body,
-            fins: None,
-            point_masses: vec![],
-            distributed_masses: vec![],
-            rigid_fins: vec![],
-        };
+        let spec = body_only(body);
         let model = generate(&spec).unwrap();
         let fe = rigid_body_projection(&model);
         let analytic = analytic_mass_properties(&spec);
@@ -594,13 +593,7 @@ fn a_solid_tip_end_near_the_tip_is_integrated_not_meshed() {
             (s0 - s_solid).abs() < 1e-9 * h,
             "{shape:?}: {s0} vs {s_solid}"
         );
-        let spec = GeneratorSpec {
-            body,
-            fins: None,
-            point_masses: vec![],
-            distributed_masses: vec![],
-            rigid_fins: vec![],
-        };
+        let spec = body_only(body);
         let model = generate(&spec).unwrap();
         let first_aft_of_tip = model
             .nodes

@@ -260,6 +260,17 @@ fn import_with_nose(p: &Path, out: &Path) -> Output {
         .unwrap()
 }
 
+/// [`simple_rocket_with`] imported (`import_with_nose`) into `dir/rocket.vdl`, which must
+/// succeed: the written file's path, its text and the import's standard error.
+fn import_simple_rocket(dir: &Path, fins: &str, rest: &str) -> (PathBuf, String, String) {
+    let p = simple_rocket_with(dir, fins, rest);
+    let out = dir.join("rocket.vdl");
+    let o = import_with_nose(&p, &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    (out, text, stderr(&o))
+}
+
 /// The simple model rocket (tests/import_designs/) as plain XML, with its fin set's material
 /// and every other bulk Cardboard replaced.
 fn simple_rocket_with(dir: &Path, fins: &str, rest: &str) -> PathBuf {
@@ -397,11 +408,7 @@ fn g10_fins_are_a_lamina_and_a_g10_body_its_isotropic_equivalent() {
     let dir = tempfile::tempdir().unwrap();
     let fibreglass =
         "<material type=\"bulk\" density=\"1850.0\" group=\"Composites\">Fiberglass</material>";
-    let p = simple_rocket_with(dir.path(), fibreglass, fibreglass);
-    let out = dir.path().join("rocket.vdl");
-    let o = import_with_nose(&p, &out);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let text = std::fs::read_to_string(&out).unwrap();
+    let (out, text, _) = import_simple_rocket(dir.path(), fibreglass, fibreglass);
     assert!(
         text.contains(
             "material fiberglass_ork {\n  E = 24 GPa\n  E2 = 21 GPa\n  G12 = 4 GPa\n  nu = 0.136\n  rho = 1850 kg/m^3\n}"
@@ -448,12 +455,8 @@ fn carbon_fibre_fins_import_as_a_lamina_without_being_told() {
             "material aluminum_ork {\n  E = 70 GPa\n  nu = 0.346\n",
         ),
     ] {
-        let p = simple_rocket_with(dir.path(), carbon, body);
-        let out = dir.path().join("rocket.vdl");
-        let o = import_with_nose(&p, &out);
-        assert!(o.status.success(), "{}", stderr(&o));
-        assert!(!stderr(&o).contains("import::material"), "{}", stderr(&o));
-        let text = std::fs::read_to_string(&out).unwrap();
+        let (out, text, e) = import_simple_rocket(dir.path(), carbon, body);
+        assert!(!e.contains("import::material"), "{e}");
         assert!(
             text.contains(
                 "material carbon_fiber_ork {\n  E = 70 GPa\n  E2 = 70 GPa\n  G12 = 5 GPa\n  nu = 0.1\n  rho = 1780 kg/m^3\n}"
@@ -475,16 +478,12 @@ fn carbon_fibre_fins_import_as_a_lamina_without_being_told() {
 #[test]
 fn balsa_fins_import_as_the_sourced_lamina_and_compile() {
     let dir = tempfile::tempdir().unwrap();
-    let p = simple_rocket_with(
+    let (out, text, e) = import_simple_rocket(
         dir.path(),
         "<material type=\"bulk\" density=\"170.0\" group=\"Woods\">Balsa</material>",
         "<material type=\"bulk\" density=\"1850.0\" group=\"Composites\">Fiberglass</material>",
     );
-    let out = dir.path().join("rocket.vdl");
-    let o = import_with_nose(&p, &out);
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(!stderr(&o).contains("import::material"), "{}", stderr(&o));
-    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(!e.contains("import::material"), "{e}");
     assert!(
         text.contains(
             "material balsa_ork {\n  E = 3.74 GPa\n  E2 = 56.1 MPa\n  G12 = 138.38 MPa\n  nu = 0.488\n  rho = 170 kg/m^3\n}"
@@ -520,15 +519,11 @@ fn balsa_fins_import_as_the_sourced_lamina_and_compile() {
 #[test]
 fn a_balsa_body_is_its_cross_grain_modulus_and_says_it_is_unusual() {
     let dir = tempfile::tempdir().unwrap();
-    let p = simple_rocket_with(
+    let (out, text, _) = import_simple_rocket(
         dir.path(),
         "<material type=\"bulk\" density=\"2700.0\" group=\"Metals\">Aluminum</material>",
         "<material type=\"bulk\" density=\"170.0\" group=\"Woods\">Balsa</material>",
     );
-    let out = dir.path().join("rocket.vdl");
-    let o = import_with_nose(&p, &out);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let text = std::fs::read_to_string(&out).unwrap();
     assert!(
         text.contains(
             "material balsa_body_ork {\n  E = 56.1 MPa\n  nu = 0.488\n  rho = 170 kg/m^3\n  expect_unusual = true\n}"

@@ -145,10 +145,12 @@ pub const DEFLECTION_FRACTION_FIN: f64 = 0.1;
 /// The deflection bound as a fraction of the body length, without fins.
 pub const DEFLECTION_FRACTION_BODY: f64 = 0.02;
 
-/// The model bounds of `vehicle` compiled as `compiled` (see [`ModelLimits`]).
+/// The model bounds of `vehicle` compiled as `compiled`, in a scenario with or without a
+/// recovery device (see [`ModelLimits`]).
 pub fn model_limits(
     vehicle: &crate::check::ir::Vehicle,
     compiled: &CompiledVehicle,
+    recovery: bool,
 ) -> ModelLimits {
     let elastic = !compiled.modes.is_empty();
     let (deflection, deflection_basis) = match &vehicle.fins {
@@ -173,7 +175,8 @@ pub fn model_limits(
             .fin_aero
             .as_ref()
             .is_some_and(|f| f.stress_limit_fraction.is_none()),
-        reversed_flow: true,
+        // A recovery device flies the descent (`run::Monitor::stop_condition`).
+        reversed_flow: !recovery,
     }
 }
 
@@ -711,11 +714,7 @@ pub fn build_with_aero(
             max_alpha: run.max_alpha.as_ref().map(|q| q.value),
             max_deformation: run.max_deformation.as_ref().map(|q| q.value),
             model_limits: if run.model_limits {
-                ModelLimits {
-                    // A recovery device flies the descent (`run::Monitor::stop_condition`).
-                    reversed_flow: scenario.parachutes.is_empty(),
-                    ..model_limits(vehicle, compiled)
-                }
+                model_limits(vehicle, compiled, !scenario.parachutes.is_empty())
             } else {
                 ModelLimits {
                     deflection: None,
