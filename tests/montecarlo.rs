@@ -997,3 +997,38 @@ fn the_thickness_family_gives_the_exact_margin_within_its_bound() {
         );
     }
 }
+
+/// A sample whose integration failed (here every sample: a `min_step` of 10 ms that the
+/// tumble's first step cannot meet, `step_underflow` at t = 0) did not fly its scenario:
+/// it is `incomplete` in `samples.csv`, out of the statistics (its outputs are a flight cut
+/// short), counted and listed apart from the samples that succeeded and those that
+/// failed to run. On the old code such a sample was `ok` and its cut-short outputs were in
+/// the statistics ("8 succeeded, 0 failed").
+#[test]
+fn a_sample_whose_integration_fails_is_incomplete_not_a_success() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = write(dir.path(), GOOD_VARY, "");
+    let out = dir.path().join("r");
+    let mut o = opts(2, Shard::ALL);
+    o.sets = vec!["run.min_step=10 ms".into(), "run.rtol=1e-12".into()];
+    let r = run_in(&file, &out, &o);
+    assert_eq!((r.ran, r.failed, r.incomplete), (8, 0, 8), "{:?}", r.rows);
+    let table = read(&out.join("samples.csv"));
+    let rows: Vec<&str> = table.lines().skip(1).collect();
+    assert_eq!(rows.len(), 8);
+    assert!(
+        rows.iter()
+            .all(|l| l.contains(",incomplete,step_underflow,")),
+        "{table}"
+    );
+    let s: serde_json::Value = serde_json::from_str(&read(&out.join("statistics.json"))).unwrap();
+    assert_eq!(s["succeeded"], 0);
+    assert_eq!(s["failed"], 0);
+    assert_eq!(s["incomplete"], 8);
+    assert_eq!(s["incomplete_samples"].as_array().unwrap().len(), 8);
+    assert!(read(&out.join("statistics.txt")).contains("0 succeeded, 0 failed, 8 incomplete"));
+    // A re-run resumes them (their result is the same bits), not flies them again.
+    let again = run_in(&file, &out, &o);
+    assert_eq!((again.ran, again.skipped, again.incomplete), (0, 8, 8));
+    assert_eq!(read(&out.join("samples.csv")), table);
+}

@@ -210,3 +210,39 @@ fn a_clamped_sweep_never_reports_a_crossing_above_a_low_speed_instability() {
     assert!(v < 0.3 * 330.0 && v > 19.7, "{v}");
     assert!(j["screen"]["segments"].as_array().unwrap().len() >= 2);
 }
+
+/// A run whose integration failed (the step size below `min_step`, a non-finite state, or
+/// the step budget used up) did not fly its scenario to its end: it is not a clean run.
+/// Its exit status is `EXIT_INCOMPLETE` (4, not 0), its summary says `complete: false`
+/// and the terminal says the flight is incomplete; a run that reached its stop exits 0
+/// with `complete: true`. On the old code the same run (a `min_step` of 10 ms that the
+/// tumble's first step cannot meet) ended `step_underflow at t = 0 s` with exit 0.
+#[test]
+fn a_run_whose_integration_fails_is_not_a_clean_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = repo("examples/free_tumble.vdl");
+    let out = dir.path().join("failed");
+    let o = run(
+        &file,
+        "free_tumble",
+        &out,
+        &["--set", "run.min_step=10 ms", "--set", "run.rtol=1e-12"],
+    );
+    let err = String::from_utf8_lossy(&o.stderr).to_string();
+    assert_eq!(o.status.code(), Some(4), "{err}");
+    assert!(err.contains("INCOMPLETE"), "{err}");
+    let s = summary(&out);
+    assert_eq!(s["stop_reason"], "step_underflow");
+    assert_eq!(s["complete"], false);
+    let done = dir.path().join("done");
+    let o = run(&file, "free_tumble", &done, &[]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let s = summary(&done);
+    assert_eq!(s["stop_reason"], "completed");
+    assert_eq!(s["complete"], true);
+}

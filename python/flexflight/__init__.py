@@ -273,7 +273,10 @@ class Project:
 
         Returns:
             The :class:`Run`. A flight that leaves its model (flutter, divergence) is a
-            result, not an error: see ``run.summary["verdict"]``.
+            result, not an error: see ``run.summary["verdict"]``. A flight whose
+            integration failed before it reached a stop of its scenario (``stop_reason``
+            ``step_underflow``, ``non_finite`` or ``max_steps``) is cut short:
+            ``run.summary["complete"]`` is ``False`` (the command line exits with 4).
 
         Raises:
             Error: an unknown scenario, a scenario that cannot be compiled, planned or
@@ -582,7 +585,9 @@ class MonteCarloResult:
 
     Attributes:
         summary: ``dispersion``, ``scenario``, ``seed``, ``shard``, ``samples``, ``ran``,
-            ``resumed``, ``failed``, ``artifacts``, ``wall_time_s``, ``stage_seconds``.
+            ``resumed``, ``failed``, ``incomplete`` (flown, but the integration failed
+            before the flight reached a stop: out of the statistics), ``artifacts``,
+            ``wall_time_s``, ``stage_seconds``.
         text: the short statistics summary (``statistics.txt``'s text for this run).
         out: the output directory.
         warnings: the warnings of the run.

@@ -521,7 +521,7 @@ impl NativeProject {
                     "dispersion": r.manifest.dispersion, "scenario": r.manifest.scenario,
                     "seed": r.manifest.seed, "shard": r.manifest.shard,
                     "samples": r.rows.len(), "ran": r.ran, "resumed": r.skipped,
-                    "failed": r.failed, "artifacts": r.artifacts,
+                    "failed": r.failed, "incomplete": r.incomplete, "artifacts": r.artifacts,
                     "wall_time_s": r.wall_seconds, "stage_seconds": r.phases,
                     "text": r.summary,
                 });

@@ -290,6 +290,10 @@ pub const EXIT_USAGE: u8 = 2;
 /// `run`: the flight left its model (a flutter, divergence or model-limit verdict); its
 /// outputs are written and end at the verdict.
 pub const EXIT_VERDICT: u8 = 3;
+/// `run`: the integration failed before the flight reached any of its stops
+/// (`step_underflow`, `non_finite`, `max_steps`: `RunStop::is_incomplete`); its outputs are
+/// written, say `complete: false` and end where it failed, a flight cut short.
+pub const EXIT_INCOMPLETE: u8 = 4;
 /// Standard output was closed by its reader (`flexflight inspect X | head`): 128 + SIGPIPE,
 /// the status a shell reports for a tool the signal ended.
 pub const EXIT_BROKEN_PIPE: u8 = 141;

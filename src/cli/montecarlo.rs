@@ -85,7 +85,7 @@ pub fn cmd_montecarlo(
                 Format::Human => {
                     eprint!("{}", r.summary);
                     eprintln!(
-                        "montecarlo {}: shard {}/{}: {} sample(s), {} run, {} resumed, {} failed, {} structural variant(s), {:.2} s -> {}",
+                        "montecarlo {}: shard {}/{}: {} sample(s), {} run, {} resumed, {} failed, {} incomplete, {} structural variant(s), {:.2} s -> {}",
                         r.manifest.dispersion,
                         shard.index,
                         shard.count,
@@ -93,6 +93,7 @@ pub fn cmd_montecarlo(
                         r.ran,
                         r.skipped,
                         r.failed,
+                        r.incomplete,
                         r.artifacts,
                         r.wall_seconds,
                         req.out.display()
@@ -110,7 +111,7 @@ pub fn cmd_montecarlo(
                     serde_json::json!({
                         "dispersion": r.manifest.dispersion, "shard": r.manifest.shard,
                         "samples": r.rows.len(), "ran": r.ran, "resumed": r.skipped,
-                        "failed": r.failed, "artifacts": r.artifacts,
+                        "failed": r.failed, "incomplete": r.incomplete, "artifacts": r.artifacts,
                         "wall_time_s": r.wall_seconds, "out": req.out,
                         "stage_seconds": r.phases,
                     })

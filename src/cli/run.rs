@@ -12,7 +12,9 @@ use crate::ops::run::{
 };
 use crate::plan;
 
-use super::{Common, EXIT_OK, EXIT_USAGE, EXIT_VERDICT, Format, Terminal, load_program};
+use super::{
+    Common, EXIT_INCOMPLETE, EXIT_OK, EXIT_USAGE, EXIT_VERDICT, Format, Terminal, load_program,
+};
 
 /// Check, compile and plan, the structure and the aerodynamics through the cache; errors
 /// printed, their exit code returned.
@@ -150,6 +152,13 @@ pub fn cmd_run(
         if let Some(line) = verdict_line(p, output) {
             eprintln!("{line}");
         }
+        if output.stop.is_incomplete() {
+            eprintln!(
+                "INCOMPLETE: the integration failed at t = {} s ({}) before the flight reached \
+                 a stop of its scenario; the outputs are a flight cut short (exit status 4)",
+                output.t_end, output.stop_detail
+            );
+        }
         if let Some(line) = flight_line(&flight_summary(p, output)) {
             eprintln!("{line}");
         }
@@ -167,6 +176,8 @@ pub fn cmd_run(
     }
     if output.stop.is_verdict() {
         EXIT_VERDICT
+    } else if output.stop.is_incomplete() {
+        EXIT_INCOMPLETE
     } else {
         EXIT_OK
     }

@@ -410,6 +410,7 @@ pub fn summary_json(p: &Plan, c: &CompileOutcome, o: &RunOutput) -> serde_json::
         "artifact": c.path,
         "artifact_hash": c.key.to_hex(),
         "stop_reason": o.stop.code(),
+        "complete": !o.stop.is_incomplete(),
         "stop_detail": o.stop_detail,
         "t_end": o.t_end,
         "stop_time": p.stop.stop_time,

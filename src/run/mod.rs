@@ -129,6 +129,19 @@ impl RunStop {
         }
     }
 
+    /// Whether the integration failed before the run reached any of its stops (the step
+    /// size below `min_step`, a non-finite state, the step budget used up): the outputs are
+    /// a flight cut short, not a flight to its end nor a verdict on it. The command line
+    /// exits with `EXIT_INCOMPLETE` and a Monte Carlo sample is `incomplete`.
+    pub fn is_incomplete(&self) -> bool {
+        Self::is_incomplete_code(self.code())
+    }
+
+    /// [`RunStop::is_incomplete`] of a stop's code as `summary.json` writes it.
+    pub fn is_incomplete_code(code: &str) -> bool {
+        matches!(code, "step_underflow" | "non_finite" | "max_steps")
+    }
+
     /// Whether the run ended with a verdict: the vehicle left its model.
     pub fn is_verdict(&self) -> bool {
         matches!(

@@ -182,6 +182,18 @@ pub fn table_header(d: &Dispersion) -> Vec<String> {
     h
 }
 
+/// A flown sample's status: `incomplete` when its integration failed before the flight
+/// reached a stop of its scenario ([`crate::run::RunStop::is_incomplete`]: its outputs are a
+/// flight cut short, kept in the table and out of the statistics), else `ok`. A sample that
+/// could not be flown at all is `failed`.
+pub fn sample_status(o: &SampleOutputs) -> &'static str {
+    if crate::run::RunStop::is_incomplete_code(&o.stop_reason) {
+        "incomplete"
+    } else {
+        "ok"
+    }
+}
+
 /// One row of `samples.csv`.
 pub fn table_row(
     index: usize,
@@ -193,7 +205,7 @@ pub fn table_row(
     row.extend(inputs.iter().map(|x| format!("{x}")));
     match r {
         Ok(o) => row.extend([
-            "ok".to_string(),
+            sample_status(o).to_string(),
             o.stop_reason.clone(),
             o.verdict.clone(),
             cell(o.apogee_m),
@@ -205,7 +217,14 @@ pub fn table_row(
             cell(o.landing_x_m),
             cell(o.landing_y_m),
             cell(o.flutter_margin_min),
-            String::new(),
+            if crate::run::RunStop::is_incomplete_code(&o.stop_reason) {
+                format!(
+                    "the integration failed ({}): a flight cut short",
+                    o.stop_reason
+                )
+            } else {
+                String::new()
+            },
         ]),
         Err(e) => {
             row.push("failed".to_string());

@@ -103,6 +103,9 @@ pub struct MonteCarloReport {
     pub ran: usize,
     pub skipped: usize,
     pub failed: usize,
+    /// Samples (run or resumed) whose integration failed before their flight reached a
+    /// stop: `incomplete` in `samples.csv`, out of the statistics.
+    pub incomplete: usize,
     /// Distinct structural variants (artifacts) among the samples run.
     pub artifacts: usize,
     pub wall_seconds: f64,
@@ -383,7 +386,9 @@ fn finished(
             .iter()
             .zip(inputs)
             .all(|(a, b)| a.to_bits() == b.to_bits());
-    (r.status == "ok" && same_inputs && r.variant == variant && r.boundary == boundary).then_some(r)
+    // An incomplete sample's record is a result too (the same inputs fail the same way).
+    let flown = r.status == "ok" || r.status == "incomplete";
+    (flown && same_inputs && r.variant == variant && r.boundary == boundary).then_some(r)
 }
 
 /// Run (this shard of) `d`, declared in `file`, into `out`.
@@ -516,7 +521,11 @@ pub fn run_dispersion(
                         .as_ref()
                         .map(|p| p.variant.clone())
                         .unwrap_or_default(),
-                    status: if result.is_ok() { "ok" } else { "failed" }.to_string(),
+                    status: match &result {
+                        Ok(o) => crate::analysis::montecarlo::sample_status(o),
+                        Err(_) => "failed",
+                    }
+                    .to_string(),
                     error: result.as_ref().err().cloned(),
                     outputs: result.as_ref().ok().map(OutputsRecord::from),
                     boundary: boundary.clone(),
@@ -553,12 +562,21 @@ pub fn run_dispersion(
         })
         .collect();
     let summary = write_tables(out, &manifest, &rows)?;
+    let incomplete = outcomes
+        .iter()
+        .flatten()
+        .filter(|r| {
+            r.as_ref()
+                .is_ok_and(|o| crate::analysis::montecarlo::sample_status(o) == "incomplete")
+        })
+        .count();
     Ok(MonteCarloReport {
         manifest,
         rows,
         ran: todo.len(),
         skipped,
         failed,
+        incomplete,
         artifacts,
         wall_seconds: started.elapsed().as_secs_f64(),
         summary,

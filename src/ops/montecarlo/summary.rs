@@ -47,10 +47,16 @@ pub fn statistics(manifest: &Manifest, rows: &[Vec<String>]) -> serde_json::Valu
     let ok: Vec<usize> = (0..rows.len()).filter(|&k| status[k] == "ok").collect();
     let ok_rows: Vec<Vec<String>> = ok.iter().map(|&k| rows[k].clone()).collect();
     let verdicts = text_column(manifest, &ok_rows, "verdict");
-    let failed: Vec<&str> = (0..rows.len())
-        .filter(|&k| status[k] != "ok")
-        .filter_map(|k| rows[k].get(1).map(String::as_str))
-        .collect();
+    let ids_where = |want: &dyn Fn(&str) -> bool| -> Vec<&str> {
+        (0..rows.len())
+            .filter(|&k| want(status[k]))
+            .filter_map(|k| rows[k].get(1).map(String::as_str))
+            .collect()
+    };
+    // `incomplete`: flown, but the integration failed before the flight reached a stop of
+    // its scenario (a flight cut short: out of the statistics); `failed`: not flown.
+    let incomplete = ids_where(&|s| s == "incomplete");
+    let failed = ids_where(&|s| s != "ok" && s != "incomplete");
     let mut outputs = serde_json::Map::new();
     for (col, _, unit) in REPORTED {
         let v = column(manifest, &ok_rows, col);
@@ -96,6 +102,8 @@ pub fn statistics(manifest: &Manifest, rows: &[Vec<String>]) -> serde_json::Valu
         "succeeded": ok.len(),
         "failed": failed.len(),
         "failed_samples": failed,
+        "incomplete": incomplete.len(),
+        "incomplete_samples": incomplete,
         "outputs": outputs,
         "landing": {
             "frame": "inertial x and y of the landing point from the pad, m",
@@ -121,13 +129,14 @@ pub fn text(manifest: &Manifest, s: &serde_json::Value) -> String {
     let mut t = String::new();
     let _ = writeln!(
         t,
-        "dispersion {} of scenario {}: {} samples (seed {}), {} succeeded, {} failed",
+        "dispersion {} of scenario {}: {} samples (seed {}), {} succeeded, {} failed, {} incomplete",
         manifest.dispersion,
         manifest.scenario,
         s["samples"],
         manifest.seed,
         s["succeeded"],
-        s["failed"]
+        s["failed"],
+        s["incomplete"]
     );
     if let Some(i) = &manifest.integrator {
         let _ = writeln!(t, "integrator: {i}");
