@@ -123,7 +123,7 @@ fn is_orthotropic(name: &str) -> bool {
 const PRINTED: &[&str] = &["pla", "petg", "infill", "printed"];
 
 /// Words naming nylon, whose diagnostic asks for the conditioned modulus: nylon takes up water
-/// from the air and its modulus falls by half (DuPont's Zytel 103HSL NC010 PA66: 3100 MPa dry,
+/// from the air and its modulus falls by more than half (DuPont's Zytel 103HSL NC010 PA66: 3100 MPa dry,
 /// 1400 MPa conditioned; std/materials.vdl's header).
 const NYLON: &[&str] = &["nylon", "polyamide"];
 
@@ -141,7 +141,7 @@ fn ask_for_material_help(name: &str) -> String {
             help.push_str(". A printed part is anisotropic (layer and raster directions, infill) and less stiff than the resin of its filament: give the modulus of printed specimens in their weakest direction (a maker's printed X-Y or Z value, not the resin's), or the fins' E2 and G12 in the written file (a lamina: docs/language.md)");
         }
         if any(NYLON) {
-            help.push_str(". Nylon takes up water from the air and its modulus falls by half (DuPont's Zytel 103HSL NC010: 3100 MPa dry, 1400 MPa conditioned, ISO 527): give the conditioned value");
+            help.push_str(". Nylon takes up water from the air and its modulus falls by more than half (DuPont's Zytel 103HSL NC010: 3100 MPa dry, 1400 MPa conditioned, ISO 527): give the conditioned value");
         }
     } else {
         help.push_str(" (e.g. from the supplier's data sheet)");
