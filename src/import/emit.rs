@@ -123,8 +123,8 @@ fn is_orthotropic(name: &str) -> bool {
 const PRINTED: &[&str] = &["pla", "petg", "infill", "printed"];
 
 /// Words naming nylon, whose diagnostic asks for the conditioned modulus: nylon takes up water
-/// from the air and its modulus falls by more than half (DuPont's Zytel 103HSL NC010 PA66: 3100 MPa dry,
-/// 1400 MPa conditioned; std/materials.vdl's header).
+/// from the air and its modulus falls by more than half (DuPont's Zytel 103HSL NC010 PA66:
+/// 3100 MPa dry, 1400 MPa conditioned; std/materials.vdl's header).
 const NYLON: &[&str] = &["nylon", "polyamide"];
 
 /// The help of the diagnostic asking for a material's E and nu (`resolve_material`): what to
