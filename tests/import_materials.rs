@@ -350,14 +350,31 @@ fn a_design_in_mapped_materials_imports_without_being_told_their_stiffness() {
 }
 
 /// A name without a sourced material is asked for by name, a sandwich of a mapped material
-/// too (it mapped to the solid laminate before), and nothing is written.
+/// too (it mapped to the solid laminate before), and nothing is written. Every OpenRocket name
+/// still without sourced constants (std/materials.vdl's header) is checked: the woods, plywood
+/// and paper products get the help on choosing an isotropic pair for an orthotropic material,
+/// the plastics do not (their help is the next test's).
 #[test]
 fn unmapped_names_are_asked_for_by_name() {
     let dir = tempfile::tempdir().unwrap();
-    for name in ["Plywood (birch)", ".125 in Fiberglass/Honeycomb"] {
+    for (name, rho, orthotropic) in [
+        ("Plywood (birch)", 630.0, true),
+        (".125 in Fiberglass/Honeycomb", 630.0, false),
+        ("Basswood", 500.0, true),
+        ("Birch", 670.0, true),
+        ("Spruce", 450.0, true),
+        ("Pine", 530.0, true),
+        ("Maple", 755.0, true),
+        ("Cardboard", 680.0, true),
+        ("Kraft phenolic", 950.0, true),
+        ("Paper (office)", 820.0, true),
+        ("PLA - 100% infill", 1250.0, false),
+        ("PETG - 100% infill", 1250.0, false),
+        ("Nylon", 1150.0, false),
+    ] {
         let p = simple_rocket_with(
             dir.path(),
-            &format!("<material type=\"bulk\" density=\"630.0\" group=\"Woods\">{name}</material>"),
+            &format!("<material type=\"bulk\" density=\"{rho}\" group=\"Woods\">{name}</material>"),
             "<material type=\"bulk\" density=\"2700.0\" group=\"Metals\">Aluminum</material>",
         );
         let out = dir.path().join("out.vdl");
@@ -369,14 +386,72 @@ fn unmapped_names_are_asked_for_by_name() {
             "{name}: {e}"
         );
         assert!(e.contains(&format!("--material '{name}=")), "{name}: {e}");
-        // Plywood is orthotropic: the help says how to choose an isotropic pair.
-        assert_eq!(
-            e.contains("orthotropic"),
-            name.starts_with("Plywood"),
-            "{name}: {e}"
-        );
+        // Wood, plywood and paper are orthotropic: the help says how to choose an isotropic
+        // pair.
+        assert_eq!(e.contains("orthotropic"), orthotropic, "{name}: {e}");
         assert!(!out.exists());
     }
+}
+
+/// The printing plastics and nylon are asked for (no sourced constants: std/materials.vdl's
+/// header) with help that says which modulus to give. A printed part is anisotropic and less
+/// stiff than the resin of its filament (Polymaker's PolyTerra PLA: 1997 MPa printed X-Y, 1615
+/// MPa Z, against NatureWorks' 3.6 GPa for the 4043D resin), so the help asks for the modulus
+/// of printed specimens, not the resin's; nylon's modulus falls as it takes up water (DuPont's
+/// Zytel 103HSL NC010: 3100 MPa dry, 1400 MPa conditioned), so the help asks for the
+/// conditioned one. Both are the lower, safe-side values for flutter. On the old code the help
+/// was the generic "e.g. from the supplier's data sheet", which points a user at the stiffer
+/// resin or dry value.
+#[test]
+fn printed_plastics_and_nylon_are_asked_for_with_the_modulus_to_give() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, rho, says) in [
+        ("PLA - 100% infill", 1250.0, "printed"),
+        ("PETG - 100% infill", 1250.0, "printed"),
+        ("Nylon", 1150.0, "conditioned"),
+    ] {
+        let p = simple_rocket_with(
+            dir.path(),
+            &format!(
+                "<material type=\"bulk\" density=\"{rho}\" group=\"Plastics\">{name}</material>"
+            ),
+            "<material type=\"bulk\" density=\"2700.0\" group=\"Metals\">Aluminum</material>",
+        );
+        let out = dir.path().join("out.vdl");
+        let o = import_with_nose(&p, &out);
+        assert_eq!(o.status.code(), Some(1), "{name}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.contains("import::material") && e.contains(&format!("--material '{name}=")),
+            "{name}: {e}"
+        );
+        assert!(e.contains(says), "{name}: {e}");
+        assert!(
+            !e.contains("e.g. from the supplier's data sheet"),
+            "{name}: {e}"
+        );
+        if says == "printed" {
+            assert!(
+                e.contains("anisotropic") && e.contains("resin"),
+                "{name}: {e}"
+            );
+        }
+        assert!(!out.exists());
+    }
+    // Another plastic keeps the generic help.
+    let p = simple_rocket_with(
+        dir.path(),
+        "<material type=\"bulk\" density=\"1390.0\" group=\"Plastics\">PVC</material>",
+        "<material type=\"bulk\" density=\"2700.0\" group=\"Metals\">Aluminum</material>",
+    );
+    let o = import_with_nose(&p, &dir.path().join("out.vdl"));
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("e.g. from the supplier's data sheet")
+            && !stderr(&o).contains("printed"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 /// A mapped name whose density is far from the standard material's is warned about (a foam

@@ -115,6 +115,40 @@ fn is_orthotropic(name: &str) -> bool {
     ORTHOTROPIC.iter().any(|w| has_word(&lname, w))
 }
 
+/// Words naming a 3D-printed plastic (OpenRocket's "PLA - 100% infill", "PETG - 100% infill"),
+/// whose diagnostic asks for the modulus of printed specimens: a printed part is anisotropic
+/// (layer and raster directions, infill) and less stiff than the resin of its filament
+/// (std/materials.vdl's header: Polymaker's PolyTerra PLA, 1997 MPa printed X-Y and 1615 MPa
+/// Z, against 3.6 GPa for NatureWorks' 4043D resin).
+const PRINTED: &[&str] = &["pla", "petg", "infill", "printed"];
+
+/// Words naming nylon, whose diagnostic asks for the conditioned modulus: nylon takes up water
+/// from the air and its modulus falls by more than half (DuPont's Zytel 103HSL NC010 PA66:
+/// 3100 MPa dry, 1400 MPa conditioned; std/materials.vdl's header).
+const NYLON: &[&str] = &["nylon", "polyamide"];
+
+/// The help of the diagnostic asking for a material's E and nu (`resolve_material`): what to
+/// give for an orthotropic material, a printed plastic or nylon, each on the safe (less stiff)
+/// side for flutter; a data sheet's values for anything else.
+fn ask_for_material_help(name: &str) -> String {
+    let lname = name.to_ascii_lowercase();
+    let any = |words: &[&str]| words.iter().any(|w| has_word(&lname, w));
+    let mut help = format!("give them: --material '{name}=E GPa,nu'");
+    if is_orthotropic(name) {
+        help.push_str(". Wood, plywood, paper and fibre laminates are orthotropic: an isotropic plate's shear modulus E / (2 (1 + nu)), which the flutter margin (NACA TN 4197) rests on, should be no more than the material's in-plane shear modulus; or give the fins' material E2 and G12 in the written file (a lamina: docs/language.md)");
+    } else if any(PRINTED) || any(NYLON) {
+        if any(PRINTED) {
+            help.push_str(". A printed part is anisotropic (layer and raster directions, infill) and less stiff than the resin of its filament: give the modulus of printed specimens in their weakest direction (a maker's printed X-Y or Z value, not the resin's), or the fins' E2 and G12 in the written file (a lamina: docs/language.md)");
+        }
+        if any(NYLON) {
+            help.push_str(". Nylon takes up water from the air and its modulus falls by more than half (DuPont's Zytel 103HSL NC010: 3100 MPa dry, 1400 MPa conditioned, ISO 527): give the conditioned value");
+        }
+    } else {
+        help.push_str(" (e.g. from the supplier's data sheet)");
+    }
+    help
+}
+
 /// The density of a standard-library material, kg/m^3, read from the embedded
 /// `std/materials.vdl`.
 pub fn std_density(name: &str) -> Option<f64> {
@@ -349,17 +383,7 @@ fn resolve_material(cx: &mut Cx, m: &OrMaterial, opts: &Options, role: Role) -> 
                 ),
             )
             .label(m.at, "used here")
-            .with_help(if is_orthotropic(&m.name) {
-                format!(
-                    "give them: --material '{}=E GPa,nu'. Wood, plywood, paper and fibre laminates are orthotropic: an isotropic plate's shear modulus E / (2 (1 + nu)), which the flutter margin (NACA TN 4197) rests on, should be no more than the material's in-plane shear modulus; or give the fins' material E2 and G12 in the written file (a lamina: docs/language.md)",
-                    m.name
-                )
-            } else {
-                format!(
-                    "give them: --material '{}=E GPa,nu' (e.g. from the supplier's data sheet)",
-                    m.name
-                )
-            }),
+            .with_help(ask_for_material_help(&m.name)),
         );
         return None;
     };
@@ -1686,6 +1710,37 @@ mod tests {
         );
         assert_eq!(ident("3D fins"), "c_3d_fins");
         assert_eq!(ident("---"), "c_");
+    }
+
+    /// The help asking for a material says what to give by the kind the name names, as whole
+    /// words: "Plastic" is no "pla", "Polyamide 6" is nylon, a printed nylon gets both notes.
+    #[test]
+    fn the_help_asking_for_a_material_follows_its_kind() {
+        let printed = "printed specimens";
+        let wet = "conditioned value";
+        let generic = "e.g. from the supplier's data sheet";
+        let h = ask_for_material_help("PLA - 100% infill");
+        assert!(
+            h.contains(printed) && !h.contains(wet) && !h.contains(generic),
+            "{h}"
+        );
+        let h = ask_for_material_help("Polyamide 6");
+        assert!(h.contains(wet) && !h.contains(printed), "{h}");
+        let h = ask_for_material_help("Nylon (printed)");
+        assert!(h.contains(wet) && h.contains(printed), "{h}");
+        let h = ask_for_material_help("Kraft phenolic");
+        assert!(h.contains("orthotropic") && !h.contains(printed), "{h}");
+        for generic_name in ["Plastic (generic)", "PVC", "Explained"] {
+            let h = ask_for_material_help(generic_name);
+            assert!(
+                h.contains(generic) && !h.contains(printed),
+                "{generic_name}: {h}"
+            );
+        }
+        assert!(
+            ask_for_material_help("PETG - 100% infill")
+                .starts_with("give them: --material 'PETG - 100% infill=E GPa,nu'. ")
+        );
     }
 
     #[test]
