@@ -582,11 +582,15 @@ const RKT_MATERIALS: &[&str] = &["Paper=3 GPa,0.3", "Balsa=3 GPa,0.3", "Birch=10
 /// ended its compile in `modal::mechanisms`); with no recovery device it falls tail first
 /// from apogee, which ends the flight with a `model_limit` verdict of the flow (exit 3; it
 /// used to grind on clamped coefficients to the step limit, `max_steps`).
-/// BodyTubeChildrenTest compiles (its elliptical nose's solid tip, 36 um long, is integrated
-/// in the first element, not meshed: before, that element ended its compile in
-/// `modal::mechanisms`) with three fin flap modes (its fourth fin-flap combination is not
-/// classified as one: `per_fin` is unmet, docs/validation.md) and flies its G80 to the
-/// ground under its streamer. On the old importer `--motor` was an unknown option (exit 2).
+/// BodyTubeChildrenTest compiles as written (its elliptical nose's solid tip, 36 um long, is
+/// integrated in the first element, not meshed: before, that element ended its compile in
+/// `modal::mechanisms`), with the importer's `fin_flap = per_fin` and `fin_twist = per_fin`:
+/// its fin-flap roll combination, which twists its soft paper tube (56 % of its energy in
+/// the body), completes the flap cluster (`selection::complete_fin_cluster`), and its fins'
+/// twist, above its 36 lowest modes, is found by solving for more (`compile_model`); before,
+/// both were `structure::modes::unmet` and the test flew an edited copy with three flap
+/// modes. It flies its G80 to the ground under its streamer. On the old importer `--motor`
+/// was an unknown option (exit 2).
 #[test]
 fn rocksim_designs_take_a_motor_named_at_import_and_check() {
     let dir = tempfile::tempdir().unwrap();
@@ -618,18 +622,31 @@ fn rocksim_designs_take_a_motor_named_at_import_and_check() {
         assert_eq!(text.matches("\nscenario ").count(), 1, "{text}");
         let c = bin().arg("check").arg(&out).output().unwrap();
         assert!(c.status.success(), "check {file}: {}\n{text}", stderr(&c));
-        let vehicle = if file == "body_tube_children.rkt" {
-            // Three flap modes, no twist: what its mode classification can meet.
-            let edited = text
-                .replacen("    fin_flap = per_fin\n", "    fin_flap = 3\n", 1)
-                .replacen("    fin_twist = per_fin\n", "", 1);
-            assert_ne!(edited, text);
-            let p = dir.path().join("body_tube_children_3flap.vdl");
-            std::fs::write(&p, edited).unwrap();
-            p
-        } else {
-            out.clone()
-        };
+        assert!(text.contains("    fin_flap = per_fin\n    fin_twist = per_fin\n"));
+        let vehicle = out.clone();
+        if file == "body_tube_children.rkt" {
+            // One flap and one twist mode localised on each fin, at the frequencies the
+            // completed clusters have (Rayleigh quotients of the rotated modes).
+            let c = bin()
+                .arg("compile")
+                .arg(&vehicle)
+                .arg("--cache-dir")
+                .arg(dir.path().join("cache"))
+                .output()
+                .unwrap();
+            let listing = String::from_utf8_lossy(&c.stdout).to_string();
+            assert!(c.status.success(), "compile {file}: {}", stderr(&c));
+            for fin in 1..=4 {
+                for (class, hz) in [("flap", "860.8"), ("twist", "3180.6")] {
+                    let line = listing
+                        .lines()
+                        .find(|l| l.contains(&format!("fin{fin}_{class} ")))
+                        .unwrap_or_else(|| panic!("fin{fin}_{class}: {listing}"));
+                    assert!(line.contains(&format!(" {fin} ")), "{line}");
+                    assert!(line.contains(hz), "{line}");
+                }
+            }
+        }
         let run_dir = dir.path().join(format!("{file}-run"));
         let o = bin()
             .arg("run")

@@ -352,7 +352,11 @@ fn fin_key_nodes(
     }
 }
 
-/// How many elastic modes to compute so the selection can be met.
+/// The most elastic modes computed to meet a selection.
+const MAX_MODES: usize = 400;
+
+/// How many elastic modes to compute first so the selection can be met (more are computed
+/// while it is unmet: [`compile_model`]).
 fn modes_wanted(v: &Vehicle, n_fins: usize) -> usize {
     let mut n = 0;
     for r in &v.modes.rules {
@@ -365,7 +369,7 @@ fn modes_wanted(v: &Vehicle, n_fins: usize) -> usize {
             },
         };
     }
-    n.clamp(24, 400)
+    n.clamp(24, MAX_MODES)
 }
 
 /// Compile a checked vehicle.
@@ -434,27 +438,40 @@ pub fn compile_model(
     let key_fins = fin_key_nodes(&model, &comps, v)?;
 
     let n_fins = fins.as_ref().map_or(0, |f| f.angles.len());
-    let modes =
-        modal::solve(&model, modes_wanted(v, n_fins)).map_err(|error| StructureError::Modal {
+    // The selection is met from the lowest modes; `modes_wanted` is a first guess of how
+    // many it needs. A body with many modes below its fins' (a long, soft tube: RockSim's
+    // BodyTubeChildrenTest, whose fins' first twist lies above its 36 lowest modes) needs
+    // more: while the selection is unmet and the model has more modes, solve again for
+    // twice as many, up to MAX_MODES. A selection met at the first guess is unchanged.
+    let mut wanted = modes_wanted(v, n_fins);
+    let (modes, mut selection) = loop {
+        let modes = modal::solve(&model, wanted).map_err(|error| StructureError::Modal {
             error,
             span: structure_span(v),
         })?;
+        let n_rigid = modes.n_rigid;
+        let n_elastic = modes.shapes.ncols() - n_rigid;
+        let elastic = modes.shapes.as_ref().subcols(n_rigid, n_elastic);
+        match select(
+            &model,
+            &modes.omega2[n_rigid..],
+            elastic,
+            fins.as_ref(),
+            &v.modes.rules,
+        ) {
+            Ok(selection) => break (modes, selection),
+            Err(SelectionError::Unmet(_)) if n_elastic >= wanted && wanted < MAX_MODES => {
+                wanted = (2 * wanted).min(MAX_MODES);
+            }
+            Err(error) => {
+                return Err(StructureError::Selection {
+                    error,
+                    span: v.modes.span,
+                });
+            }
+        }
+    };
     let n_rigid = modes.n_rigid;
-    let elastic = modes
-        .shapes
-        .as_ref()
-        .subcols(n_rigid, modes.shapes.ncols() - n_rigid);
-    let mut selection = select(
-        &model,
-        &modes.omega2[n_rigid..],
-        elastic,
-        fins.as_ref(),
-        &v.modes.rules,
-    )
-    .map_err(|error| StructureError::Selection {
-        error,
-        span: v.modes.span,
-    })?;
     normalise_signs(&mut selection.shapes);
     let n = selection.info.len();
     let damping: Vec<f64> = match v.modes.damping.len() {

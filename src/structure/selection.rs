@@ -17,7 +17,12 @@
 //! fin class when they agree to [`FIN_CLUSTER_TOLERANCE`]: on thick fins the combinations that
 //! roll or bend the body are shifted several per cent (SPHADS-1 with 1.0 mm fins: flap
 //! 60.27, 60.32, 60.32, 63.74 Hz), and with the 5 % rule the fourth fin took a second flap
-//! mode at 263 Hz.
+//! mode at 263 Hz. On a body soft in torsion the roll combination (every fin moving in the
+//! same sense about the axis) twists the body and can carry more body than fin energy, so it
+//! is no fin mode by the energy rule and the cluster lacks it: the unclassified mode in the
+//! window whose fins move in the cluster's class and carry the largest share completes it,
+//! kept when the rotated modes then each classify on their own fin
+//! ([`complete_fin_cluster`]; RockSim's BodyTubeChildrenTest, a 30 mm paper tube).
 
 use std::fmt::Write as _;
 
@@ -387,6 +392,25 @@ pub fn select(
         {
             end += 1;
         }
+        if fin_kind && n_fins > 1 && end - start < n_fins {
+            // One combination of the fin class missing from its cluster: on a body soft in
+            // torsion the roll combination (every fin moving in the same sense about the
+            // axis) carries the body's torsion and can have more body than fin energy
+            // (module doc). Complete the cluster with it where that localises.
+            if let Some(done) = complete_fin_cluster(
+                &cl,
+                model,
+                &mut phis,
+                &mut m_phis,
+                &mut w2,
+                &mut info,
+                start,
+                kind,
+            ) {
+                start = done + 1;
+                continue;
+            }
+        }
         let k = end - start;
         let targets: Vec<Vec<f64>> = match kind {
             Kind::FinFlap | Kind::FinTwist if k == n_fins && k > 1 => (0..n_fins)
@@ -502,6 +526,88 @@ pub fn select(
     })
 }
 
+/// Completes a fin cluster that lacks one combination of its class (the `n_fins - 1` modes
+/// of `kind` within [`FIN_CLUSTER_TOLERANCE`] of mode `start`, the first of its class) with
+/// the unclassified mode in that window whose fins move in that class (out of plane, flap
+/// or twist by [`Classifier::fin_motion`] summed over the fins) and carry the largest share
+/// of its energy, and localises the `n_fins` modes on the fins. On a body soft in torsion the
+/// roll combination of the fin flap (every fin in the same sense about the axis) twists the
+/// body and can carry more body energy than fin energy: RockSim's BodyTubeChildrenTest (a
+/// 30 mm paper tube), whose flap cluster is 879.3, 887.7, 887.7 Hz and whose roll
+/// combination, 784.3 Hz, has 56 % of its energy in the body. Rotating the `n_fins` modes
+/// changes the basis, not the subspace they span (as for any cluster), so the reduced model
+/// keeps the body torsion the combination carries. The completion is kept only when each
+/// rotated mode then classifies as `kind` on its own fin; otherwise nothing changes and
+/// `None` is returned. Returns the highest index of the completed cluster.
+#[allow(clippy::too_many_arguments)]
+fn complete_fin_cluster(
+    cl: &Classifier<'_>,
+    model: &FeModel,
+    phis: &mut [Vec<f64>],
+    m_phis: &mut [Vec<f64>],
+    w2: &mut [f64],
+    info: &mut [ModeInfo],
+    start: usize,
+    kind: Kind,
+) -> Option<usize> {
+    let fins = cl.fins?;
+    let n_fins = cl.n_fins;
+    let f0 = info[start].frequency_hz;
+    let near = |j: usize| (info[j].frequency_hz - f0).abs() <= FIN_CLUSTER_TOLERANCE * f0;
+    let members: Vec<usize> = (0..info.len())
+        .filter(|&j| near(j) && info[j].kind == kind)
+        .collect();
+    if members.len() != n_fins - 1 || members[0] != start {
+        return None;
+    }
+    let moves_as = |j: usize| {
+        let (mut flap, mut twist, mut in_plane) = (0.0, 0.0, 0.0);
+        for f in 0..n_fins {
+            let (a, b, c) = cl.fin_motion(&phis[j], fins, f);
+            flap += a;
+            twist += b;
+            in_plane += c;
+        }
+        in_plane < flap + twist
+            && match kind {
+                Kind::FinFlap => flap >= twist,
+                _ => twist > flap,
+            }
+    };
+    let fin_share = |m: &ModeInfo| m.fin_fractions.iter().sum::<f64>();
+    let extra = (0..info.len())
+        .filter(|&j| near(j) && info[j].kind == Kind::Other && moves_as(j))
+        .max_by(|&a, &b| fin_share(&info[a]).total_cmp(&fin_share(&info[b])))?;
+    let mut idx = members;
+    idx.push(extra);
+    idx.sort_unstable();
+    let targets: Vec<Vec<f64>> = (0..n_fins)
+        .map(|j| target_mask(&cl.comps, |c, _| c == Component::Fin(j as u16)))
+        .collect();
+    let mut p: Vec<Vec<f64>> = idx.iter().map(|&j| phis[j].clone()).collect();
+    let mut mp: Vec<Vec<f64>> = idx.iter().map(|&j| m_phis[j].clone()).collect();
+    let mut w: Vec<f64> = idx.iter().map(|&j| w2[j]).collect();
+    localise(model, &mut p, &mut mp, &mut w, &targets);
+    let new: Vec<ModeInfo> = idx
+        .iter()
+        .enumerate()
+        .map(|(t, &j)| cl.classify(&p[t], &mp[t], w[t], j))
+        .collect();
+    let mut on: Vec<usize> = new.iter().filter_map(|m| m.fin).collect();
+    on.sort_unstable();
+    on.dedup();
+    if new.iter().any(|m| m.kind != kind) || on.len() != n_fins {
+        return None;
+    }
+    for (t, &j) in idx.iter().enumerate() {
+        phis[j] = std::mem::take(&mut p[t]);
+        m_phis[j] = std::mem::take(&mut mp[t]);
+        w2[j] = w[t];
+        info[j] = new[t].clone();
+    }
+    idx.last().copied()
+}
+
 fn is_fin(c: Component) -> Component {
     // Helper for the body masks: returns the component itself when it is a fin, so
     // `c != is_fin(c)` is true exactly for non-fin nodes.
@@ -588,7 +694,18 @@ fn localise(
 fn unmet(class: ModeClass, wanted: &str, info: &[ModeInfo]) -> SelectionError {
     let mut found = String::new();
     for m in info.iter().take(24) {
-        let _ = write!(found, "{} {:.2} Hz; ", m.name, m.frequency_hz);
+        let _ = write!(found, "{} {:.2} Hz", m.name, m.frequency_hz);
+        // An unclassified mode says where its energy is (what kept it out of a class).
+        if m.kind == Kind::Other {
+            let fins: f64 = m.fin_fractions.iter().sum();
+            let _ = write!(
+                found,
+                " (body {:.0} %, fins {:.0} %)",
+                100.0 * m.body_fraction,
+                100.0 * fins
+            );
+        }
+        found.push_str("; ");
     }
     SelectionError::Unmet(format!(
         "asked for {:?} modes ({wanted}) but the {} lowest elastic modes do not contain them: {}",
