@@ -2089,6 +2089,31 @@ mod tests {
         assert!(GivenMaterial::parse("Cardboard").is_err());
     }
 
+    /// OpenRocket's three tab references (`FinTabPositionSetter`: `front`/`center`/`end`, or
+    /// the newer `top`/`middle`/`bottom`): a 60 mm tab on a 100 mm root, offset 5 mm.
+    #[test]
+    fn a_fin_tabs_front_edge_is_read_from_each_reference() {
+        let front = |rel: &str| {
+            let xml = format!(
+                "<trapezoidfinset><tabposition relativeto=\"{rel}\">0.005</tabposition></trapezoidfinset>"
+            );
+            let doc = roxmltree::Document::parse(&xml).unwrap();
+            tab_front(doc.root_element(), 0.06, 0.1)
+        };
+        for (rel, want) in [
+            ("front", 0.005),
+            ("top", 0.005),
+            ("center", 0.025),
+            ("middle", 0.025),
+            ("end", 0.045),
+            ("bottom", 0.045),
+        ] {
+            assert!((front(rel) - want).abs() < 1e-12, "{rel}: {}", front(rel));
+        }
+        let doc = roxmltree::Document::parse("<trapezoidfinset/>").unwrap();
+        assert!((tab_front(doc.root_element(), 0.06, 0.1) - 0.02).abs() < 1e-12);
+    }
+
     #[test]
     fn a_bow_tie_outline_crosses_itself_and_a_trapezoid_does_not() {
         let trap = [(0.0, 0.0), (0.02, 0.05), (0.06, 0.05), (0.08, 0.0)];
