@@ -1774,15 +1774,20 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                     Some(r) if r > 0.0 => material(cx, c, "filletmaterial").map(|m| (r, m)),
                     _ => None,
                 };
-                if num(cx, c, "tabheight").ok().flatten().unwrap_or(0.0) > 0.0
-                    && num(cx, c, "tablength").ok().flatten().unwrap_or(0.0) > 0.0
-                {
+                let tab_h = num(cx, c, "tabheight").ok().flatten().unwrap_or(0.0);
+                let tab_l = num(cx, c, "tablength").ok().flatten().unwrap_or(0.0);
+                let om = override_mass(cx, c);
+                // The fin tab (inside the body): no structure, but its mass is the fin set's
+                // as OpenRocket counts it (`FinSet.calculateCM`: tab area x thickness x
+                // density per fin), kept as a mass over the tab's length unless the fin set's
+                // mass is overridden.
+                let tab = (tab_h > 0.0 && tab_l > 0.0).then_some((tab_h, tab_l));
+                if tab.is_some() && om.is_some() {
                     cx.warn(
                         c,
-                        format!("{what}: the fin tab (inside the body) is not represented"),
+                        format!("{what}: the fin tab (inside the body) is not represented (its mass is in the design's override)"),
                     );
                 }
-                let om = override_mass(cx, c);
                 if let (Some(root), Some(tip), Some(span), Some(thick), Some(mat)) =
                     (root, tip, span, thick, mat)
                 {
@@ -1797,6 +1802,28 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                     };
                     let le = place(c, p.top, p.length, root);
                     let count = count.round().max(1.0) as u32;
+                    if let (Some((h, l)), None) = (tab, om) {
+                        let front = tab_front(c, l, root);
+                        let m = f64::from(count) * h * l * thick * mat.density;
+                        cx.warn(
+                            c,
+                            format!(
+                                "{what}: the fin tab (inside the body) is not represented as structure; its mass ({:.1} g) is kept",
+                                1e3 * m
+                            ),
+                        );
+                        rd.masses.push(MassItem {
+                            name: format!("{nm} tabs"),
+                            mass: m,
+                            s0: le + front,
+                            s1: le + front + l,
+                            note: format!(
+                                "fin tabs of `{nm}` ({count} x {:.2} x {:.2} mm, inside the body)",
+                                1e3 * l,
+                                1e3 * h
+                            ),
+                        });
+                    }
                     let offset = num(cx, c, "angleoffset").ok().flatten().unwrap_or(0.0);
                     rd.fins.push(FinSet {
                         name: nm.clone(),
@@ -1840,6 +1867,28 @@ fn read_internal(cx: &mut Cx, rd: &mut Reader, subs: Node, p: &Parent, parent_na
                 "unknown component",
             ),
         }
+    }
+}
+
+/// The fin tab's front edge behind the root chord's leading edge, m: `<tabposition>` is an
+/// offset from the root's front (`front`/`top`), centre (`center`/`middle`) or end
+/// (`end`/`bottom`), as OpenRocket's `FinTabPositionSetter` and `AxialMethod.getAsPosition`
+/// read it (the tab's front, centre or end respectively).
+fn tab_front(c: Node, tab_length: f64, root: f64) -> f64 {
+    let Some(t) = c.children().find(|x| x.has_tag_name("tabposition")) else {
+        return 0.5 * (root - tab_length);
+    };
+    let off = t
+        .text()
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .unwrap_or(0.0);
+    let rel = t.attribute("relativeto").unwrap_or("center");
+    if rel.contains("front") || rel == "top" {
+        off
+    } else if rel.contains("end") || rel == "bottom" {
+        off + root - tab_length
+    } else {
+        off + 0.5 * (root - tab_length)
     }
 }
 
@@ -1981,6 +2030,20 @@ fn read_simulations(cx: &mut Cx, root: Node) -> Vec<Simulation> {
             fd.and_then(|f| f.attribute(k))
                 .and_then(|v| v.parse::<f64>().ok())
         };
+        // A simulation extension (OpenRocket's listeners: roll control, air-start, scripts)
+        // changes the flight it stores; flexflight has no extensions, so the scenario flies
+        // the design without it and the stored result is not its reference.
+        let name = text_of(s, "name").unwrap_or("simulation");
+        for x in s.children().filter(|x| x.has_tag_name("extension")) {
+            let id = x.attribute("extensionid").unwrap_or("?");
+            let short = id.rsplit('.').next().unwrap_or(id);
+            cx.warn(
+                x,
+                format!(
+                    "simulation `{name}`: its extension `{short}` ({id}) is not imported: the scenario flies without it, so OpenRocket's stored result (with it) is not its reference"
+                ),
+            );
+        }
         let wind_dir = match num(cx, c, "winddirection").ok().flatten() {
             Some(d) => d,
             None => child(c, "wind")
@@ -1989,7 +2052,7 @@ fn read_simulations(cx: &mut Cx, root: Node) -> Vec<Simulation> {
                 .unwrap_or(0.0),
         };
         out.push(Simulation {
-            name: text_of(s, "name").unwrap_or("simulation").to_string(),
+            name: name.to_string(),
             config: text_of(c, "configid").map(str::to_string),
             rod_length: g(cx, "launchrodlength", 1.0),
             rod_angle: g(cx, "launchrodangle", 0.0),
@@ -2024,6 +2087,31 @@ mod tests {
         );
         assert!(GivenMaterial::parse("Cardboard=3 GPa,0.6").is_err());
         assert!(GivenMaterial::parse("Cardboard").is_err());
+    }
+
+    /// OpenRocket's three tab references (`FinTabPositionSetter`: `front`/`center`/`end`, or
+    /// the newer `top`/`middle`/`bottom`): a 60 mm tab on a 100 mm root, offset 5 mm.
+    #[test]
+    fn a_fin_tabs_front_edge_is_read_from_each_reference() {
+        let front = |rel: &str| {
+            let xml = format!(
+                "<trapezoidfinset><tabposition relativeto=\"{rel}\">0.005</tabposition></trapezoidfinset>"
+            );
+            let doc = roxmltree::Document::parse(&xml).unwrap();
+            tab_front(doc.root_element(), 0.06, 0.1)
+        };
+        for (rel, want) in [
+            ("front", 0.005),
+            ("top", 0.005),
+            ("center", 0.025),
+            ("middle", 0.025),
+            ("end", 0.045),
+            ("bottom", 0.045),
+        ] {
+            assert!((front(rel) - want).abs() < 1e-12, "{rel}: {}", front(rel));
+        }
+        let doc = roxmltree::Document::parse("<trapezoidfinset/>").unwrap();
+        assert!((tab_front(doc.root_element(), 0.06, 0.1) - 0.02).abs() < 1e-12);
     }
 
     #[test]
