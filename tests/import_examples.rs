@@ -80,6 +80,32 @@ fn run(vdl: &Path, scenario: &str, sets: &[&str]) -> Output {
     c.output().unwrap()
 }
 
+/// The selected modes of the vehicle's compile (`--format json`): name, fin (1-based, 0 for
+/// none) and frequency.
+fn selected_modes(vdl: &Path) -> Vec<(String, u64, f64)> {
+    let o = bin()
+        .arg("compile")
+        .arg(vdl)
+        .args(["--format", "json", "--cache-dir"])
+        .arg(cache())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "compile: {}", stderr(&o));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    j["modes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| {
+            (
+                m["name"].as_str().unwrap().to_string(),
+                m["fin"].as_u64().map_or(0, |f| f + 1),
+                m["frequency_hz"].as_f64().unwrap(),
+            )
+        })
+        .collect()
+}
+
 /// A flight's apogee, time to apogee and maximum speed (over the output rows).
 struct Flown {
     apogee: f64,
@@ -279,6 +305,26 @@ fn chute_release_flies_its_two_simulations_within_5_percent() {
         text.contains("motor.curve = \"AeroTech_G40W.eng\""),
         "{text}"
     );
+    // The importer's `fin_flap = per_fin` and `fin_twist = per_fin` are met by a mode of
+    // each class on each fin, at one frequency (a symmetric set): the flap and twist roll
+    // combinations, which twist the paper tube, complete their clusters
+    // (`selection::complete_fin_cluster`). On the old classifier the flap selection was
+    // unmet and, flown with `fin_flap = 3`, the twist roll combination (516.9 Hz, 26 %
+    // below its pair) was no member of a cluster: each fin took the first twist mode it
+    // dominated (516.9, 695.7 and 1648.7 Hz).
+    let modes = selected_modes(&vdl);
+    for (class, hz) in [("flap", 356.504), ("twist", 641.660)] {
+        let of: Vec<&(String, u64, f64)> = modes
+            .iter()
+            .filter(|m| m.0.ends_with(&format!("_{class}")))
+            .collect();
+        assert_eq!(of.len(), 3, "{modes:?}");
+        for (k, m) in of.iter().enumerate() {
+            assert_eq!(m.0, format!("fin{}_{class}", k + 1), "{modes:?}");
+            assert_eq!(m.1, k as u64 + 1, "{modes:?}");
+            assert!((m.2 - hz).abs() < 1e-3, "{class}: {modes:?}");
+        }
+    }
     compare(
         "Chute release",
         &vdl,

@@ -26,8 +26,10 @@ use crate::syntax::Span;
 /// vehicle's elastic modes the requested ratio (`coefficients::reduce`). 4: hard body
 /// stations within 1e-3 of a division of each other are one (`generate::mesh`). 5: a nose's
 /// solid-tip end within 0.3 of a division of the tip is no station, its element integrated in
-/// two parts (`generate::mesh`, `generate::beam`).
-pub const PIPELINE_REVISION: u32 = 5;
+/// two parts (`generate::mesh`, `generate::beam`). 6: a fin cluster is completed with its
+/// roll combination (`selection::complete_fin_cluster`), and a selection unmet by the modes
+/// solved is tried on more ([`compile_model`]).
+pub const PIPELINE_REVISION: u32 = 6;
 
 /// Everything later stages need from the structure, as plain archivable data.
 #[derive(Clone, Debug, Serialize, rkyv::Archive, rkyv::Serialize, rkyv::Deserialize)]

@@ -18,11 +18,11 @@
 //! roll or bend the body are shifted several per cent (SPHADS-1 with 1.0 mm fins: flap
 //! 60.27, 60.32, 60.32, 63.74 Hz), and with the 5 % rule the fourth fin took a second flap
 //! mode at 263 Hz. On a body soft in torsion the roll combination (every fin moving in the
-//! same sense about the axis) twists the body and can carry more body than fin energy, so it
-//! is no fin mode by the energy rule and the cluster lacks it: the unclassified mode in the
-//! window whose fins move in the cluster's class and carry the largest share completes it,
-//! kept when the rotated modes then each classify on their own fin
-//! ([`complete_fin_cluster`]; RockSim's BodyTubeChildrenTest, a 30 mm paper tube).
+//! same sense about the axis) twists the body: it can carry more body than fin energy, so
+//! that it is no fin mode by the energy rule, or lie farther than the tolerance from the
+//! other combinations. Either way the cluster is completed with it, kept when the rotated
+//! modes then each classify on their own fin ([`complete_fin_cluster`]; RockSim's
+//! BodyTubeChildrenTest and OpenRocket's Chute release, fins on paper tubes).
 
 use std::fmt::Write as _;
 
@@ -192,6 +192,16 @@ fn energy_density(phi: &[f64], m_phi: &[f64]) -> Vec<f64> {
     phi.iter().zip(m_phi).map(|(a, b)| a * b).collect()
 }
 
+/// A fin's motion in a mode ([`Classifier::fin_motion_signed`]).
+#[derive(Clone, Copy, Debug, Default)]
+struct FinMotion {
+    flap: f64,
+    twist: f64,
+    in_plane: f64,
+    flap_signed: f64,
+    twist_signed: f64,
+}
+
 struct Classifier<'a> {
     model: &'a FeModel,
     comps: Vec<Component>,
@@ -275,6 +285,15 @@ impl Classifier<'_> {
     /// are fitted per span station as w = a + b xi (xi: chordwise position over the local
     /// chord); flap = sum of a^2, twist = sum of (b xi)^2, in-plane = sum of in-plane u^2.
     fn fin_motion(&self, phi: &[f64], fins: &FinLayout, j: usize) -> (f64, f64, f64) {
+        let m = self.fin_motion_signed(phi, fins, j);
+        (m.flap, m.twist, m.in_plane)
+    }
+
+    /// [`Classifier::fin_motion`] with the signed sums of the fits: `flap_signed` = sum of
+    /// n a, `twist_signed` = sum of b sxx over the stations (n nodes at a station, sxx the
+    /// sum of their xi^2). The normal of fin j is x-hat cross its span direction, so the same
+    /// sign on every fin is a rotation in one sense about the body axis: a roll combination.
+    fn fin_motion_signed(&self, phi: &[f64], fins: &FinLayout, j: usize) -> FinMotion {
         let n = fins.normal(j);
         let sdir = fins.span_dir(j);
         let mut pts: Vec<(f64, f64, f64)> = Vec::new(); // (span coord, chord coord, w)
@@ -292,7 +311,7 @@ impl Classifier<'_> {
             pts.push((rho, p[0], w));
         }
         if pts.is_empty() {
-            return (0.0, 0.0, 0.0);
+            return FinMotion::default();
         }
         // Bin by span coordinate into stations.
         let (lo, hi) = pts
@@ -306,6 +325,7 @@ impl Classifier<'_> {
             groups[b].push((*x, *w));
         }
         let (mut flap, mut twist) = (0.0, 0.0);
+        let (mut flap_signed, mut twist_signed) = (0.0, 0.0);
         for g in groups.iter().filter(|g| !g.is_empty()) {
             let nn = g.len() as f64;
             let xm = g.iter().map(|p| p.0).sum::<f64>() / nn;
@@ -314,6 +334,7 @@ impl Classifier<'_> {
             let wm = g.iter().map(|p| p.1).sum::<f64>() / nn;
             if g.len() < 2 || chord <= 0.0 {
                 flap += nn * wm * wm;
+                flap_signed += nn * wm;
                 continue;
             }
             let sxx: f64 = g.iter().map(|p| ((p.0 - xm) / chord).powi(2)).sum();
@@ -321,8 +342,37 @@ impl Classifier<'_> {
             let b = if sxx > 0.0 { sxw / sxx } else { 0.0 };
             flap += nn * wm * wm;
             twist += b * b * sxx;
+            flap_signed += nn * wm;
+            twist_signed += b * sxx;
         }
-        (flap, twist, in_plane)
+        FinMotion {
+            flap,
+            twist,
+            in_plane,
+            flap_signed,
+            twist_signed,
+        }
+    }
+
+    /// The share of a mode's fin motion of `kind` that is a roll combination:
+    /// |sum_j s_j| / sum_j |s_j| over the fins' signed amplitudes s_j
+    /// ([`Classifier::fin_motion_signed`]): 1 when every fin moves alike in the same sense
+    /// about the axis, 0 for a combination orthogonal to it (on a symmetric fin set every
+    /// other combination of a cluster sums to zero).
+    fn roll_share(&self, phi: &[f64], kind: Kind) -> f64 {
+        let Some(fins) = self.fins else { return 0.0 };
+        let (mut sum, mut abs) = (0.0, 0.0);
+        for j in 0..self.n_fins {
+            let m = self.fin_motion_signed(phi, fins, j);
+            let a = if kind == Kind::FinTwist {
+                m.twist_signed
+            } else {
+                m.flap_signed
+            };
+            sum += a;
+            abs += a.abs();
+        }
+        if abs > 0.0 { sum.abs() / abs } else { 0.0 }
     }
 }
 
@@ -526,19 +576,29 @@ pub fn select(
     })
 }
 
-/// Completes a fin cluster that lacks one combination of its class (the `n_fins - 1` modes
-/// of `kind` within [`FIN_CLUSTER_TOLERANCE`] of mode `start`, the first of its class) with
-/// the unclassified mode in that window whose fins move in that class (out of plane, flap
-/// or twist by [`Classifier::fin_motion`] summed over the fins) and carry the largest share
-/// of its energy, and localises the `n_fins` modes on the fins. On a body soft in torsion the
-/// roll combination of the fin flap (every fin in the same sense about the axis) twists the
-/// body and can carry more body energy than fin energy: RockSim's BodyTubeChildrenTest (a
-/// 30 mm paper tube), whose flap cluster is 879.3, 887.7, 887.7 Hz and whose roll
-/// combination, 784.3 Hz, has 56 % of its energy in the body. Rotating the `n_fins` modes
-/// changes the basis, not the subspace they span (as for any cluster), so the reduced model
-/// keeps the body torsion the combination carries. The completion is kept only when each
-/// rotated mode then classifies as `kind` on its own fin; otherwise nothing changes and
-/// `None` is returned. Returns the highest index of the completed cluster.
+/// Completes a fin cluster whose roll combination (every fin moving alike in the same sense
+/// about the axis: [`Classifier::roll_share`]) the frequency rule missed, and localises its
+/// `n_fins` modes on the fins. On a body soft in torsion the roll combination twists the
+/// body, which shifts it from the other combinations and can give it more body than fin
+/// energy. Two cases, from mode `start`, the first of class `kind` not yet in a cluster:
+///
+/// 1. The roll combination is no fin mode by the energy rule: `n_fins - 1` modes of `kind`
+///    lie within [`FIN_CLUSTER_TOLERANCE`] of `start`, and the unclassified mode in that
+///    window whose fins move in that class (out of plane, flap or twist by
+///    [`Classifier::fin_motion`] summed over the fins) and carry the largest share of its
+///    energy completes them. RockSim's BodyTubeChildrenTest (a 30 mm paper tube): flap
+///    cluster 879.3, 887.7, 887.7 Hz, roll combination 784.3 Hz with 56 % of its energy in
+///    the body.
+/// 2. The roll combination is a mode of `kind` farther than the tolerance from the others:
+///    of the `n_fins` lowest modes of `kind` from `start` on, exactly one is a roll
+///    combination (roll share above 1/2) and the others lie within the tolerance of one
+///    another. OpenRocket's Chute release (three plywood fins on a paper tube): twist roll
+///    combination 516.9 Hz, the pair 695.7 Hz (26 % apart).
+///
+/// Rotating the modes changes the basis, not the subspace they span (as for any cluster), so
+/// the reduced model keeps the body torsion the roll combination carries. A completion is
+/// kept only when each rotated mode then classifies as `kind` on its own fin; otherwise
+/// nothing changes and `None` is returned. Returns the highest index of the cluster.
 #[allow(clippy::too_many_arguments)]
 fn complete_fin_cluster(
     cl: &Classifier<'_>,
@@ -557,29 +617,55 @@ fn complete_fin_cluster(
     let members: Vec<usize> = (0..info.len())
         .filter(|&j| near(j) && info[j].kind == kind)
         .collect();
-    if members.len() != n_fins - 1 || members[0] != start {
-        return None;
-    }
-    let moves_as = |j: usize| {
-        let (mut flap, mut twist, mut in_plane) = (0.0, 0.0, 0.0);
-        for f in 0..n_fins {
-            let (a, b, c) = cl.fin_motion(&phis[j], fins, f);
-            flap += a;
-            twist += b;
-            in_plane += c;
-        }
-        in_plane < flap + twist
-            && match kind {
-                Kind::FinFlap => flap >= twist,
-                _ => twist > flap,
+    let mut idx: Vec<usize> = if members.len() == n_fins - 1 && members[0] == start {
+        // Case 1.
+        let moves_as = |j: usize| {
+            let (mut flap, mut twist, mut in_plane) = (0.0, 0.0, 0.0);
+            for f in 0..n_fins {
+                let (a, b, c) = cl.fin_motion(&phis[j], fins, f);
+                flap += a;
+                twist += b;
+                in_plane += c;
             }
+            in_plane < flap + twist
+                && match kind {
+                    Kind::FinFlap => flap >= twist,
+                    _ => twist > flap,
+                }
+        };
+        let fin_share = |m: &ModeInfo| m.fin_fractions.iter().sum::<f64>();
+        let extra = (0..info.len())
+            .filter(|&j| near(j) && info[j].kind == Kind::Other && moves_as(j))
+            .max_by(|&a, &b| fin_share(&info[a]).total_cmp(&fin_share(&info[b])))?;
+        let mut idx = members;
+        idx.push(extra);
+        idx
+    } else {
+        // Case 2.
+        let class: Vec<usize> = (start..info.len())
+            .filter(|&j| info[j].kind == kind)
+            .take(n_fins)
+            .collect();
+        if class.len() < n_fins {
+            return None;
+        }
+        let roll: Vec<usize> = class
+            .iter()
+            .copied()
+            .filter(|&j| cl.roll_share(&phis[j], kind) > 0.5)
+            .collect();
+        let rest: Vec<f64> = class
+            .iter()
+            .filter(|j| !roll.contains(j))
+            .map(|&j| info[j].frequency_hz)
+            .collect();
+        let lo = rest.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = rest.iter().copied().fold(0.0, f64::max);
+        if roll.len() != 1 || hi - lo > FIN_CLUSTER_TOLERANCE * lo {
+            return None;
+        }
+        class
     };
-    let fin_share = |m: &ModeInfo| m.fin_fractions.iter().sum::<f64>();
-    let extra = (0..info.len())
-        .filter(|&j| near(j) && info[j].kind == Kind::Other && moves_as(j))
-        .max_by(|&a, &b| fin_share(&info[a]).total_cmp(&fin_share(&info[b])))?;
-    let mut idx = members;
-    idx.push(extra);
     idx.sort_unstable();
     let targets: Vec<Vec<f64>> = (0..n_fins)
         .map(|j| target_mask(&cl.comps, |c, _| c == Component::Fin(j as u16)))
