@@ -837,3 +837,67 @@ fn rocksim_custom_fins_are_freeform_outlines() {
         assert!(!out.exists());
     }
 }
+
+/// A mass override is honoured whether it lies above or below the mass the generated structure
+/// has there (issue 34 item 1: "mass and centre-of-mass overrides are honoured"). The simple
+/// rocket's body tube overridden to 2, 20 and 30 g: the vehicle's compiled mass is affine in
+/// the override with slope 1 (differences 18 and 10 g to 1 mg, the precision the import
+/// writes masses to: 1e-6 kg; 2e-8 kg measured) and its first moment with the tube's centre
+/// as slope (to 1 mg times the rocket's 0.4 m). Below the generated tube's mass the generated
+/// body's density is lowered to keep it (`import::emit`, module doc) and the nose's mass is
+/// restored as a mass; on the old importer a 2 g override gave the generated tube's own mass
+/// and a warning that a negative mass cannot be added (the 18 g difference came out smaller).
+#[test]
+fn a_mass_override_below_the_generated_structure_is_honoured() {
+    let dir = tempfile::tempdir().unwrap();
+    let xml = simple_rocket_xml();
+    let at = xml.find("<bodytube>").unwrap();
+    let finish = at + xml[at..].find("</finish>").unwrap() + "</finish>".len();
+    let mass_and_moment = |grams: f64| -> (f64, f64, String) {
+        let edited = format!(
+            "{}<overridemass>{}</overridemass>{}",
+            &xml[..finish],
+            grams / 1e3,
+            &xml[finish..]
+        );
+        let src = dir.path().join(format!("o{grams}.ork"));
+        std::fs::write(&src, edited).unwrap();
+        let out = dir.path().join(format!("o{grams}.vdl"));
+        let args = with_materials(SIMPLE_MATERIALS);
+        let a: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = import(&src, &out, &a);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let c = bin()
+            .arg("compile")
+            .arg(&out)
+            .args(["--format", "json", "--cache-dir"])
+            .arg(dir.path().join("cache"))
+            .output()
+            .unwrap();
+        assert!(c.status.success(), "{}", stderr(&c));
+        let j: serde_json::Value = serde_json::from_slice(&c.stdout).unwrap();
+        let m = j["total_mass_kg"].as_f64().unwrap();
+        let x = j["centre_of_mass_m"][0].as_f64().unwrap();
+        (m, m * x, flat(&stderr(&o)))
+    };
+    let (m2, mx2, warnings2) = mass_and_moment(2.0);
+    let (m20, mx20, _) = mass_and_moment(20.0);
+    let (m30, mx30, _) = mass_and_moment(30.0);
+    assert!(
+        !warnings2.contains("a negative mass cannot be added"),
+        "{warnings2}"
+    );
+    assert!(((m20 - m2) - 0.018).abs() < 1e-6, "{m2} {m20}");
+    assert!(((m30 - m20) - 0.010).abs() < 1e-6, "{m20} {m30}");
+    // The tube's centre, from the two overrides above the generated mass.
+    let xc = (mx30 - mx20) / 0.010;
+    assert!(
+        ((mx20 - mx2) - 0.018 * xc).abs() < 4e-7,
+        "{mx2} {mx20} {xc}"
+    );
+    let text = std::fs::read_to_string(dir.path().join("o2.vdl")).unwrap();
+    assert!(
+        text.contains("material cardboard_ork_generated {"),
+        "{text}"
+    );
+}

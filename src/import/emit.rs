@@ -9,7 +9,12 @@
 //! generated, is added back as a point or distributed mass at the place that restores the
 //! centre of mass: for masses (m_t, x_t) true and (m_g, x_g) generated, Delta m = m_t - m_g at
 //! x = (m_t x_t - m_g x_g) / Delta m (first moments add). A negative difference cannot be
-//! added: a warning says by how much the model is heavy there.
+//! added: where a part of the body (nose, tube, transition) is lighter in the design than
+//! the generated structure there (a mass override below what its wall gives), the generated
+//! body's density is lowered by the smallest ratio k = m_t / m_g over those parts, so that
+//! every body part's difference m_t - k m_g is positive and restored (its stiffness stays
+//! the material's); a fin set's override below its generated mass is still a warning that
+//! says by how much the model is heavy there.
 
 use std::f64::consts::PI;
 use std::fmt::Write;
@@ -854,6 +859,8 @@ pub(crate) fn emit(
     let ln = d.nose.length;
     let mut masses: Vec<MassItem> = d.masses.clone();
     let mut notes: Vec<String> = d.notes.clone();
+    // The parts whose true mass the generated structure does not have (restored below).
+    let mut parts: Vec<Part> = Vec::new();
 
     // Nose: true shape and material against the generated cone (module doc).
     {
@@ -882,17 +889,15 @@ pub(crate) fn emit(
             NoseShape::Conical
         };
         let (mg, xg) = generated.shell_mass(r, ln, t_b, rho_b, false);
-        add_difference(
-            cx,
-            &mut masses,
-            &format!("{} (shape and material)", n.name),
+        parts.push(Part {
+            name: format!("{} (shape and material)", n.name),
             mt,
             xt,
             mg,
             xg,
-            (0.0, ln),
-            &mut notes,
-        );
+            range: (0.0, ln),
+            body: true,
+        });
         if n.shape.to_language().is_none() {
             cx.diags.push(Diagnostic::warning(
                 "import::approximation",
@@ -914,19 +919,17 @@ pub(crate) fn emit(
             .override_mass
             .unwrap_or(t.material.density * area(t.thickness) * t.length);
         let xc = t.top + t.length / 2.0;
-        if (mt - mg).abs() > 1e-6 {
-            add_difference(
-                cx,
-                &mut masses,
-                &format!("{} (material, wall or override)", t.name),
-                mt,
-                xc,
-                mg,
-                xc,
-                (t.top, t.top + t.length),
-                &mut notes,
-            );
-        }
+        // Every tube is a part: with the body's density lowered (below) a tube the generated
+        // wall matched is light and gets its difference back.
+        parts.push(Part {
+            name: format!("{} (material, wall or override)", t.name),
+            mt,
+            xt: xc,
+            mg,
+            xg: xc,
+            range: (t.top, t.top + t.length),
+            body: true,
+        });
         if t.material.name != tube0.material.name || (t.thickness - t_b).abs() > 1e-9 {
             cx.diags.push(Diagnostic::warning(
                 "import::approximation",
@@ -1003,17 +1006,15 @@ pub(crate) fn emit(
             ));
         }
         let (mg, xg) = shell(&|s| g.radius(s), t_b, rho_b, false);
-        add_difference(
-            cx,
-            &mut masses,
-            &format!("{} (shape, material and wall)", t.name),
+        parts.push(Part {
+            name: format!("{} (shape, material and wall)", t.name),
             mt,
             xt,
             mg,
             xg,
-            (t.top, t.top + t.length),
-            &mut notes,
-        );
+            range: (t.top, t.top + t.length),
+            body: true,
+        });
         if lang.is_none() {
             cx.diags.push(Diagnostic::warning(
                 "import::approximation",
@@ -1053,18 +1054,43 @@ pub(crate) fn emit(
                         * m.density
                 });
             let xc = fs.root_le + fs.root / 2.0;
-            add_difference(
-                cx,
-                &mut masses,
-                &format!("{} (override)", fs.name),
-                om,
-                xc,
+            parts.push(Part {
+                name: format!("{} (override)", fs.name),
+                mt: om,
+                xt: xc,
                 mg,
-                xc,
-                (fs.root_le, fs.root_le + fs.root),
-                &mut notes,
-            );
+                xg: xc,
+                range: (fs.root_le, fs.root_le + fs.root),
+                body: false,
+            });
         }
+    }
+    // The generated body's density (module doc): the design's first tube's, lowered where a
+    // part of the body (nose, tube, transition) is lighter in the design than the generated
+    // structure there (a mass override below what its wall gives: a negative mass cannot be
+    // added), to the lightest such part's ratio k = m_true / m_generated; the difference of
+    // every body part is then m_true - k m_generated >= 0 and is restored as a mass. The
+    // stiffness (E, nu) is the material's; only the beam's and shell's mass per length fall.
+    let k = parts
+        .iter()
+        .filter(|p| p.body && p.mg > 0.0)
+        .map(|p| p.mt / p.mg)
+        .fold(1.0, f64::min)
+        .max(0.0);
+    // Written to 1e-9 kg/m^3, and the masses restored at the density as written.
+    let rho_g: f64 = f(k * rho_b, 9).parse().unwrap_or(rho_b);
+    let k = rho_g / rho_b;
+    if k < 1.0 {
+        notes.push(format!(
+            "the generated body's density is {} kg/m^3, {} of the design's {} kg/m^3, so that the part lightest against it (a mass override) keeps its mass; every other part's difference is restored as a mass",
+            f(rho_g, 4),
+            f(k, 6),
+            f(rho_b, 4)
+        ));
+    }
+    for p in &parts {
+        let scale = if p.body { k } else { 1.0 };
+        add_difference(cx, &mut masses, p, scale, &mut notes);
     }
 
     let mut aft = mount.map_or(length, |m| m.aft + m.overhang);
@@ -1099,7 +1125,7 @@ pub(crate) fn emit(
     }
     // Dry centre of mass (for the coefficient reference point and the key node).
     let (mut m_sum, mut mx_sum) = (0.0, 0.0);
-    let (mg, xg) = NoseShape::Conical.shell_mass(r, ln, t_b, rho_b, false);
+    let (mg, xg) = NoseShape::Conical.shell_mass(r, ln, t_b, rho_g, false);
     m_sum += mg;
     mx_sum += mg * xg;
     // The tube's sections and the transitions (their mean radius, enough for a reference point).
@@ -1113,7 +1139,7 @@ pub(crate) fn emit(
     }
     sections.push((rs, from, length));
     for (rr, a, b) in sections {
-        let mb = rho_b * PI * (rr * rr - (rr - t_b).max(0.0).powi(2)) * (b - a);
+        let mb = rho_g * PI * (rr * rr - (rr - t_b).max(0.0).powi(2)) * (b - a);
         m_sum += mb;
         mx_sum += mb * (a + b) / 2.0;
     }
@@ -1170,6 +1196,18 @@ pub(crate) fn emit(
     let _ = writeln!(o);
     let _ = writeln!(o, "import \"std/materials.vdl\"");
     let _ = writeln!(o);
+    // With the body's density lowered, a fin set of the body's material keeps the design's
+    // density under the material's own name.
+    let (body_mat, fin_mats, fin_mat) = if k < 1.0 {
+        let fms: Vec<Option<MatOut>> = fin_mats
+            .into_iter()
+            .map(|m| m.or_else(|| Some(body_mat.clone())))
+            .collect();
+        let first = fms[0].clone();
+        (with_density(&body_mat, rho_g, k), fms, first)
+    } else {
+        (body_mat, fin_mats, fin_mat)
+    };
     o.push_str(&body_mat.block);
     let _ = writeln!(o);
     // The fin sets' materials, each once.
@@ -1651,17 +1689,58 @@ pub(crate) fn emit(
 }
 
 #[allow(clippy::too_many_arguments)]
-fn add_difference(
-    cx: &mut Cx,
-    masses: &mut Vec<MassItem>,
-    name: &str,
+/// A part of the design whose mass the generated structure does not have exactly: its true
+/// mass and centre, the generated ones (at the design's density), the span it lies over,
+/// and whether it is of the generated body (its generated mass scales with the body's
+/// density).
+struct Part {
+    name: String,
     mt: f64,
     xt: f64,
     mg: f64,
     xg: f64,
     range: (f64, f64),
+    body: bool,
+}
+
+/// The body's material block written with density `rho` (k times the design's), under its
+/// own name (a fin set of the same material keeps the design's density).
+fn with_density(m: &MatOut, rho: f64, k: f64) -> MatOut {
+    let ident = format!("{}_generated", m.ident);
+    let mut block = String::new();
+    for line in m.block.lines() {
+        if line.starts_with("material ") {
+            let _ = writeln!(
+                block,
+                "# The generated body's density: {} of the design's, so that the mass overrides below the generated structure are kept (the other parts' masses are restored below).",
+                f(k, 6)
+            );
+            let _ = writeln!(block, "material {ident} {{");
+        } else if line.trim_start().starts_with("rho = ") {
+            let _ = writeln!(block, "  rho = {} kg/m^3", f(rho, 9));
+        } else {
+            let _ = writeln!(block, "{line}");
+        }
+    }
+    MatOut {
+        ident,
+        block,
+        lamina: m.lamina,
+    }
+}
+
+/// Restores part `p`'s difference of mass, true minus generated (its generated mass times
+/// `scale`: the body's density ratio, or 1), at the place that restores its first moment; a
+/// negative difference is a warning.
+fn add_difference(
+    cx: &mut Cx,
+    masses: &mut Vec<MassItem>,
+    p: &Part,
+    scale: f64,
     notes: &mut Vec<String>,
 ) {
+    let (name, mt, xt, xg, range) = (&p.name, p.mt, p.xt, p.xg, p.range);
+    let mg = scale * p.mg;
     let dm = mt - mg;
     if dm.abs() < 1e-7 {
         return;
