@@ -637,7 +637,7 @@ fn rocksim_designs_take_a_motor_named_at_import_and_check() {
             let listing = String::from_utf8_lossy(&c.stdout).to_string();
             assert!(c.status.success(), "compile {file}: {}", stderr(&c));
             for fin in 1..=4 {
-                for (class, hz) in [("flap", "860.8"), ("twist", "3180.6")] {
+                for (class, hz) in [("flap", "860.93"), ("twist", "3180.65")] {
                     let line = listing
                         .lines()
                         .find(|l| l.contains(&format!("fin{fin}_{class} ")))

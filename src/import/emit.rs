@@ -897,6 +897,7 @@ pub(crate) fn emit(
             xg,
             range: (0.0, ln),
             body: true,
+            spread: false,
         });
         if n.shape.to_language().is_none() {
             cx.diags.push(Diagnostic::warning(
@@ -929,6 +930,7 @@ pub(crate) fn emit(
             xg: xc,
             range: (t.top, t.top + t.length),
             body: true,
+            spread: true,
         });
         if t.material.name != tube0.material.name || (t.thickness - t_b).abs() > 1e-9 {
             cx.diags.push(Diagnostic::warning(
@@ -1014,6 +1016,7 @@ pub(crate) fn emit(
             xg,
             range: (t.top, t.top + t.length),
             body: true,
+            spread: false,
         });
         if lang.is_none() {
             cx.diags.push(Diagnostic::warning(
@@ -1062,6 +1065,7 @@ pub(crate) fn emit(
                 xg: xc,
                 range: (fs.root_le, fs.root_le + fs.root),
                 body: false,
+                spread: false,
             });
         }
     }
@@ -1082,7 +1086,7 @@ pub(crate) fn emit(
     let k = rho_g / rho_b;
     if k < 1.0 {
         notes.push(format!(
-            "the generated body's density is {} kg/m^3, {} of the design's {} kg/m^3, so that the part lightest against it (a mass override) keeps its mass; every other part's difference is restored as a mass",
+            "the generated body's density is {} kg/m^3, {} of the design's {} kg/m^3, so that the part lightest against it (a mass override, or a lighter material) keeps its mass; every other part's difference is restored as a mass",
             f(rho_g, 4),
             f(k, 6),
             f(rho_b, 4)
@@ -1701,6 +1705,9 @@ struct Part {
     xg: f64,
     range: (f64, f64),
     body: bool,
+    /// A uniform part (a tube): its difference is restored spread over `range`, as the part
+    /// is, not at a point.
+    spread: bool,
 }
 
 /// The body's material block written with density `rho` (k times the design's), under its
@@ -1712,7 +1719,7 @@ fn with_density(m: &MatOut, rho: f64, k: f64) -> MatOut {
         if line.starts_with("material ") {
             let _ = writeln!(
                 block,
-                "# The generated body's density: {} of the design's, so that the mass overrides below the generated structure are kept (the other parts' masses are restored below).",
+                "# The generated body's density: {} of the design's, so that the parts lighter in the design than the generated structure keep their mass (the other parts' masses are restored below).",
                 f(k, 6)
             );
             let _ = writeln!(block, "material {ident} {{");
@@ -1767,11 +1774,13 @@ fn add_difference(
         f(mg * 1e3, 3),
         f(xg, 4)
     ));
+    // A uniform part's difference is uniform too: spread over the part (its centre is x).
+    let (s0, s1) = if p.spread { range } else { (x, x) };
     masses.push(MassItem {
         name: name.to_string(),
         mass: dm,
-        s0: x,
-        s1: x,
+        s0,
+        s1,
         note: "mass difference, true minus generated (restores mass and centre of mass)".into(),
     });
 }
