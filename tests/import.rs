@@ -901,3 +901,39 @@ fn a_mass_override_below_the_generated_structure_is_honoured() {
         "{text}"
     );
 }
+
+/// A body part overridden to no mass at all cannot be kept by lowering the generated body's
+/// density (a body of no density is no structure, and `rho = 0` does not check): the part
+/// keeps the warning that a negative mass cannot be added, and the written file checks. On
+/// the code before this test the importer wrote `rho = 0 kg/m^3` and a file `check` refused.
+#[test]
+fn a_body_part_overridden_to_no_mass_keeps_a_checkable_body() {
+    let dir = tempfile::tempdir().unwrap();
+    let xml = simple_rocket_xml();
+    let at = xml.find("<bodytube>").unwrap();
+    let finish = at + xml[at..].find("</finish>").unwrap() + "</finish>".len();
+    let src = dir.path().join("zero.ork");
+    std::fs::write(
+        &src,
+        format!(
+            "{}<overridemass>0</overridemass>{}",
+            &xml[..finish],
+            &xml[finish..]
+        ),
+    )
+    .unwrap();
+    let out = dir.path().join("zero.vdl");
+    let args = with_materials(SIMPLE_MATERIALS);
+    let a: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = import(&src, &out, &a);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        flat(&stderr(&o)).contains("a negative mass cannot be added"),
+        "{}",
+        stderr(&o)
+    );
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(!text.contains("_generated"), "{text}");
+    let c = bin().arg("check").arg(&out).output().unwrap();
+    assert!(c.status.success(), "check: {}\n{text}", stderr(&c));
+}

@@ -1075,14 +1075,19 @@ pub(crate) fn emit(
     // added), to the lightest such part's ratio k = m_true / m_generated; the difference of
     // every body part is then m_true - k m_generated >= 0 and is restored as a mass. The
     // stiffness (E, nu) is the material's; only the beam's and shell's mass per length fall.
+    // A part of no mass cannot be kept so (a body of no density is no structure): it keeps
+    // the warning.
     let k = parts
         .iter()
-        .filter(|p| p.body && p.mg > 0.0)
+        .filter(|p| p.body && p.mg > 0.0 && p.mt > 0.0)
         .map(|p| p.mt / p.mg)
-        .fold(1.0, f64::min)
-        .max(0.0);
+        .fold(1.0, f64::min);
     // Written to 1e-9 kg/m^3, and the masses restored at the density as written.
-    let rho_g: f64 = f(k * rho_b, 9).parse().unwrap_or(rho_b);
+    let rho_g: f64 = f(k * rho_b, 9)
+        .parse()
+        .ok()
+        .filter(|r: &f64| *r > 0.0)
+        .unwrap_or(rho_b);
     let k = rho_g / rho_b;
     if k < 1.0 {
         notes.push(format!(
