@@ -1697,7 +1697,6 @@ pub(crate) fn emit(
     Some((o, files))
 }
 
-#[allow(clippy::too_many_arguments)]
 /// A part of the design whose mass the generated structure does not have exactly: its true
 /// mass and centre, the generated ones (at the design's density), the span it lies over,
 /// and whether it is of the generated body (its generated mass scales with the body's

@@ -192,6 +192,25 @@ fn energy_density(phi: &[f64], m_phi: &[f64]) -> Vec<f64> {
     phi.iter().zip(m_phi).map(|(a, b)| a * b).collect()
 }
 
+/// The class of a fin motion's measures ([`Classifier::fin_motion`]): out of plane (flap or
+/// twist, whichever is larger) when that exceeds the in-plane motion, else `Other`.
+fn fin_class(flap: f64, twist: f64, in_plane: f64) -> Kind {
+    if in_plane >= flap + twist {
+        Kind::Other
+    } else if flap >= twist {
+        Kind::FinFlap
+    } else {
+        Kind::FinTwist
+    }
+}
+
+/// Masks of each fin's DOFs, the targets a fin cluster is localised on.
+fn fin_targets(comps: &[Component], n_fins: usize) -> Vec<Vec<f64>> {
+    (0..n_fins)
+        .map(|j| target_mask(comps, |c, _| c == Component::Fin(j as u16)))
+        .collect()
+}
+
 /// A fin's motion in a mode ([`Classifier::fin_motion_signed`]).
 #[derive(Clone, Copy, Debug, Default)]
 struct FinMotion {
@@ -256,13 +275,7 @@ impl Classifier<'_> {
                 );
             fin_idx = Some(j);
             let (flap, twist, in_plane) = self.fin_motion(phi, fins, j);
-            if in_plane < flap + twist {
-                kind = if flap >= twist {
-                    Kind::FinFlap
-                } else {
-                    Kind::FinTwist
-                };
-            }
+            kind = fin_class(flap, twist, in_plane);
         }
         let name = match (kind, fin_idx, plane) {
             (Kind::BodyBending, _, Some(p)) => format!("body_bending_{p}"),
@@ -463,9 +476,9 @@ pub fn select(
         }
         let k = end - start;
         let targets: Vec<Vec<f64>> = match kind {
-            Kind::FinFlap | Kind::FinTwist if k == n_fins && k > 1 => (0..n_fins)
-                .map(|j| target_mask(&cl.comps, |c, _| c == Component::Fin(j as u16)))
-                .collect(),
+            Kind::FinFlap | Kind::FinTwist if k == n_fins && k > 1 => {
+                fin_targets(&cl.comps, n_fins)
+            }
             Kind::BodyBending if k == 2 => vec![
                 target_mask(&cl.comps, |c, d| c != is_fin(c) && (d == 1 || d == 5)),
                 target_mask(&cl.comps, |c, d| c != is_fin(c) && (d == 2 || d == 4)),
@@ -627,11 +640,7 @@ fn complete_fin_cluster(
                 twist += b;
                 in_plane += c;
             }
-            in_plane < flap + twist
-                && match kind {
-                    Kind::FinFlap => flap >= twist,
-                    _ => twist > flap,
-                }
+            fin_class(flap, twist, in_plane) == kind
         };
         let fin_share = |m: &ModeInfo| m.fin_fractions.iter().sum::<f64>();
         let extra = (0..info.len())
@@ -667,9 +676,7 @@ fn complete_fin_cluster(
         class
     };
     idx.sort_unstable();
-    let targets: Vec<Vec<f64>> = (0..n_fins)
-        .map(|j| target_mask(&cl.comps, |c, _| c == Component::Fin(j as u16)))
-        .collect();
+    let targets = fin_targets(&cl.comps, n_fins);
     let mut p: Vec<Vec<f64>> = idx.iter().map(|&j| phis[j].clone()).collect();
     let mut mp: Vec<Vec<f64>> = idx.iter().map(|&j| m_phis[j].clone()).collect();
     let mut w: Vec<f64> = idx.iter().map(|&j| w2[j]).collect();
