@@ -285,7 +285,11 @@ fn fnv1a(text: &str) -> u64 {
 /// temporary patch (the fins' friction then still on their chord's Reynolds number), both
 /// old digests (0xa296_01bf_40f6_9590, 0x0568_29ce_1d50_91c7) returned, so the friction law
 /// is the only change in these tables; the fin table's digest moved once more when the fins'
-/// friction took the rocket's Reynolds number (the body table's did not).
+/// friction took the rocket's Reynolds number (the body table's did not). Re-recorded for
+/// the tables over every flow direction (revision 8): with `axial_scaling` returning 1,
+/// `fin_incidence` the angle itself and `estimator_alpha` the old -20..20 deg grid (a
+/// temporary patch), both digests above returned, and `fin_models::key_node_history_is_unchanged`
+/// passed unchanged: those three are the only changes in these tables.
 #[test]
 fn conical_nose_tables_are_bit_identical_to_before_nose_shapes() {
     use flexflight::check::{DiskLoader, check_files};
@@ -297,7 +301,7 @@ fn conical_nose_tables_are_bit_identical_to_before_nose_shapes() {
     let [(_, body), _] = flown.files();
     assert_eq!(
         fnv1a(&body),
-        0x8fd2_750a_592c_69cc,
+        0xdd4a_33e7_4872_c712,
         "the conical body table changed"
     );
     // The same planform as a flat plate: the old fin table.
@@ -321,7 +325,7 @@ fn conical_nose_tables_are_bit_identical_to_before_nose_shapes() {
     assert_eq!(body2, body);
     assert_eq!(
         fnv1a(&fins),
-        0xa43e_2e9a_db1a_034f,
+        0xa503_87ea_2670_ed85,
         "the flat-plate fin table changed"
     );
     // With the fin's 0.6 mm square edges the fin table is another (more drag).
@@ -477,4 +481,83 @@ fn fin_edge_drags_follow_the_cited_formulas() {
     let friction0 = fin_axial(&f, None, 60e-6, 2.75, S_REF, 2.0, 1000.0);
     let pressure = with - friction0 * (1.0 + 2.0 * 3.2e-3 / mac);
     assert!((pressure - 0.016_904_4).abs() < 1e-7, "{pressure}");
+}
+
+/// The built-in tables answer every flow direction (a tumbling or tail-first fall), and there
+/// the axial force opposes the flow: `C_A cos(alpha) > 0` away from 90 deg, for the body and
+/// for a fin at its own angle of attack; Niskanen's scaling mirrored, `C_A(180 - a) =
+/// -C_A(a)`; the fin's normal force that of the mirrored angle for air from its trailing
+/// edge, `C_N(180 - a) = C_N(a)`; and both normal forces vanish with the crossflow at
+/// +-180 deg. On the old code the tables ended at 20 deg (with `stop`, 30 deg was refused).
+#[test]
+fn builtin_tables_cover_every_flow_direction_with_the_axial_force_against_the_flow() {
+    let est = EstimatedTables::estimate(&sphads_body(), &sphads_fin(), OutOfRange::Stop).unwrap();
+    for m in [0.1, 0.5, 0.95, 1.5, 3.0] {
+        for h in [0.0, 12_000.0] {
+            for k in -72..=72 {
+                let a = 2.5 * f64::from(k);
+                let b = est.body.body(m, a, h).unwrap();
+                let f = est.fin.fin(m, a, h).unwrap();
+                let c = a.to_radians().cos();
+                if c.abs() > 1e-6 {
+                    assert!(b.ca * c > 0.0, "body M {m} alpha {a}: ca {}", b.ca);
+                    assert!(f.ca * c > 0.0, "fin M {m} alpha {a}: ca {}", f.ca);
+                } else {
+                    assert!(b.ca.abs() < 1e-15 && f.ca.abs() < 1e-15, "alpha {a}");
+                }
+            }
+            // Grid angles whose mirror 180 - a is a grid angle too.
+            for a in [0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0, 90.0] {
+                for s in [1.0, -1.0] {
+                    let (b1, b2) = (
+                        est.body.body(m, s * a, h).unwrap(),
+                        est.body.body(m, s * (180.0 - a), h).unwrap(),
+                    );
+                    assert!((b1.ca + b2.ca).abs() < 1e-12 * b1.ca.abs().max(1.0), "{a}");
+                    let (f1, f2) = (
+                        est.fin.fin(m, s * a, h).unwrap(),
+                        est.fin.fin(m, s * (180.0 - a), h).unwrap(),
+                    );
+                    assert!((f1.ca + f2.ca).abs() < 1e-12, "fin ca at {a}");
+                    assert!((f1.cn - f2.cn).abs() < 1e-12, "fin cn at {a}");
+                }
+            }
+            for a in [180.0, -180.0] {
+                assert!(est.body.body(m, a, h).unwrap().cn.abs() < 1e-12);
+                assert!(est.fin.fin(m, a, h).unwrap().cn.abs() < 1e-12);
+            }
+            // Past the stall the fin's normal force is held at its 20-degree value.
+            let stall = est.fin.fin(m, 20.0, h).unwrap().cn;
+            for a in [30.0, 60.0, 90.0, 120.0, 160.0] {
+                assert_eq!(est.fin.fin(m, a, h).unwrap().cn, stall, "{a}");
+            }
+        }
+    }
+}
+
+/// Niskanen's axial scaling as the technical documentation states its conditions: 1 at 0,
+/// 1.3 at 17 deg and 0 at 90 deg, with a zero slope at all three (one-sided differences of
+/// 1e-5 deg on each side: their error, h |f''| / 2, is below 3.2e-8 per deg), continuous at
+/// 17 deg, odd about 90 deg and even in alpha.
+#[test]
+fn the_axial_scaling_meets_the_published_conditions() {
+    use flexflight::aero::estimator::axial_scaling as f;
+    assert_eq!(f(0.0), 1.0);
+    assert!((f(17.0) - 1.3).abs() < 1e-15);
+    assert_eq!(f(90.0), 0.0);
+    let h = 1e-5;
+    for a in [0.0, 17.0, 90.0] {
+        for slope in [(f(a + h) - f(a)) / h, (f(a) - f(a - h)) / h] {
+            assert!(slope.abs() < 3.2e-8, "slope {slope} at {a} deg");
+        }
+    }
+    assert!((f(17.0 - 1e-9) - f(17.0 + 1e-9)).abs() < 1e-9);
+    for k in 0..=180 {
+        let a = f64::from(k);
+        assert_eq!(f(-a), f(a));
+        assert!((f(180.0 - a) + f(a)).abs() < 1e-15, "{a}");
+        if a < 90.0 {
+            assert!(f(a) > 0.0 && f(a) <= 1.3 + 1e-15, "{a}");
+        }
+    }
 }

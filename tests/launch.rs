@@ -820,6 +820,16 @@ fn the_static_margin_follows_the_centre_of_mass_of_a_burning_vehicle() {
 /// (DOPRI5 8.2e-11). Against the reference with DOP853's continuous extension (6 December
 /// 2026; its rows were a cubic Hermite before, part of those figures): body rates 8.19e-8
 /// rad/s (DOPRI5 1.78e-7), `η` 2.59e-11 (5.85e-11); the bound 3e-7 -> 1.5e-7.
+///
+/// Since the built-in tables span every flow direction (aerodynamics revision 8, 7 December
+/// 2026) the axial coefficients vary with the angle of attack (Niskanen's scaling), and on
+/// the rail in the scenario's crosswind the fins' angle of attack sweeps from -95 to -5 deg
+/// in the first 0.2 s across the tables' rows, each a kink of the piecewise-linear
+/// interpolation: body rates 7.01e-8 rad/s (DOPRI5 1.71e-7), `η` 8.81e-11 (DOPRI5 5.99e-11),
+/// so the exponential integrator's modes are no longer closer than DOPRI5's on this boost.
+/// With the fins' scaling held at its 20-degree value beyond 20 deg (a temporary patch, a
+/// new cache revision) `η` was 2.38e-11 against 5.97e-11: the rows beyond the stall are the
+/// cause. Asserted: the modes within 1.5 times DOPRI5's error (measured 1.47).
 #[test]
 fn the_exponential_integrators_body_rates_on_a_boost_stay_near_the_reference() {
     let dir = tempfile::tempdir().unwrap();
@@ -873,7 +883,7 @@ fn the_exponential_integrators_body_rates_on_a_boost_stay_near_the_reference() {
     eprintln!("omega: dopri5 {w_d:.3e}, exponential {w_e:.3e}; eta: {eta_d:.3e}, {eta_e:.3e}");
     assert!(w_e < 1.5e-7, "omega: exponential {w_e:e} (dopri5 {w_d:e})");
     assert!(
-        eta_e <= eta_d,
+        eta_e <= 1.5 * eta_d,
         "eta: exponential {eta_e:e} vs dopri5 {eta_d:e}"
     );
 }
@@ -898,6 +908,15 @@ fn the_exponential_integrators_body_rates_on_a_boost_stay_near_the_reference() {
 /// II.4: DOPRI5's global error roughly proportional to the tolerance) would give 100; this
 /// boost does not reach it (rtol 1e-5: 9.3e-6, 1e-6: 5.0e-6, 1e-7: 1.6e-6 m/s), measured
 /// 6 December 2026 and not explained here: the assertion is the measured factor.
+///
+/// Re-measured 7 December 2026 for the built-in tables over every flow direction
+/// (aerodynamics revision 8: the axial coefficients vary with the angle of attack, and the
+/// fins sweep -95 to -5 deg on the rail in the crosswind, across the tables' rows, each a
+/// kink of the interpolation): 3.35e-6 (atol 1e-9) and 3.30e-6 m/s (atol 1e-11), the atol
+/// still immaterial (1.5 %); rtol 1e-9 5.27e-7 m/s, 6.4 times closer. With the fins'
+/// scaling held at its 20-degree value beyond 20 deg (a temporary patch): 2.81e-6, 2.75e-6
+/// and 2.67e-7 m/s; the rest of the rise from 1.6e-6 is the scaling's rows within 20 deg.
+/// Asserted: the floor below 3.5e-6 and the factor 6.
 #[test]
 fn a_tighter_tolerance_flies_the_boost_closer_to_the_reference() {
     let dir = tempfile::tempdir().unwrap();
@@ -953,10 +972,10 @@ fn a_tighter_tolerance_flies_the_boost_closer_to_the_reference() {
         (e11 / e9 - 1.0).abs() < 0.1,
         "atol 1e-11: {e11:e} m/s, atol 1e-9: {e9:e} m/s"
     );
-    assert!(e9.max(e11) < 2e-6, "{e9:e} {e11:e}");
-    // A tighter rtol, off that floor, flies closer: 100x in tolerance, measured 9.1x.
+    assert!(e9.max(e11) < 3.5e-6, "{e9:e} {e11:e}");
+    // A tighter rtol, off that floor, flies closer: 100x in tolerance, measured 6.4x.
     assert!(
-        tight * 8.0 <= e9,
+        tight * 6.0 <= e9,
         "rtol 1e-9: {tight:e} m/s, rtol 1e-7: {e9:e} m/s"
     );
 }

@@ -109,7 +109,7 @@ fn plan_json_holds_the_tables_load_weights_and_key_node_rows() {
             flexflight::aero::estimator::ESTIMATOR_ALTITUDE.to_vec()
         );
         let alpha = f64s(&t["alpha_deg"]);
-        assert_eq!((alpha[0], *alpha.last().unwrap()), (-20.0, 20.0));
+        assert_eq!((alpha[0], *alpha.last().unwrap()), (-180.0, 180.0));
         // Coefficients at a few Machs inside the grid; a normal-force slope that is
         // positive (the body and each fin lift towards positive alpha).
         let samples = t["samples"].as_array().unwrap();

@@ -246,3 +246,64 @@ fn a_run_whose_integration_fails_is_not_a_clean_run() {
     assert_eq!(s["stop_reason"], "completed");
     assert_eq!(s["complete"], true);
 }
+
+/// A rocket that falls tail first, exactly vertical and without wind (every windless
+/// vertical flight after its apogee, until a parachute opens; NDRT 2020's README flight),
+/// flies on: the built-in aerodynamics cover every flow direction, so at an angle of attack
+/// of 180 deg the normal forces vanish instead of jumping between the +180 and -180 deg
+/// sides with the sign of the round-off crossflow, and the axial force opposes the motion.
+/// On the old code (tables from -20 to 20 deg, clamped beyond) the integrator chattered on
+/// that jump and the run ended `max_steps` (exit 4) within a second of flight.
+#[test]
+fn a_rocket_falling_tail_first_flies_on_and_its_drag_opposes_the_fall() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("fall.vdl");
+    let vehicle = repo("examples/hpr_k1000/hpr_k1000.vdl");
+    std::fs::write(
+        &file,
+        format!(
+            r#"import "{}"
+
+scenario fall {{
+  vehicle = hpr_k1000
+  with {{
+    forces.thrust.enabled = false
+  }}
+  initial {{
+    velocity = (-30, 0, 0) m/s
+    attitude = euler(0 deg, 90 deg, 0 deg)
+    altitude = 1 km
+  }}
+  run {{
+    stop_time = 3 s
+    rtol = 1e-7
+    atol = 1e-9
+    output_interval = 10 ms
+  }}
+}}
+"#,
+            vehicle.display()
+        ),
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let o = run(&file, "fall", &out, &["--no-flutter-margin"]);
+    let err = String::from_utf8_lossy(&o.stderr).to_string();
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    let s = summary(&out);
+    assert_eq!(s["stop_reason"], "completed", "{err}");
+    // While it falls tail first (body x velocity negative), the axial aerodynamic force
+    // pushes the body forward (+x), against the fall: a drag, not a thrust.
+    let (vx, fx) = (
+        column(&out, "v_body_x"),
+        column(&out, "body_aero_force_body_x"),
+    );
+    let mut tail_first = 0;
+    for (v, f) in vx.iter().zip(&fx) {
+        if *v < -5.0 {
+            tail_first += 1;
+            assert!(*f > 0.0, "v_x {v} m/s, axial force {f} N");
+        }
+    }
+    assert!(tail_first > 10, "{tail_first} rows tail first");
+}

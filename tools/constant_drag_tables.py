@@ -4,7 +4,9 @@ Reads the tables a `source = builtin` run wrote (`OUT/aero_tables/body.csv` and 
 docs/outputs.md) and writes them again with the body table's `ca` set to CD at every row and
 the fin table's `ca` set to 0: the built-in normal force, moment and rate columns unchanged,
 the whole axial force a constant C_D on the reference area, whatever the Mach number and the
-angle of attack (as RocketPy flies a constant `power_off_drag` / `power_on_drag`). Fly them
+angle of attack (as RocketPy flies a constant `power_off_drag` / `power_on_drag`), against
+the flow: -CD where the air comes from behind (|alpha| > 90 deg; the built-in tables span
+every flow direction) and 0 at 90 deg. Fly them
 with `aero { source = tables; body_table = ...; fin_table = ... }` and the same reference
 length and point.
 
@@ -30,9 +32,11 @@ def rewrite(src, dst, cd, note):
         cells = line.split(",")
         if col is None:
             col = cells.index("ca")
+            alpha = cells.index("alpha_deg")
             out.append(line)
             continue
-        cells[col] = repr(cd)
+        a = abs(float(cells[alpha]))
+        cells[col] = repr(cd if a < 90.0 else (0.0 if a == 90.0 else -cd))
         out.append(",".join(cells))
     with open(dst, "w") as fh:
         fh.write("\n".join(out) + "\n")
@@ -43,7 +47,7 @@ def main():
         sys.exit(__doc__)
     tables, cd, prefix = sys.argv[1], float(sys.argv[2]), sys.argv[3]
     rewrite(f"{tables}/body.csv", f"{prefix}_body.csv", cd,
-            f"tools/constant_drag_tables.py: ca = {cd} at every row (the built-in drag replaced)")
+            f"tools/constant_drag_tables.py: ca = {cd} against the flow at every row (the built-in drag replaced)")
     rewrite(f"{tables}/fins.csv", f"{prefix}_fins.csv", 0.0,
             "tools/constant_drag_tables.py: ca = 0 at every row (all of the drag in the body table)")
 

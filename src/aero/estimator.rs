@@ -18,7 +18,12 @@
 //!   nose's side view by quadrature).
 //! - C_M = sum C_N,part (x_part - x_ref)/b_b about the reference point (5.3.3), positive
 //!   nose up (x forward, so a force ahead of the c.g. pitches the nose up).
-//! - axial force C_A (independent of alpha here):
+//! - the grid's angles of attack span every flow direction, -180..180 deg
+//!   ([`estimator_alpha`]): the normal-force terms above are Jorgensen's for 0..180 deg (they
+//!   vanish at 180 deg, the flow along the axis from behind);
+//! - axial force C_A: the zero-lift value below times Niskanen's scaling with the angle of
+//!   attack ([`axial_scaling`]: 1.3 at 17 deg, 0 at 90 deg, reversed beyond, so that it
+//!   opposes air from behind); the zero-lift value:
 //!   - skin friction by Reynolds number and surface roughness (Niskanen 2009, sec. 3.4.1;
 //!     OpenRocket technical documentation, `doc/techdoc/chapter-aerodynamic-properties.tex`,
 //!     "Skin friction drag"; [`skin_friction`]): the fully turbulent flat plate
@@ -71,7 +76,10 @@
 //!   Anderson, *Modern Compressible Flow*, 3rd ed., 11.x) must be of order 1 or more; for
 //!   tau = t/c = 0.05 it is 1.0 at M = 0.90 and 0.97 at M = 1.1;
 //! - body-fin interference K_T(B) = 1 + r/(s + r) (Barrowman), multiplying C_N;
-//! - C_N = K_T(B) C_Nalpha alpha (alpha in rad; linear, as (5.4.6));
+//! - C_N = K_T(B) C_Nalpha alpha (alpha in rad; linear, as (5.4.6)) up to the stall at 20 deg,
+//!   held at its stall value to 90 deg and mirrored, `C_N(alpha) = C_N(180 deg - alpha)`,
+//!   for air from the trailing edge ([`fin_incidence`]); C_A times [`axial_scaling`] at the
+//!   fin's own angle of attack;
 //! - centre of pressure aft of the root leading edge: subsonic Barrowman
 //!   x_f = x_t/3 (c_r + 2 c_t)/(c_r + c_t) + (c_r + c_t - c_r c_t/(c_r + c_t))/6, i.e. the
 //!   quarter point of the mean aerodynamic chord; supersonic the lifting surface's centre of
@@ -268,8 +276,9 @@ pub fn fin_set_coefficients(
 ) -> [f64; 3] {
     let f = &set.planform;
     let cn = set.pitch_plane_count() * f.interference() * slope * f.area() / s_ref
-        * alpha_deg.to_radians();
-    let ca = set.count as f64
+        * fin_incidence(alpha_deg);
+    let ca = axial_scaling(alpha_deg)
+        * set.count as f64
         * fin_axial(
             f,
             Some(set.profile),
@@ -1293,11 +1302,83 @@ fn body_alone_coefficients(b: &BodyShape, mach: f64, alpha_deg: f64, altitude_m:
         .iter()
         .map(|g| launch_guide_drag(g, b.roughness, s_ref, mach, sound, mu / rho))
         .sum();
-    if b.transitions.is_empty() {
-        [cn, friction + base + wave + guides, cm]
+    let ca0 = if b.transitions.is_empty() {
+        friction + base + wave + guides
     } else {
-        [cn, friction + base + wave + transition_drag + guides, cm]
-    }
+        friction + base + wave + transition_drag + guides
+    };
+    [cn, ca0 * axial_scaling(alpha_deg), cm]
+}
+
+/// Angle of attack, deg, from which a fin's normal force no longer grows: OpenRocket's
+/// stall angle (24.12, `FinSetCalc.STALL_ANGLE`, 20 deg, above which its fin normal force
+/// is held at its 20-degree value).
+pub const FIN_STALL_DEG: f64 = 20.0;
+
+/// The angle, rad, that a fin's linear normal force `C_Nalpha (A_f/S) x` takes in place of
+/// its angle of attack `alpha_deg` (any real value, deg; the built-in tables span
+/// -180..180): `sign(alpha) min(|alpha|, 20 deg, 180 deg - |alpha|)`.
+///
+/// # Derivation
+/// Up to the stall angle [`FIN_STALL_DEG`] it is the angle itself (the linear theory of the
+/// module doc). From there to 90 deg the normal force is held at its stall value, as
+/// OpenRocket 24.12 holds it (`FinSetCalc`: `C_N = C_Nalpha min(alpha, 20 deg)`). Beyond
+/// 90 deg the air reaches the fin from its trailing edge at the angle `180 deg - |alpha|`
+/// to its plane, and the normal component of the velocity, `V sin alpha`, keeps its sign:
+/// a thin flat plate's normal force depends on the flow's angle to its plane and not on
+/// which edge meets the flow first (Barrowman's subsonic slope of the module doc depends on
+/// the mid-chord sweep through `cos Lambda_c` only, unchanged when the flow is reversed, as
+/// are the span and the area), so `C_N(alpha) = C_N(180 deg -
+/// alpha)` there. OpenRocket keeps the held value up to 180 deg; this is ours, and it makes
+/// the normal force vanish continuously as the flow comes to lie along the fin from behind
+/// (a tail-first fall, `tests/verdict.rs`) instead of keeping its stall value while its
+/// direction flips with the sign of a vanishing crossflow. The centre of pressure stays that
+/// of the linear theory at every angle (as OpenRocket's); the flexible fins' load is
+/// distributed with the same weights (`runtime::forces::fin_aero`).
+pub fn fin_incidence(alpha_deg: f64) -> f64 {
+    let a = alpha_deg.abs();
+    let held = a.min(FIN_STALL_DEG).min((180.0 - a).max(0.0));
+    held.copysign(alpha_deg).to_radians()
+}
+
+/// The factor on the zero-lift axial coefficient at angle of attack `alpha_deg` (deg, any
+/// real value; the body's total angle of attack or a fin's own).
+///
+/// Niskanen 2009, sec. 3.4.7 in the technical documentation's numbering ("Axial drag
+/// coefficient", OpenRocket's
+/// `doc/techdoc/chapter-aerodynamic-properties.tex`): "a two-part polynomial function that
+/// starts from 1 at alpha = 0, increases to 1.3 at alpha = 17 deg and then decreases to zero
+/// at alpha = 90 deg; the derivative is also zero at these points", an empirical fit to
+/// experimental data (more frontal area and pressure changes at incidence, less of the drag
+/// along the axis). OpenRocket 24.12 (`BarrowmanCalculator.calculateAxialCD`) also sets the
+/// second derivative zero at 90 deg, which with the four conditions stated makes the second
+/// part a quartic; we take the same. The two parts, derived from those conditions:
+/// - `0 <= alpha <= 17 deg`: the cubic with f(0) = 1, f'(0) = 0, f(17) = 1.3, f'(17) = 0,
+///   `f = 1 + 0.3 (3 t^2 - 2 t^3)`, `t = alpha/17 deg`;
+/// - `17 <= alpha <= 90 deg`: with `u = (90 deg - alpha)/73 deg`, the quartic with a triple
+///   zero at 90 deg, `f = 1.3 u^3 (a + b u)`; f = 1.3 at u = 1 gives `a + b = 1`, and
+///   f'(17) = 0, i.e. `d/du [u^3 (a + b u)] = 3 a + 4 b = 0` at u = 1, gives `a = 4`,
+///   `b = -3`: `f = 1.3 (4 u^3 - 3 u^4)`.
+///
+/// Beyond 90 deg the air comes from behind and the axial force must oppose it: `f(alpha) =
+/// -f(180 deg - alpha)` (the same size as the forward flow's at the mirrored angle,
+/// OpenRocket's choice too; a body's drag flying backwards is not modelled on its own). The
+/// factor is even in alpha.
+pub fn axial_scaling(alpha_deg: f64) -> f64 {
+    let a = alpha_deg.abs().min(180.0);
+    let (a, sign) = if a > 90.0 {
+        (180.0 - a, -1.0)
+    } else {
+        (a, 1.0)
+    };
+    let f = if a <= 17.0 {
+        let t = a / 17.0;
+        1.0 + 0.3 * t * t * (3.0 - 2.0 * t)
+    } else {
+        let u = (90.0 - a) / 73.0;
+        1.3 * u * u * u * (4.0 - 3.0 * u)
+    };
+    sign * f
 }
 
 /// Body rate derivatives `[C_Nq + C_Nα̇, C_mq + C_mα̇]` at angle of attack `alpha_deg`
@@ -1647,21 +1728,35 @@ fn fin_coefficients_with(
     alpha_deg: f64,
     altitude_m: f64,
 ) -> [f64; 3] {
-    let cn = f.interference() * slope * f.area() / s_ref * alpha_deg.to_radians();
-    let ca = fin_axial(
-        f,
-        profile,
-        roughness,
-        rocket_length,
-        s_ref,
-        mach,
-        altitude_m,
-    );
+    let cn = f.interference() * slope * f.area() / s_ref * fin_incidence(alpha_deg);
+    let ca = axial_scaling(alpha_deg)
+        * fin_axial(
+            f,
+            profile,
+            roughness,
+            rocket_length,
+            s_ref,
+            mach,
+            altitude_m,
+        );
     [cn, ca, x_cp]
 }
 
-/// The grid the estimator writes: Mach 0..5 (a launch starts at rest), alpha -20..20 deg by
-/// 2, altitude 0..30 km.
+/// The angles of attack of the estimator grid, deg: every flow direction, -180..180, by 2
+/// deg up to the fins' stall at 20 deg and by 10 deg beyond (a tumbling or tail-first
+/// fall; [`fin_incidence`], [`axial_scaling`]). The fins' kinks at 20 and 160 deg are grid
+/// points.
+pub fn estimator_alpha() -> Vec<f64> {
+    let outer = (3..=18).map(|k| 10.0 * f64::from(k));
+    let inner = (-10..=10).map(|k| 2.0 * f64::from(k));
+    let mut a: Vec<f64> = outer.clone().rev().map(|x| -x).collect();
+    a.extend(inner);
+    a.extend(outer);
+    a
+}
+
+/// The grid the estimator writes: Mach 0..5 (a launch starts at rest), alpha -180..180 deg
+/// ([`estimator_alpha`]), altitude 0..30 km.
 pub const ESTIMATOR_MACH: [f64; 18] = [
     0.0, 0.1, 0.3, 0.5, 0.7, 0.8, 0.9, 0.95, 1.0, 1.05, 1.1, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0,
 ];
@@ -1694,7 +1789,7 @@ impl EstimatedTables {
         profile: Option<FinProfile>,
         policy: OutOfRange,
     ) -> Result<Self, TableError> {
-        let alpha: Vec<f64> = (-10..=10).map(|k| 2.0 * f64::from(k)).collect();
+        let alpha = estimator_alpha();
         let axes = [
             ESTIMATOR_MACH.to_vec(),
             alpha.clone(),

@@ -38,8 +38,11 @@ use crate::structure::compile::CompiledVehicle;
 /// steady supersonic panels where piston theory's criterion fails, the band 0.9-1.1 bridged
 /// (issue 33). 6: skin friction by Reynolds number and surface roughness (OpenRocket's law,
 /// the body's fineness correction; issue 34). 7: the body table's roll columns for a vehicle
-/// with further fin sets (their cant's roll forcing and roll damping; issue 34).
-pub const AERO_REVISION: u32 = 7;
+/// with further fin sets (their cant's roll forcing and roll damping; issue 34). 8: the
+/// built-in tables span every flow direction (-180..180 deg), the fins' normal force held
+/// at its stall value beyond 20 deg and mirrored for air from behind, the axial
+/// coefficients scaled with the angle of attack (Niskanen's scaling, reversed beyond 90 deg).
+pub const AERO_REVISION: u32 = 8;
 
 /// Source label of the estimated body table (as [`EstimatedTables::estimate`] names it).
 const BUILTIN_BODY: &str = "builtin-body.csv";

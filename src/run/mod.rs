@@ -578,7 +578,9 @@ impl Monitor<'_> {
             }
         }
         // Air from behind (total angle of attack beyond 90 deg, the axial airspeed reversed)
-        // in free flight, with a body table that ends below 90 deg and no recovery device:
+        // in free flight, with a body table that ends below 90 deg (a user's or Missile
+        // DATCOM's; the built-in tables span every flow direction since AERO_REVISION 8,
+        // `aero::estimator::estimator_alpha`) and no recovery device:
         // the table's axial coefficient, a drag along -x for flow from ahead, would push
         // along the flow (a drag doing positive work), and its normal force, clamped at the
         // table's last angle, keeps its size while its direction follows the vanishing

@@ -31,7 +31,11 @@
 //!    `f_LW(δ_tot, α)` ([`f_lw`](crate::aero::leeward::f_lw), (5.4.24)-(5.4.31)), `δ_tot = δ_i + θ_yz`,
 //!    `θ_yz = atan2(V_y, V_z)` of `V_Bf` (5.4.25, four-quadrant so that `δ_tot` in (0, 180) deg
 //!    means the fin span has a positive component along the crossflow: windward) and `α` the
-//!    total angle of attack `atan2(sqrt(V_y² + V_z²), V_x)` of `V_Bf`, in degrees.
+//!    total angle of attack `atan2(sqrt(V_y² + V_z²), V_x)` of `V_Bf`, in degrees, folded to
+//!    `atan2(sqrt(V_y² + V_z²), |V_x|)` (0..90 deg; ours, beyond the thesis, whose flight
+//!    never has air from behind): a flow along the axis from behind shades no fin, as one
+//!    from ahead, and the factor is continuous through 180 deg, where the crossflow's
+//!    direction, and with it which fins are leeward, flips.
 //! 5. Body axes (5.4.15): `F_Bf = C_fᵀ F_f`.
 //! 6. Distribution (5.4.19)-(5.4.23): node k of the fin carries `f_k = w_k F_Bf`, with the
 //!    weights of [`FinLoadTable`] at the fin Mach number (they sum to 1 and their first moment
@@ -1030,8 +1034,10 @@ impl FinAero {
             let leeward_factor = if self.leeward {
                 let theta_yz = v_b[1].atan2(v_b[2]);
                 f_lw_with((fin.delta + theta_yz).to_degrees(), || {
+                    // The angle between the flow and the body's axis, folded: air from
+                    // behind at 180 - a deg shades the leeward fins as at a deg (module doc).
                     let cross_flow = (v_b[1] * v_b[1] + v_b[2] * v_b[2]).sqrt();
-                    cross_flow.atan2(v_b[0]).to_degrees()
+                    cross_flow.atan2(v_b[0].abs()).to_degrees()
                 })
             } else {
                 1.0
