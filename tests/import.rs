@@ -4,17 +4,10 @@
 //! diagnostics with a location, a non-zero exit and nothing written.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_flexflight"))
-}
-
-fn design(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/import_designs")
-        .join(name)
-}
+mod import_support;
+use import_support::{bin, design, flat, stderr};
 
 fn cache() -> PathBuf {
     Path::new(env!("CARGO_TARGET_TMPDIR")).join("import-test-cache")
@@ -37,10 +30,6 @@ fn with_materials(m: &[&str]) -> Vec<String> {
     m.iter()
         .flat_map(|s| ["--material".to_string(), s.to_string()])
         .collect()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 fn files_in(dir: &Path) -> Vec<String> {
@@ -178,14 +167,6 @@ fn a_design_with_a_boat_tail_imports_checks_and_flies() {
         "Bella Lui, AeroTech K828FJ: apogee {apogee} m at {t} s (OpenRocket 1190 m at 14.851 s)"
     );
     assert!((apogee / 1190.0 - 1.0).abs() < 0.05, "apogee {apogee}");
-}
-
-/// The terminal report with its line breaks and gutters folded (messages wrap at a width).
-fn flat(e: &str) -> String {
-    e.split_whitespace()
-        .filter(|w| *w != "│")
-        .collect::<Vec<_>>()
-        .join(" ")
 }
 
 /// RockSim designs (issue 34, `src/import/rocksim.rs`): real `.rkt` files of OpenRocket's test

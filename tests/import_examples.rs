@@ -12,32 +12,13 @@
 //! by name, with the element's place, and nothing is written.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_flexflight"))
-}
-
-fn design(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/import_designs")
-        .join(name)
-}
+mod import_support;
+use import_support::{bin, design, flat, stderr};
 
 fn cache() -> PathBuf {
     Path::new(env!("CARGO_TARGET_TMPDIR")).join("import-examples-cache")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// The terminal report with its line breaks and gutters folded (messages wrap at a width).
-fn flat(e: &str) -> String {
-    e.split_whitespace()
-        .filter(|w| *w != "│")
-        .collect::<Vec<_>>()
-        .join(" ")
 }
 
 /// `flexflight import DESIGN -o OUT --motor-dir openrocket_motors --material ...` (the

@@ -217,7 +217,7 @@ pub fn table_row(
             cell(o.landing_x_m),
             cell(o.landing_y_m),
             cell(o.flutter_margin_min),
-            if crate::run::RunStop::is_incomplete_code(&o.stop_reason) {
+            if sample_status(o) == "incomplete" {
                 format!(
                     "the integration failed ({}): a flight cut short",
                     o.stop_reason
